@@ -1,0 +1,169 @@
+//! Command-line plumbing shared by every tool: the `main` shim, error reporting
+//! and exit codes (SPEC §5), the common argument types, and each tool's argument
+//! definitions (kept here so the man pages can be generated from them).
+//!
+//! Each tool module holds `Args` (clap) and `run(Args) -> anyhow::Result<()>`;
+//! its file in `src/bin/` is one line that hands both to [`main`].
+
+use std::fmt;
+use std::str::FromStr;
+
+/// A usage error found after clap's own parsing (contradictory flags, values out
+/// of range): reported like any error, but the exit status is 2.
+#[derive(Debug)]
+pub struct UsageError(pub String);
+
+impl fmt::Display for UsageError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+impl std::error::Error for UsageError {}
+
+/// Returns early with a [`UsageError`].
+#[macro_export]
+macro_rules! usage_bail {
+    ($($arg:tt)*) => {
+        return Err(anyhow::Error::new($crate::cli::UsageError(format!($($arg)*))))
+    };
+}
+
+/// Exit statuses (SPEC §5).
+pub const EXIT_OK: i32 = 0;
+pub const EXIT_FAILURE: i32 = 1;
+pub const EXIT_USAGE: i32 = 2;
+
+/// The whole `main` of a tool: parse arguments (clap exits 2 on a usage error),
+/// run, print the error chain as `TOOL: error: a: b: c`, exit 0/1/2.
+/// A closed output pipe (`| head`) ends the tool quietly with status 0.
+pub fn main<A: clap::Parser>(run: fn(A) -> anyhow::Result<()>) -> ! {
+    let args = A::parse();
+    let tool = A::command().get_name().to_string();
+    std::process::exit(report(&tool, run(args)))
+}
+
+/// Maps a result to an exit status, printing the error if there is one.
+pub fn report(tool: &str, result: anyhow::Result<()>) -> i32 {
+    match result {
+        Ok(()) => EXIT_OK,
+        Err(e) if is_broken_pipe(&e) => EXIT_OK,
+        Err(e) => {
+            eprintln!("{tool}: error: {e:#}");
+            if e.downcast_ref::<UsageError>().is_some() {
+                EXIT_USAGE
+            } else {
+                EXIT_FAILURE
+            }
+        }
+    }
+}
+
+/// Prints a warning in the SPEC §5 form.
+pub fn warn(tool: &str, message: impl fmt::Display) {
+    eprintln!("{tool}: warning: {message}");
+}
+
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+            || c.downcast_ref::<image::ImageError>().is_some_and(|ie| {
+                matches!(ie, image::ImageError::IoError(io) if io.kind() == std::io::ErrorKind::BrokenPipe)
+            })
+    })
+}
+
+/// `--size WxH`: an image size, checked against the image limits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Size {
+    pub width: u32,
+    pub height: u32,
+}
+
+impl FromStr for Size {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let bad = || format!("invalid size `{s}`: expected WxH, e.g. 1024x768");
+        let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+        let w: u32 = w.trim().parse().map_err(|_| bad())?;
+        let h: u32 = h.trim().parse().map_err(|_| bad())?;
+        crate::io::Image::check_size(w, h).map_err(|e| e.to_string())?;
+        Ok(Size {
+            width: w,
+            height: h,
+        })
+    }
+}
+
+impl fmt::Display for Size {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}x{}", self.width, self.height)
+    }
+}
+
+/// A pair of integers `A,B` (texel coordinates, offsets).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct IntPair(pub i64, pub i64);
+
+impl FromStr for IntPair {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let bad = || format!("invalid pair `{s}`: expected two integers `A,B`");
+        let (a, b) = s.split_once(',').ok_or_else(bad)?;
+        Ok(IntPair(
+            a.trim().parse().map_err(|_| bad())?,
+            b.trim().parse().map_err(|_| bad())?,
+        ))
+    }
+}
+
+/// Every tool's clap command, for man pages and completion generation.
+pub fn commands() -> Vec<clap::Command> {
+    vec![]
+}
+
+/// Renders one tool's man page (roff) from its argument definitions.
+pub fn man_page(cmd: clap::Command) -> String {
+    let mut out = Vec::new();
+    clap_mangen::Man::new(cmd)
+        .render(&mut out)
+        .expect("rendering to a Vec cannot fail");
+    String::from_utf8(out).expect("clap_mangen writes UTF-8")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn size_parses_and_repeats_bad_values() {
+        assert_eq!(
+            "64x32".parse::<Size>().unwrap(),
+            Size {
+                width: 64,
+                height: 32
+            }
+        );
+        for bad in ["64", "x", "-1x5", "0x10", "100000x2", "1e3x2"] {
+            let e = bad.parse::<Size>().unwrap_err();
+            assert!(
+                e.contains(bad) || e.contains("too large") || e.contains("empty"),
+                "{e}"
+            );
+        }
+    }
+
+    #[test]
+    fn broken_pipe_exits_quietly_with_status_0() {
+        let e = anyhow::Error::new(std::io::Error::from(std::io::ErrorKind::BrokenPipe))
+            .context("writing standard output");
+        assert_eq!(report("t", Err(e)), EXIT_OK);
+    }
+
+    #[test]
+    fn usage_errors_exit_2_other_errors_exit_1() {
+        let u = anyhow::Error::new(UsageError("bad".into()));
+        assert_eq!(report("t", Err(u)), EXIT_USAGE);
+        assert_eq!(report("t", Err(anyhow::anyhow!("x"))), EXIT_FAILURE);
+    }
+}

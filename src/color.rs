@@ -1,0 +1,196 @@
+//! sRGB and linear light (SPEC §4).
+//!
+//! Every 8-bit colour in the toolchain is sRGB. Anything that averages colours
+//! (anti-aliasing, texture filtering, MIP levels, resampling, quantization error)
+//! decodes to linear light first, averages there, then encodes and rounds once.
+
+use std::fmt;
+use std::str::FromStr;
+
+/// An 8-bit sRGB colour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub struct Rgb8(pub [u8; 3]);
+
+impl Rgb8 {
+    pub const BLACK: Rgb8 = Rgb8([0, 0, 0]);
+    pub const WHITE: Rgb8 = Rgb8([255, 255, 255]);
+
+    /// `#rrggbb`, lowercase.
+    pub fn hex(self) -> String {
+        let [r, g, b] = self.0;
+        format!("#{r:02x}{g:02x}{b:02x}")
+    }
+
+    /// The colour in linear light, each channel in 0..=1.
+    pub fn to_linear(self) -> [f32; 3] {
+        self.0.map(srgb_to_linear)
+    }
+
+    /// Encode a linear-light colour, rounding to nearest (channels are clamped to 0..=1).
+    pub fn from_linear(c: [f32; 3]) -> Rgb8 {
+        Rgb8(c.map(linear_to_srgb))
+    }
+}
+
+impl fmt::Display for Rgb8 {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let [r, g, b] = self.0;
+        write!(f, "{r},{g},{b}")
+    }
+}
+
+/// The error of a COLOR argument, repeating what the user gave.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ColorParseError(pub String);
+
+impl fmt::Display for ColorParseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "invalid colour `{}`: expected `r,g,b` with each 0..=255 or `#rrggbb`",
+            self.0
+        )
+    }
+}
+
+impl std::error::Error for ColorParseError {}
+
+impl FromStr for Rgb8 {
+    type Err = ColorParseError;
+
+    /// SPEC §5: COLOR is `r,g,b` (decimal 0..=255) or `#rrggbb`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let err = || ColorParseError(s.to_string());
+        let t = s.trim();
+        if let Some(hex) = t.strip_prefix('#') {
+            if hex.len() != 6 || !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
+                return Err(err());
+            }
+            let ch = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).map_err(|_| err());
+            return Ok(Rgb8([ch(0)?, ch(2)?, ch(4)?]));
+        }
+        let parts: Vec<&str> = t.split(',').map(str::trim).collect();
+        if parts.len() != 3 {
+            return Err(err());
+        }
+        let mut c = [0u8; 3];
+        for (dst, p) in c.iter_mut().zip(&parts) {
+            *dst = p.parse::<u8>().map_err(|_| err())?;
+        }
+        Ok(Rgb8(c))
+    }
+}
+
+/// The exact sRGB transfer function (IEC 61966-2-1), decoding, in f64.
+pub fn srgb_to_linear_f64(c: f64) -> f64 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// The exact sRGB transfer function, encoding, in f64.
+pub fn linear_to_srgb_f64(l: f64) -> f64 {
+    if l <= 0.0031308 {
+        l * 12.92
+    } else {
+        1.055 * l.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Decoding table, one entry per 8-bit code, computed in f64 and stored in f32.
+static DECODE: std::sync::LazyLock<[f32; 256]> = std::sync::LazyLock::new(|| {
+    let mut t = [0f32; 256];
+    for (i, v) in t.iter_mut().enumerate() {
+        *v = srgb_to_linear_f64(i as f64 / 255.0) as f32;
+    }
+    t
+});
+
+/// Encoding thresholds: `ENCODE_EDGES[k]` is the linear value at which the rounded
+/// sRGB code steps from `k` to `k + 1` (the linear image of `(k + 0.5) / 255`).
+/// Encoding is then a binary search: exact round-to-nearest of the true transfer
+/// function, with no `powf` on the hot path.
+static ENCODE_EDGES: std::sync::LazyLock<[f32; 255]> = std::sync::LazyLock::new(|| {
+    let mut t = [0f32; 255];
+    for (k, v) in t.iter_mut().enumerate() {
+        *v = srgb_to_linear_f64((k as f64 + 0.5) / 255.0) as f32;
+    }
+    t
+});
+
+/// sRGB code to linear light in 0..=1.
+#[inline]
+pub fn srgb_to_linear(c: u8) -> f32 {
+    DECODE[c as usize]
+}
+
+/// Linear light to the nearest sRGB code. NaN maps to 0; values are clamped to 0..=1.
+#[inline]
+pub fn linear_to_srgb(l: f32) -> u8 {
+    let edges = &*ENCODE_EDGES;
+    // partition_point counts the edges below l: that count is the code.
+    // NaN compares false everywhere, so it yields 0.
+    edges.partition_point(|&e| e <= l) as u8
+}
+
+/// The whole decoding table, for loops that want it in a register-friendly slice.
+pub fn decode_table() -> &'static [f32; 256] {
+    &DECODE
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn encode_inverts_decode_for_every_code() {
+        for c in 0..=255u8 {
+            assert_eq!(linear_to_srgb(srgb_to_linear(c)), c);
+        }
+    }
+
+    #[test]
+    fn encode_rounds_to_nearest_like_the_f64_formula() {
+        for i in 0..=100_000 {
+            let l = i as f64 / 100_000.0;
+            let want = (linear_to_srgb_f64(l) * 255.0).round() as u8;
+            let got = linear_to_srgb(l as f32);
+            // f32 storage of l can only move it across an edge by an ulp.
+            assert!(
+                (want as i32 - got as i32).abs() <= 1,
+                "l={l} want {want} got {got}"
+            );
+        }
+    }
+
+    #[test]
+    fn encode_clamps_out_of_range_and_nan() {
+        assert_eq!(linear_to_srgb(-1.0), 0);
+        assert_eq!(linear_to_srgb(2.0), 255);
+        assert_eq!(linear_to_srgb(f32::NAN), 0);
+        assert_eq!(linear_to_srgb(f32::INFINITY), 255);
+    }
+
+    #[test]
+    fn mid_grey_in_linear_light_is_188() {
+        // Averaging black and white in linear light gives 0.5, which encodes to 188,
+        // not the 128 a naive sRGB average gives.
+        let mid = (srgb_to_linear(0) + srgb_to_linear(255)) / 2.0;
+        assert_eq!(linear_to_srgb(mid), 188);
+    }
+
+    #[test]
+    fn parses_both_colour_forms_and_repeats_bad_input() {
+        assert_eq!("10,20,30".parse::<Rgb8>().unwrap(), Rgb8([10, 20, 30]));
+        assert_eq!(" 10, 20 ,30 ".parse::<Rgb8>().unwrap(), Rgb8([10, 20, 30]));
+        assert_eq!("#FFa000".parse::<Rgb8>().unwrap(), Rgb8([255, 160, 0]));
+        for bad in [
+            "", "1,2", "1,2,3,4", "256,0,0", "#fff", "#gg0000", "-1,0,0", "red",
+        ] {
+            let e = bad.parse::<Rgb8>().unwrap_err();
+            assert!(e.to_string().contains(&format!("`{bad}`")), "{e}");
+        }
+    }
+}

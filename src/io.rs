@@ -1,0 +1,347 @@
+//! Streams and images: `-` for standard input/output, atomic output files,
+//! and the three image formats every tool writes (SPEC §5).
+
+use anyhow::{bail, Context, Result};
+use std::io::{self, BufWriter, IsTerminal, Read, Write};
+use std::path::{Path, PathBuf};
+
+/// The name that means standard input or output.
+pub const STDIO: &str = "-";
+
+/// How errors name standard input.
+pub const STDIN_NAME: &str = "<stdin>";
+
+/// The widest or tallest image any tool will make. 65535 is PNG-safe on every
+/// decoder we know of and far beyond any screen.
+pub const MAX_IMAGE_SIDE: u32 = 65_535;
+/// The most pixels any tool will allocate for one image: 2^28 is 1 GiB of RGBA.
+pub const MAX_IMAGE_PIXELS: u64 = 1 << 28;
+
+/// Reads a whole file, with a clear error for a directory.
+pub fn read_path(path: &Path) -> io::Result<Vec<u8>> {
+    if path.is_dir() {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "is a directory, not a file",
+        ));
+    }
+    std::fs::read(path)
+}
+
+/// Reads a file by name, or standard input for `-`. Errors carry the name.
+pub fn read_input(name: &str) -> Result<Vec<u8>> {
+    if name == STDIO {
+        let mut buf = Vec::new();
+        io::stdin()
+            .lock()
+            .read_to_end(&mut buf)
+            .context("reading standard input")?;
+        Ok(buf)
+    } else {
+        read_path(Path::new(name)).with_context(|| name.to_string())
+    }
+}
+
+/// The name to show in errors for an input argument.
+pub fn display_name(name: &str) -> &str {
+    if name == STDIO {
+        STDIN_NAME
+    } else {
+        name
+    }
+}
+
+/// An output that is either standard output or a file that appears under its
+/// final name only when [`Output::commit`] succeeds: a failed run leaves nothing
+/// behind, so `make` never takes a half-written target as up to date.
+pub struct Output {
+    inner: OutputInner,
+}
+
+enum OutputInner {
+    Stdout(BufWriter<io::Stdout>),
+    File {
+        tmp: BufWriter<tempfile::NamedTempFile>,
+        path: PathBuf,
+    },
+}
+
+impl Output {
+    /// Opens `name` (`-` for standard output). `binary` output is refused on a terminal.
+    pub fn create(name: &str, binary: bool) -> Result<Output> {
+        if name == STDIO {
+            let stdout = io::stdout();
+            if binary && stdout.is_terminal() {
+                bail!("refusing to write binary output to a terminal: use -o FILE or a pipe");
+            }
+            return Ok(Output {
+                inner: OutputInner::Stdout(BufWriter::with_capacity(1 << 16, stdout)),
+            });
+        }
+        let path = PathBuf::from(name);
+        if path.is_dir() {
+            bail!("{name}: is a directory, expected an output file name");
+        }
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        let tmp = tempfile::Builder::new()
+            .prefix(".patkit-")
+            .suffix(".tmp")
+            .tempfile_in(&dir)
+            .with_context(|| format!("{name}: cannot create a file in {}", dir.display()))?;
+        Ok(Output {
+            inner: OutputInner::File {
+                tmp: BufWriter::with_capacity(1 << 16, tmp),
+                path,
+            },
+        })
+    }
+
+    /// Flushes and, for a file, moves it to its final name.
+    pub fn commit(self) -> Result<()> {
+        match self.inner {
+            OutputInner::Stdout(mut w) => w.flush().context("writing standard output"),
+            OutputInner::File { tmp, path } => {
+                let tmp = tmp
+                    .into_inner()
+                    .map_err(|e| e.into_error())
+                    .with_context(|| format!("writing {}", path.display()))?;
+                tmp.persist(&path)
+                    .map_err(|e| e.error)
+                    .with_context(|| format!("renaming the output to {}", path.display()))?;
+                Ok(())
+            }
+        }
+    }
+}
+
+impl Write for Output {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        match &mut self.inner {
+            OutputInner::Stdout(w) => w.write(buf),
+            OutputInner::File { tmp, .. } => tmp.write(buf),
+        }
+    }
+    fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
+        match &mut self.inner {
+            OutputInner::Stdout(w) => w.write_all(buf),
+            OutputInner::File { tmp, .. } => tmp.write_all(buf),
+        }
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        match &mut self.inner {
+            OutputInner::Stdout(w) => w.flush(),
+            OutputInner::File { tmp, .. } => tmp.flush(),
+        }
+    }
+}
+
+/// Writes `data` to `name` atomically (or to standard output).
+pub fn write_output(name: &str, binary: bool, data: &[u8]) -> Result<()> {
+    let mut out = Output::create(name, binary)?;
+    out.write_all(data)
+        .with_context(|| format!("writing {}", display_out(name)))?;
+    out.commit()
+}
+
+fn display_out(name: &str) -> &str {
+    if name == STDIO {
+        "standard output"
+    } else {
+        name
+    }
+}
+
+/// The image formats every tool writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ImageFormat {
+    /// PNG, lossless, with alpha when the image has transparency.
+    Png,
+    /// Binary PPM (P6); transparency is flattened.
+    Ppm,
+    /// PAM (P7), RGB or RGB_ALPHA.
+    Pam,
+}
+
+impl ImageFormat {
+    /// The format named by `--format`, else by the output's extension, else PNG.
+    pub fn choose(explicit: Option<ImageFormat>, output: &str) -> Result<ImageFormat> {
+        if let Some(f) = explicit {
+            return Ok(f);
+        }
+        if output == STDIO {
+            return Ok(ImageFormat::Png);
+        }
+        let ext = Path::new(output)
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(|e| e.to_ascii_lowercase());
+        match ext.as_deref() {
+            Some("png") => Ok(ImageFormat::Png),
+            Some("ppm") | Some("pnm") => Ok(ImageFormat::Ppm),
+            Some("pam") => Ok(ImageFormat::Pam),
+            Some(other) => bail!(
+                "{output}: unknown image extension `.{other}`: expected .png, .ppm or .pam, or give --format"
+            ),
+            None => bail!("{output}: no extension: expected .png, .ppm or .pam, or give --format"),
+        }
+    }
+
+    pub fn supports_alpha(self) -> bool {
+        !matches!(self, ImageFormat::Ppm)
+    }
+}
+
+/// An 8-bit sRGB image, row 0 at the top, 3 or 4 channels interleaved.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    /// 3 (RGB) or 4 (RGBA, straight alpha).
+    pub channels: u8,
+    pub data: Vec<u8>,
+}
+
+impl Image {
+    /// Checks a requested size against [`MAX_IMAGE_SIDE`] and [`MAX_IMAGE_PIXELS`].
+    pub fn check_size(width: u32, height: u32) -> Result<()> {
+        if width == 0 || height == 0 {
+            bail!("image size {width}x{height} is empty: both sides must be at least 1");
+        }
+        if width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE {
+            bail!("image size {width}x{height} is too large: each side at most {MAX_IMAGE_SIDE}");
+        }
+        if width as u64 * height as u64 > MAX_IMAGE_PIXELS {
+            bail!("image size {width}x{height} is too large: at most {MAX_IMAGE_PIXELS} pixels");
+        }
+        Ok(())
+    }
+
+    /// Encodes the image in `format`. PPM drops alpha (callers flatten first).
+    pub fn encode<W: Write>(&self, format: ImageFormat, w: &mut W) -> Result<()> {
+        let (wd, ht) = (self.width, self.height);
+        match format {
+            ImageFormat::Ppm => {
+                write!(w, "P6\n{wd} {ht}\n255\n")?;
+                if self.channels == 3 {
+                    w.write_all(&self.data)?;
+                } else {
+                    let rgb: Vec<u8> = self
+                        .data
+                        .chunks_exact(4)
+                        .flat_map(|p| [p[0], p[1], p[2]])
+                        .collect();
+                    w.write_all(&rgb)?;
+                }
+            }
+            ImageFormat::Pam => {
+                let (depth, tupl) = if self.channels == 4 {
+                    (4, "RGB_ALPHA")
+                } else {
+                    (3, "RGB")
+                };
+                write!(
+                    w,
+                    "P7\nWIDTH {wd}\nHEIGHT {ht}\nDEPTH {depth}\nMAXVAL 255\nTUPLTYPE {tupl}\nENDHDR\n"
+                )?;
+                w.write_all(&self.data)?;
+            }
+            ImageFormat::Png => {
+                use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+                use image::ImageEncoder;
+                let color = if self.channels == 4 {
+                    image::ExtendedColorType::Rgba8
+                } else {
+                    image::ExtendedColorType::Rgb8
+                };
+                // Fast deflate: these images are flat colour and repeat, so the
+                // fast compressor already finds most of the redundancy.
+                PngEncoder::new_with_quality(&mut *w, CompressionType::Fast, FilterType::Adaptive)
+                    .write_image(&self.data, wd, ht, color)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes the image to `name` (`-` = standard output) atomically.
+    pub fn save(&self, name: &str, format: ImageFormat) -> Result<()> {
+        let mut out = Output::create(name, true)?;
+        self.encode(format, &mut out)
+            .with_context(|| format!("writing {}", display_out(name)))?;
+        out.commit()
+    }
+}
+
+/// Decodes any image the `image` crate reads (PNG, JPEG, GIF, BMP, TIFF, WebP,
+/// PNM/PAM) into RGBA8.
+pub fn decode_image(bytes: &[u8], name: &str) -> Result<image::RgbaImage> {
+    let img = image::load_from_memory(bytes)
+        .with_context(|| format!("{name}: not an image this tool can read"))?;
+    Ok(img.into_rgba8())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn failed_output_leaves_no_file_behind() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.png");
+        {
+            let mut out = Output::create(path.to_str().unwrap(), true).unwrap();
+            out.write_all(b"partial").unwrap();
+            // dropped without commit, as on an error
+        }
+        assert!(!path.exists());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+        let out = Output::create(path.to_str().unwrap(), true).unwrap();
+        out.commit().unwrap();
+        assert!(path.exists());
+    }
+
+    #[test]
+    fn format_follows_flag_then_extension() {
+        assert_eq!(
+            ImageFormat::choose(None, "a.PPM").unwrap(),
+            ImageFormat::Ppm
+        );
+        assert_eq!(
+            ImageFormat::choose(None, "a.pam").unwrap(),
+            ImageFormat::Pam
+        );
+        assert_eq!(ImageFormat::choose(None, "-").unwrap(), ImageFormat::Png);
+        assert_eq!(
+            ImageFormat::choose(Some(ImageFormat::Pam), "a.png").unwrap(),
+            ImageFormat::Pam
+        );
+        let e = ImageFormat::choose(None, "a.jpg").unwrap_err().to_string();
+        assert!(e.contains("a.jpg") && e.contains(".jpg"), "{e}");
+    }
+
+    #[test]
+    fn absurd_sizes_are_refused() {
+        assert!(Image::check_size(0, 5).is_err());
+        assert!(Image::check_size(70_000, 1).is_err());
+        assert!(Image::check_size(60_000, 60_000).is_err());
+        assert!(Image::check_size(4096, 4096).is_ok());
+    }
+
+    #[test]
+    fn pnm_and_pam_round_trip_through_the_image_crate() {
+        let img = Image {
+            width: 2,
+            height: 1,
+            channels: 3,
+            data: vec![1, 2, 3, 250, 251, 252],
+        };
+        for f in [ImageFormat::Ppm, ImageFormat::Pam, ImageFormat::Png] {
+            let mut buf = Vec::new();
+            img.encode(f, &mut buf).unwrap();
+            let back = decode_image(&buf, "x").unwrap();
+            assert_eq!(back.get_pixel(1, 0).0, [250, 251, 252, 255], "{f:?}");
+        }
+    }
+}

@@ -1,0 +1,13 @@
+//! patkit: texture patterns (`.pat`) and textured-polygon rendering.
+//!
+//! One module per idea: [`pat`] is the file format, [`color`] sRGB and linear
+//! light, [`io`] streams and images, [`cli`] the shared command-line plumbing
+//! and each tool's arguments. The binaries in `src/bin/` are one-line shims.
+
+pub mod cli;
+pub mod color;
+pub mod io;
+pub mod pat;
+
+pub use color::Rgb8;
+pub use pat::{ParseError, Pattern, TRANSPARENT};

@@ -1,0 +1,703 @@
+//! The `.pat` multi-colour texture pattern (SPEC §1; thesis Fig. 3.3, 3.4, 4.6).
+//!
+//! In memory a pattern is a square grid of palette indices with one reserved
+//! [`TRANSPARENT`] value. The per-colour bit masks of the file exist only at the
+//! file boundary, in [`Pattern::parse`] and [`Pattern::write_canonical`].
+//!
+//! Orientation: row 0 is the BOTTOM row (IRIS GL, y up), exactly as in the file.
+
+use crate::color::Rgb8;
+use std::fmt;
+use std::io::{self, Write};
+use std::path::Path;
+
+/// Pattern sides are multiples of this many texels: one 16-bit word per run.
+pub const WORD_BITS: u32 = 16;
+/// The largest side accepted: the thesis asks for larger than its 64, and 4096
+/// keeps a 16-colour canonical file under 100 MiB.
+pub const MAX_SIZE: u32 = 4096;
+/// Palette indices are `u16`; the last value is reserved for transparency.
+pub const TRANSPARENT: u16 = u16::MAX;
+/// The most colours a pattern may have (every index but [`TRANSPARENT`]).
+pub const MAX_COLORS: usize = TRANSPARENT as usize;
+
+/// A validated multi-colour texture pattern.
+///
+/// Guarantees: `size` is a multiple of 16 in 16..=4096; `texels.len() == size²`;
+/// every texel is [`TRANSPARENT`] or an index into `palette`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Pattern {
+    size: u32,
+    palette: Vec<Rgb8>,
+    texels: Vec<u16>,
+}
+
+/// Why a pattern could not be built from parts (not a file error).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct InvalidPattern(pub String);
+
+impl fmt::Display for InvalidPattern {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+impl std::error::Error for InvalidPattern {}
+
+/// Checks a pattern side against SPEC §1.
+pub fn check_size(size: u64) -> Result<u32, InvalidPattern> {
+    if size == 0 || size > MAX_SIZE as u64 || size % WORD_BITS as u64 != 0 {
+        Err(InvalidPattern(format!(
+            "pattern size {size} is not a multiple of 16 from 16 to {MAX_SIZE}"
+        )))
+    } else {
+        Ok(size as u32)
+    }
+}
+
+impl Pattern {
+    /// Builds a pattern from its parts, checking every guarantee of the type.
+    pub fn new(size: u32, palette: Vec<Rgb8>, texels: Vec<u16>) -> Result<Self, InvalidPattern> {
+        let size = check_size(size as u64)?;
+        if palette.len() > MAX_COLORS {
+            return Err(InvalidPattern(format!(
+                "{} colours: at most {MAX_COLORS} are allowed",
+                palette.len()
+            )));
+        }
+        let n = (size as usize) * (size as usize);
+        if texels.len() != n {
+            return Err(InvalidPattern(format!(
+                "{} texels for a {size}x{size} pattern, which needs {n}",
+                texels.len()
+            )));
+        }
+        if let Some(bad) = texels
+            .iter()
+            .find(|&&t| t != TRANSPARENT && t as usize >= palette.len())
+        {
+            return Err(InvalidPattern(format!(
+                "texel index {bad} but only {} colours",
+                palette.len()
+            )));
+        }
+        Ok(Pattern {
+            size,
+            palette,
+            texels,
+        })
+    }
+
+    /// Side in texels.
+    pub fn size(&self) -> u32 {
+        self.size
+    }
+
+    pub fn palette(&self) -> &[Rgb8] {
+        &self.palette
+    }
+
+    /// Row-major texel indices, row 0 at the bottom.
+    pub fn texels(&self) -> &[u16] {
+        &self.texels
+    }
+
+    /// Palette index at (col, row), or `None` where transparent. Panics outside the grid.
+    #[inline]
+    pub fn index_at(&self, col: u32, row: u32) -> Option<u16> {
+        let t = self.texels[(row * self.size + col) as usize];
+        (t != TRANSPARENT).then_some(t)
+    }
+
+    /// Colour at (col, row), or `None` where transparent. Panics outside the grid.
+    #[inline]
+    pub fn color_at(&self, col: u32, row: u32) -> Option<Rgb8> {
+        self.index_at(col, row).map(|i| self.palette[i as usize])
+    }
+
+    /// Colour at any integer texel coordinate, the pattern repeating in both
+    /// directions (SPEC §2: `floor(u) mod SIZE`).
+    #[inline]
+    pub fn color_wrapped(&self, col: i64, row: i64) -> Option<Rgb8> {
+        let s = self.size as i64;
+        self.color_at(col.rem_euclid(s) as u32, row.rem_euclid(s) as u32)
+    }
+
+    /// Reads a `.pat` file; errors name the file, line and word.
+    pub fn read_file(path: &Path) -> Result<Pattern, ParseError> {
+        let name = path.display().to_string();
+        let bytes = crate::io::read_path(path).map_err(|e| ParseError::io(&name, e))?;
+        Pattern::parse(&bytes, &name)
+    }
+
+    /// Parses the texted format (SPEC §1) from bytes; `name` is used in errors.
+    pub fn parse(bytes: &[u8], name: &str) -> Result<Pattern, ParseError> {
+        Parser::new(bytes, name).pattern()
+    }
+
+    /// The canonical text (SPEC §1), as one string.
+    pub fn to_canonical(&self) -> String {
+        let mut out = Vec::with_capacity(self.canonical_len());
+        self.write_canonical(&mut out)
+            .expect("writing to a Vec cannot fail");
+        String::from_utf8(out).expect("canonical form is ASCII")
+    }
+
+    /// Exact byte length of the canonical form (for preallocation).
+    fn canonical_len(&self) -> usize {
+        let words_per_row = (self.size / WORD_BITS) as usize;
+        let row = words_per_row * 5; // "xxxx" plus a space or the newline
+        let header = format!("{} {}\n", self.size, self.palette.len()).len();
+        header
+            + self
+                .palette
+                .iter()
+                .map(|c| format!("{} {} {}\n", c.0[0], c.0[1], c.0[2]).len())
+                .sum::<usize>()
+            + self.palette.len() * self.size as usize * row
+    }
+
+    /// Writes the canonical form: `SIZE NCOLORS`, then per colour one `R G B` line
+    /// and one line per row of lowercase 4-digit words, final newline.
+    pub fn write_canonical<W: Write>(&self, w: &mut W) -> io::Result<()> {
+        const HEX: &[u8; 16] = b"0123456789abcdef";
+        let size = self.size as usize;
+        let words_per_row = size / WORD_BITS as usize;
+        writeln!(w, "{} {}", self.size, self.palette.len())?;
+        let mut line = Vec::with_capacity(words_per_row * 5);
+        for (k, c) in self.palette.iter().enumerate() {
+            let k = k as u16;
+            writeln!(w, "{} {} {}", c.0[0], c.0[1], c.0[2])?;
+            for row in self.texels.chunks_exact(size) {
+                line.clear();
+                for (j, run) in row.chunks_exact(WORD_BITS as usize).enumerate() {
+                    let mut word = 0u16;
+                    for &t in run {
+                        word = (word << 1) | (t == k) as u16;
+                    }
+                    if j > 0 {
+                        line.push(b' ');
+                    }
+                    line.extend(
+                        (0..4)
+                            .rev()
+                            .map(|s| HEX[((word >> (4 * s)) & 0xf) as usize]),
+                    );
+                }
+                line.push(b'\n');
+                w.write_all(&line)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Number of texels of each palette entry, and of transparent texels last.
+    pub fn histogram(&self) -> (Vec<u64>, u64) {
+        let mut counts = vec![0u64; self.palette.len()];
+        let mut transparent = 0;
+        for &t in &self.texels {
+            match counts.get_mut(t as usize) {
+                Some(c) => *c += 1,
+                None => transparent += 1,
+            }
+        }
+        (counts, transparent)
+    }
+
+    /// A `new_size` pattern that repeats this one, shifted by `offset` texels
+    /// (the pattern moves right/up, like `horz`/`vert`); each source texel covers
+    /// `scale` x `scale` texels of the result.
+    pub fn tiled(
+        &self,
+        new_size: u32,
+        scale: u32,
+        offset: (i64, i64),
+    ) -> Result<Pattern, InvalidPattern> {
+        let new_size = check_size(new_size as u64)?;
+        let scale = scale.max(1) as i64;
+        let mut texels = Vec::with_capacity((new_size as usize).pow(2));
+        for row in 0..new_size as i64 {
+            let src_row = (row.div_euclid(scale) - offset.1).rem_euclid(self.size as i64);
+            for col in 0..new_size as i64 {
+                let src_col = (col.div_euclid(scale) - offset.0).rem_euclid(self.size as i64);
+                texels.push(self.texels[(src_row as u32 * self.size + src_col as u32) as usize]);
+            }
+        }
+        Pattern::new(new_size, self.palette.clone(), texels)
+    }
+}
+
+/// What went wrong reading a `.pat`, and where.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ParseError {
+    /// The file as the user named it (`-` or `<stdin>` for standard input).
+    pub file: String,
+    /// 1-based line, when the error has a position.
+    pub line: Option<usize>,
+    /// 1-based index of the offending word in the file, and the word itself.
+    pub word: Option<(usize, String)>,
+    /// What was wrong, or what was expected there.
+    pub message: String,
+}
+
+impl ParseError {
+    fn io(file: &str, e: io::Error) -> ParseError {
+        ParseError {
+            file: file.to_string(),
+            line: None,
+            word: None,
+            message: e.to_string(),
+        }
+    }
+}
+
+impl fmt::Display for ParseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.file)?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+        }
+        if let Some((n, w)) = &self.word {
+            write!(f, ": word {n} `{w}`")?;
+        }
+        write!(f, ": {}", self.message)
+    }
+}
+
+impl std::error::Error for ParseError {}
+
+/// A whitespace tokenizer over bytes that knows lines and word numbers.
+struct Parser<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+    line: usize,
+    words: usize,
+    name: &'a str,
+}
+
+/// One word of the file with its position.
+struct Word<'a> {
+    text: &'a str,
+    line: usize,
+    index: usize,
+}
+
+/// Longest word echoed back in an error message.
+const MAX_ECHO: usize = 24;
+
+impl<'a> Parser<'a> {
+    fn new(bytes: &'a [u8], name: &'a str) -> Self {
+        Parser {
+            bytes,
+            pos: 0,
+            line: 1,
+            words: 0,
+            name,
+        }
+    }
+
+    fn error_at(&self, w: &Word, message: String) -> ParseError {
+        let mut text: String = w.text.chars().take(MAX_ECHO).collect();
+        if w.text.len() > MAX_ECHO {
+            text.push_str("...");
+        }
+        ParseError {
+            file: self.name.to_string(),
+            line: Some(w.line),
+            word: Some((w.index, text)),
+            message,
+        }
+    }
+
+    fn error_here(&self, message: String) -> ParseError {
+        ParseError {
+            file: self.name.to_string(),
+            line: Some(self.line),
+            word: None,
+            message,
+        }
+    }
+
+    /// Next word, `Ok(None)` at end of input, or an error on a non-text byte.
+    fn next_word(&mut self) -> Result<Option<Word<'a>>, ParseError> {
+        let b = self.bytes;
+        while self.pos < b.len() && b[self.pos].is_ascii_whitespace() {
+            if b[self.pos] == b'\n' {
+                self.line += 1;
+            }
+            self.pos += 1;
+        }
+        if self.pos == b.len() {
+            return Ok(None);
+        }
+        let start = self.pos;
+        while self.pos < b.len() && !b[self.pos].is_ascii_whitespace() {
+            let c = b[self.pos];
+            if !c.is_ascii_graphic() {
+                return Err(self.error_here(format!(
+                    "byte 0x{c:02x} is not text: expected a .pat file of decimal and hex words"
+                )));
+            }
+            self.pos += 1;
+        }
+        self.words += 1;
+        Ok(Some(Word {
+            // Checked above: every byte is printable ASCII.
+            text: std::str::from_utf8(&b[start..self.pos]).expect("ASCII"),
+            line: self.line,
+            index: self.words,
+        }))
+    }
+
+    fn expect_word(&mut self, what: &str) -> Result<Word<'a>, ParseError> {
+        match self.next_word()? {
+            Some(w) => Ok(w),
+            None if self.words == 0 => Err(ParseError {
+                file: self.name.to_string(),
+                line: None,
+                word: None,
+                message: "empty file: expected `SIZE NCOLORS` and colour blocks".into(),
+            }),
+            None => Err(self.error_here(format!("unexpected end of file: expected {what}"))),
+        }
+    }
+
+    /// An unsigned decimal of any digit count, saturating so absurd values still
+    /// produce a range error rather than an overflow.
+    fn decimal(&mut self, what: &str, max: u64) -> Result<u64, ParseError> {
+        let w = self.expect_word(what)?;
+        if w.text.is_empty() || !w.text.bytes().all(|c| c.is_ascii_digit()) {
+            return Err(self.error_at(&w, format!("expected {what}")));
+        }
+        let v = w.text.bytes().fold(0u64, |acc, c| {
+            acc.saturating_mul(10).saturating_add((c - b'0') as u64)
+        });
+        if v > max {
+            return Err(self.error_at(&w, format!("out of range: expected {what}")));
+        }
+        Ok(v)
+    }
+
+    /// A 16-bit word: 1..4 hex digits of any case, optional `0x`.
+    fn hex_word(&mut self, what: &dyn Fn() -> String) -> Result<u16, ParseError> {
+        let w = self.expect_word(&what())?;
+        let digits = w
+            .text
+            .strip_prefix("0x")
+            .or_else(|| w.text.strip_prefix("0X"))
+            .unwrap_or(w.text);
+        if digits.is_empty() || !digits.bytes().all(|c| c.is_ascii_hexdigit()) {
+            return Err(self.error_at(&w, format!("expected {}", what())));
+        }
+        if digits.len() > 4 {
+            return Err(self.error_at(
+                &w,
+                format!(
+                    "more than 4 hex digits (a word is 16 bits): expected {}",
+                    what()
+                ),
+            ));
+        }
+        Ok(u16::from_str_radix(digits, 16).expect("checked hex"))
+    }
+
+    fn pattern(mut self) -> Result<Pattern, ParseError> {
+        let size_word_line = self.line;
+        let size = self.decimal(
+            "the pattern size, a multiple of 16 from 16 to 4096",
+            u64::MAX,
+        )?;
+        let size = check_size(size).map_err(|e| ParseError {
+            file: self.name.to_string(),
+            line: Some(size_word_line.max(1)),
+            word: Some((1, size.to_string())),
+            message: format!("{e}: expected the pattern size"),
+        })?;
+        let ncolors = self.decimal(
+            &format!("the number of colours, 0 to {MAX_COLORS}"),
+            MAX_COLORS as u64,
+        )? as usize;
+
+        let s = size as usize;
+        let words_per_row = s / WORD_BITS as usize;
+        let mut texels = vec![TRANSPARENT; s * s];
+        let mut palette = Vec::with_capacity(ncolors.min(256));
+        for k in 0..ncolors {
+            let n = k + 1;
+            let mut rgb = [0u8; 3];
+            for (ch, name) in rgb.iter_mut().zip(["red", "green", "blue"]) {
+                *ch =
+                    self.decimal(&format!("the {name} value of colour {n}, 0 to 255"), 255)? as u8;
+            }
+            palette.push(Rgb8(rgb));
+            for row in 0..s {
+                for j in 0..words_per_row {
+                    let what = || {
+                        format!(
+                            "hex word {} of row {row} of colour {n} ({} words per row, {s} rows)",
+                            j + 1,
+                            words_per_row
+                        )
+                    };
+                    let line_before = self.line;
+                    let index_before = self.words + 1;
+                    let word = self.hex_word(&what)?;
+                    let base = row * s + j * WORD_BITS as usize;
+                    for m in 0..WORD_BITS as usize {
+                        if word & (0x8000 >> m) == 0 {
+                            continue;
+                        }
+                        let t = &mut texels[base + m];
+                        if *t != TRANSPARENT {
+                            return Err(ParseError {
+                                file: self.name.to_string(),
+                                line: Some(self.line.max(line_before)),
+                                word: Some((index_before, format!("{word:04x}"))),
+                                message: format!(
+                                    "pixel (column {}, row {row}) is set by colour {} and again by colour {n}: each pixel may be set by one colour only",
+                                    j * WORD_BITS as usize + m,
+                                    *t + 1
+                                ),
+                            });
+                        }
+                        *t = k as u16;
+                    }
+                }
+            }
+        }
+        if let Some(w) = self.next_word()? {
+            return Err(self.error_at(
+                &w,
+                format!(
+                    "trailing garbage: expected end of file after {ncolors} colour block{}",
+                    if ncolors == 1 { "" } else { "s" }
+                ),
+            ));
+        }
+        Ok(Pattern {
+            size,
+            palette,
+            texels,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 16x16 two-colour checker with a transparent bottom-left texel, built in memory.
+    fn sample() -> Pattern {
+        let mut texels = vec![0u16; 256];
+        for row in 0..16 {
+            for col in 0..16 {
+                texels[row * 16 + col] = ((row + col) % 2) as u16;
+            }
+        }
+        texels[0] = TRANSPARENT;
+        Pattern::new(16, vec![Rgb8([255, 0, 0]), Rgb8([0, 0, 255])], texels).unwrap()
+    }
+
+    fn parse(s: &str) -> Result<Pattern, ParseError> {
+        Pattern::parse(s.as_bytes(), "t.pat")
+    }
+
+    fn err(s: &str) -> String {
+        parse(s).unwrap_err().to_string()
+    }
+
+    /// A canonical 16x16 header plus `n` words of `w` for one colour.
+    fn one_colour(words: &str) -> String {
+        format!("16 1\n1 2 3\n{words}")
+    }
+
+    #[test]
+    fn canonical_round_trip_is_byte_identical() {
+        let text = sample().to_canonical();
+        let back = parse(&text).unwrap();
+        assert_eq!(back, sample());
+        assert_eq!(back.to_canonical(), text);
+        assert_eq!(text.len(), sample().canonical_len());
+        assert!(text.ends_with('\n'));
+        assert!(text.starts_with("16 2\n255 0 0\n"));
+    }
+
+    #[test]
+    fn bit_0x8000_is_the_leftmost_pixel_and_row_0_is_first() {
+        let mut words = vec!["0"; 16];
+        words[0] = "8000";
+        words[1] = "0001";
+        let p = parse(&one_colour(&words.join(" "))).unwrap();
+        assert_eq!(p.index_at(0, 0), Some(0));
+        assert_eq!(p.index_at(1, 0), None);
+        assert_eq!(p.index_at(15, 1), Some(0));
+        assert_eq!(p.histogram(), (vec![2], 254));
+    }
+
+    #[test]
+    fn accepts_any_layout_case_digit_count_and_0x() {
+        // The thesis's own files write `0` and `8888`, all on one line.
+        let mut words = vec!["0"; 16];
+        words[3] = "0XaBc";
+        words[4] = "0x1";
+        words[5] = "FFFF";
+        let text = format!("  016\t1 \r\n 0001 2 3 {}", words.join("\n\n"));
+        let p = parse(&text).unwrap();
+        assert_eq!(p.palette(), &[Rgb8([1, 2, 3])]);
+        assert_eq!(p.index_at(15, 5), Some(0));
+        assert!(p.to_canonical().contains("0abc"));
+    }
+
+    #[test]
+    fn zero_colours_is_a_fully_transparent_pattern() {
+        let p = parse("32 0\n").unwrap();
+        assert_eq!(p.histogram(), (vec![], 1024));
+        assert_eq!(p.to_canonical(), "32 0\n");
+    }
+
+    #[test]
+    fn empty_file_is_rejected() {
+        assert_eq!(
+            err(""),
+            "t.pat: empty file: expected `SIZE NCOLORS` and colour blocks"
+        );
+        assert!(err(" \n\t\n").contains("empty file"));
+    }
+
+    #[test]
+    fn non_numeric_size_is_rejected_with_line_and_word() {
+        assert_eq!(
+            err("\nsixteen 1"),
+            "t.pat:2: word 1 `sixteen`: expected the pattern size, a multiple of 16 from 16 to 4096"
+        );
+        assert!(err("-16 1").contains("word 1 `-16`"));
+        assert!(err("16.0 1").contains("word 1 `16.0`"));
+    }
+
+    #[test]
+    fn size_not_a_multiple_of_16_zero_or_too_large_is_rejected() {
+        for bad in ["15", "17", "0", "4112", "8192", "99999999999999999999999"] {
+            let e = err(&format!("{bad} 0"));
+            assert!(e.contains("not a multiple of 16 from 16 to 4096"), "{e}");
+            assert!(e.contains("word 1"), "{e}");
+        }
+        assert!(parse("4096 0").is_ok());
+    }
+
+    #[test]
+    fn negative_or_absurd_ncolors_is_rejected() {
+        assert!(err("16 -1").contains("word 2 `-1`: expected the number of colours"));
+        assert!(err("16 65536").contains("word 2 `65536`: out of range"));
+        assert!(err("16 1e9").contains("word 2 `1e9`"));
+    }
+
+    #[test]
+    fn rgb_out_of_range_is_rejected() {
+        let e = err("16 1\n1 256 3\n");
+        assert_eq!(
+            e,
+            "t.pat:2: word 4 `256`: out of range: expected the green value of colour 1, 0 to 255"
+        );
+        assert!(err("16 1\n1 2 -3\n").contains("word 5 `-3`: expected the blue value"));
+    }
+
+    #[test]
+    fn too_few_words_names_what_was_missing() {
+        let e = err(&one_colour(&vec!["0"; 15].join(" ")));
+        assert_eq!(
+            e,
+            "t.pat:3: unexpected end of file: expected hex word 1 of row 15 of colour 1 (1 words per row, 16 rows)"
+        );
+    }
+
+    #[test]
+    fn too_many_words_is_trailing_garbage() {
+        let e = err(&one_colour(&vec!["0"; 17].join(" ")));
+        assert!(
+            e.contains("word 22 `0`: trailing garbage: expected end of file after 1 colour block"),
+            "{e}"
+        );
+        let e = err(&format!(
+            "{}\n# comment",
+            one_colour(&vec!["0"; 16].join(" "))
+        ));
+        assert!(e.contains("t.pat:4: word 22 `#`: trailing garbage"), "{e}");
+    }
+
+    #[test]
+    fn words_above_0xffff_or_not_hex_are_rejected() {
+        let mut words = vec!["0"; 16];
+        words[2] = "10000";
+        let e = err(&one_colour(&words.join(" ")));
+        assert!(e.contains("word 8 `10000`: more than 4 hex digits"), "{e}");
+        words[2] = "0xg1";
+        assert!(err(&one_colour(&words.join(" ")))
+            .contains("word 8 `0xg1`: expected hex word 1 of row 2"));
+        words[2] = "0x";
+        assert!(err(&one_colour(&words.join(" "))).contains("word 8 `0x`"));
+    }
+
+    #[test]
+    fn pixel_set_by_two_colours_is_rejected() {
+        let zeros = vec!["0"; 15].join(" ");
+        let text = format!("16 2\n1 1 1\n0100 {zeros}\n2 2 2\n0300 {zeros}");
+        let e = err(&text);
+        assert!(
+            e.contains("pixel (column 7, row 0) is set by colour 1 and again by colour 2"),
+            "{e}"
+        );
+        assert!(e.contains("t.pat:5: word 25 `0300`"), "{e}");
+    }
+
+    #[test]
+    fn binary_junk_is_rejected_not_decoded() {
+        let mut bytes = b"16 1\n1 2 3\n".to_vec();
+        bytes.extend_from_slice(&[0x89, b'P', b'N', b'G', 0, 1]);
+        let e = Pattern::parse(&bytes, "x.pat").unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "x.pat:3: byte 0x89 is not text: expected a .pat file of decimal and hex words"
+        );
+        let e = Pattern::parse(b"\x00\x01", "x.pat")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("byte 0x00 is not text"), "{e}");
+    }
+
+    #[test]
+    fn directory_and_missing_file_are_clear_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let e = Pattern::read_file(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("is a directory"), "{e}");
+        let missing = dir.path().join("nope.pat");
+        let e = Pattern::read_file(&missing).unwrap_err().to_string();
+        assert!(e.starts_with(&missing.display().to_string()), "{e}");
+        assert!(e.contains("No such file"), "{e}");
+    }
+
+    #[test]
+    fn new_checks_its_guarantees() {
+        assert!(Pattern::new(16, vec![], vec![TRANSPARENT; 255]).is_err());
+        assert!(Pattern::new(16, vec![], vec![0; 256]).is_err());
+        assert!(Pattern::new(24, vec![], vec![TRANSPARENT; 576]).is_err());
+    }
+
+    #[test]
+    fn tiled_repeats_scales_and_shifts() {
+        let p = sample();
+        let t = p.tiled(64, 1, (0, 0)).unwrap();
+        for (row, col) in [(0, 0), (17, 33), (63, 63)] {
+            assert_eq!(t.index_at(col, row), p.index_at(col % 16, row % 16));
+        }
+        let t = p.tiled(32, 2, (1, 0)).unwrap();
+        // Texel (2,0) of the result is source column 1 shifted right by 1 -> column 0.
+        assert_eq!(t.index_at(2, 0), p.index_at(0, 0));
+        assert_eq!(t.index_at(3, 1), p.index_at(0, 0));
+    }
+
+    #[test]
+    fn color_wrapped_repeats_in_both_directions() {
+        let p = sample();
+        assert_eq!(p.color_wrapped(-1, -16), p.color_at(15, 0));
+        assert_eq!(p.color_wrapped(16 * 1_000_000 + 3, 5), p.color_at(3, 5));
+    }
+}
