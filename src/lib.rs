@@ -6,8 +6,10 @@
 
 pub mod cli;
 pub mod color;
+pub mod geom;
 pub mod io;
 pub mod pat;
+pub mod stream;
 
 pub use color::Rgb8;
 pub use pat::{ParseError, Pattern, TRANSPARENT};

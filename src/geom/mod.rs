@@ -1,0 +1,159 @@
+//! Planes, clipping and partition of polygons into texture point polygons.
+//!
+//! This file holds what every geometric consumer shares: turning the thesis's
+//! 2D records (`rect`, `circle`, `arc`) into polygons.
+
+use crate::stream::Shape;
+use glam::DVec3;
+use std::f64::consts::PI;
+
+/// Fewest segments a full circle is ever drawn with, however coarse the tolerance.
+pub const MIN_CIRCLE_SEGMENTS: usize = 8;
+/// Most segments a full circle is drawn with: past this the chord error is far
+/// below any pixel and the polygon only costs time.
+pub const MAX_CIRCLE_SEGMENTS: usize = 1 << 16;
+
+/// Segments for a full circle of `radius` so that no chord strays more than
+/// `tolerance` from the true circle: the sagitta r(1 - cos(π/n)) <= tolerance.
+pub fn circle_segments(radius: f64, tolerance: f64) -> usize {
+    if tolerance.is_nan() || tolerance <= 0.0 || tolerance >= radius {
+        return MIN_CIRCLE_SEGMENTS;
+    }
+    let n = (PI / (1.0 - tolerance / radius).acos()).ceil();
+    (n as usize).clamp(MIN_CIRCLE_SEGMENTS, MAX_CIRCLE_SEGMENTS)
+}
+
+/// The polygon of a record's shape, counter-clockwise seen from +z for the 2D
+/// records. Curves are approximated within `tolerance` (world units).
+///
+/// An arc is the sector from `start` to `end` degrees counter-clockwise (IRIS
+/// `arcf`): the sweep is `(end - start) mod 360`, and a sweep of 0 with
+/// `end != start` (e.g. 0 to 360) is the full disc.
+pub fn outline(shape: &Shape, tolerance: f64) -> Vec<DVec3> {
+    match *shape {
+        Shape::Polygon(ref v) => v.clone(),
+        Shape::Rect([x1, y1, x2, y2]) => {
+            let (x0, x1) = (x1.min(x2), x1.max(x2));
+            let (y0, y1) = (y1.min(y2), y1.max(y2));
+            vec![
+                DVec3::new(x0, y0, 0.0),
+                DVec3::new(x1, y0, 0.0),
+                DVec3::new(x1, y1, 0.0),
+                DVec3::new(x0, y1, 0.0),
+            ]
+        }
+        Shape::Circle { center, radius } => {
+            let n = circle_segments(radius, tolerance);
+            (0..n)
+                .map(|i| {
+                    let a = 2.0 * PI * i as f64 / n as f64;
+                    DVec3::new(
+                        center[0] + radius * a.cos(),
+                        center[1] + radius * a.sin(),
+                        0.0,
+                    )
+                })
+                .collect()
+        }
+        Shape::Arc {
+            center,
+            radius,
+            start,
+            end,
+        } => {
+            let mut sweep = (end - start).rem_euclid(360.0);
+            if sweep == 0.0 && end != start {
+                sweep = 360.0;
+            }
+            let full = circle_segments(radius, tolerance);
+            let n = ((full as f64 * sweep / 360.0).ceil() as usize).max(1);
+            let mut v = Vec::with_capacity(n + 2);
+            v.push(DVec3::new(center[0], center[1], 0.0));
+            for i in 0..=n {
+                let a = (start + sweep * i as f64 / n as f64).to_radians();
+                v.push(DVec3::new(
+                    center[0] + radius * a.cos(),
+                    center[1] + radius * a.sin(),
+                    0.0,
+                ));
+            }
+            v
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn signed_area_xy(v: &[DVec3]) -> f64 {
+        let n = v.len();
+        (0..n)
+            .map(|i| {
+                let (a, b) = (v[i], v[(i + 1) % n]);
+                a.x * b.y - b.x * a.y
+            })
+            .sum::<f64>()
+            / 2.0
+    }
+
+    #[test]
+    fn rect_is_ccw_whatever_corner_order() {
+        let v = outline(&Shape::Rect([425.0, 700.0, 75.0, 500.0]), 0.1);
+        assert_eq!(signed_area_xy(&v), 350.0 * 200.0);
+    }
+
+    #[test]
+    fn circle_chords_stay_within_tolerance() {
+        for (r, tol) in [(100.0, 0.01), (1.0, 0.5), (1e6, 1e-3)] {
+            let v = outline(
+                &Shape::Circle {
+                    center: [1.0, 2.0],
+                    radius: r,
+                },
+                tol,
+            );
+            let n = v.len() as f64;
+            assert!(
+                r * (1.0 - (PI / n).cos()) <= tol * (1.0 + 1e-12) || v.len() == MAX_CIRCLE_SEGMENTS
+            );
+            assert!(signed_area_xy(&v) > 0.0);
+        }
+    }
+
+    #[test]
+    fn arc_is_the_ccw_sector_and_wraps_past_360() {
+        // The thesis's demo: 30 to 90 degrees, a sixth of the disc.
+        let v = outline(
+            &Shape::Arc {
+                center: [0.0, 0.0],
+                radius: 1.0,
+                start: 30.0,
+                end: 90.0,
+            },
+            1e-4,
+        );
+        let a = signed_area_xy(&v);
+        assert!((a - PI / 6.0).abs() < 1e-3, "{a}");
+        let w = outline(
+            &Shape::Arc {
+                center: [0.0, 0.0],
+                radius: 1.0,
+                start: 300.0,
+                end: 60.0,
+            },
+            1e-4,
+        );
+        assert!((signed_area_xy(&w) - PI / 3.0).abs() < 1e-3);
+        let full = outline(
+            &Shape::Arc {
+                center: [0.0, 0.0],
+                radius: 1.0,
+                start: 0.0,
+                end: 360.0,
+            },
+            1e-4,
+        );
+        assert!((signed_area_xy(&full) - PI).abs() < 1e-3);
+    }
+}

@@ -1,0 +1,635 @@
+//! The polygon stream (SPEC §2): one JSON array of records, or NDJSON.
+//!
+//! Records are read one at a time whichever form the input takes, so memory does
+//! not grow with the number of records. Every record keeps its full JSON object
+//! ([`Record::fields`]) so tools that forward records pass unknown fields through
+//! unchanged; the typed view ([`Record::shape`], [`Record::pattern`], ...) is
+//! what the geometry and the renderer use.
+
+use crate::color::Rgb8;
+use glam::DVec3;
+use serde::de::{Deserializer as _, SeqAccess, Visitor};
+use serde_json::{Map, Value};
+use std::fmt;
+use std::io::{BufRead, Write};
+use std::path::{Path, PathBuf};
+
+/// The geometry of a record.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    /// A planar polygon, counter-clockwise seen from its front. `[x,y]` means z = 0.
+    Polygon(Vec<DVec3>),
+    /// `{"rect": [x1,y1,x2,y2]}` in the z = 0 plane.
+    Rect([f64; 4]),
+    /// `{"circle": {"center": [x,y], "radius": r}}` in the z = 0 plane.
+    Circle { center: [f64; 2], radius: f64 },
+    /// `{"arc": {...}}`: a filled sector drawn counter-clockwise from `start` to `end` degrees.
+    Arc {
+        center: [f64; 2],
+        radius: f64,
+        start: f64,
+        end: f64,
+    },
+}
+
+/// How a pattern is fixed to a polygon (SPEC §2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum PatternMode {
+    /// Fixed to the polygon: the thesis's `polcolorf3`.
+    #[default]
+    Object,
+    /// Fixed to the screen: the IRIS hardware pattern.
+    Screen,
+    /// Placed by per-vertex texture coordinates.
+    Uv,
+}
+
+/// A record's `"pattern"` object. Fields left out are `None`; the tool's
+/// command-line defaults fill them in.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct PatternRef {
+    /// Path of the `.pat`, as written in the record.
+    pub file: Option<String>,
+    pub mode: Option<PatternMode>,
+    /// Side of one texel in world units. Must be finite and > 0.
+    pub incr: Option<f64>,
+    /// Degrees, counter-clockwise, of +x from the edge vertex0→vertex1.
+    pub rotate: Option<f64>,
+    /// Shift of the pattern right, in texels.
+    pub horz: Option<f64>,
+    /// Shift of the pattern up, in texels.
+    pub vert: Option<f64>,
+}
+
+/// One record: its typed view and the whole JSON object it came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Record {
+    /// 0-based position in the stream, for error messages.
+    pub index: usize,
+    pub shape: Shape,
+    pub color: Option<Rgb8>,
+    pub pattern: Option<PatternRef>,
+    /// Per-vertex texture coordinates in texels, one pair per vertex.
+    pub uv: Option<Vec<[f64; 2]>>,
+    /// The record exactly as read (including the fields above).
+    pub fields: Map<String, Value>,
+}
+
+/// A stream error, naming the input and the record.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StreamError {
+    pub source: String,
+    /// 0-based record index, when the error belongs to one record.
+    pub record: Option<usize>,
+    pub message: String,
+}
+
+impl fmt::Display for StreamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.record {
+            Some(i) => write!(f, "{}: record {i}: {}", self.source, self.message),
+            None => write!(f, "{}: {}", self.source, self.message),
+        }
+    }
+}
+
+impl std::error::Error for StreamError {}
+
+/// The most vertices one polygon may have: 2^24 (16.7 million). Past that a
+/// record is certainly a mistake, and the limit keeps memory bounded.
+pub const MAX_VERTICES: usize = 1 << 24;
+
+fn field_err(index: usize, msg: impl Into<String>) -> (usize, String) {
+    (index, msg.into())
+}
+
+fn as_finite(v: &Value, what: &str) -> Result<f64, String> {
+    match v.as_f64() {
+        Some(x) if x.is_finite() => Ok(x),
+        Some(_) => Err(format!("{what} is not finite")),
+        None => Err(format!("{what}: expected a number, found {}", short(v))),
+    }
+}
+
+/// A JSON value shortened for an error message.
+fn short(v: &Value) -> String {
+    let s = v.to_string();
+    if s.len() > 40 {
+        format!(
+            "{}...",
+            &s[..s.char_indices().nth(37).map_or(s.len(), |(i, _)| i)]
+        )
+    } else {
+        s
+    }
+}
+
+fn number_array<const N: usize>(v: &Value, what: &str) -> Result<[f64; N], String> {
+    let arr = v.as_array().ok_or_else(|| {
+        format!(
+            "{what}: expected an array of {N} numbers, found {}",
+            short(v)
+        )
+    })?;
+    if arr.len() != N {
+        return Err(format!("{what}: expected {N} numbers, found {}", arr.len()));
+    }
+    let mut out = [0.0; N];
+    for (i, (o, x)) in out.iter_mut().zip(arr).enumerate() {
+        *o = as_finite(x, &format!("{what}[{i}]"))?;
+    }
+    Ok(out)
+}
+
+/// Parses `[r,g,b]` with integers 0..=255.
+pub fn parse_color(v: &Value) -> Result<Rgb8, String> {
+    let arr = v
+        .as_array()
+        .filter(|a| a.len() == 3)
+        .ok_or_else(|| format!("color: expected [r,g,b], found {}", short(v)))?;
+    let mut c = [0u8; 3];
+    for (o, x) in c.iter_mut().zip(arr) {
+        *o = x
+            .as_u64()
+            .filter(|&n| n <= 255)
+            .ok_or_else(|| format!("color: expected integers 0..=255, found {}", short(v)))?
+            as u8;
+    }
+    Ok(Rgb8(c))
+}
+
+fn parse_vertices(v: &Value) -> Result<Vec<DVec3>, String> {
+    let arr = v
+        .as_array()
+        .ok_or_else(|| format!("vertices: expected an array, found {}", short(v)))?;
+    if arr.len() < 3 {
+        return Err(format!(
+            "vertices: a polygon needs at least 3 vertices, found {}",
+            arr.len()
+        ));
+    }
+    if arr.len() > MAX_VERTICES {
+        return Err(format!(
+            "vertices: {} vertices is more than the limit of {MAX_VERTICES}",
+            arr.len()
+        ));
+    }
+    arr.iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let xs = p
+                .as_array()
+                .filter(|a| a.len() == 2 || a.len() == 3)
+                .ok_or_else(|| {
+                    format!(
+                        "vertices[{i}]: expected [x,y] or [x,y,z], found {}",
+                        short(p)
+                    )
+                })?;
+            let c = |k: usize| as_finite(&xs[k], &format!("vertices[{i}][{k}]"));
+            Ok(DVec3::new(
+                c(0)?,
+                c(1)?,
+                if xs.len() == 3 { c(2)? } else { 0.0 },
+            ))
+        })
+        .collect()
+}
+
+fn parse_pattern(v: &Value) -> Result<PatternRef, String> {
+    let obj = v
+        .as_object()
+        .ok_or_else(|| format!("pattern: expected an object, found {}", short(v)))?;
+    let num = |k: &str| -> Result<Option<f64>, String> {
+        obj.get(k)
+            .map(|x| as_finite(x, &format!("pattern.{k}")))
+            .transpose()
+    };
+    let mode = match obj.get("mode") {
+        None => None,
+        Some(Value::String(s)) => Some(match s.as_str() {
+            "object" => PatternMode::Object,
+            "screen" => PatternMode::Screen,
+            "uv" => PatternMode::Uv,
+            other => {
+                return Err(format!(
+                    "pattern.mode: `{other}` is not a mode: expected object, screen or uv"
+                ))
+            }
+        }),
+        Some(x) => {
+            return Err(format!(
+                "pattern.mode: expected a string, found {}",
+                short(x)
+            ))
+        }
+    };
+    let file = match obj.get("file") {
+        None => None,
+        Some(Value::String(s)) => Some(s.clone()),
+        Some(x) => {
+            return Err(format!(
+                "pattern.file: expected a path string, found {}",
+                short(x)
+            ))
+        }
+    };
+    let incr = num("incr")?;
+    if let Some(i) = incr {
+        if i <= 0.0 {
+            return Err(format!("pattern.incr: {i} is not positive"));
+        }
+    }
+    Ok(PatternRef {
+        file,
+        mode,
+        incr,
+        rotate: num("rotate")?,
+        horz: num("horz")?,
+        vert: num("vert")?,
+    })
+}
+
+impl Record {
+    /// Builds the typed view of one JSON record.
+    pub fn from_value(index: usize, value: Value) -> Result<Record, (usize, String)> {
+        let Value::Object(fields) = value else {
+            return Err(field_err(
+                index,
+                format!("expected a JSON object, found {}", short(&value)),
+            ));
+        };
+        let e = |m: String| field_err(index, m);
+        let keys = ["vertices", "rect", "circle", "arc"];
+        let present: Vec<&str> = keys
+            .iter()
+            .copied()
+            .filter(|k| fields.contains_key(*k))
+            .collect();
+        let shape = match present.as_slice() {
+            ["vertices"] => Shape::Polygon(parse_vertices(&fields["vertices"]).map_err(e)?),
+            ["rect"] => Shape::Rect(number_array::<4>(&fields["rect"], "rect").map_err(e)?),
+            ["circle"] => {
+                let c = &fields["circle"];
+                let center =
+                    number_array::<2>(c.get("center").unwrap_or(&Value::Null), "circle.center")
+                        .map_err(e)?;
+                let radius = as_finite(c.get("radius").unwrap_or(&Value::Null), "circle.radius")
+                    .map_err(e)?;
+                if radius <= 0.0 {
+                    return Err(field_err(
+                        index,
+                        format!("circle.radius: {radius} is not positive"),
+                    ));
+                }
+                Shape::Circle { center, radius }
+            }
+            ["arc"] => {
+                let a = &fields["arc"];
+                let get = |k: &str| a.get(k).unwrap_or(&Value::Null);
+                let center = number_array::<2>(get("center"), "arc.center").map_err(e)?;
+                let radius = as_finite(get("radius"), "arc.radius").map_err(e)?;
+                if radius <= 0.0 {
+                    return Err(field_err(
+                        index,
+                        format!("arc.radius: {radius} is not positive"),
+                    ));
+                }
+                Shape::Arc {
+                    center,
+                    radius,
+                    start: as_finite(get("start"), "arc.start").map_err(e)?,
+                    end: as_finite(get("end"), "arc.end").map_err(e)?,
+                }
+            }
+            [] => {
+                return Err(field_err(
+                    index,
+                    "no geometry: expected one of \"vertices\", \"rect\", \"circle\", \"arc\"",
+                ))
+            }
+            many => {
+                return Err(field_err(
+                    index,
+                    format!(
+                        "several geometries ({}): expected exactly one",
+                        many.join(", ")
+                    ),
+                ))
+            }
+        };
+        let color = fields
+            .get("color")
+            .map(parse_color)
+            .transpose()
+            .map_err(e)?;
+        let pattern = fields
+            .get("pattern")
+            .map(parse_pattern)
+            .transpose()
+            .map_err(e)?;
+        let uv = match fields.get("uv") {
+            None => None,
+            Some(v) => {
+                let Shape::Polygon(verts) = &shape else {
+                    return Err(field_err(
+                        index,
+                        "uv: only polygons carry texture coordinates",
+                    ));
+                };
+                let arr = v.as_array().ok_or_else(|| {
+                    field_err(index, format!("uv: expected an array, found {}", short(v)))
+                })?;
+                if arr.len() != verts.len() {
+                    return Err(field_err(
+                        index,
+                        format!(
+                            "uv: {} pairs for {} vertices: expected one pair per vertex",
+                            arr.len(),
+                            verts.len()
+                        ),
+                    ));
+                }
+                Some(
+                    arr.iter()
+                        .enumerate()
+                        .map(|(i, p)| number_array::<2>(p, &format!("uv[{i}]")))
+                        .collect::<Result<Vec<_>, _>>()
+                        .map_err(e)?,
+                )
+            }
+        };
+        if color.is_none() && pattern.is_none() {
+            return Err(field_err(
+                index,
+                "no \"color\" and no \"pattern\": expected at least one",
+            ));
+        }
+        Ok(Record {
+            index,
+            shape,
+            color,
+            pattern,
+            uv,
+            fields,
+        })
+    }
+}
+
+/// Where relative pattern paths resolve (SPEC §2): the stream file's directory,
+/// or the current directory for standard input.
+pub fn base_dir(input_name: &str) -> PathBuf {
+    if input_name == crate::io::STDIO {
+        PathBuf::from(".")
+    } else {
+        Path::new(input_name)
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+    }
+}
+
+/// Resolves a pattern path against a stream's base directory.
+pub fn resolve(base: &Path, file: &str) -> PathBuf {
+    let p = Path::new(file);
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        base.join(p)
+    }
+}
+
+/// Reads records one at a time from a JSON array or an NDJSON stream, calling
+/// `each` for every record in order. Stops at the first error, which names the
+/// input and the record. Memory stays bounded by the largest single record.
+pub fn for_each_record<R: BufRead>(
+    mut reader: R,
+    source: &str,
+    mut each: impl FnMut(Record) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    let stream_err = |record: Option<usize>, message: String| StreamError {
+        source: source.to_string(),
+        record,
+        message,
+    };
+    // Peek at the first non-blank byte to tell an array from NDJSON.
+    let first = loop {
+        let buf = reader
+            .fill_buf()
+            .map_err(|e| stream_err(None, e.to_string()))?;
+        if buf.is_empty() {
+            break None;
+        }
+        match buf.iter().position(|b| !b.is_ascii_whitespace()) {
+            Some(i) => {
+                let b = buf[i];
+                reader.consume(i);
+                break Some(b);
+            }
+            None => {
+                let n = buf.len();
+                reader.consume(n);
+            }
+        }
+    };
+    let mut index = 0usize;
+    let mut handle = |value: Value, index: &mut usize| -> anyhow::Result<()> {
+        let rec = Record::from_value(*index, value).map_err(|(i, m)| stream_err(Some(i), m))?;
+        *index += 1;
+        each(rec)
+    };
+    match first {
+        None => Ok(()),
+        Some(b'[') => {
+            let mut de = serde_json::Deserializer::from_reader(reader);
+            let mut failure: Option<anyhow::Error> = None;
+            let visitor = ArrayVisitor {
+                each: &mut |v: Value| -> bool {
+                    match handle(v, &mut index) {
+                        Ok(()) => true,
+                        Err(e) => {
+                            failure = Some(e);
+                            false
+                        }
+                    }
+                },
+            };
+            let res = (&mut de).deserialize_seq(visitor);
+            if let Some(f) = failure {
+                return Err(f);
+            }
+            res.map_err(|e| stream_err(Some(index), json_message(&e)))?;
+            de.end()
+                .map_err(|e| stream_err(None, format!("after the array: {}", json_message(&e))))?;
+            Ok(())
+        }
+        Some(_) => {
+            let de = serde_json::Deserializer::from_reader(reader).into_iter::<Value>();
+            for v in de {
+                let v = v.map_err(|e| stream_err(Some(index), json_message(&e)))?;
+                handle(v, &mut index)?;
+            }
+            Ok(())
+        }
+    }
+}
+
+/// serde_json's message with its position, phrased for a user.
+fn json_message(e: &serde_json::Error) -> String {
+    format!("invalid JSON: {e}")
+}
+
+/// Streams the elements of a JSON array to a callback without collecting them.
+struct ArrayVisitor<'a> {
+    each: &'a mut dyn FnMut(Value) -> bool,
+}
+
+impl<'de> Visitor<'de> for ArrayVisitor<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("an array of records")
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        while let Some(v) = seq.next_element::<Value>()? {
+            if !(self.each)(v) {
+                // Stop early: the caller reports its own error.
+                return Ok(());
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Writes one record as a line of NDJSON (the default output form).
+pub fn write_ndjson<W: Write>(w: &mut W, fields: &Map<String, Value>) -> std::io::Result<()> {
+    serde_json::to_writer(&mut *w, fields)?;
+    w.write_all(b"\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read_all(text: &str) -> anyhow::Result<Vec<Record>> {
+        let mut out = Vec::new();
+        for_each_record(text.as_bytes(), "s.json", |r| {
+            out.push(r);
+            Ok(())
+        })?;
+        Ok(out)
+    }
+
+    fn err(text: &str) -> String {
+        format!("{:#}", read_all(text).unwrap_err())
+    }
+
+    #[test]
+    fn array_and_ndjson_give_the_same_records() {
+        let a = r#"[{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"id":"a"},
+                    {"rect":[0,0,2,2],"color":[0,0,0]}]"#;
+        let n = "{\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3],\"id\":\"a\"}\n{\"rect\":[0,0,2,2],\"color\":[0,0,0]}\n";
+        assert_eq!(read_all(a).unwrap(), read_all(n).unwrap());
+        let r = read_all(a).unwrap();
+        assert_eq!(r[0].fields["id"], "a");
+        assert_eq!(r[1].index, 1);
+        assert!(matches!(r[0].shape, Shape::Polygon(ref v) if v[2] == DVec3::new(0.0, 1.0, 0.0)));
+    }
+
+    #[test]
+    fn empty_input_is_an_empty_stream() {
+        assert!(read_all("").unwrap().is_empty());
+        assert!(read_all(" \n ").unwrap().is_empty());
+        assert!(read_all("[]").unwrap().is_empty());
+    }
+
+    #[test]
+    fn bad_records_name_the_record_and_the_field() {
+        assert_eq!(
+            err(r#"{"vertices":[[0,0],[1,0]],"color":[0,0,0]}"#),
+            "s.json: record 0: vertices: a polygon needs at least 3 vertices, found 2"
+        );
+        assert!(err(r#"{"vertices":[[0,0],[1,0],[0,"a"]],"color":[0,0,0]}"#)
+            .contains("record 0: vertices[2][1]: expected a number"));
+        assert!(err(r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[0,0,256]}"#)
+            .contains("color: expected integers 0..=255"));
+        assert!(
+            err(r#"{"vertices":[[0,0],[1,0],[0,1]]}"#).contains("no \"color\" and no \"pattern\"")
+        );
+        assert!(
+            err(r#"{"rect":[0,0,1,1],"circle":{},"color":[0,0,0]}"#).contains("several geometries")
+        );
+        assert!(
+            err(r#"{"vertices":[[0,0],[1,0],[0,1]],"pattern":{"incr":0}}"#)
+                .contains("pattern.incr: 0 is not positive")
+        );
+        assert!(
+            err(r#"{"vertices":[[0,0],[1,0],[0,1]],"pattern":{"mode":"sky"}}"#)
+                .contains("`sky` is not a mode")
+        );
+        assert!(
+            err(r#"{"vertices":[[0,0],[1,0],[0,1]],"pattern":{},"uv":[[0,0]]}"#)
+                .contains("uv: 1 pairs for 3 vertices")
+        );
+        assert!(
+            err(r#"{"circle":{"center":[0,0],"radius":-1},"color":[0,0,0]}"#)
+                .contains("circle.radius: -1 is not positive")
+        );
+        assert!(err("[1]").contains("record 0: expected a JSON object, found 1"));
+    }
+
+    #[test]
+    fn nan_huge_numbers_truncation_and_deep_nesting_are_errors_not_panics() {
+        assert!(
+            err(r#"{"vertices":[[NaN,0],[1,0],[0,1]],"color":[0,0,0]}"#).contains("invalid JSON")
+        );
+        assert!(
+            err(r#"{"vertices":[[1e999,0],[1,0],[0,1]],"color":[0,0,0]}"#).contains("record 0")
+        );
+        assert!(err(r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[0,0,0]"#).contains("invalid JSON"));
+        assert!(err(r#"[{"vertices":[[0,0],[1,0],[0,1]],"color":[0,0,0]}"#)
+            .contains("record 1: invalid JSON"));
+        let deep = format!("{}{}", "[".repeat(100_000), "]".repeat(100_000));
+        assert!(err(&deep).contains("invalid JSON"));
+        let deep_obj = format!("{{\"x\":{}1{}}}", "[".repeat(100_000), "]".repeat(100_000));
+        assert!(err(&deep_obj).contains("record 0: invalid JSON"));
+    }
+
+    #[test]
+    fn an_error_in_the_callback_stops_the_array_stream() {
+        let text = r#"[{"rect":[0,0,1,1],"color":[0,0,0]},{"rect":[0,0,1,1],"color":[0,0,0]}]"#;
+        let mut seen = 0;
+        let r = for_each_record(text.as_bytes(), "s", |_| {
+            seen += 1;
+            anyhow::bail!("stop")
+        });
+        assert_eq!(seen, 1);
+        assert_eq!(r.unwrap_err().to_string(), "stop");
+    }
+
+    #[test]
+    fn relative_pattern_paths_resolve_against_the_stream_directory() {
+        assert_eq!(
+            resolve(&base_dir("scenes/a.json"), "p.pat"),
+            PathBuf::from("scenes/p.pat")
+        );
+        assert_eq!(
+            resolve(&base_dir("a.json"), "p.pat"),
+            PathBuf::from("./p.pat")
+        );
+        assert_eq!(
+            resolve(&base_dir("-"), "/x/p.pat"),
+            PathBuf::from("/x/p.pat")
+        );
+    }
+
+    #[test]
+    fn ndjson_output_keeps_unknown_fields_in_order() {
+        let r = read_all(r#"{"z":1,"rect":[0,0,1,1],"color":[0,0,0],"a":{"b":[1]}}"#).unwrap();
+        let mut out = Vec::new();
+        write_ndjson(&mut out, &r[0].fields).unwrap();
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            "{\"z\":1,\"rect\":[0,0,1,1],\"color\":[0,0,0],\"a\":{\"b\":[1]}}\n"
+        );
+    }
+}
