@@ -9,6 +9,7 @@ pub mod color;
 pub mod geom;
 pub mod io;
 pub mod pat;
+pub mod raster;
 pub mod stream;
 
 pub use color::Rgb8;
