@@ -10,6 +10,7 @@ pub mod geom;
 pub mod io;
 pub mod pat;
 pub mod stream;
+pub mod texture;
 
 pub use color::Rgb8;
 pub use pat::{ParseError, Pattern, TRANSPARENT};
