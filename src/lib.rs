@@ -8,6 +8,7 @@ pub mod cli;
 pub mod color;
 pub mod io;
 pub mod pat;
+pub mod quantize;
 
 pub use color::Rgb8;
 pub use pat::{ParseError, Pattern, TRANSPARENT};
