@@ -5,8 +5,11 @@
 //! Each tool module holds `Args` (clap) and `run(Args) -> anyhow::Result<()>`;
 //! its file in `src/bin/` is one line that hands both to [`main`].
 
+use clap::CommandFactory;
 use std::fmt;
 use std::str::FromStr;
+
+pub mod pat_from_image;
 
 /// A usage error found after clap's own parsing (contradictory flags, values out
 /// of range): reported like any error, but the exit status is 2.
@@ -119,7 +122,7 @@ impl FromStr for IntPair {
 
 /// Every tool's clap command, for man pages and completion generation.
 pub fn commands() -> Vec<clap::Command> {
-    vec![]
+    vec![pat_from_image::Args::command()]
 }
 
 /// Renders one tool's man page (roff) from its argument definitions.
