@@ -86,9 +86,16 @@ impl Output {
             Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
             _ => PathBuf::from("."),
         };
-        let tmp = tempfile::Builder::new()
-            .prefix(".patkit-")
-            .suffix(".tmp")
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(".patkit-").suffix(".tmp");
+        // An ordinary file's mode (0666 less the umask), not the private 0600 a
+        // temporary file gets by default: the rename makes it the real output.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            builder.permissions(std::fs::Permissions::from_mode(0o666));
+        }
+        let tmp = builder
             .tempfile_in(&dir)
             .with_context(|| format!("{name}: cannot create a file in {}", dir.display()))?;
         Ok(Output {
@@ -300,6 +307,16 @@ mod tests {
         let out = Output::create(path.to_str().unwrap(), true).unwrap();
         out.commit().unwrap();
         assert!(path.exists());
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let mode = std::fs::metadata(&path).unwrap().permissions().mode();
+            assert_ne!(
+                mode & 0o044,
+                0,
+                "output is readable by others as usual: {mode:o}"
+            );
+        }
     }
 
     #[test]

@@ -9,6 +9,7 @@ pub mod color;
 pub mod geom;
 pub mod io;
 pub mod pat;
+pub mod quantize;
 pub mod stream;
 pub mod texture;
 

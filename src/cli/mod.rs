@@ -5,9 +5,11 @@
 //! Each tool module holds `Args` (clap) and `run(Args) -> anyhow::Result<()>`;
 //! its file in `src/bin/` is one line that hands both to [`main`].
 
+use clap::CommandFactory;
 use std::fmt;
 use std::str::FromStr;
 
+pub mod pat_from_image;
 pub mod pat_info;
 pub mod pat_tile;
 
@@ -135,8 +137,11 @@ impl FromStr for IntPair {
 
 /// Every tool's clap command, for man pages and completion generation.
 pub fn commands() -> Vec<clap::Command> {
-    use clap::CommandFactory;
-    vec![pat_info::Args::command(), pat_tile::Args::command()]
+    vec![
+        pat_from_image::Args::command(),
+        pat_info::Args::command(),
+        pat_tile::Args::command(),
+    ]
 }
 
 /// Renders one tool's man page (roff) from its argument definitions.

@@ -5,5 +5,6 @@
 mod util;
 
 mod man_pages;
+mod pat_from_image;
 mod pat_info;
 mod pat_tile;
