@@ -34,7 +34,7 @@ add "pat-tile png"      "$bin/pat-tile --size ${size}x${size} -o ours.png $OLDPW
 add "imagemagick png"   "$im -size ${size}x${size} tile:in.png im.png"
 add "netpbm png"        "sh -c 'pnmtile $size $size in.ppm | pnmtopng > nb.png'"
 add "pat-tile ppm"      "$bin/pat-tile --size ${size}x${size} -o ours.ppm $OLDPWD/$pat"
-add "imagemagick ppm"   "$im -size ${size}x${size} tile:in.png im.ppm"
+add "imagemagick ppm"   "$im -size ${size}x${size} tile:in.png -depth 8 im.ppm"
 add "netpbm ppm"        "sh -c 'pnmtile $size $size in.ppm > nb.ppm'"
 
 args=()
@@ -67,4 +67,4 @@ print("same pixels: ppm vs imagemagick: $pixels_im, ppm vs netpbm: $pixels_nb, p
 PY
 echo
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(date -u +%Y-%m-%d)"
-echo "versions: $($im -version | head -1 | cut -d' ' -f2-3), netpbm $(pnmtile --version 2>&1 | grep -o 'Netpbm [^ ]* *[0-9.]*' | head -1)"
+echo "versions: $($im -version | head -1 | cut -d' ' -f2-3), netpbm $(dpkg-query -W -f='${Version}' netpbm 2>/dev/null)"

@@ -3,7 +3,7 @@
 
 use super::{warn, IntPair, Size};
 use crate::color::Rgb8;
-use crate::io::{display_name, read_input, ImageFormat, Output};
+use crate::io::{display_name, read_input, ImageFormat, Output, PngOptions};
 use crate::pat::Pattern;
 use crate::texture::{tile_image, ScreenTiling};
 use crate::usage_bail;
@@ -116,5 +116,5 @@ pub fn run(args: Args) -> Result<()> {
         tiling,
         background,
     );
-    image.save(&args.output, format)
+    image.save_with(&args.output, format, PngOptions::FLAT_REPEATING)
 }
