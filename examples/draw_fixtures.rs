@@ -168,13 +168,48 @@ fn chex() -> RgbaImage {
     })
 }
 
+/// Periodic value noise: lattice values on a `cells` x `cells` grid that wraps,
+/// smoothly interpolated, so the picture it makes tiles without a seam.
+fn value_noise(x: f64, y: f64, cells: u64, seed: u64) -> f64 {
+    let lattice = |i: i64, j: i64| {
+        let (i, j) = (i.rem_euclid(cells as i64) as u64, j.rem_euclid(cells as i64) as u64);
+        (hash(i * 7919 + j, seed) % 10_000) as f64 / 10_000.0
+    };
+    let (i, j) = (x.floor() as i64, y.floor() as i64);
+    let (fx, fy) = (x - x.floor(), y - y.floor());
+    let s = |t: f64| t * t * (3.0 - 2.0 * t);
+    let (sx, sy) = (s(fx), s(fy));
+    let top = lattice(i, j) * (1.0 - sx) + lattice(i + 1, j) * sx;
+    let bottom = lattice(i, j + 1) * (1.0 - sx) + lattice(i + 1, j + 1) * sx;
+    top * (1.0 - sy) + bottom * sy
+}
+
+/// A photo-like 256x256 marble: many smooth shades, for `pat-from-image` to
+/// quantize (the bundled example's input picture, not a fixture pattern).
+fn marble() -> RgbaImage {
+    const SIDE: u32 = 256;
+    RgbaImage::from_fn(SIDE, SIDE, |x, y| {
+        let mut turbulence = 0.0;
+        for (octave, cells) in [4u64, 8, 16, 32].into_iter().enumerate() {
+            let scale = cells as f64 / SIDE as f64;
+            turbulence += value_noise(x as f64 * scale, y as f64 * scale, cells, 11) / (1 << octave) as f64;
+        }
+        let phase = 2.0 * PI * (2.0 * x as f64 / SIDE as f64 + y as f64 / SIDE as f64);
+        let vein = (phase + 5.0 * turbulence).sin().abs().powf(0.35);
+        let base = [232.0, 228.0, 220.0];
+        let dark = [70.0, 80.0, 98.0];
+        let px = |k: usize| (dark[k] + (base[k] - dark[k]) * vein) as u8;
+        Rgba([px(0), px(1), px(2), 255])
+    })
+}
+
 fn main() {
     let out = std::env::args()
         .nth(1)
         .expect("usage: draw_fixtures OUT_DIR");
     let out = Path::new(&out);
     std::fs::create_dir_all(out).expect("creating the output directory");
-    let patterns: [(&str, RgbaImage); 7] = [
+    let patterns = [
         ("brick", brick()),
         ("wood", wood()),
         ("weave", weave()),
@@ -183,7 +218,8 @@ fn main() {
         ("pyr", pyr()),
         ("chex", chex()),
     ];
-    for (name, img) in patterns {
+    let pictures = patterns.into_iter().chain([("marble", marble())]);
+    for (name, img) in pictures {
         let path = out.join(format!("{name}.png"));
         img.save(&path)
             .unwrap_or_else(|e| panic!("writing {}: {e}", path.display()));
