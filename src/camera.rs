@@ -488,8 +488,21 @@ impl Camera {
 
 fn from_json_ctx(value: &Value, ctx: Ctx) -> Result<Camera> {
     let root = Obj::new(ctx, "", value)?;
-    root.check_keys(&["lookat", "perspective", "ortho", "ortho2"])?;
-    let camera = iris_camera(&root)?;
+    root.check_keys(&["lookat", "perspective", "ortho", "ortho2", "view"])?;
+    let iris = ["lookat", "perspective", "ortho", "ortho2"]
+        .into_iter()
+        .find(|k| root.has(k));
+    let camera = match (root.map.get("view"), iris) {
+        (Some(_), Some(k)) => {
+            return Err(ctx.err(
+                k,
+                "cannot be combined with \"view\": give either the IRIS/GLU camera \
+                 (lookat + perspective/ortho/ortho2) or the textbook view system",
+            ))
+        }
+        (Some(view), None) => textbook(&Obj::new(ctx, "view", view)?)?,
+        (None, _) => iris_camera(&root)?,
+    };
     camera.checked(ctx)
 }
 
@@ -641,6 +654,272 @@ fn lookat(o: &Obj) -> Result<DMat4> {
     Ok(DMat4::from_rotation_z(-twist.to_radians()) * look)
 }
 
+/// The textbook's view system (Harrington ch. 8; conventions in the module docs).
+fn textbook(o: &Obj) -> Result<Camera> {
+    o.check_keys(&[
+        "vrp",
+        "vpn",
+        "view_up",
+        "view_distance",
+        "window",
+        "cop",
+        "dop",
+        "oblique",
+        "isometric",
+        "front",
+        "back",
+    ])?;
+    let given: Vec<&str> = ["cop", "dop", "oblique", "isometric"]
+        .into_iter()
+        .filter(|k| o.has(k))
+        .collect();
+    match given.as_slice() {
+        [] => {
+            return Err(o.ctx.err(
+                "view",
+                "no projection: give one of \"cop\" (perspective), \"dop\", \"oblique\" or \
+                 \"isometric\" (parallel)",
+            ))
+        }
+        [_] => {}
+        [_, second, ..] => {
+            return Err(o.err(
+                second,
+                format!(
+                    "more than one projection given ({}): give exactly one",
+                    given.join(", ")
+                ),
+            ))
+        }
+    }
+    let isometric = o.has("isometric");
+    if isometric && o.map["isometric"] != Value::Bool(true) {
+        return Err(o.err(
+            "isometric",
+            format!("expected true, found {}", kind(&o.map["isometric"])),
+        ));
+    }
+
+    // SET-VIEW-REFERENCE-POINT, SET-VIEW-PLANE-NORMAL, SET-VIEW-UP, SET-VIEW-DISTANCE
+    // (Alg. 8.14–8.17) with the defaults of INITIALIZE-8 (Alg. 8.41).
+    let vrp = o.vec3("vrp")?.unwrap_or(DVec3::ZERO);
+    let default_vpn = if isometric {
+        DVec3::splat(-1.0)
+    } else {
+        DVec3::NEG_Z
+    };
+    let vpn = o.vec3("vpn")?.unwrap_or(default_vpn);
+    if vpn.length() <= ROUNDOFF {
+        return Err(o.err(
+            "vpn",
+            format!(
+                "{} is the zero vector: the view plane needs a normal (INVALID VIEW PLANE NORMAL)",
+                show(vpn)
+            ),
+        ));
+    }
+    if isometric && !parallel(vpn.abs(), DVec3::ONE) {
+        return Err(o.err(
+            "vpn",
+            format!(
+                "{} is not an isometric direction: its three components must have equal magnitude, e.g. [-1, -1, -1]",
+                show(vpn)
+            ),
+        ));
+    }
+    let up = o.vec3("view_up")?.unwrap_or(DVec3::Y);
+    if up.length() <= ROUNDOFF {
+        return Err(o.err(
+            "view_up",
+            format!(
+                "{} is the zero vector: no up direction (NO SET-VIEW-UP DIRECTION)",
+                show(up)
+            ),
+        ));
+    }
+    if parallel(vpn, up) {
+        return Err(o.err(
+            "view_up",
+            format!(
+                "{} is parallel to the view plane normal {}: the image's up is undefined \
+                 (SET-VIEW-UP ALONG VIEW PLANE NORMAL)",
+                show(up),
+                show(vpn)
+            ),
+        ));
+    }
+    let distance = o.num("view_distance")?.unwrap_or(0.0);
+
+    let [umin, umax, vmin, vmax] = o.req_array::<4>("window")?;
+    if coincide(umin, umax) {
+        return Err(o.err(
+            "window",
+            format!("zero width: umin {umin} equals umax {umax}"),
+        ));
+    }
+    if coincide(vmin, vmax) {
+        return Err(o.err(
+            "window",
+            format!("zero height: vmin {vmin} equals vmax {vmax}"),
+        ));
+    }
+    let (wu, wv) = (umax - umin, vmax - vmin);
+
+    // SET-VIEW-DEPTH (Alg. 8.23): distances from the VRP along the VPN.
+    let front = o.req_num("front")?;
+    let back = o.req_num("back")?;
+    if front > back {
+        return Err(o.err(
+            "front",
+            format!("{front} is beyond back {back} (FRONT PLANE BEHIND BACK PLANE)"),
+        ));
+    }
+    if front == back {
+        return Err(o.err(
+            "back",
+            format!("{back} equals front: the view volume is empty"),
+        ));
+    }
+
+    // MAKE-VIEW-PLANE-TRANSFORMATION (Alg. 8.20): the view plane coordinate axes.
+    let r = eye_rotation(vpn, up);
+    let n = vpn.normalize();
+    let plane_centre = vrp + distance * n;
+
+    if let Some(cop) = o.vec3("cop")? {
+        // MAKE-PERSPECTIVE-TRANSFORMATION (Alg. 8.21): the COP in view plane
+        // coordinates must have ZC > 0.
+        let c = r * (cop - plane_centre);
+        let tolerance = COINCIDENT_RELATIVE * (cop - plane_centre).length().max(1.0);
+        if c.z <= tolerance {
+            let (where_, book) = if c.z < -tolerance {
+                ("behind", " (CENTER OF PROJECTION BEHIND VIEW PLANE)")
+            } else {
+                ("on", "")
+            };
+            return Err(o.err(
+                "cop",
+                format!(
+                    "{} is {where_} the view plane{book}: the centre of projection must lie on the \
+                     viewer's side, before the view plane along the VPN (its distance to the plane is {})",
+                    show(cop),
+                    -c.z
+                ),
+            ));
+        }
+        // Eye coordinates: the view plane axes moved to the COP. The front and back
+        // distances become distances from the COP.
+        let cop_depth = (cop - vrp).dot(n);
+        let (near, far) = (front - cop_depth, back - cop_depth);
+        if near < 0.0 {
+            return Err(o.err(
+                "front",
+                format!(
+                    "{front} puts the front plane {} behind the centre of projection (which lies {cop_depth} \
+                     from the VRP along the VPN): a perspective view cannot see behind its eye",
+                    -near
+                ),
+            ));
+        }
+        // Eq. 8.45 on the window, as x_clip/w = (2u − (umax+umin))/(umax−umin).
+        let projection = from_rows([
+            [2.0 * c.z / wu, 0.0, (umax + umin - 2.0 * c.x) / wu, 0.0],
+            [0.0, 2.0 * c.z / wv, (vmax + vmin - 2.0 * c.y) / wv, 0.0],
+            DEPTH_ROW,
+            PERSPECTIVE_W_ROW,
+        ]);
+        return Ok(Camera {
+            view: view_matrix(r, cop),
+            projection,
+            near,
+            far,
+            perspective: true,
+        });
+    }
+
+    // The direction of projection in view plane coordinates (Alg. 8.22).
+    let p = if let Some(dop) = o.vec3("dop")? {
+        if dop.length() <= ROUNDOFF {
+            return Err(o.err(
+                "dop",
+                format!(
+                    "{} is the zero vector (NO DIRECTION OF PROJECTION)",
+                    show(dop)
+                ),
+            ));
+        }
+        let p = r * dop;
+        if p.z.abs() <= PARALLEL_SINE * p.length() {
+            return Err(o.err(
+                "dop",
+                format!(
+                    "{} is parallel to the view plane (PROJECTION PARALLEL VIEW PLANE): \
+                     the projection lines never meet it",
+                    show(dop)
+                ),
+            ));
+        }
+        p
+    } else if let Some(value) = o.map.get("oblique") {
+        let ob = Obj::new(o.ctx, "view.oblique", value)?;
+        ob.check_keys(&["kind", "angle"])?;
+        // "Special projections": SET-PARALLEL(cos A, sin A, 1) is cavalier,
+        // (cos A, sin A, 2) cabinet.
+        let receding = match ob.map.get("kind") {
+            Some(Value::String(k)) if k == "cavalier" => 1.0,
+            Some(Value::String(k)) if k == "cabinet" => 2.0,
+            Some(other) => {
+                return Err(ob.err(
+                    "kind",
+                    format!(
+                        "expected \"cavalier\" or \"cabinet\", found {}",
+                        kind(other)
+                    ),
+                ))
+            }
+            None => return Err(ob.err("kind", "missing (\"cavalier\" or \"cabinet\")")),
+        };
+        let angle = ob
+            .num("angle")?
+            .unwrap_or(DEFAULT_OBLIQUE_ANGLE)
+            .to_radians();
+        DVec3::new(angle.cos(), angle.sin(), receding)
+    } else {
+        // Isometric: projection along the view plane normal.
+        DVec3::Z
+    };
+    // Eq. 8.37 on the view plane (z_eye = −distance), eye origin at the VRP:
+    // u = x − z·sx − distance·sx.
+    let (sx, sy) = (p.x / p.z, p.y / p.z);
+    let projection = from_rows([
+        [
+            2.0 / wu,
+            0.0,
+            -2.0 * sx / wu,
+            (-2.0 * distance * sx - (umax + umin)) / wu,
+        ],
+        [
+            0.0,
+            2.0 / wv,
+            -2.0 * sy / wv,
+            (-2.0 * distance * sy - (vmax + vmin)) / wv,
+        ],
+        DEPTH_ROW,
+        PARALLEL_W_ROW,
+    ]);
+    Ok(Camera {
+        view: view_matrix(r, vrp),
+        projection,
+        near: front,
+        far: back,
+        perspective: false,
+    })
+}
+
+/// The angle of the receding axis of cavalier and cabinet projections when none
+/// is given, in degrees (the usual drafting choice; the textbook leaves A free).
+pub const DEFAULT_OBLIQUE_ANGLE: f64 = 45.0;
+
 /// Parses `N` comma-separated finite numbers (`"0,100,-5"`).
 fn parse_list<const N: usize>(text: &str) -> std::result::Result<[f64; N], String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
@@ -703,6 +982,87 @@ pub struct CameraArgs {
     /// IRIS ortho2 (gluOrtho2D): left, right, bottom, top; near -1, far 1. Default: none.
     #[arg(long, value_name = "L,R,B,T", value_parser = parse_list::<4>, allow_hyphen_values = true, help_heading = "Camera")]
     pub ortho2: Option<[f64; 4]>,
+
+    /// Textbook view reference point (world). Default: 0,0,0.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_list::<3>, allow_hyphen_values = true, help_heading = "Camera (textbook view system)")]
+    pub vrp: Option<[f64; 3]>,
+
+    /// View plane normal: the direction the camera looks. Default: 0,0,-1
+    /// (-1,-1,-1 with --oblique isometric).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_list::<3>, allow_hyphen_values = true, help_heading = "Camera (textbook view system)")]
+    pub vpn: Option<[f64; 3]>,
+
+    /// View-up direction (world), shown vertical on the image. Default: 0,1,0.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_list::<3>, allow_hyphen_values = true, help_heading = "Camera (textbook view system)")]
+    pub view_up: Option<[f64; 3]>,
+
+    /// Distance from the VRP to the view plane along the VPN. Default: 0.
+    #[arg(long, value_name = "D", value_parser = parse_finite, allow_hyphen_values = true, help_heading = "Camera (textbook view system)")]
+    pub view_distance: Option<f64>,
+
+    /// Window on the view plane (view plane coordinates, centred on the VPN line
+    /// through the VRP); it fills the image. Default: none (required).
+    #[arg(long, value_name = "UMIN,UMAX,VMIN,VMAX", value_parser = parse_list::<4>, allow_hyphen_values = true, help_heading = "Camera (textbook view system)")]
+    pub window: Option<[f64; 4]>,
+
+    /// Perspective: centre of projection (world coordinates, on the viewer's side of
+    /// the view plane). Default: none.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_list::<3>, allow_hyphen_values = true, help_heading = "Camera (textbook view system)")]
+    pub cop: Option<[f64; 3]>,
+
+    /// Parallel: direction of projection (world; oblique when not along the VPN).
+    /// Default: none.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_list::<3>, allow_hyphen_values = true, help_heading = "Camera (textbook view system)")]
+    pub dop: Option<[f64; 3]>,
+
+    /// Parallel: cavalier or cabinet oblique projection with the receding axis at
+    /// ANGLE degrees (default 45), or isometric (no angle). Default: none.
+    #[arg(long, value_name = "cavalier|cabinet|isometric[,ANGLE]", value_parser = parse_oblique, help_heading = "Camera (textbook view system)")]
+    pub oblique: Option<Oblique>,
+
+    /// Front clipping plane: distance from the VRP along the VPN. Default: none
+    /// (required).
+    #[arg(long, value_name = "F", value_parser = parse_finite, allow_hyphen_values = true, help_heading = "Camera (textbook view system)")]
+    pub front: Option<f64>,
+
+    /// Back clipping plane: distance from the VRP along the VPN. Default: none
+    /// (required).
+    #[arg(long, value_name = "B", value_parser = parse_finite, allow_hyphen_values = true, help_heading = "Camera (textbook view system)")]
+    pub back: Option<f64>,
+}
+
+/// `--oblique`: one of the textbook's special parallel projections.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Oblique {
+    /// Receding axis at the angle (degrees), full length.
+    Cavalier(Option<f64>),
+    /// Receding axis at the angle (degrees), half length.
+    Cabinet(Option<f64>),
+    /// Projection along a VPN with equal-magnitude components.
+    Isometric,
+}
+
+fn parse_oblique(text: &str) -> std::result::Result<Oblique, String> {
+    let (kind, angle) = match text.split_once(',') {
+        Some((k, a)) => (k.trim(), Some(parse_finite(a)?)),
+        None => (text.trim(), None),
+    };
+    match (kind, angle) {
+        ("cavalier", a) => Ok(Oblique::Cavalier(a)),
+        ("cabinet", a) => Ok(Oblique::Cabinet(a)),
+        ("isometric", None) => Ok(Oblique::Isometric),
+        ("isometric", Some(_)) => Err("isometric takes no angle".into()),
+        (other, _) => Err(format!(
+            "{other:?}: expected cavalier, cabinet or isometric"
+        )),
+    }
+}
+
+fn oblique_json(kind: &str, angle: Option<f64>) -> Value {
+    match angle {
+        Some(a) => serde_json::json!({"kind": kind, "angle": a}),
+        None => serde_json::json!({ "kind": kind }),
+    }
 }
 
 impl CameraArgs {
@@ -762,6 +1122,47 @@ impl CameraArgs {
         }
         if let Some(o2) = self.ortho2 {
             root.insert("ortho2".into(), json!(o2));
+        }
+        let mut view = Map::new();
+        let vectors = [
+            ("vrp", self.vrp),
+            ("vpn", self.vpn),
+            ("view_up", self.view_up),
+            ("cop", self.cop),
+            ("dop", self.dop),
+        ];
+        for (key, v) in vectors {
+            if let Some(v) = v {
+                view.insert(key.into(), json!(v));
+            }
+        }
+        let numbers = [
+            ("view_distance", self.view_distance),
+            ("front", self.front),
+            ("back", self.back),
+        ];
+        for (key, x) in numbers {
+            if let Some(x) = x {
+                view.insert(key.into(), json!(x));
+            }
+        }
+        if let Some(w) = self.window {
+            view.insert("window".into(), json!(w));
+        }
+        match self.oblique {
+            Some(Oblique::Cavalier(a)) => {
+                view.insert("oblique".into(), oblique_json("cavalier", a));
+            }
+            Some(Oblique::Cabinet(a)) => {
+                view.insert("oblique".into(), oblique_json("cabinet", a));
+            }
+            Some(Oblique::Isometric) => {
+                view.insert("isometric".into(), Value::Bool(true));
+            }
+            None => {}
+        }
+        if !view.is_empty() {
+            root.insert("view".into(), Value::Object(view));
         }
         (!root.is_empty()).then_some(Value::Object(root))
     }
@@ -1072,6 +1473,358 @@ mod tests {
         assert!(msg.contains("/nonexistent/cam.json"), "{msg}");
         std::fs::write(&path, r#"{"ortho2": [0, 1, 0, 1]}"#).unwrap();
         assert_eq!(Camera::load(p).unwrap(), Camera::ortho2(0.0, 1.0, 0.0, 1.0));
+    }
+
+    /// A view system camera on the default (GL-like) orientation.
+    fn view(extra: Value) -> Value {
+        let mut v = json!({"window": [-1, 1, -1, 1], "front": -10, "back": 10});
+        for (k, x) in extra.as_object().unwrap() {
+            v[k] = x.clone();
+        }
+        json!({ "view": v })
+    }
+
+    #[test]
+    fn textbook_perspective_equals_lookat_perspective() {
+        let (eye, center, up) = ([1.0, 2.0, 3.0], [4.0, -1.0, -5.0], [0.2, 1.0, 0.1]);
+        let iris = cam(json!({"lookat": {"eye": eye, "center": center, "up": up},
+                              "perspective": {"fovy": 50, "aspect": 1.5, "near": 0.5, "far": 40}}));
+        let t = 25f64.to_radians().tan();
+        let e = DVec3::from_array(eye);
+        let c = DVec3::from_array(center);
+        let sight = c - e;
+        // VRP at the eye, view plane 1 ahead, COP at the eye.
+        let a = cam(
+            json!({"view": {"vrp": eye, "vpn": sight.to_array(), "view_up": up,
+            "view_distance": 1, "window": [-1.5 * t, 1.5 * t, -t, t], "cop": eye,
+            "front": 0.5, "back": 40}}),
+        );
+        // VRP at the center, view plane 2 ahead of the eye (window twice as large):
+        // the front and back distances are then measured from the center.
+        let l = sight.length();
+        let b = cam(
+            json!({"view": {"vrp": center, "vpn": (sight * 3.0).to_array(),
+            "view_up": up, "view_distance": 2.0 - l, "window": [-3.0 * t, 3.0 * t, -2.0 * t, 2.0 * t],
+            "cop": eye, "front": 0.5 - l, "back": 40.0 - l}}),
+        );
+        for tb in [&a, &b] {
+            let d = max_diff(iris.world_to_clip(), tb.world_to_clip());
+            assert!(d <= SAME_VIEW, "differs by {d}");
+            assert!(tb.perspective);
+            assert!((tb.near - 0.5).abs() <= SAME_VIEW && (tb.far - 40.0).abs() <= SAME_VIEW);
+        }
+    }
+
+    #[test]
+    fn textbook_parallel_equals_lookat_ortho() {
+        let (eye, center, up) = ([5.0, 4.0, 3.0], [0.0, 1.0, -2.0], [0.0, 1.0, 0.0]);
+        let iris = cam(json!({"lookat": {"eye": eye, "center": center, "up": up},
+            "ortho": {"left": -3, "right": 2, "bottom": -1, "top": 4, "near": -2, "far": 30}}));
+        let sight = DVec3::from_array(center) - DVec3::from_array(eye);
+        // The DOP's sign and length do not matter; the view distance does not change
+        // an orthographic image.
+        let tb = cam(
+            json!({"view": {"vrp": eye, "vpn": sight.to_array(), "view_up": up,
+            "view_distance": 3.5, "window": [-3, 2, -1, 4], "dop": (sight * -2.0).to_array(),
+            "front": -2, "back": 30}}),
+        );
+        let d = max_diff(iris.world_to_clip(), tb.world_to_clip());
+        assert!(d <= SAME_VIEW, "differs by {d}");
+        assert_eq!((tb.near, tb.far, tb.perspective), (-2.0, 30.0, false));
+        // Isometric is the same along a diagonal.
+        let iris = cam(json!({"lookat": {"eye": [2, 2, 2], "center": [0, 0, 0]},
+            "ortho": {"left": -1, "right": 1, "bottom": -1, "top": 1, "near": 0, "far": 9}}));
+        let iso = cam(json!({"view": {"vrp": [2, 2, 2], "isometric": true,
+            "window": [-1, 1, -1, 1], "front": 0, "back": 9}}));
+        let d = max_diff(iris.world_to_clip(), iso.world_to_clip());
+        assert!(d <= SAME_VIEW, "differs by {d}");
+    }
+
+    #[test]
+    fn demo2_both_ways() {
+        let iris = cam(demo2());
+        let t = 27.5f64.to_radians().tan();
+        let tb = cam(json!({"view": {"vrp": [0, 100, -5], "vpn": [0, -100, -895],
+            "view_up": [0, 1, 0], "view_distance": 1, "window": [-t, t, -t, t],
+            "cop": [0, 100, -5], "front": 0, "back": 1000}}));
+        let d = max_diff(iris.world_to_clip(), tb.world_to_clip());
+        assert!(d <= SAME_VIEW, "differs by {d}");
+        assert_eq!((tb.near, tb.far), (0.0, 1000.0));
+        let p = ndc(&tb, DVec3::new(0.0, 0.0, -900.0));
+        assert!(p.x.abs() < CLOSE && p.y.abs() < CLOSE, "{p}");
+    }
+
+    #[test]
+    fn cavalier_and_cabinet_foreshortening() {
+        for (kind, length) in [("cavalier", 1.0), ("cabinet", 0.5)] {
+            let c = cam(view(json!({"oblique": {"kind": kind, "angle": 30}})));
+            // One unit behind the view plane (along the VPN, -z): shifted up-right at 30°.
+            let p = ndc(&c, DVec3::new(0.0, 0.0, -1.0));
+            let a = 30f64.to_radians();
+            let want = glam::DVec2::new(a.cos(), a.sin()) * length;
+            assert!((p.truncate() - want).length() < CLOSE, "{kind}: {p}");
+            // Depth still measures along the VPN; the front face is not distorted.
+            assert!((p.z - 1.0).abs() < CLOSE);
+            let q = ndc(&c, DVec3::new(0.25, -0.5, 0.0));
+            assert!((q.truncate() - glam::DVec2::new(0.25, -0.5)).length() < CLOSE);
+            // The textbook's SET-PARALLEL(cos A, sin A, 1 or 2) is the same camera.
+            let dop = [a.cos(), a.sin(), 1.0 / length];
+            let d = cam(view(json!({ "dop": dop })));
+            assert!(max_diff(c.world_to_clip(), d.world_to_clip()) <= SAME_VIEW);
+            // The camera looks along the (oblique) projection direction.
+            let v = c.view_direction();
+            assert!(
+                (v - -DVec3::from_array(dop).normalize()).length() < CLOSE,
+                "{v}"
+            );
+            assert!(c.is_front_facing(DVec3::Z, DVec3::ZERO));
+        }
+        let c = cam(view(json!({"oblique": {"kind": "cavalier"}})));
+        let p = ndc(&c, DVec3::new(0.0, 0.0, -1.0));
+        assert!((p.x - p.y).abs() < CLOSE && (p.truncate().length() - 1.0).abs() < CLOSE);
+    }
+
+    #[test]
+    fn isometric_shortens_all_axes_equally() {
+        let c = cam(json!({"view": {"isometric": true, "window": [-2, 2, -2, 2],
+                                    "front": -5, "back": 5}}));
+        let lengths = [DVec3::X, DVec3::Y, DVec3::Z]
+            .map(|axis| (ndc(&c, axis) - ndc(&c, DVec3::ZERO)).truncate().length());
+        assert!((lengths[0] - lengths[1]).abs() < CLOSE && (lengths[1] - lengths[2]).abs() < CLOSE);
+        // View-up +y stays vertical on the image.
+        let y = ndc(&c, DVec3::Y);
+        assert!(y.x.abs() < CLOSE && y.y > 0.0);
+    }
+
+    #[test]
+    fn flight_simulator() {
+        // The textbook's application: VRP on the windshield, view distance 0, the
+        // pilot 0.5 behind it, front clipping at the windshield.
+        let pos = DVec3::new(10.0, 50.0, -20.0);
+        let dir = DVec3::new(1.0, 0.0, -1.0).normalize();
+        let c = cam(
+            json!({"view": {"vrp": pos.to_array(), "vpn": dir.to_array(),
+            "view_distance": 0, "window": [-0.5, 0.5, -0.5, 0.5],
+            "cop": (pos - 0.5 * dir).to_array(), "front": 0, "back": 1000}}),
+        );
+        assert!((c.near - 0.5).abs() < CLOSE && (c.far - 1000.5).abs() < CLOSE);
+        assert!((c.eye_position().unwrap() - (pos - 0.5 * dir)).length() < CLOSE);
+        let ahead = ndc(&c, pos + 100.0 * dir);
+        assert!(ahead.x.abs() < CLOSE && ahead.y.abs() < CLOSE);
+        // A point on the windshield projects to its own window position: its corner.
+        let right = dir.cross(DVec3::Y).normalize();
+        let corner = ndc(&c, pos + 0.5 * right + 0.5 * DVec3::Y);
+        assert!(
+            (corner.truncate() - glam::DVec2::ONE).length() < CLOSE,
+            "{corner}"
+        );
+    }
+
+    #[test]
+    fn view_plane_points_project_to_themselves() {
+        // Whatever the COP or DOP, a point on the view plane lands at its own (u, v).
+        let base = json!({"vrp": [1, 2, 3], "vpn": [0, 0, -1], "view_distance": 2,
+                          "window": [-1, 3, -2, 2], "front": -2, "back": 50});
+        let point = DVec3::new(1.0 + 0.5, 2.0 - 1.0, 3.0 - 2.0); // u = 0.5, v = -1
+        let want = glam::DVec2::new((2.0 * 0.5 - 2.0) / 4.0, -0.5);
+        for proj in [
+            json!({"cop": [1.7, 2.3, 5]}),
+            json!({"dop": [0.3, -0.2, 1]}),
+            json!({"oblique": {"kind": "cabinet", "angle": 60}}),
+        ] {
+            let mut v = base.clone();
+            for (k, x) in proj.as_object().unwrap() {
+                v[k] = x.clone();
+            }
+            let c = cam(json!({ "view": v }));
+            let p = ndc(&c, point);
+            assert!((p.truncate() - want).length() < CLOSE, "{proj}: {p}");
+        }
+    }
+
+    #[test]
+    fn textbook_errors() {
+        assert_err(
+            view(json!({"vpn": [0, 0, 0], "dop": [0, 0, 1]})),
+            &["view.vpn", "zero vector", "INVALID VIEW PLANE NORMAL"],
+        );
+        assert_err(
+            view(json!({"view_up": [0, 0, 0], "dop": [0, 0, 1]})),
+            &["view.view_up", "zero vector", "NO SET-VIEW-UP DIRECTION"],
+        );
+        assert_err(
+            view(json!({"view_up": [0, 0, 3], "dop": [0, 0, 1]})),
+            &[
+                "view.view_up",
+                "[0, 0, 3]",
+                "parallel",
+                "SET-VIEW-UP ALONG VIEW PLANE NORMAL",
+            ],
+        );
+        assert_err(
+            view(json!({"dop": [0, 0, 0]})),
+            &["view.dop", "NO DIRECTION OF PROJECTION"],
+        );
+        assert_err(
+            view(json!({"dop": [1, 1, 0]})),
+            &["view.dop", "[1, 1, 0]", "PROJECTION PARALLEL VIEW PLANE"],
+        );
+        assert_err(
+            view(json!({"cop": [0, 0, -3]})),
+            &[
+                "view.cop",
+                "[0, 0, -3]",
+                "behind the view plane",
+                "CENTER OF PROJECTION BEHIND",
+            ],
+        );
+        assert_err(
+            view(json!({"cop": [1, 1, 0]})),
+            &["view.cop", "is on the view plane"],
+        );
+        assert_err(
+            view(json!({"cop": [0, 0, 1], "front": -2})),
+            &["view.front", "behind the centre of projection"],
+        );
+        assert_err(
+            view(json!({"dop": [0, 0, 1], "front": 3, "back": 2})),
+            &["view.front", "FRONT PLANE BEHIND BACK PLANE"],
+        );
+        assert_err(
+            view(json!({"dop": [0, 0, 1], "front": 2, "back": 2})),
+            &["view.back", "empty"],
+        );
+        assert_err(
+            view(json!({"dop": [0, 0, 1], "window": [1, 1, 0, 1]})),
+            &["view.window", "zero width"],
+        );
+        assert_err(
+            view(json!({"dop": [0, 0, 1], "window": [0, 1, 2, 2]})),
+            &["view.window", "zero height"],
+        );
+        assert_err(view(json!({})), &["view", "no projection"]);
+        assert_err(
+            view(json!({"cop": [0, 0, 1], "dop": [0, 0, 1]})),
+            &["view.dop", "more than one projection"],
+        );
+        assert_err(
+            view(json!({"isometric": false})),
+            &["view.isometric", "expected true"],
+        );
+        assert_err(
+            view(json!({"isometric": true, "vpn": [-1, -2, -1]})),
+            &["view.vpn", "not an isometric direction"],
+        );
+        assert_err(
+            view(json!({"oblique": {"kind": "cavalir"}})),
+            &["view.oblique.kind", "cavalir"],
+        );
+        assert_err(
+            view(json!({"oblique": {"kind": "cabinet", "angel": 30}})),
+            &["view.oblique.angel", "unknown key"],
+        );
+        assert_err(
+            view(json!({"dop": [0, 0, 1], "vup": [0, 1, 0]})),
+            &["view.vup", "unknown key"],
+        );
+        assert_err(
+            json!({"view": {"dop": [0, 0, 1], "front": 0, "back": 1}}),
+            &["view.window", "missing"],
+        );
+        assert_err(
+            json!({"view": {"dop": [0, 0, 1], "window": [0, 1, 0, 1], "back": 1}}),
+            &["view.front", "missing"],
+        );
+        let mut both = view(json!({"dop": [0, 0, 1]}));
+        both["ortho2"] = json!([0, 1, 0, 1]);
+        assert_err(both, &["ortho2", "cannot be combined"]);
+        // Overflow is caught by the final check, never a NaN matrix.
+        assert_err(
+            view(json!({"dop": [1, 0, 1e-300], "vpn": [0, 0, -1]})),
+            &["view.dop"],
+        );
+        assert_err(
+            view(json!({"vrp": [1.5e308, 1.5e308, 1.5e308], "isometric": true})),
+            &["not finite"],
+        );
+    }
+
+    #[test]
+    fn textbook_flags() {
+        use clap::Parser;
+        #[derive(Parser)]
+        struct Cli {
+            #[command(flatten)]
+            camera: CameraArgs,
+        }
+        let parse = |args: &[&str]| {
+            Cli::try_parse_from(std::iter::once("t").chain(args.iter().copied())).map(|c| c.camera)
+        };
+        let flags = parse(&[
+            "--window",
+            "-1,1,-1,1",
+            "--front",
+            "-10",
+            "--back",
+            "10",
+            "--oblique",
+            "cabinet,30",
+        ])
+        .unwrap();
+        let json = cam(view(json!({"oblique": {"kind": "cabinet", "angle": 30}})));
+        assert_eq!(flags.resolve().unwrap(), Some(json));
+        let flags = parse(&[
+            "--window",
+            "-1,1,-1,1",
+            "--front",
+            "-10",
+            "--back",
+            "10",
+            "--oblique",
+            "isometric",
+            "--vrp",
+            "1,1,1",
+        ])
+        .unwrap();
+        assert!(flags.resolve().unwrap().is_some());
+        assert!(parse(&["--oblique", "isometric,30"]).is_err());
+        assert!(parse(&["--oblique", "cabinett"]).is_err());
+        let e = parse(&[
+            "--window",
+            "-1,1,-1,1",
+            "--front",
+            "-10",
+            "--back",
+            "10",
+            "--vpn",
+            "0,0,0",
+            "--dop",
+            "0,0,1",
+        ])
+        .unwrap()
+        .resolve()
+        .unwrap_err();
+        let msg = format!("{e:#}");
+        assert!(
+            msg.contains("--vpn") && msg.contains("INVALID VIEW PLANE NORMAL"),
+            "{msg}"
+        );
+        let e = parse(&[
+            "--window",
+            "-1,1,-1,1",
+            "--front",
+            "-10",
+            "--back",
+            "10",
+            "--dop",
+            "0,0,1",
+            "--ortho2",
+            "0,1,0,1",
+        ])
+        .unwrap()
+        .resolve()
+        .unwrap_err();
+        assert!(format!("{e:#}").contains("--ortho2"), "{e:#}");
     }
 
     fn coord() -> impl Strategy<Value = f64> {
