@@ -68,12 +68,14 @@
 //! # The IRIS GL / GLU model
 //!
 //! `lookat` is gluLookAt (eye, center, up; up defaults to +y). IRIS GL's
-//! `lookat(vx,vy,vz, px,py,pz, twist)` has no up vector but a twist, "a right-hand
-//! rotation about the line of sight", given in tenths of degrees in C; the JSON
-//! takes degrees. The camera turns by +twist about its line of sight, so the scene
-//! turns by −twist in eye coordinates: `view = R_z(−twist) · lookAt(eye, center, up)`
-//! (IRIS's own `polarview` is built the same way, `rot(-twist, 'z')` first). `up`
-//! and `twist` may be combined. No `lookat` means the identity view, as in GL.
+//! `lookat(vx,vy,vz, px,py,pz, twist)` has no up vector but a twist that "measures
+//! right-hand rotation about the line of sight" (IRIS man page), given in tenths of
+//! degrees in C; the JSON takes degrees. The world as seen turns right-handedly by
+//! twist about the line of sight eye→center (the −z eye axis), i.e. by −twist about
+//! +z eye: `view = R_z(−twist) · lookAt(eye, center, up)`, the `rot(-twist, 'z')`
+//! applied last in eye space as IRIS-compatible libraries build `lookat` and
+//! `polarview`. A twist of 0 keeps world +y up on the image. `up` and `twist` may
+//! be combined. No `lookat` means the identity view, as in GL.
 //! `perspective` is gluPerspective (fovy in degrees, aspect = width/height),
 //! `ortho` is glOrtho, `ortho2` is gluOrtho2D with near = −1, far = 1.
 //!
@@ -1290,8 +1292,8 @@ mod tests {
 
     #[test]
     fn twist_turns_the_camera_right_handed() {
-        // Twist 90°: the camera turns counter-clockwise about its line of sight
-        // (right-hand about +z eye), so the world's +x appears pointing down.
+        // Twist 90°: the world turns right-handedly about the line of sight (−z eye),
+        // i.e. clockwise on the image, so the world's +x appears pointing down.
         let c = cam(
             json!({"lookat": {"eye": [0, 0, 0], "center": [0, 0, -1], "twist": 90},
                            "ortho2": [-1, 1, -1, 1]}),
