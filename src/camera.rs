@@ -1078,6 +1078,9 @@ impl CameraArgs {
             }
             return Camera::load(path).map(Some);
         }
+        if self.lookat.is_none() && (self.up.is_some() || self.twist.is_some()) {
+            crate::usage_bail!("--up and --twist need --lookat EX,EY,EZ,CX,CY,CZ");
+        }
         let Some(value) = self.json() else {
             return Ok(None);
         };
@@ -1429,7 +1432,13 @@ mod tests {
         let parse = |args: &[&str]| {
             Cli::try_parse_from(std::iter::once("t").chain(args.iter().copied())).map(|c| c.camera)
         };
+        <Cli as clap::CommandFactory>::command().debug_assert();
         assert_eq!(parse(&[]).unwrap().resolve().unwrap(), None);
+        let e = parse(&["--up", "0,0,1", "--ortho2", "0,1,0,1"])
+            .unwrap()
+            .resolve()
+            .unwrap_err();
+        assert!(format!("{e}").contains("need --lookat"), "{e}");
         let flags = parse(&[
             "--lookat",
             "0,100,-5,0,0,-900",
