@@ -4,6 +4,7 @@
 //! light, [`io`] streams and images, [`cli`] the shared command-line plumbing
 //! and each tool's arguments. The binaries in `src/bin/` are one-line shims.
 
+pub mod camera;
 pub mod cli;
 pub mod color;
 pub mod geom;
