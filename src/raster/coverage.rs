@@ -25,7 +25,7 @@
 //! shows through, and the pixel is bit for bit that of one polygon.
 
 use super::clip::{clip_axis, clip_line};
-use super::{area2, Background, ScreenPoly, DEPTH_TIE_REL};
+use super::{area2, tie_tolerance, Background, ScreenPoly};
 use glam::DVec2;
 
 /// Areas (in pixels) below this are rounding noise, not geometry: f64 shoelace
@@ -172,15 +172,14 @@ fn frag_verts<'a>(f: &Frag, arena: &'a [DVec2], square: &'a [DVec2; 4]) -> &'a [
 }
 
 /// `q_G - q_F` as an affine function, shifted by the tie rule: positive where G
-/// is in front of F. The earlier polygon wins within [`DEPTH_TIE_REL`].
+/// is in front of F. The earlier polygon wins within [`tie_tolerance`].
 fn front_of(g: &ScreenPoly, f: &ScreenPoly, at: (f64, f64)) -> [f64; 3] {
     let d = [
         g.plane[0] - f.plane[0],
         g.plane[1] - f.plane[1],
         g.plane[2] - f.plane[2],
     ];
-    let scale = g.q(at.0, at.1).abs().max(f.q(at.0, at.1).abs());
-    let bias = DEPTH_TIE_REL * scale;
+    let bias = tie_tolerance(g.q(at.0, at.1), f.q(at.0, at.1), g.tie_floor);
     let c = if g.order < f.order {
         d[2] + bias
     } else {
@@ -415,5 +414,39 @@ mod tests {
         // Bottom row white, top row black: the horizon lies in between.
         assert!(img.data[(23 * 32) * 3..].iter().all(|&c| c == 255));
         assert!(img.data[..32 * 3].iter().all(|&c| c == 0));
+    }
+}
+
+#[cfg(test)]
+mod ties {
+    use super::super::tests::poly2;
+    use super::super::{render, Aa, View};
+    use super::*;
+    use crate::color::Rgb8;
+
+    #[test]
+    fn coplanar_overlap_goes_to_the_earlier_polygon_without_double_counting() {
+        let v = View::ortho2(0.0, 4.0, 0.0, 4.0, 4, 4);
+        let red = poly2(
+            &v,
+            &[[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]],
+            Rgb8([255, 0, 0]),
+            0,
+        )
+        .unwrap();
+        let blue = poly2(
+            &v,
+            &[[0.5, 0.5], [3.5, 0.5], [2.0, 3.5]],
+            Rgb8([0, 0, 255]),
+            1,
+        )
+        .unwrap();
+        let bg = Background::color(Rgb8::BLACK);
+        for aa in [Aa::Exact, Aa::None, Aa::Ss(4)] {
+            let img = render(&[red.clone(), blue.clone()], &bg, 4, 4, aa).to_image();
+            assert!(img.data.chunks(3).all(|p| p == [255, 0, 0]), "{aa:?}");
+        }
+        let r = super::super::reference::render(&[red, blue], &bg, 4, 4, 6);
+        assert!(r.frame.to_image().data.chunks(3).all(|p| p == [255, 0, 0]));
     }
 }

@@ -52,6 +52,27 @@ pub const TILE: u32 = 32;
 /// separation in a scene that f64 can tell apart.
 pub const DEPTH_TIE_REL: f64 = 1e-9;
 
+impl View {
+    /// The nearness scale of the view, the floor of the tie tolerance: without
+    /// it, polygons at exactly nearness 0 (2D records at z = 0 under ortho2)
+    /// would tie with a zero tolerance and each hide neither. Parallel views:
+    /// the depth range; perspective: `1/far`, the smallest nearness visible.
+    pub fn nearness_scale(&self) -> f64 {
+        if self.perspective {
+            1.0 / self.far.abs().max(f64::MIN_POSITIVE)
+        } else {
+            self.near.abs().max(self.far.abs()).max(f64::MIN_POSITIVE)
+        }
+    }
+}
+
+/// The tie tolerance between two nearness values at a point: relative to
+/// them, floored by the view's scale (stored in each polygon as `tie_floor`).
+#[inline]
+pub fn tie_tolerance(qa: f64, qb: f64, floor: f64) -> f64 {
+    DEPTH_TIE_REL * qa.abs().max(qb.abs()) + floor
+}
+
 /// For a perspective view the clipper keeps `w >= W_EPSILON_REL * far` (in eye
 /// units: distance in front of the eye). This is what makes `near = 0` work: the
 /// near plane `z >= 0` alone would let vertices reach `w = 0` and divide by zero.
@@ -151,6 +172,9 @@ pub struct ScreenPoly {
     /// Convex pieces (index triples or the whole polygon) that tile the polygon
     /// exactly: the polygon itself when convex, else an ear-clipping triangulation.
     pub pieces: Vec<Vec<DVec2>>,
+    /// Absolute part of the tie tolerance: [`DEPTH_TIE_REL`] times the view's
+    /// [`View::nearness_scale`].
+    pub tie_floor: f64,
     /// Pixel bounding box, inclusive-exclusive: `x0..x1`, `y0..y1` (y up).
     pub bbox: [u32; 4],
 }
@@ -263,6 +287,7 @@ pub fn project(
         color: c,
         order,
         pieces,
+        tie_floor: DEPTH_TIE_REL * view.nearness_scale(),
         bbox,
     })
 }

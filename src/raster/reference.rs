@@ -27,7 +27,7 @@
 //! other candidate at all four corners are exactly its colour and skip the
 //! integration (covering is checked by point-in-polygon on the original polygon).
 
-use super::{Background, Frame, ScreenPoly, DEPTH_TIE_REL};
+use super::{tie_tolerance, Background, Frame, ScreenPoly};
 use crate::color::linear_to_srgb;
 
 /// Default grid strips per pixel (on top of the events; a multiple of 3).
@@ -188,7 +188,7 @@ fn covers_square(v: &[glam::DVec2], x: f64, y: f64) -> bool {
 #[inline]
 fn in_front(g: &ScreenPoly, f: &ScreenPoly, x: f64, y: f64) -> bool {
     let (qg, qf) = (g.q(x, y), f.q(x, y));
-    let tie = DEPTH_TIE_REL * qg.abs().max(qf.abs());
+    let tie = tie_tolerance(qg, qf, g.tie_floor);
     if g.order < f.order {
         qg - qf > -tie
     } else {

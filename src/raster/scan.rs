@@ -18,7 +18,7 @@
 //! with `k = 1`, the pixel centre. To keep sample positions on the integer grid,
 //! coordinates are scaled by `2k * SUBPIXEL`.
 
-use super::{Background, ScreenPoly, DEPTH_TIE_REL};
+use super::{tie_tolerance, Background, ScreenPoly};
 
 /// Sub-pixel precision of snapped vertices: 1/256 pixel, as in common GPU
 /// rasterizers. Moving a vertex by at most 1/512 pixel is far below what a
@@ -169,8 +169,7 @@ pub fn render_tile(
                         let old = depth[idx];
                         // Later polygons must be nearer by more than the tie
                         // tolerance to win.
-                        if q - old > DEPTH_TIE_REL * q.abs().max(old.abs())
-                            || old == f64::NEG_INFINITY
+                        if old == f64::NEG_INFINITY || q - old > tie_tolerance(q, old, p.tie_floor)
                         {
                             depth[idx] = q;
                             owner[idx] = pi;
