@@ -39,29 +39,33 @@ pub fn clip_polygon(poly: &[DVec4], view: &View) -> Vec<DVec4> {
         if cur.is_empty() {
             break;
         }
-        let d: Vec<f64> = cur.iter().map(|&c| f(c)).collect();
-        if d.iter().all(|&x| x >= 0.0) {
+        if cur.iter().all(|&c| f(c) >= 0.0) {
             continue;
         }
         next.clear();
-        clip_against(&cur, &d, &mut next, |a, b, t| a + (b - a) * t);
+        clip_against(&cur, &f, &mut next, |a, b, t| a + (b - a) * t);
         std::mem::swap(&mut cur, &mut next);
     }
     cur
 }
 
-/// One Sutherland–Hodgman pass: keeps the part where `d >= 0`. `lerp(inside,
+/// One Sutherland–Hodgman pass: keeps the part where `d(p) >= 0`. `lerp(inside,
 /// outside, t)` makes the crossing, always from the inside endpoint.
 pub fn clip_against<T: Copy>(
     poly: &[T],
-    d: &[f64],
+    d: impl Fn(T) -> f64,
     out: &mut Vec<T>,
     lerp: impl Fn(T, T, f64) -> T,
 ) {
     let n = poly.len();
+    if n == 0 {
+        return;
+    }
+    let mut db = d(poly[0]);
     for i in 0..n {
         let j = (i + 1) % n;
-        let (a, b, da, db) = (poly[i], poly[j], d[i], d[j]);
+        let (a, b, da) = (poly[i], poly[j], db);
+        db = d(b);
         if da >= 0.0 {
             out.push(a);
             if db < 0.0 && da > 0.0 {
@@ -77,18 +81,15 @@ pub fn clip_against<T: Copy>(
 /// where `coord` is x (`axis = 0`) or y (`axis = 1`). New vertices get exactly
 /// `value` on that axis, so the pieces of a pixel grid meet without gaps.
 pub fn clip_axis(poly: &[DVec2], axis: usize, value: f64, keep_above: bool, out: &mut Vec<DVec2>) {
-    let d: Vec<f64> = poly
-        .iter()
-        .map(|p| {
-            let c = if axis == 0 { p.x } else { p.y };
-            if keep_above {
-                c - value
-            } else {
-                value - c
-            }
-        })
-        .collect();
-    clip_against(poly, &d, out, |a, b, t| {
+    let d = |p: DVec2| {
+        let c = if axis == 0 { p.x } else { p.y };
+        if keep_above {
+            c - value
+        } else {
+            value - c
+        }
+    };
+    clip_against(poly, d, out, |a, b, t| {
         let mut p = a + (b - a) * t;
         if axis == 0 {
             p.x = value;
@@ -101,11 +102,8 @@ pub fn clip_axis(poly: &[DVec2], axis: usize, value: f64, keep_above: bool, out:
 
 /// Clips a 2D polygon to the half-plane `a*x + b*y + c >= 0`.
 pub fn clip_line(poly: &[DVec2], abc: [f64; 3], out: &mut Vec<DVec2>) {
-    let d: Vec<f64> = poly
-        .iter()
-        .map(|p| abc[0] * p.x + abc[1] * p.y + abc[2])
-        .collect();
-    clip_against(poly, &d, out, |a, b, t| a + (b - a) * t);
+    let d = |p: DVec2| abc[0] * p.x + abc[1] * p.y + abc[2];
+    clip_against(poly, d, out, |a, b, t| a + (b - a) * t);
 }
 
 #[cfg(test)]

@@ -260,15 +260,18 @@ fn resolve_pixel(
             if j == i || !s.alive[j] || s.pieces.is_empty() {
                 continue;
             }
+            let gv = frag_verts(g, arena, &square);
+            if s.pieces.len() == 1 && disjoint(&s.pieces[0], gv) {
+                continue; // Neighbours that only share an edge.
+            }
             let gp = &polys[g.poly as usize];
             let d = front_of(gp, fp, centre);
-            let gv = frag_verts(g, arena, &square);
-            let vals: Vec<f64> = gv.iter().map(|v| d[0] * v.x + d[1] * v.y + d[2]).collect();
-            if vals.iter().all(|&v| v <= 0.0) {
+            let val = |v: &DVec2| d[0] * v.x + d[1] * v.y + d[2];
+            if gv.iter().all(|v| val(v) <= 0.0) {
                 continue; // G is behind F wherever G is.
             }
             s.occ.clear();
-            if vals.iter().all(|&v| v >= 0.0) {
+            if gv.iter().all(|v| val(v) >= 0.0) {
                 s.occ.extend_from_slice(gv);
             } else {
                 clip_line(gv, d, &mut s.occ);
@@ -298,6 +301,21 @@ fn resolve_pixel(
         }
     }
     acc.map(|c| c as f32)
+}
+
+/// Whether two convex counter-clockwise polygons have no interior in common:
+/// some edge of one has the whole other on its outer side (separating axis;
+/// touching along an edge counts as disjoint).
+fn disjoint(a: &[DVec2], b: &[DVec2]) -> bool {
+    let separated = |p: &[DVec2], q: &[DVec2]| {
+        let n = p.len();
+        (0..n).any(|i| {
+            let (s, e) = (p[i], p[(i + 1) % n]);
+            let dir = e - s;
+            q.iter().all(|&v| dir.perp_dot(v - s) <= 0.0)
+        })
+    };
+    separated(a, b) || separated(b, a)
 }
 
 /// Appends the convex pieces of `p \ o` (both convex, counter-clockwise) to
