@@ -1,0 +1,58 @@
+#!/bin/sh
+# scene-render against its own reference and against Mesa's llvmpipe.
+#
+#   bench/scene_render.sh > bench/RESULTS-scene-render.md
+#
+# Installs its peers itself: a Python venv with moderngl and numpy (pip), and
+# Mesa's EGL/llvmpipe (apt-get, when root and missing). Prints one Markdown
+# document: machine, table, notes. Not run in CI: times depend on the machine.
+set -eu
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+TARGET=$(cargo metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
+cargo build --release --bins >&2
+SR="$TARGET/release/scene-render"
+WORK="$TARGET/bench-scene-render"
+mkdir -p "$WORK"
+
+VENV="$WORK/venv"
+if ! "$VENV/bin/python" -c 'import moderngl, numpy' 2>/dev/null; then
+    python3 -m venv "$VENV" >&2
+    "$VENV/bin/pip" install -q moderngl numpy >&2
+fi
+if ! "$VENV/bin/python" -c 'import moderngl; moderngl.create_standalone_context(backend="egl")' 2>/dev/null; then
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+        apt-get install -y -q libegl1 libgl1-mesa-dri >&2
+    fi
+    "$VENV/bin/python" -c 'import moderngl; moderngl.create_standalone_context(backend="egl")' >&2 || {
+        echo "scene_render.sh: llvmpipe (EGL) is not available on this machine" >&2
+        exit 1
+    }
+fi
+
+# Demo 2 (App. C): through polyfill3 when it is built, else through the
+# stand-in partitioner bench/demo2_scene.py (same SPEC §2 object-mode rule).
+for incr in 2 1; do
+    scene="$WORK/demo2-incr$incr.ndjson"
+    if [ -x "$TARGET/release/polyfill3" ] && [ -f examples/demo2.json ]; then
+        "$TARGET/release/polyfill3" --incr-scale "$incr" examples/demo2.json > "$scene"
+    else
+        python3 bench/demo2_scene.py fixtures/patterns "$incr" > "$scene"
+    fi
+done
+tris="$WORK/triangles-1M.ndjson"
+[ -f "$tris" ] || "$VENV/bin/python" bench/scene_render_bench.py --random-triangles 1000000 "$tris"
+
+echo "# scene-render benchmark"
+echo
+echo "Run $(date -u '+%Y-%m-%d %H:%M UTC') on $(uname -sm), $(nproc) cores"
+echo "($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')), load average $(cut -d' ' -f1-3 /proc/loadavg)."
+echo "Commit $(git rev-parse --short HEAD). Images $(echo 1024x768), best of 3 runs of the whole pipeline"
+echo "(scene-render: read the stream, render, write the PNG; llvmpipe: upload, draw, resolve,"
+echo "read back, encode, write the PNG; 'GL-only' leaves out the encode and write)."
+echo "Errors are against \`scene-render --reference\`, in 8-bit sRGB units over RGB."
+echo
+"$VENV/bin/python" bench/scene_render_bench.py "$SR" "$WORK" \
+    "demo2-incr2=$WORK/demo2-incr2.ndjson:demo2" \
+    "demo2-incr1=$WORK/demo2-incr1.ndjson:demo2" \
+    "triangles-1M=$tris:tris"
