@@ -172,7 +172,7 @@ fn frag_verts<'a>(f: &Frag, arena: &'a [DVec2], square: &'a [DVec2; 4]) -> &'a [
 }
 
 /// `q_G - q_F` as an affine function, shifted by the tie rule: positive where G
-/// is in front of F. The earlier polygon wins within [`tie_tolerance`].
+/// is in front of F. The later polygon wins within [`tie_tolerance`] (painter's order).
 fn front_of(g: &ScreenPoly, f: &ScreenPoly, at: (f64, f64)) -> [f64; 3] {
     let d = [
         g.plane[0] - f.plane[0],
@@ -180,7 +180,7 @@ fn front_of(g: &ScreenPoly, f: &ScreenPoly, at: (f64, f64)) -> [f64; 3] {
         g.plane[2] - f.plane[2],
     ];
     let bias = tie_tolerance(g.q(at.0, at.1), f.q(at.0, at.1), g.tie_floor);
-    let c = if g.order < f.order {
+    let c = if g.order > f.order {
         d[2] + bias
     } else {
         d[2] - bias
@@ -443,7 +443,7 @@ mod ties {
     use crate::color::Rgb8;
 
     #[test]
-    fn coplanar_overlap_goes_to_the_earlier_polygon_without_double_counting() {
+    fn coplanar_overlap_goes_to_the_later_polygon_without_double_counting() {
         let v = View::ortho2(0.0, 4.0, 0.0, 4.0, 4, 4);
         let red = poly2(
             &v,
@@ -454,17 +454,29 @@ mod ties {
         .unwrap();
         let blue = poly2(
             &v,
-            &[[0.5, 0.5], [3.5, 0.5], [2.0, 3.5]],
+            &[[1.0, 1.0], [3.0, 1.0], [3.0, 3.0], [1.0, 3.0]],
             Rgb8([0, 0, 255]),
             1,
         )
         .unwrap();
         let bg = Background::color(Rgb8::BLACK);
+        let want = |i: usize| {
+            let (x, y) = (i % 4, i / 4);
+            if (1..3).contains(&x) && (1..3).contains(&y) {
+                [0, 0, 255]
+            } else {
+                [255, 0, 0]
+            }
+        };
         for aa in [Aa::Exact, Aa::None, Aa::Ss(4)] {
             let img = render(&[red.clone(), blue.clone()], &bg, 4, 4, aa).to_image();
-            assert!(img.data.chunks(3).all(|p| p == [255, 0, 0]), "{aa:?}");
+            for (i, p) in img.data.chunks(3).enumerate() {
+                assert_eq!(p, want(i), "{aa:?} pixel {i}");
+            }
         }
         let r = super::super::reference::render(&[red, blue], &bg, 4, 4, 6);
-        assert!(r.frame.to_image().data.chunks(3).all(|p| p == [255, 0, 0]));
+        for (i, p) in r.frame.to_image().data.chunks(3).enumerate() {
+            assert_eq!(p, want(i), "reference pixel {i}");
+        }
     }
 }

@@ -23,7 +23,7 @@
 //! threads, so the output is byte-identical for any `--threads`.
 //!
 //! Visibility ties (coplanar overlapping polygons, z-fighting) go to the polygon
-//! that comes first in the stream, like OpenGL's default `GL_LESS`, in all three
+//! that comes later in the stream (painter's order), in all three
 //! resolvers alike (see [`DEPTH_TIE_REL`]).
 
 // Per-channel loops `for ch in 0..3` over several arrays at once read better
@@ -47,7 +47,9 @@ use glam::{DMat4, DVec2, DVec3, DVec4};
 pub const TILE: u32 = 32;
 
 /// Relative depth tolerance under which two polygons count as equally near at a
-/// point (coplanar overlap): the earlier polygon in the stream then wins. 1e-9 is
+/// point (coplanar overlap): the later polygon in the stream then wins, as
+/// in painter's order (the IRIS drawing 2D shapes one over the other, or OpenGL
+/// with `GL_LEQUAL`). 1e-9 is
 /// far above f64 rounding of the plane fit (~1e-15) and far below any real depth
 /// separation in a scene that f64 can tell apart.
 pub const DEPTH_TIE_REL: f64 = 1e-9;

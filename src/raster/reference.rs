@@ -7,7 +7,7 @@
 //! no triangulation, no fixed point, no area clipping), then the 1D visibility
 //! of those intervals (breakpoints at interval ends and where two nearness
 //! lines cross; the nearest polygon in each sub-interval wins, ties to the
-//! earlier as everywhere).
+//! later one as everywhere).
 //!
 //! Along y, the visible length of each colour is continuous and linear except
 //! at *events*: heights of vertices and of crossings among polygon edges, the
@@ -184,12 +184,12 @@ fn covers_square(v: &[glam::DVec2], x: f64, y: f64) -> bool {
             .any(|p| p.x > x && p.x < x + 1.0 && p.y > y && p.y < y + 1.0)
 }
 
-/// Whether G is in front of F at (x, y), with the tie rule: earlier wins.
+/// Whether G is in front of F at (x, y), with the tie rule: the later one wins.
 #[inline]
 fn in_front(g: &ScreenPoly, f: &ScreenPoly, x: f64, y: f64) -> bool {
     let (qg, qf) = (g.q(x, y), f.q(x, y));
     let tie = tie_tolerance(qg, qf, g.tie_floor);
-    if g.order < f.order {
+    if g.order > f.order {
         qg - qf > -tie
     } else {
         qg - qf > tie

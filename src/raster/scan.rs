@@ -122,7 +122,7 @@ fn ceil_div(a: i64, b: i64) -> i64 {
 }
 
 /// Renders one tile by point sampling: per sample the nearest polygon wins
-/// (ties to the earlier one); a pixel is the linear-light mean of its samples.
+/// (ties to the later one, painter's order); a pixel is the linear-light mean of its samples.
 pub fn render_tile(
     polys: &[ScreenPoly],
     fixed: &[FixedPoly],
@@ -169,7 +169,8 @@ pub fn render_tile(
                         let old = depth[idx];
                         // Later polygons must be nearer by more than the tie
                         // tolerance to win.
-                        if old == f64::NEG_INFINITY || q - old > tie_tolerance(q, old, p.tie_floor)
+                        if old == f64::NEG_INFINITY
+                            || q - old >= -tie_tolerance(q, old, p.tie_floor)
                         {
                             depth[idx] = q;
                             owner[idx] = pi;
@@ -347,7 +348,7 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn nearer_polygons_hide_farther_ones_and_ties_go_to_the_first() {
+    fn nearer_polygons_hide_farther_ones_and_ties_go_to_the_later() {
         let view = View::ortho2(0.0, 4.0, 0.0, 4.0, 4, 4);
         let sq = |z: f64, c: Rgb8, o: u32| {
             super::super::project(
@@ -371,6 +372,6 @@ pub(crate) mod tests {
         let img = render(&[sq(0.5, blue, 0), sq(0.0, red, 1)], &bg, 4, 4, Aa::None).to_image();
         assert_eq!(&img.data[..3], &[0, 0, 255]);
         let img = render(&[sq(0.0, red, 0), sq(0.0, blue, 1)], &bg, 4, 4, Aa::Ss(2)).to_image();
-        assert_eq!(&img.data[..3], &[255, 0, 0]);
+        assert_eq!(&img.data[..3], &[0, 0, 255]);
     }
 }
