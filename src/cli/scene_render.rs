@@ -6,13 +6,17 @@ use crate::camera::{Camera, CameraArgs};
 use crate::color::Rgb8;
 use crate::io::{decode_image, display_name, read_input, Image, ImageFormat, PngOptions};
 use crate::pat::Pattern;
-use crate::raster::{self, compare, reference, Aa, Background, Cull, ScreenPoly, View};
-use crate::stream::{for_each_record, Shape};
+use crate::raster::{
+    self, compare, reference, Aa, Background, Cull, ScreenPattern, ScreenPoly, View,
+};
+use crate::stream::{for_each_record, PatternMode, Shape};
 use crate::usage_bail;
 use anyhow::{Context, Result};
 use clap::Parser;
 use glam::DVec3;
+use std::collections::HashMap;
 use std::io::{BufRead, BufReader, Write};
+use std::sync::Arc;
 
 const TOOL: &str = "scene-render";
 
@@ -251,10 +255,14 @@ fn load_image(name: &str) -> Result<Image> {
     })
 }
 
-/// Reads the stream and projects every record. Patterned records are refused:
-/// `polyfill3` partitions them into flat-coloured texture point polygons.
+/// Reads the stream and projects every record. Screen-mode patterns (the IRIS
+/// hardware patterns of the thesis's demo 1) are drawn directly; object-mode
+/// and uv patterns are refused: `polyfill3` partitions object-mode patterns
+/// into flat-coloured texture point polygons.
 fn read_scene(input: &str, view: &View, cull: Cull) -> Result<Vec<ScreenPoly>> {
     let name = display_name(input).to_string();
+    let base = crate::stream::base_dir(input);
+    let mut patterns: HashMap<std::path::PathBuf, Arc<ScreenPattern>> = HashMap::new();
     let reader: Box<dyn BufRead> = if input == crate::io::STDIO {
         Box::new(std::io::stdin().lock())
     } else {
@@ -269,17 +277,49 @@ fn read_scene(input: &str, view: &View, cull: Cull) -> Result<Vec<ScreenPoly>> {
     };
     let mut polys = Vec::new();
     for_each_record(reader, &name, |rec| {
-        if rec.pattern.is_some() {
-            anyhow::bail!(
-                "{name}: record {} has a pattern: partition it with polyfill3 first",
-                rec.index
-            );
+        let mut screen = None;
+        if let Some(pref) = &rec.pattern {
+            let mode = pref.mode.unwrap_or(if rec.uv.is_some() {
+                PatternMode::Uv
+            } else {
+                PatternMode::Object
+            });
+            match mode {
+                PatternMode::Object => anyhow::bail!(
+                    "{name}: record {} has a pattern: partition it with polyfill3 first",
+                    rec.index
+                ),
+                PatternMode::Uv => anyhow::bail!(
+                    "{name}: record {}: patterns placed by \"uv\" are not supported yet",
+                    rec.index
+                ),
+                PatternMode::Screen => {
+                    let Some(file) = &pref.file else {
+                        anyhow::bail!("{name}: record {}: pattern.file is missing", rec.index);
+                    };
+                    let path = crate::stream::resolve(&base, file);
+                    let p = match patterns.get(&path) {
+                        Some(p) => p.clone(),
+                        None => {
+                            let pat = Pattern::read_file(&path)
+                                .with_context(|| format!("{name}: record {}", rec.index))?;
+                            let p = Arc::new(ScreenPattern::new(&pat));
+                            patterns.insert(path, p.clone());
+                            p
+                        }
+                    };
+                    screen = Some(p);
+                }
+            }
         }
-        let color = rec.color.expect("records without a pattern have a colour");
+        let color = rec.color.unwrap_or(Rgb8::BLACK);
         let tol = curve_tolerance(&rec.shape, view);
         let outline = crate::geom::outline(&rec.shape, tol);
         let order = u32::try_from(rec.index).context("more than 2^32 records")?;
-        polys.extend(raster::project(view, &outline, color, order, cull));
+        if let Some(mut p) = raster::project(view, &outline, color, order, cull) {
+            p.screen = screen;
+            polys.push(p);
+        }
         Ok(())
     })?;
     Ok(polys)

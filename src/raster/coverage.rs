@@ -161,6 +161,7 @@ struct Scratch {
     a: Vec<DVec2>,
     b: Vec<DVec2>,
     alive: Vec<bool>,
+    cols: Vec<[f64; 3]>,
 }
 
 fn frag_verts<'a>(f: &Frag, arena: &'a [DVec2], square: &'a [DVec2; 4]) -> &'a [DVec2] {
@@ -209,11 +210,20 @@ fn resolve_pixel(
     if frags.is_empty() {
         return bg.at(px, py).map(|c| c as f32);
     }
+    // Colours here; a screen-mode pattern's transparent texel removes the
+    // fragment from this pixel altogether.
+    s.cols.clear();
+    s.alive.clear();
+    for f in frags {
+        let c = polys[f.poly as usize].color_at(px, py);
+        s.alive.push(c.is_some());
+        s.cols.push(c.unwrap_or_default());
+    }
     // Fast path: the nearest full fragment at the centre, if it is in front of
     // every other fragment over the whole pixel.
     let mut best: Option<usize> = None;
     for (i, f) in frags.iter().enumerate() {
-        if f.len == 0 {
+        if f.len == 0 && s.alive[i] {
             let q = polys[f.poly as usize].q(centre.0, centre.1);
             if best.map_or(true, |b| {
                 q > polys[frags[b].poly as usize].q(centre.0, centre.1)
@@ -222,13 +232,11 @@ fn resolve_pixel(
             }
         }
     }
-    s.alive.clear();
-    s.alive.resize(frags.len(), true);
     if let Some(b) = best {
         let fb = &polys[frags[b].poly as usize];
         let mut all_hidden = true;
         for (i, g) in frags.iter().enumerate() {
-            if i == b {
+            if i == b || !s.alive[i] {
                 continue;
             }
             let gp = &polys[g.poly as usize];
@@ -244,7 +252,7 @@ fn resolve_pixel(
             }
         }
         if all_hidden {
-            return fb.color.map(|c| c as f32);
+            return s.cols[b].map(|c| c as f32);
         }
     }
     let mut acc = [0.0f64; 3];
@@ -289,7 +297,7 @@ fn resolve_pixel(
         if area > AREA_EPS {
             covered += area;
             for ch in 0..3 {
-                acc[ch] += area * fp.color[ch];
+                acc[ch] += area * s.cols[i][ch];
             }
         }
     }

@@ -169,6 +169,10 @@ pub struct ScreenPoly {
     pub plane: [f64; 3],
     /// Linear-light colour.
     pub color: [f64; 3],
+    /// A screen-mode pattern (SPEC §2, the IRIS `setpattern`) that replaces
+    /// `color`: pixel (x, y) from the lower-left shows texel (x mod SIZE,
+    /// y mod SIZE), and the polygon is absent where that texel is transparent.
+    pub screen: Option<std::sync::Arc<ScreenPattern>>,
     /// Position in the stream: draw order, for visibility ties.
     pub order: u32,
     /// Convex pieces (index triples or the whole polygon) that tile the polygon
@@ -182,6 +186,16 @@ pub struct ScreenPoly {
 }
 
 impl ScreenPoly {
+    /// The polygon's linear colour at pixel (x, y); `None` where a screen-mode
+    /// pattern is transparent.
+    #[inline]
+    pub fn color_at(&self, x: u32, y: u32) -> Option<[f64; 3]> {
+        match &self.screen {
+            None => Some(self.color),
+            Some(p) => p.at(x, y),
+        }
+    }
+
     /// Nearness at a screen point.
     #[inline]
     pub fn q(&self, x: f64, y: f64) -> f64 {
@@ -287,6 +301,7 @@ pub fn project(
         verts,
         plane,
         color: c,
+        screen: None,
         order,
         pieces,
         tie_floor: DEPTH_TIE_REL * view.nearness_scale(),
@@ -399,6 +414,36 @@ fn in_triangle(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> bool {
     (b - a).perp_dot(p - a) >= 0.0
         && (c - b).perp_dot(p - b) >= 0.0
         && (a - c).perp_dot(p - c) >= 0.0
+}
+
+/// A pattern laid over the screen, texels decoded to linear light once.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScreenPattern {
+    size: u32,
+    /// Row 0 at the bottom; `None` is transparent.
+    texels: Vec<Option<[f64; 3]>>,
+}
+
+impl ScreenPattern {
+    pub fn new(p: &Pattern) -> ScreenPattern {
+        let size = p.size();
+        let mut texels = Vec::with_capacity((size * size) as usize);
+        for row in 0..size {
+            for col in 0..size {
+                texels.push(
+                    p.color_at(col, row)
+                        .map(|c| c.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0))),
+                );
+            }
+        }
+        ScreenPattern { size, texels }
+    }
+
+    /// Linear colour of pixel (x, y) counted from the lower-left.
+    #[inline]
+    pub fn at(&self, x: u32, y: u32) -> Option<[f64; 3]> {
+        self.texels[((y % self.size) * self.size + x % self.size) as usize]
+    }
 }
 
 /// What lies behind every polygon: a colour, or the thesis's `colorclear`

@@ -133,8 +133,10 @@ fn render_tile(
         for px in tx0..tx1 {
             cands.clear();
             cands.extend(bin.iter().copied().filter(|&i| {
-                let b = polys[i as usize].bbox;
-                px >= b[0] && px < b[2] && py >= b[1] && py < b[3]
+                let p = &polys[i as usize];
+                let b = p.bbox;
+                // Transparent texels of a screen-mode pattern: absent here.
+                px >= b[0] && px < b[2] && py >= b[1] && py < b[3] && p.color_at(px, py).is_some()
             }));
             let bgc = bg.at(px, py);
             let (c, e) = pixel(polys, &cands, bgc, px, py, lines, &mut line);
@@ -232,7 +234,8 @@ fn pixel(
                     .all(|&(cx, cy)| !in_front(&polys[gi as usize], f, cx, cy))
         });
         if hides_all {
-            return (f.color.map(|c| c as f32), 0.0);
+            let c = f.color_at(px, py).expect("candidates are opaque here");
+            return (c.map(|c| c as f32), 0.0);
         }
     }
     // Every y where the visible colour along a line can stop being linear in
@@ -483,7 +486,10 @@ fn line_colour(
                 keep => keep,
             };
         }
-        let c = best.map_or(bgc, |p| p.color);
+        let c = best.map_or(bgc, |p| {
+            p.color_at(x as u32, y as u32)
+                .expect("candidates are opaque here")
+        });
         for ch in 0..3 {
             acc[ch] += (b - a) * c[ch];
         }

@@ -167,10 +167,17 @@ pub fn render_tile(
                     for m in m0..m1 {
                         let idx = row + col0 + m as usize;
                         let old = depth[idx];
-                        // Later polygons must be nearer by more than the tie
-                        // tolerance to win.
-                        if old == f64::NEG_INFINITY
-                            || q - old >= -tie_tolerance(q, old, p.tie_floor)
+                        // A screen-mode pattern's transparent texel leaves
+                        // the sample to whatever is behind.
+                        let opaque = p
+                            .screen
+                            .as_ref()
+                            .map_or(true, |s| s.at(x0 + (m as u32) / k, py).is_some());
+                        // A later polygon wins unless it is farther by more
+                        // than the tie tolerance.
+                        if opaque
+                            && (old == f64::NEG_INFINITY
+                                || q - old >= -tie_tolerance(q, old, p.tie_floor))
                         {
                             depth[idx] = q;
                             owner[idx] = pi;
@@ -193,7 +200,9 @@ pub fn render_tile(
                     if o == u32::MAX {
                         n_bg += 1;
                     } else {
-                        let c = polys[o as usize].color;
+                        let c = polys[o as usize]
+                            .color_at(tx0 + tx as u32, ty0 + ty as u32)
+                            .expect("transparent texels own no sample");
                         for ch in 0..3 {
                             acc[ch] += c[ch];
                         }

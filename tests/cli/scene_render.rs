@@ -193,6 +193,28 @@ clitest!(background_pattern_tiles_from_the_lower_left, |dir| {
     assert_eq!(img.get_pixel(1, 1).0, [255, 0, 0, 255]);
 });
 
+clitest!(screen_mode_patterns_render_directly_with_transparency, |dir| {
+    // The IRIS hardware pattern of demo 1: texel (x mod 16, y mod 16) at pixel
+    // (x, y) from the lower-left; the transparent texel (0,0) shows the green
+    // rectangle drawn first, beneath.
+    dir.write("p/c.pat", crate::util::checker16());
+    dir.write(
+        "p/s.json",
+        r#"[{"rect":[0,0,4,3],"color":[0,255,0]},
+            {"vertices":[[0,0,0.5],[4,0,0.5],[4,3,0.5],[0,3,0.5]],"pattern":{"file":"c.pat","mode":"screen"}}]"#,
+    );
+    for aa in ["exact", "none", "ss4"] {
+        dir.cmd("scene-render")
+            .args(["--size", "4x3", "--aa", aa, "p/s.json", "-o", "o.png"])
+            .assert()
+            .success();
+        let img = decode(&dir.read("o.png"));
+        assert_eq!(img.get_pixel(0, 2).0, [0, 255, 0, 255], "{aa}");
+        assert_eq!(img.get_pixel(1, 2).0, [0, 0, 255, 255], "{aa}");
+        assert_eq!(img.get_pixel(1, 1).0, [255, 0, 0, 255], "{aa}");
+    }
+});
+
 clitest!(patterned_records_ask_for_polyfill3, |dir| {
     dir.write(
         "s.json",
@@ -219,7 +241,11 @@ clitest!(bad_inputs_fail_cleanly_leaving_nothing, |dir| {
         (vec!["--size", "100000x100000", "ok.json"], 2, "too large"),
         (vec!["--size", "0x5", "ok.json"], 2, "empty"),
         (vec!["--aa", "ss3", "ok.json"], 2, "ss3"),
-        (vec!["--perspective", "0,1,0,10", "ok.json"], 2, "--perspective"),
+        (
+            vec!["--perspective", "0,1,0,10", "ok.json"],
+            2,
+            "--perspective",
+        ),
         (vec!["--ortho2", "0,0,0,1", "ok.json"], 2, ""),
         (vec!["--compare", "nope.png", "ok.json"], 1, "nope.png"),
         (vec!["--diff", "d.png", "ok.json"], 2, "--compare"),
