@@ -193,27 +193,30 @@ clitest!(background_pattern_tiles_from_the_lower_left, |dir| {
     assert_eq!(img.get_pixel(1, 1).0, [255, 0, 0, 255]);
 });
 
-clitest!(screen_mode_patterns_render_directly_with_transparency, |dir| {
-    // The IRIS hardware pattern of demo 1: texel (x mod 16, y mod 16) at pixel
-    // (x, y) from the lower-left; the transparent texel (0,0) shows the green
-    // rectangle drawn first, beneath.
-    dir.write("p/c.pat", crate::util::checker16());
-    dir.write(
+clitest!(
+    screen_mode_patterns_render_directly_with_transparency,
+    |dir| {
+        // The IRIS hardware pattern of demo 1: texel (x mod 16, y mod 16) at pixel
+        // (x, y) from the lower-left; the transparent texel (0,0) shows the green
+        // rectangle drawn first, beneath.
+        dir.write("p/c.pat", crate::util::checker16());
+        dir.write(
         "p/s.json",
         r#"[{"rect":[0,0,4,3],"color":[0,255,0]},
             {"vertices":[[0,0,0.5],[4,0,0.5],[4,3,0.5],[0,3,0.5]],"pattern":{"file":"c.pat","mode":"screen"}}]"#,
     );
-    for aa in ["exact", "none", "ss4"] {
-        dir.cmd("scene-render")
-            .args(["--size", "4x3", "--aa", aa, "p/s.json", "-o", "o.png"])
-            .assert()
-            .success();
-        let img = decode(&dir.read("o.png"));
-        assert_eq!(img.get_pixel(0, 2).0, [0, 255, 0, 255], "{aa}");
-        assert_eq!(img.get_pixel(1, 2).0, [0, 0, 255, 255], "{aa}");
-        assert_eq!(img.get_pixel(1, 1).0, [255, 0, 0, 255], "{aa}");
+        for aa in ["exact", "none", "ss4"] {
+            dir.cmd("scene-render")
+                .args(["--size", "4x3", "--aa", aa, "p/s.json", "-o", "o.png"])
+                .assert()
+                .success();
+            let img = decode(&dir.read("o.png"));
+            assert_eq!(img.get_pixel(0, 2).0, [0, 255, 0, 255], "{aa}");
+            assert_eq!(img.get_pixel(1, 2).0, [0, 0, 255, 255], "{aa}");
+            assert_eq!(img.get_pixel(1, 1).0, [255, 0, 0, 255], "{aa}");
+        }
     }
-});
+);
 
 clitest!(patterned_records_ask_for_polyfill3, |dir| {
     dir.write(
@@ -282,3 +285,42 @@ fn closed_pipe_ends_quietly() {
         .unwrap();
     assert_eq!(String::from_utf8_lossy(&out.stderr), "status=0\n");
 }
+
+/// Golden images are compared within this tolerance: at most one 8-bit code on
+/// any channel and an RMSE of 0.01, so `powf` differing in the last ulp between
+/// platforms' maths libraries cannot fail the test while any real change does.
+const GOLDEN_MAX_ERROR: u8 = 1;
+const GOLDEN_RMSE: f64 = 0.01;
+
+fn assert_matches_golden(rendered: &[u8], golden: &str) {
+    let load = |bytes: &[u8], name: &str| {
+        let rgba = patkit::io::decode_image(bytes, name).unwrap();
+        let (width, height) = rgba.dimensions();
+        patkit::io::Image {
+            width,
+            height,
+            channels: 4,
+            data: rgba.into_raw(),
+        }
+    };
+    let path = crate::util::repo(golden);
+    let want = load(&std::fs::read(&path).unwrap(), golden);
+    let got = load(rendered, "rendered");
+    let m = patkit::raster::compare::compare(&got, &want).unwrap();
+    assert!(
+        m.max_error <= GOLDEN_MAX_ERROR && m.rmse <= GOLDEN_RMSE,
+        "{golden}: {m:?}"
+    );
+}
+
+clitest!(thesis_demo1_matches_its_golden_image, |dir| {
+    // App. B: screen-mode brick, wood, weave and mod on white, ortho2(0,1023,0,767).
+    let scene = crate::util::repo("examples/scenes/demo1.json");
+    let out = dir
+        .cmd("scene-render")
+        .args(["--ortho2", "0,1023,0,767", "--background", "255,255,255"])
+        .arg(&scene)
+        .assert()
+        .success();
+    assert_matches_golden(&out.get_output().stdout, "examples/golden/demo1.png");
+});
