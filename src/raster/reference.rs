@@ -358,6 +358,21 @@ fn events(
             if nn == 0.0 {
                 continue;
             }
+            // Only a line where the nearer one changes inside this pixel is an
+            // event: not when one is nearer at all four corners (differences of
+            // affine functions are extreme there), nor when they tie everywhere
+            // (coplanar neighbours; the tie rule decides, without a switch).
+            let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
+            let d: Vec<f64> = corners
+                .iter()
+                .map(|&(cx, cy)| a * cx + b * cy + c)
+                .collect();
+            let tied = corners.iter().zip(&d).all(|(&(cx, cy), dv)| {
+                dv.abs() <= tie_tolerance(f.q(cx, cy), g.q(cx, cy), f.tie_floor)
+            });
+            if tied || d.iter().all(|&v| v > 0.0) || d.iter().all(|&v| v < 0.0) {
+                continue;
+            }
             let k = (a * centre.x + b * centre.y + c) / nn;
             let p = centre - DVec2::new(a, b) * k;
             prims.push(Prim {
