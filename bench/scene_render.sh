@@ -53,7 +53,9 @@ echo "Run $(date -u '+%Y-%m-%d %H:%M UTC') on $(uname -sm), $(nproc) cores"
 echo "($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')), load average $(cut -d' ' -f1-3 /proc/loadavg)."
 echo "Commit $(git rev-parse --short HEAD). Images $(echo 1024x768), best of 3 runs of the whole pipeline"
 echo "(scene-render: read the stream, render, write the PNG; llvmpipe: upload, draw, resolve,"
-echo "read back, encode, write the PNG; 'GL-only' leaves out the encode and write)."
+echo "read back, encode, write the PNG; the stream's parsing in Python is left out of llvmpipe's time)."
+echo "'Render only' is scene-render's projection-to-pixels time (--timings: without reading the JSON"
+echo "and writing the PNG) and llvmpipe's upload, draw, MSAA resolve and read back: the comparable pair."
 echo "Errors are against \`scene-render --reference\`, in 8-bit sRGB units over RGB."
 echo
 "$VENV/bin/python" bench/scene_render_bench.py "$SR" "$WORK" \

@@ -110,6 +110,11 @@ pub struct Args {
     #[arg(long)]
     pub json: bool,
 
+    /// Print the time of each phase (read and project, render, write) to
+    /// standard error.
+    #[arg(long)]
+    pub timings: bool,
+
     /// Worker threads (default: all cores). The output is identical for any N.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
@@ -167,7 +172,9 @@ fn run_in_pool(args: Args) -> Result<()> {
             None => None,
         },
     };
+    let t_read = std::time::Instant::now();
     let polys = read_scene(&args.input, &view, args.cull)?;
+    let t_render = std::time::Instant::now();
     let (img, residual) = if args.reference {
         let r = reference::render(&polys, &bg, width, height, args.reference_samples);
         let res = r.residual(args.reference_samples);
@@ -178,7 +185,18 @@ fn run_in_pool(args: Args) -> Result<()> {
             None,
         )
     };
-    finish(&args, output.zip(format), img, reference_img, residual)
+    let t_write = std::time::Instant::now();
+    finish(&args, output.zip(format), img, reference_img, residual)?;
+    if args.timings {
+        eprintln!(
+            "{TOOL}: timings: read {:.4} s, render {:.4} s, write {:.4} s ({} polygons)",
+            (t_render - t_read).as_secs_f64(),
+            (t_write - t_render).as_secs_f64(),
+            t_write.elapsed().as_secs_f64(),
+            polys.len()
+        );
+    }
+    Ok(())
 }
 
 /// Writes the image and the reports, in that order, once everything is computed.
