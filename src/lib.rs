@@ -13,6 +13,7 @@ pub mod pat;
 pub mod quantize;
 pub mod stream;
 pub mod texture;
+pub mod transform;
 
 pub use color::Rgb8;
 pub use pat::{ParseError, Pattern, TRANSPARENT};
