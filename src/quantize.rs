@@ -381,10 +381,10 @@ pub fn choose_palette(hist: &[([u8; 3], u64)], k: usize) -> Vec<Rgb8> {
     }
     let points: Vec<(Point, f64)> = hist.iter().map(|(c, n)| (point(*c), *n as f64)).collect();
     let centres = median_cut(&points, k);
-    let centres = kmeans(&points, centres);
-    let mut palette: Vec<Rgb8> = centres
+    let clustering = split_merge(&points, kmeans(&points, centres));
+    let mut palette: Vec<Rgb8> = integer_lloyd(&points, clustering)
         .iter()
-        .map(|c| Rgb8(c.map(|v| v.round().clamp(0.0, 255.0) as u8)))
+        .map(|c| Rgb8(c.map(|v| v as u8)))
         .collect();
     palette.sort();
     palette.dedup();
@@ -426,58 +426,85 @@ impl Moments {
     }
 }
 
-/// Median cut, with each cut placed where it lowers the squared error most
-/// (not at the median), on the axis where that gain is largest; the box split
-/// next is always the one with the largest squared error.
+fn moments_of(s: &[(Point, f64)]) -> Moments {
+    let mut m = Moments::default();
+    for &(p, w) in s {
+        m.add(p, w);
+    }
+    m
+}
+
+/// The cut of `slice` (whose moments are `total`) that lowers the squared
+/// error most: `(gain, axis, position)`, with `slice` left sorted on `axis`.
+/// `None` if every point has the same colour.
+fn best_cut(slice: &mut [(Point, f64)], total: &Moments) -> Option<(f64, usize, usize)> {
+    let mut best: Option<(f64, usize, usize)> = None;
+    for axis in 0..3 {
+        sort_on_axis(slice, axis);
+        let mut left = Moments::default();
+        for (i, &(p, w)) in slice[..slice.len().saturating_sub(1)].iter().enumerate() {
+            left.add(p, w);
+            // Cut only between distinct values on this axis.
+            if slice[i + 1].0[axis] == p[axis] {
+                continue;
+            }
+            let gain = total.sse() - left.sse() - total.sub(&left).sse();
+            if best.map_or(true, |b| gain > b.0) {
+                best = Some((gain, axis, i + 1));
+            }
+        }
+    }
+    if let Some((_, axis, _)) = best {
+        sort_on_axis(slice, axis);
+    }
+    best
+}
+
+/// A box of median cut: a range of the point array, its moments, its best cut.
+struct CutBox {
+    lo: usize,
+    hi: usize,
+    cut: Option<(f64, usize, usize)>,
+    moments: Moments,
+}
+
+impl CutBox {
+    fn new(pts: &mut [(Point, f64)], lo: usize, hi: usize) -> CutBox {
+        let moments = moments_of(&pts[lo..hi]);
+        let cut = best_cut(&mut pts[lo..hi], &moments);
+        CutBox {
+            lo,
+            hi,
+            cut,
+            moments,
+        }
+    }
+}
+
+/// Median cut in Wu's greedy form: every box knows the cut (axis and place,
+/// not necessarily the median) that lowers its squared error most, and the
+/// box split next is the one whose cut gains most.
 fn median_cut(points: &[(Point, f64)], k: usize) -> Vec<Point> {
     let mut pts = points.to_vec();
-    // Boxes as index ranges into `pts`, with their moments.
-    let moments = |s: &[(Point, f64)]| {
-        let mut m = Moments::default();
-        for &(p, w) in s {
-            m.add(p, w);
-        }
-        m
-    };
-    let mut boxes = vec![(0usize, pts.len(), moments(&pts))];
+    let n = pts.len();
+    let mut boxes = vec![CutBox::new(&mut pts, 0, n)];
     while boxes.len() < k {
-        let Some((bi, _)) = boxes
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| b.1 - b.0 >= 2 && b.2.sse() > 0.0)
-            .max_by(|a, b| a.1 .2.sse().total_cmp(&b.1 .2.sse()).then(b.0.cmp(&a.0)))
+        let Some(bi) = (0..boxes.len())
+            .filter(|&i| boxes[i].cut.is_some())
+            .max_by(|&a, &b| {
+                let g = |i: usize| boxes[i].cut.map_or(0.0, |c| c.0);
+                g(a).total_cmp(&g(b)).then(b.cmp(&a))
+            })
         else {
             break;
         };
-        let (lo, hi, total) = boxes[bi];
-        let slice = &mut pts[lo..hi];
-        // Best (axis, cut) by the summed SSE of the two halves.
-        let mut best: Option<(f64, usize, usize)> = None;
-        for axis in 0..3 {
-            sort_on_axis(slice, axis);
-            let mut left = Moments::default();
-            for (i, &(p, w)) in slice[..slice.len() - 1].iter().enumerate() {
-                left.add(p, w);
-                // Cut only between distinct values on this axis.
-                if slice[i + 1].0[axis] == p[axis] {
-                    continue;
-                }
-                let cost = left.sse() + total.sub(&left).sse();
-                if best.map_or(true, |b| cost < b.0) {
-                    best = Some((cost, axis, i + 1));
-                }
-            }
-        }
-        let Some((_, axis, cut)) = best else {
-            break;
-        };
-        sort_on_axis(slice, axis);
-        // Fresh sums rather than subtraction, which would accumulate rounding.
-        let (left, right) = (moments(&slice[..cut]), moments(&slice[cut..]));
-        boxes[bi] = (lo, lo + cut, left);
-        boxes.push((lo + cut, hi, right));
+        let (lo, hi) = (boxes[bi].lo, boxes[bi].hi);
+        let (_, axis, cut) = boxes[bi].cut.expect("filtered on Some");
+        sort_on_axis(&mut pts[lo..hi], axis);
+        boxes[bi] = CutBox::new(&mut pts, lo, lo + cut);
+        boxes.push(CutBox::new(&mut pts, lo + cut, hi));
     }
-    boxes.iter().map(|b| b.2.mean()).collect()
+    boxes.iter().map(|b| b.moments.mean()).collect()
 }
 
 /// Sorts by one axis, ties broken by the whole colour, so the order is total
@@ -537,40 +564,213 @@ impl Nearest {
     }
 }
 
+/// Points per parallel work unit of a Lloyd step. Fixed, so the chunking (and
+/// with it every floating-point sum) is the same whatever the thread count.
+const KMEANS_CHUNK: usize = 4096;
+
+/// The result of k-means: centres, each point's cluster, the weighted squared error.
+struct Clustering {
+    centres: Vec<Point>,
+    assign: Vec<usize>,
+    err: f64,
+}
+
+/// One Lloyd assignment: each point to its nearest centre (starting from its
+/// current one), with per-cluster moments, the total error and the point that
+/// contributes most error.
+fn assign_step(
+    points: &[(Point, f64)],
+    centres: &[Point],
+    assign: &mut [usize],
+) -> (Vec<Moments>, f64, (f64, usize)) {
+    use rayon::prelude::*;
+    let nearest = Nearest::new(centres);
+    let parts: Vec<(Vec<Moments>, f64, (f64, usize))> = points
+        .par_chunks(KMEANS_CHUNK)
+        .zip(assign.par_chunks_mut(KMEANS_CHUNK))
+        .enumerate()
+        .map(|(ci, (pts, asg))| {
+            let mut sums = vec![Moments::default(); centres.len()];
+            let mut err = 0.0;
+            let mut worst = (-1.0f64, 0usize);
+            for (i, (&(p, w), a)) in pts.iter().zip(asg.iter_mut()).enumerate() {
+                let (c, d) = nearest.find(p, *a);
+                *a = c;
+                sums[c].add(p, w);
+                let e = d as f64 * w;
+                err += e;
+                if e > worst.0 {
+                    worst = (e, ci * KMEANS_CHUNK + i);
+                }
+            }
+            (sums, err, worst)
+        })
+        .collect();
+    let mut sums = vec![Moments::default(); centres.len()];
+    let mut err = 0.0;
+    let mut worst = (-1.0f64, 0usize);
+    for (s, e, w) in parts {
+        for (acc, m) in sums.iter_mut().zip(&s) {
+            acc.w += m.w;
+            acc.ss += m.ss;
+            for c in 0..3 {
+                acc.s[c] += m.s[c];
+            }
+        }
+        err += e;
+        if w.0 > worst.0 {
+            worst = w;
+        }
+    }
+    (sums, err, worst)
+}
+
 /// Weighted Lloyd iterations from `centres` until the error stops falling.
 /// An emptied cluster is moved to the point that contributes most error.
-fn kmeans(points: &[(Point, f64)], mut centres: Vec<Point>) -> Vec<Point> {
+fn kmeans(points: &[(Point, f64)], mut centres: Vec<Point>) -> Clustering {
     let mut assign = vec![0usize; points.len()];
     let mut last_err = f64::INFINITY;
     for _ in 0..KMEANS_MAX_ITERATIONS {
-        let nearest = Nearest::new(&centres);
-        let mut sums = vec![Moments::default(); centres.len()];
-        let mut err = 0.0;
-        let mut worst = (0.0f64, 0usize);
-        for (i, &(p, w)) in points.iter().enumerate() {
-            let (c, d) = nearest.find(p, assign[i]);
-            assign[i] = c;
-            sums[c].add(p, w);
-            let e = d as f64 * w;
-            err += e;
-            if e > worst.0 {
-                worst = (e, i);
-            }
-        }
+        let (sums, err, worst) = assign_step(points, &centres, &mut assign);
+        let mut moved = false;
         for (c, m) in centres.iter_mut().zip(&sums) {
             if m.w > 0.0 {
                 *c = m.mean();
-            } else {
+            } else if !moved {
                 *c = points[worst.1].0;
-                worst.0 = 0.0;
+                moved = true;
             }
         }
-        if last_err - err <= KMEANS_RELATIVE_TOLERANCE * err {
+        if !moved && last_err - err <= KMEANS_RELATIVE_TOLERANCE * err {
             break;
         }
         last_err = err;
     }
-    centres
+    let (_, err, _) = assign_step(points, &centres, &mut assign);
+    Clustering {
+        centres,
+        assign,
+        err,
+    }
+}
+
+/// At most this many split-and-merge moves after k-means; each is tried with a
+/// full k-means run and kept only if it lowers the error.
+const SPLIT_MERGE_ROUNDS: usize = 12;
+
+/// Escapes k-means' local optima: merge the two clusters whose merging costs
+/// least, split the cluster whose best cut gains most, rerun k-means, and keep
+/// the result if the error fell. Deterministic, like everything here.
+fn split_merge(points: &[(Point, f64)], mut best: Clustering) -> Clustering {
+    let k = best.centres.len();
+    if k < 3 {
+        return best;
+    }
+    for _ in 0..SPLIT_MERGE_ROUNDS {
+        let mut members: Vec<Vec<(Point, f64)>> = vec![Vec::new(); k];
+        for (&(p, w), &a) in points.iter().zip(&best.assign) {
+            members[a].push((p, w));
+        }
+        let moments: Vec<Moments> = members.iter().map(|m| moments_of(m)).collect();
+        // The split that gains most.
+        let mut split: Option<(f64, usize, Point, Point)> = None;
+        for (c, m) in members.iter_mut().enumerate() {
+            if let Some((gain, _, cut)) = best_cut(m, &moments[c]) {
+                if split.map_or(true, |s| gain > s.0) {
+                    let (l, r) = (moments_of(&m[..cut]), moments_of(&m[cut..]));
+                    split = Some((gain, c, l.mean(), r.mean()));
+                }
+            }
+        }
+        let Some((gain, sc, left, right)) = split else {
+            break;
+        };
+        // The merge that costs least: w_a w_b / (w_a + w_b) |a - b|^2.
+        let mut merge: Option<(f64, usize, usize)> = None;
+        for a in 0..k {
+            for b in a + 1..k {
+                if a == sc || b == sc {
+                    continue;
+                }
+                let (ma, mb) = (&moments[a], &moments[b]);
+                let cost = if ma.w + mb.w > 0.0 {
+                    ma.w * mb.w / (ma.w + mb.w) * dist2(best.centres[a], best.centres[b]) as f64
+                } else {
+                    0.0
+                };
+                if merge.map_or(true, |m| cost < m.0) {
+                    merge = Some((cost, a, b));
+                }
+            }
+        }
+        let Some((cost, ma, mb)) = merge else {
+            break;
+        };
+        if cost >= gain {
+            break;
+        }
+        let mut merged = moments[ma];
+        merged.w += moments[mb].w;
+        merged.ss += moments[mb].ss;
+        for c in 0..3 {
+            merged.s[c] += moments[mb].s[c];
+        }
+        let mut centres = best.centres.clone();
+        centres[sc] = left;
+        centres[ma] = if merged.w > 0.0 {
+            merged.mean()
+        } else {
+            centres[ma]
+        };
+        centres[mb] = right;
+        let trial = kmeans(points, centres);
+        if trial.err < best.err {
+            best = trial;
+        } else {
+            break;
+        }
+    }
+    best
+}
+
+/// At most this many Lloyd steps on 8-bit palette entries.
+const INTEGER_LLOYD_ITERATIONS: usize = 16;
+
+fn round_point(p: Point) -> Point {
+    p.map(|v| v.round().clamp(0.0, 255.0))
+}
+
+/// Lloyd steps with the centres rounded to 8-bit codes after each mean: the
+/// palette is stored in 8 bits, and rounding a converged float palette moves
+/// some pixels' nearest colour; re-assigning and re-rounding wins that back.
+/// Stops when the palette is stable or the error stops falling.
+fn integer_lloyd(points: &[(Point, f64)], c: Clustering) -> Vec<Point> {
+    let mut best: Vec<Point> = c.centres.iter().map(|&p| round_point(p)).collect();
+    let mut assign = c.assign;
+    let (mut sums, mut best_err, _) = assign_step(points, &best, &mut assign);
+    for _ in 0..INTEGER_LLOYD_ITERATIONS {
+        let next: Vec<Point> = best
+            .iter()
+            .zip(&sums)
+            .map(|(&old, m)| {
+                if m.w > 0.0 {
+                    round_point(m.mean())
+                } else {
+                    old
+                }
+            })
+            .collect();
+        if next == best {
+            break;
+        }
+        let mut trial_assign = assign.clone();
+        let (trial_sums, err, _) = assign_step(points, &next, &mut trial_assign);
+        if err >= best_err {
+            break;
+        }
+        (best, assign, sums, best_err) = (next, trial_assign, trial_sums, err);
+    }
+    best
 }
 
 // ----------------------------------------------------------------- remapping
@@ -926,12 +1126,33 @@ mod tests {
         let points: Vec<(Point, f64)> = hist.iter().map(|(c, n)| (point(*c), *n as f64)).collect();
         for k in [2, 4, 8, 16, 32] {
             let mc = median_cut(&points, k);
-            let km = kmeans(&points, mc.clone());
+            let km = split_merge(&points, kmeans(&points, mc.clone())).centres;
             assert_eq!(mc.len(), k);
             assert!(weighted_error(&points, &km) <= weighted_error(&points, &mc) + 1e-6);
             assert_eq!(choose_palette(&hist, k), choose_palette(&hist, k));
             assert!(choose_palette(&hist, k).len() <= k);
         }
+    }
+
+    #[test]
+    fn the_palette_does_not_depend_on_the_thread_count() {
+        let mut seed = 11;
+        let colours: Vec<[u8; 3]> = (0..20_000)
+            .map(|_| [0; 3].map(|_: u8| lcg(&mut seed)))
+            .collect();
+        let hist = histogram(colours.into_iter());
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        let three = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        assert_eq!(
+            one.install(|| choose_palette(&hist, 16)),
+            three.install(|| choose_palette(&hist, 16))
+        );
     }
 
     #[test]
