@@ -765,26 +765,38 @@ fn kmeans(points: &[(Point, f64)], mut centres: Vec<Point>) -> Clustering {
     }
 }
 
-/// At most this many split-and-merge moves after k-means; each is tried with a
-/// full k-means run and kept only if it lowers the error.
-const SPLIT_MERGE_ROUNDS: usize = 12;
+/// At most this many split-and-merge trials after k-means, in all; each is a
+/// full k-means run, kept only if it lowers the error.
+const SPLIT_MERGE_TRIALS: usize = 16;
+/// ... and at most this many (distinct colours x trials): a 64x64 image gets
+/// every trial, a 256x256 photo (~60 000 colours) about four, which keeps the
+/// search within a few times the cost of the first k-means run.
+const SPLIT_MERGE_WORK: usize = 1 << 18;
+/// Each round considers the best this-many splits and merges, paired.
+const SPLIT_MERGE_CANDIDATES: usize = 3;
 
-/// Escapes k-means' local optima: merge the two clusters whose merging costs
-/// least, split the cluster whose best cut gains most, rerun k-means, and keep
-/// the result if the error fell. Deterministic, like everything here.
+/// Escapes k-means' local optima (common on nearly one-dimensional colour sets
+/// such as ramps and grey textures): remove a centre whose removal costs little
+/// (its colours going to their second-nearest centre), split a cluster whose
+/// best cut gains much, rerun k-means, and keep the result if the error fell.
+/// Moves are tried by falling (gain - cost) even when the cost exceeds the
+/// gain, since k-means' re-convergence is what finds the better optimum.
+/// Deterministic, like everything here.
 fn split_merge(points: &[(Point, f64)], mut best: Clustering) -> Clustering {
     let k = best.centres.len();
     if k < 3 {
         return best;
     }
-    for _ in 0..SPLIT_MERGE_ROUNDS {
+    let budget = (SPLIT_MERGE_WORK / points.len().max(1)).clamp(1, SPLIT_MERGE_TRIALS);
+    let mut trials = 0;
+    'rounds: while trials < budget {
         let mut members: Vec<Vec<(Point, f64)>> = vec![Vec::new(); k];
         for (&(p, w), &a) in points.iter().zip(&best.assign) {
             members[a].push((p, w));
         }
         let moments: Vec<Moments> = members.iter().map(|m| moments_of(m)).collect();
-        // The split that gains most. A cut gains at most the cluster's whole
-        // error, so clusters are tried by falling error until none can win.
+        // The splits that gain most. A cut gains at most the cluster's whole
+        // error, so clusters are tried by falling error until none can enter.
         let mut by_err: Vec<usize> = (0..k).collect();
         by_err.sort_by(|&a, &b| {
             moments[b]
@@ -792,67 +804,64 @@ fn split_merge(points: &[(Point, f64)], mut best: Clustering) -> Clustering {
                 .total_cmp(&moments[a].sse())
                 .then(a.cmp(&b))
         });
-        let mut split: Option<(f64, usize, Point, Point)> = None;
+        let mut splits: Vec<(f64, usize, Point, Point)> = Vec::new();
         for c in by_err {
-            if split.is_some_and(|s| s.0 >= moments[c].sse()) {
+            if splits.len() == SPLIT_MERGE_CANDIDATES
+                && splits[SPLIT_MERGE_CANDIDATES - 1].0 >= moments[c].sse()
+            {
                 break;
             }
             let m = &mut members[c];
             if let Some((gain, axis, threshold)) = best_cut(m, &moments[c]) {
                 let cut = apply_cut(m, axis, threshold);
-                if split.map_or(true, |s| gain > s.0) {
-                    let (l, r) = (moments_of(&m[..cut]), moments_of(&m[cut..]));
-                    split = Some((gain, c, l.mean(), r.mean()));
-                }
+                let (l, r) = (moments_of(&m[..cut]), moments_of(&m[cut..]));
+                splits.push((gain, c, l.mean(), r.mean()));
+                splits.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+                splits.truncate(SPLIT_MERGE_CANDIDATES);
             }
         }
-        let Some((gain, sc, left, right)) = split else {
-            break;
-        };
-        // The merge that costs least: w_a w_b / (w_a + w_b) |a - b|^2.
-        let mut merge: Option<(f64, usize, usize)> = None;
-        for a in 0..k {
-            for b in a + 1..k {
-                if a == sc || b == sc {
-                    continue;
-                }
-                let (ma, mb) = (&moments[a], &moments[b]);
-                let cost = if ma.w + mb.w > 0.0 {
-                    ma.w * mb.w / (ma.w + mb.w) * dist2(best.centres[a], best.centres[b]) as f64
-                } else {
-                    0.0
-                };
-                if merge.map_or(true, |m| cost < m.0) {
-                    merge = Some((cost, a, b));
-                }
+        // The removals that cost least: a centre's points would move to their
+        // second-nearest centre, at a cost of the difference in squared error.
+        let mut removal = vec![0f64; k];
+        for (&(p, w), &a) in points.iter().zip(&best.assign) {
+            let second = best
+                .centres
+                .iter()
+                .enumerate()
+                .filter(|&(j, _)| j != a)
+                .map(|(_, &c)| dist2(p, c))
+                .fold(f32::INFINITY, f32::min);
+            removal[a] += w * (second - dist2(p, best.centres[a])) as f64;
+        }
+        let mut removals: Vec<(f64, usize)> = (0..k).map(|r| (removal[r], r)).collect();
+        removals.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+        let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+        for (si, s) in splits.iter().enumerate() {
+            for r in removals
+                .iter()
+                .filter(|r| r.1 != s.1)
+                .take(SPLIT_MERGE_CANDIDATES)
+            {
+                pairs.push((s.0 - r.0, si, r.1));
             }
         }
-        let Some((cost, ma, mb)) = merge else {
-            break;
-        };
-        if cost >= gain {
-            break;
+        pairs.sort_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+        for (_, si, removed) in pairs {
+            if trials == budget {
+                break 'rounds;
+            }
+            trials += 1;
+            let (_, sc, left, right) = splits[si];
+            let mut centres = best.centres.clone();
+            centres[sc] = left;
+            centres[removed] = right;
+            let trial = kmeans(points, centres);
+            if trial.err < best.err {
+                best = trial;
+                continue 'rounds;
+            }
         }
-        let mut merged = moments[ma];
-        merged.w += moments[mb].w;
-        merged.ss += moments[mb].ss;
-        for c in 0..3 {
-            merged.s[c] += moments[mb].s[c];
-        }
-        let mut centres = best.centres.clone();
-        centres[sc] = left;
-        centres[ma] = if merged.w > 0.0 {
-            merged.mean()
-        } else {
-            centres[ma]
-        };
-        centres[mb] = right;
-        let trial = kmeans(points, centres);
-        if trial.err < best.err {
-            best = trial;
-        } else {
-            break;
-        }
+        break;
     }
     best
 }
