@@ -7,10 +7,13 @@
 //!    filter (exact area average) when shrinking, a separable Mitchell–Netravali
 //!    filter when enlarging. The result is rounded once to 8-bit sRGB: this
 //!    "resampled image" is what the pattern is measured against.
-//! 2. [`choose_palette`] picks K colours: a variance-minimising median cut,
-//!    refined by weighted k-means (Lloyd) until it stops improving. Both run on
-//!    the distinct colours weighted by their pixel counts, and nothing is random,
-//!    so the same image always gives the same palette.
+//! 2. [`choose_palette`] picks K colours: median cut in Wu's greedy form (each
+//!    box cut where the squared error falls most), then weighted k-means (Lloyd,
+//!    with Hamerly's bounds so it can run to convergence cheaply), then a few
+//!    split/remove moves that let k-means leave a poor local optimum, then Lloyd
+//!    steps on the rounded 8-bit palette. All of it runs on the distinct colours
+//!    weighted by their pixel counts, and nothing is random (the parallel sums
+//!    use fixed chunks), so the same image always gives the same palette.
 //! 3. [`remap`] assigns each pixel a palette index, with no dithering,
 //!    Floyd–Steinberg error diffusion (serpentine, in linear light) or an 8x8
 //!    Bayer ordered dither.
