@@ -11,7 +11,8 @@
 //!    box cut where the squared error falls most), then weighted k-means (Lloyd,
 //!    with Hamerly's bounds so it can run to convergence cheaply), then a few
 //!    split/remove moves that let k-means leave a poor local optimum, then Lloyd
-//!    steps on the rounded 8-bit palette. All of it runs on the distinct colours
+//!    steps on the rounded 8-bit palette and, for small problems, a search of
+//!    its one-code neighbours. All of it runs on the distinct colours
 //!    weighted by their pixel counts, and nothing is random (the parallel sums
 //!    use fixed chunks), so the same image always gives the same palette.
 //! 3. [`remap`] assigns each pixel a palette index, with no dithering,
@@ -383,7 +384,7 @@ pub fn choose_palette(hist: &[([u8; 3], u64)], k: usize) -> Vec<Rgb8> {
     let points: Vec<(Point, f64)> = hist.iter().map(|(c, n)| (point(*c), *n as f64)).collect();
     let centres = median_cut(&points, k);
     let clustering = split_merge(&points, kmeans(&points, centres));
-    let mut palette: Vec<Rgb8> = integer_lloyd(&points, clustering)
+    let mut palette: Vec<Rgb8> = neighbour_search(&points, integer_lloyd(&points, clustering))
         .iter()
         .map(|c| Rgb8(c.map(|v| v as u8)))
         .collect();
@@ -909,6 +910,63 @@ fn integer_lloyd(points: &[(Point, f64)], c: Clustering) -> Vec<Point> {
     best
 }
 
+/// The 26 unit steps of the 8-bit colour lattice (every +-1/0 combination but none).
+const LATTICE_STEPS: usize = 26;
+/// The neighbour search runs only while one pass costs at most this many
+/// distance evaluations (points x K x K x 26): all small palettes of small
+/// images (a few milliseconds), never a large photo.
+const NEIGHBOUR_SEARCH_WORK: usize = 1 << 23;
+/// At most this many passes over the palette.
+const NEIGHBOUR_SEARCH_PASSES: usize = 3;
+
+/// Last polish of an 8-bit palette: move single entries by one code in any
+/// combination of channels while that lowers the total error (each point
+/// taking its nearest entry). Lloyd's rounded means cannot find these moves,
+/// since the best 8-bit palette is not the rounded best real-valued one.
+fn neighbour_search(points: &[(Point, f64)], mut palette: Vec<Point>) -> Vec<Point> {
+    let k = palette.len();
+    if points.len() * k * k * LATTICE_STEPS > NEIGHBOUR_SEARCH_WORK {
+        return palette;
+    }
+    let error = |pal: &[Point]| -> f64 {
+        points
+            .iter()
+            .map(|&(p, w)| {
+                w * pal
+                    .iter()
+                    .map(|&c| dist2(p, c))
+                    .fold(f32::INFINITY, f32::min) as f64
+            })
+            .sum()
+    };
+    let mut best = error(&palette);
+    for _ in 0..NEIGHBOUR_SEARCH_PASSES {
+        let mut improved = false;
+        for j in 0..k {
+            for step in 0..27 {
+                let d = [step / 9, step / 3 % 3, step % 3].map(|v| v as f32 - 1.0);
+                if d == [0.0; 3] {
+                    continue;
+                }
+                let moved = [0, 1, 2].map(|c| palette[j][c] + d[c]);
+                if moved.iter().any(|v| !(0.0..=255.0).contains(v)) {
+                    continue;
+                }
+                let mut trial = palette.clone();
+                trial[j] = moved;
+                let e = error(&trial);
+                if e < best {
+                    (best, palette, improved) = (e, trial, true);
+                }
+            }
+        }
+        if !improved {
+            break;
+        }
+    }
+    palette
+}
+
 // ----------------------------------------------------------------- remapping
 
 /// Palette indices for each pixel (row 0 at the top, like `colors`);
@@ -1289,6 +1347,24 @@ mod tests {
             one.install(|| choose_palette(&hist, 16)),
             three.install(|| choose_palette(&hist, 16))
         );
+    }
+
+    #[test]
+    fn the_lattice_search_never_raises_the_error() {
+        let mut seed = 5;
+        let hist = histogram((0..600).map(|_| {
+            let g = 160 + lcg(&mut seed) / 16;
+            [g, g, g + 3]
+        }));
+        let points: Vec<(Point, f64)> = hist.iter().map(|(c, n)| (point(*c), *n as f64)).collect();
+        let start = vec![
+            [150.0, 150.0, 150.0],
+            [170.0, 171.0, 172.0],
+            [180.0, 180.0, 180.0],
+        ];
+        let polished = neighbour_search(&points, start.clone());
+        assert!(weighted_error(&points, &polished) < weighted_error(&points, &start));
+        assert!(polished.iter().flatten().all(|v| v.fract() == 0.0));
     }
 
     #[test]
