@@ -48,6 +48,13 @@ pub const DEFAULT_ALPHA_THRESHOLD: u8 = 128;
 /// about 0.1% of its error every ten iterations after 60; with Hamerly's bounds
 /// those late iterations are cheap, and 300 bounds pathological inputs.
 const KMEANS_MAX_ITERATIONS: usize = 300;
+/// ... and at most this many (distinct colours x iterations), so that large
+/// patterns of photos (a 1024x1024 upscale has ~10^6 colours) stay within
+/// seconds; every image of up to 256x256 pixels still gets all 300.
+const KMEANS_WORK: usize = 1 << 25;
+/// The fewest iterations the work budget may leave: past the first few dozen,
+/// gains are fractions of a percent of the error.
+const KMEANS_MIN_ITERATIONS: usize = 24;
 
 /// Mitchell–Netravali parameters B = C = 1/3: the pair its authors recommend,
 /// balancing blur against ringing.
@@ -651,7 +658,7 @@ struct Bounds {
 }
 
 /// Weighted Lloyd iterations from `centres` until no point changes cluster (or
-/// [`KMEANS_MAX_ITERATIONS`]). Hamerly's bounds skip the nearest-centre search
+/// the iteration budget, [`KMEANS_MAX_ITERATIONS`] and [`KMEANS_WORK`], runs out). Hamerly's bounds skip the nearest-centre search
 /// for points that provably keep their centre, so the long tail of small
 /// moves that k-means needs to converge costs little. An emptied cluster is
 /// moved to the point with the largest weighted error bound.
@@ -666,7 +673,9 @@ fn kmeans(points: &[(Point, f64)], mut centres: Vec<Point>) -> Clustering {
         };
         points.len()
     ];
-    for _ in 0..KMEANS_MAX_ITERATIONS {
+    let iterations =
+        (KMEANS_WORK / points.len().max(1)).clamp(KMEANS_MIN_ITERATIONS, KMEANS_MAX_ITERATIONS);
+    for _ in 0..iterations {
         // Half the distance from each centre to its nearest other centre.
         let half_gap: Vec<f32> = (0..k)
             .map(|i| {
@@ -774,7 +783,8 @@ fn kmeans(points: &[(Point, f64)], mut centres: Vec<Point>) -> Clustering {
 const SPLIT_MERGE_TRIALS: usize = 16;
 /// ... and at most this many (distinct colours x trials): a 64x64 image gets
 /// every trial, a 256x256 photo (~60 000 colours) about four, which keeps the
-/// search within a few times the cost of the first k-means run.
+/// search within a few times the cost of the first k-means run; images with
+/// more than this many colours get none.
 const SPLIT_MERGE_WORK: usize = 1 << 18;
 /// Each round considers the best this-many splits and merges, paired.
 const SPLIT_MERGE_CANDIDATES: usize = 3;
@@ -791,7 +801,7 @@ fn split_merge(points: &[(Point, f64)], mut best: Clustering) -> Clustering {
     if k < 3 {
         return best;
     }
-    let budget = (SPLIT_MERGE_WORK / points.len().max(1)).clamp(1, SPLIT_MERGE_TRIALS);
+    let budget = (SPLIT_MERGE_WORK / points.len().max(1)).min(SPLIT_MERGE_TRIALS);
     let mut trials = 0;
     'rounds: while trials < budget {
         let mut members: Vec<Vec<(Point, f64)>> = vec![Vec::new(); k];
