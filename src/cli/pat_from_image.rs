@@ -158,3 +158,19 @@ fn write_pattern(pattern: &Pattern, output: &str) -> Result<()> {
     })?;
     out.commit()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn arguments_are_consistent_and_the_man_page_renders() {
+        Args::command().debug_assert();
+        let man = crate::cli::man_page(Args::command());
+        assert!(man.contains("pat\\-from\\-image") && man.contains("alpha\\-threshold"));
+        assert!(crate::cli::commands()
+            .iter()
+            .any(|c| c.get_name() == "pat-from-image"));
+    }
+}
