@@ -5,7 +5,10 @@
 //! Each tool module holds `Args` (clap) and `run(Args) -> anyhow::Result<()>`;
 //! its file in `src/bin/` is one line that hands both to [`main`].
 
+use clap::CommandFactory;
 use std::fmt;
+
+pub mod polyfill3;
 use std::str::FromStr;
 
 /// A usage error found after clap's own parsing (contradictory flags, values out
@@ -119,7 +122,7 @@ impl FromStr for IntPair {
 
 /// Every tool's clap command, for man pages and completion generation.
 pub fn commands() -> Vec<clap::Command> {
-    vec![]
+    vec![polyfill3::Args::command()]
 }
 
 /// Renders one tool's man page (roff) from its argument definitions.
