@@ -474,7 +474,7 @@ impl<W: Write> CellSink for CellWriter<W> {
         self.error.is_none() && self.texel(k, j).2.is_some()
     }
 
-    fn cell(&mut self, k: i64, j: i64, world: &[DVec3], full: bool) {
+    fn cell(&mut self, k: i64, j: i64, world: &[DVec3], _plane: &[glam::DVec2], full: bool) {
         let (c, r, idx) = self.texel(k, j);
         let Some(idx) = idx else { return };
         if let Some(m) = self.merger.as_mut() {

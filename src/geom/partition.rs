@@ -153,7 +153,8 @@ pub trait CellSink {
     /// One texture point polygon in world coordinates, counter-clockwise in
     /// the plane like the input. `full` when it is the whole cell square
     /// `[c(k,j), c(k+1,j), c(k+1,j+1), c(k,j+1)]`.
-    fn cell(&mut self, k: i64, j: i64, world: &[DVec3], full: bool);
+    /// `plane` holds the same vertices in plane coordinates.
+    fn cell(&mut self, k: i64, j: i64, world: &[DVec3], plane: &[DVec2], full: bool);
 }
 
 /// Working space for partitions, reused from polygon to polygon so that a
@@ -266,7 +267,14 @@ impl Partitioner {
                             if sink.wants(k, j) {
                                 let (c0, c1) = (self.cols[col(k)], self.cols[col(k + 1)]);
                                 let sq = [rb_lo + c0, rb_lo + c1, rb_hi + c1, rb_hi + c0];
-                                sink.cell(k, j, &sq, true);
+                                let (xl, xr) = (grid.gx(k), grid.gx(k + 1));
+                                let pl = [
+                                    DVec2::new(xl, ylo),
+                                    DVec2::new(xr, ylo),
+                                    DVec2::new(xr, yhi),
+                                    DVec2::new(xl, yhi),
+                                ];
+                                sink.cell(k, j, &sq, &pl, true);
                             }
                         }
                     }
@@ -332,7 +340,11 @@ impl Partitioner {
                         self.world
                             .extend(self.pts.iter().map(|&p| frame.to_world(p)));
                     }
-                    sink.cell(k, j, &self.world, full);
+                    if full {
+                        self.pts.clear();
+                        self.pts.extend(corners);
+                    }
+                    sink.cell(k, j, &self.world, &self.pts, full);
                 }
                 cursor = bhi + 1;
             }
@@ -380,7 +392,8 @@ pub fn thesis_partition(
     let s = pattern_size;
     let i_begin = ((s - vert) % s).rem_euclid(s);
     let j_begin = ((s - horz) % s).rem_euclid(s);
-    let (mut out, mut scratch, mut world) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut out, mut scratch, mut world, mut plane) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut i = i_begin;
     let mut yincr = 0.0;
     while lo.y + yincr <= hi.y {
@@ -397,11 +410,13 @@ pub fn thesis_partition(
                 clip_closed(&p, bx, &mut out, &mut scratch);
                 if !out.is_empty() {
                     world.clear();
-                    world.extend(out.iter().map(|&q| poly.frame.to_world(q + o)));
-                    while world.len() < 3 {
-                        world.push(*world.last().expect("non-empty"));
+                    plane.clear();
+                    plane.extend(out.iter().map(|&q| q + o));
+                    while plane.len() < 3 {
+                        plane.push(*plane.last().expect("non-empty"));
                     }
-                    sink.cell(jj, i, &world, false);
+                    world.extend(plane.iter().map(|&q| poly.frame.to_world(q)));
+                    sink.cell(jj, i, &world, &plane, false);
                 }
             }
             jj += 1;
@@ -432,7 +447,7 @@ mod tests {
         fn wants(&mut self, _: i64, _: i64) -> bool {
             true
         }
-        fn cell(&mut self, k: i64, j: i64, w: &[DVec3], full: bool) {
+        fn cell(&mut self, k: i64, j: i64, w: &[DVec3], _: &[DVec2], full: bool) {
             self.cells.push((k, j, w.to_vec(), full));
         }
     }
@@ -540,7 +555,7 @@ mod table51 {
         fn wants(&mut self, _: i64, _: i64) -> bool {
             true
         }
-        fn cell(&mut self, _: i64, _: i64, _: &[DVec3], _: bool) {
+        fn cell(&mut self, _: i64, _: i64, _: &[DVec3], _: &[DVec2], _: bool) {
             self.0 += 1;
         }
     }
@@ -588,3 +603,6 @@ mod table51 {
         }
     }
 }
+
+#[cfg(test)]
+mod props;
