@@ -86,9 +86,16 @@ impl Output {
             Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
             _ => PathBuf::from("."),
         };
-        let tmp = tempfile::Builder::new()
-            .prefix(".patkit-")
-            .suffix(".tmp")
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(".patkit-").suffix(".tmp");
+        // An ordinary file's mode (0666 less the umask), not the private 0600 a
+        // temporary file gets by default: the rename makes it the real output.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            builder.permissions(std::fs::Permissions::from_mode(0o666));
+        }
+        let tmp = builder
             .tempfile_in(&dir)
             .with_context(|| format!("{name}: cannot create a file in {}", dir.display()))?;
         Ok(Output {
@@ -194,6 +201,29 @@ impl ImageFormat {
     }
 }
 
+/// How PNG output trades time against size.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PngOptions {
+    pub compression: image::codecs::png::CompressionType,
+    pub filter: image::codecs::png::FilterType,
+}
+
+impl PngOptions {
+    /// Any image: zlib's default level with per-row adaptive filtering.
+    pub const GENERAL: PngOptions = PngOptions {
+        compression: image::codecs::png::CompressionType::Default,
+        filter: image::codecs::png::FilterType::Adaptive,
+    };
+    /// Images of flat colour that repeat along each row (tiled patterns):
+    /// unfiltered rows let deflate match whole pattern periods. Measured on a
+    /// 64x64 pattern tiled to 4096x4096: 0.17 s and 0.23 MiB, against 0.25 s
+    /// and 0.40 MiB with GENERAL and 0.10 s but 6.3 MiB with the fast level.
+    pub const FLAT_REPEATING: PngOptions = PngOptions {
+        compression: image::codecs::png::CompressionType::Default,
+        filter: image::codecs::png::FilterType::NoFilter,
+    };
+}
+
 /// An 8-bit sRGB image, row 0 at the top, 3 or 4 channels interleaved.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Image {
@@ -221,6 +251,16 @@ impl Image {
 
     /// Encodes the image in `format`. PPM drops alpha (callers flatten first).
     pub fn encode<W: Write>(&self, format: ImageFormat, w: &mut W) -> Result<()> {
+        self.encode_with(format, PngOptions::GENERAL, w)
+    }
+
+    /// [`Image::encode`] with a choice of PNG settings.
+    pub fn encode_with<W: Write>(
+        &self,
+        format: ImageFormat,
+        png: PngOptions,
+        w: &mut W,
+    ) -> Result<()> {
         let (wd, ht) = (self.width, self.height);
         match format {
             ImageFormat::Ppm => {
@@ -249,16 +289,14 @@ impl Image {
                 w.write_all(&self.data)?;
             }
             ImageFormat::Png => {
-                use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+                use image::codecs::png::PngEncoder;
                 use image::ImageEncoder;
                 let color = if self.channels == 4 {
                     image::ExtendedColorType::Rgba8
                 } else {
                     image::ExtendedColorType::Rgb8
                 };
-                // Fast deflate: these images are flat colour and repeat, so the
-                // fast compressor already finds most of the redundancy.
-                PngEncoder::new_with_quality(&mut *w, CompressionType::Fast, FilterType::Adaptive)
+                PngEncoder::new_with_quality(&mut *w, png.compression, png.filter)
                     .write_image(&self.data, wd, ht, color)?;
             }
         }
@@ -267,8 +305,13 @@ impl Image {
 
     /// Writes the image to `name` (`-` = standard output) atomically.
     pub fn save(&self, name: &str, format: ImageFormat) -> Result<()> {
+        self.save_with(name, format, PngOptions::GENERAL)
+    }
+
+    /// [`Image::save`] with a choice of PNG settings.
+    pub fn save_with(&self, name: &str, format: ImageFormat, png: PngOptions) -> Result<()> {
         let mut out = Output::create(name, true)?;
-        self.encode(format, &mut out)
+        self.encode_with(format, png, &mut out)
             .with_context(|| format!("writing {}", display_out(name)))?;
         out.commit()
     }
@@ -300,6 +343,16 @@ mod tests {
         let out = Output::create(path.to_str().unwrap(), true).unwrap();
         out.commit().unwrap();
         assert!(path.exists());
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let mode = std::fs::metadata(&path).unwrap().permissions().mode();
+            assert_ne!(
+                mode & 0o044,
+                0,
+                "output is readable by others as usual: {mode:o}"
+            );
+        }
     }
 
     #[test]

@@ -4,12 +4,15 @@
 //! light, [`io`] streams and images, [`cli`] the shared command-line plumbing
 //! and each tool's arguments. The binaries in `src/bin/` are one-line shims.
 
+pub mod camera;
 pub mod cli;
 pub mod color;
 pub mod geom;
 pub mod io;
 pub mod pat;
+pub mod quantize;
 pub mod stream;
+pub mod texture;
 
 pub use color::Rgb8;
 pub use pat::{ParseError, Pattern, TRANSPARENT};

@@ -190,6 +190,32 @@ impl Pattern {
         Ok(())
     }
 
+    /// The same pattern with every transparent texel painted `color` (an existing
+    /// palette entry of that colour is reused, else one is added).
+    pub fn with_background(mut self, color: Rgb8) -> Result<Pattern, InvalidPattern> {
+        if !self.texels.contains(&TRANSPARENT) {
+            return Ok(self);
+        }
+        let index = match self.palette.iter().position(|&c| c == color) {
+            Some(i) => i,
+            None => {
+                if self.palette.len() == MAX_COLORS {
+                    return Err(InvalidPattern(format!(
+                        "cannot add a background colour to a pattern that already has {MAX_COLORS} colours"
+                    )));
+                }
+                self.palette.push(color);
+                self.palette.len() - 1
+            }
+        } as u16;
+        for t in &mut self.texels {
+            if *t == TRANSPARENT {
+                *t = index;
+            }
+        }
+        Ok(self)
+    }
+
     /// Number of texels of each palette entry, and of transparent texels last.
     pub fn histogram(&self) -> (Vec<u64>, u64) {
         let mut counts = vec![0u64; self.palette.len()];
@@ -203,9 +229,9 @@ impl Pattern {
         (counts, transparent)
     }
 
-    /// A `new_size` pattern that repeats this one, shifted by `offset` texels
-    /// (the pattern moves right/up, like `horz`/`vert`); each source texel covers
-    /// `scale` x `scale` texels of the result.
+    /// A `new_size` pattern that repeats this one; each source texel covers
+    /// `scale` x `scale` texels of the result, and texel (0, 0) of the result
+    /// shows source texel `offset` (the same convention as screen tiling).
     pub fn tiled(
         &self,
         new_size: u32,
@@ -216,13 +242,83 @@ impl Pattern {
         let scale = scale.max(1) as i64;
         let mut texels = Vec::with_capacity((new_size as usize).pow(2));
         for row in 0..new_size as i64 {
-            let src_row = (row.div_euclid(scale) - offset.1).rem_euclid(self.size as i64);
+            let src_row = (row.div_euclid(scale) + offset.1).rem_euclid(self.size as i64);
             for col in 0..new_size as i64 {
-                let src_col = (col.div_euclid(scale) - offset.0).rem_euclid(self.size as i64);
+                let src_col = (col.div_euclid(scale) + offset.0).rem_euclid(self.size as i64);
                 texels.push(self.texels[(src_row as u32 * self.size + src_col as u32) as usize]);
             }
         }
         Pattern::new(new_size, self.palette.clone(), texels)
+    }
+}
+
+/// A seam looks like the pattern's own texture when its mean jump is no more
+/// than this many times the mean jump between neighbouring interior columns
+/// (or rows). 1.5 lets a seam vary like the interior does; a seam that is a new,
+/// systematic edge (a shifted brick course, a gradient restarting) exceeds it.
+pub const SEAM_RATIO: f64 = 1.5;
+/// Absolute slack on the seam test, so that near-uniform patterns (interior
+/// jumps close to 0) are not called seamed by a single odd texel pair.
+pub const SEAM_SLACK: f64 = 0.01;
+
+/// How abrupt the wrap-around boundary of a tiled pattern is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Seam {
+    /// Mean jump across the wrap boundary (last column to first, or top row to bottom).
+    pub seam: f64,
+    /// Mean jump between neighbouring interior columns (or rows).
+    pub interior: f64,
+    /// `seam <= SEAM_RATIO * interior + SEAM_SLACK`.
+    pub seamless: bool,
+}
+
+impl Pattern {
+    /// Seams when tiled: left/right edges (horizontal repetition), then
+    /// bottom/top edges (vertical repetition). A jump between two texels is 0 for
+    /// the same palette entry, 1 between a transparent and an opaque texel, else
+    /// the linear-light RGB distance scaled to 0..=1.
+    pub fn seams(&self) -> (Seam, Seam) {
+        let lin: Vec<[f32; 3]> = self.palette.iter().map(|c| c.to_linear()).collect();
+        let jump = |a: u16, b: u16| -> f64 {
+            if a == b {
+                return 0.0;
+            }
+            match (lin.get(a as usize), lin.get(b as usize)) {
+                (Some(x), Some(y)) => {
+                    let d2: f32 = (0..3).map(|i| (x[i] - y[i]).powi(2)).sum();
+                    (d2 as f64 / 3.0).sqrt()
+                }
+                _ => 1.0,
+            }
+        };
+        let s = self.size as usize;
+        let t = |c: usize, r: usize| self.texels[r * s + c];
+        let seam_of = |across: &dyn Fn(usize, usize) -> (u16, u16)| -> Seam {
+            // across(k, i): the texel pair at boundary k (k = s-1 is the wrap) on line i.
+            let mut interior = 0.0;
+            for k in 0..s - 1 {
+                for i in 0..s {
+                    let (a, b) = across(k, i);
+                    interior += jump(a, b);
+                }
+            }
+            let interior = interior / ((s - 1) * s) as f64;
+            let seam = (0..s)
+                .map(|i| {
+                    let (a, b) = across(s - 1, i);
+                    jump(a, b)
+                })
+                .sum::<f64>()
+                / s as f64;
+            Seam {
+                seam,
+                interior,
+                seamless: seam <= SEAM_RATIO * interior + SEAM_SLACK,
+            }
+        };
+        let horizontal = seam_of(&|k, i| (t(k, i), t((k + 1) % s, i)));
+        let vertical = seam_of(&|k, i| (t(i, k), t(i, (k + 1) % s)));
+        (horizontal, vertical)
     }
 }
 
@@ -271,6 +367,8 @@ struct Parser<'a> {
     pos: usize,
     line: usize,
     words: usize,
+    /// Line of the last word read: where an unexpected end of file is reported.
+    last_line: usize,
     name: &'a str,
 }
 
@@ -291,6 +389,7 @@ impl<'a> Parser<'a> {
             pos: 0,
             line: 1,
             words: 0,
+            last_line: 1,
             name,
         }
     }
@@ -340,6 +439,7 @@ impl<'a> Parser<'a> {
             self.pos += 1;
         }
         self.words += 1;
+        self.last_line = self.line;
         Ok(Some(Word {
             // Checked above: every byte is printable ASCII.
             text: std::str::from_utf8(&b[start..self.pos]).expect("ASCII"),
@@ -357,7 +457,10 @@ impl<'a> Parser<'a> {
                 word: None,
                 message: "empty file: expected `SIZE NCOLORS` and colour blocks".into(),
             }),
-            None => Err(self.error_here(format!("unexpected end of file: expected {what}"))),
+            None => Err(ParseError {
+                line: Some(self.last_line),
+                ..self.error_here(format!("unexpected end of file: expected {what}"))
+            }),
         }
     }
 
@@ -689,9 +792,25 @@ mod tests {
             assert_eq!(t.index_at(col, row), p.index_at(col % 16, row % 16));
         }
         let t = p.tiled(32, 2, (1, 0)).unwrap();
-        // Texel (2,0) of the result is source column 1 shifted right by 1 -> column 0.
-        assert_eq!(t.index_at(2, 0), p.index_at(0, 0));
-        assert_eq!(t.index_at(3, 1), p.index_at(0, 0));
+        // Texel (2,0) of the result is source column 2/2 + 1 = 2.
+        assert_eq!(t.index_at(2, 0), p.index_at(2, 0));
+        assert_eq!(t.index_at(3, 1), p.index_at(2, 0));
+        assert_eq!(t.index_at(0, 0), p.index_at(1, 0));
+    }
+
+    #[test]
+    fn seams_tell_a_continuing_checker_from_a_cut_gradient() {
+        // A 1-texel checker continues across the wrap: seamless both ways.
+        let (h, v) = sample().seams();
+        assert!(h.seamless && v.seamless, "{h:?} {v:?}");
+        // A horizontal ramp of 16 greys: interior steps are small, the wrap
+        // jumps from the brightest back to the darkest.
+        let palette: Vec<Rgb8> = (0..16).map(|i| Rgb8([i * 17, i * 17, i * 17])).collect();
+        let texels: Vec<u16> = (0..256).map(|i| (i % 16) as u16).collect();
+        let ramp = Pattern::new(16, palette, texels).unwrap();
+        let (h, v) = ramp.seams();
+        assert!(!h.seamless && h.seam > 10.0 * h.interior, "{h:?}");
+        assert!(v.seamless && v.seam == 0.0, "{v:?}");
     }
 
     #[test]

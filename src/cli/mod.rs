@@ -7,9 +7,12 @@
 
 use clap::CommandFactory;
 use std::fmt;
-
-pub mod polyfill3;
 use std::str::FromStr;
+
+pub mod pat_from_image;
+pub mod pat_info;
+pub mod pat_tile;
+pub mod polyfill3;
 
 /// A usage error found after clap's own parsing (contradictory flags, values out
 /// of range): reported like any error, but the exit status is 2.
@@ -22,6 +25,18 @@ impl fmt::Display for UsageError {
     }
 }
 impl std::error::Error for UsageError {}
+
+/// An error whose details were already printed (one line per failed file, say):
+/// only the exit status 1 remains to be given.
+#[derive(Debug)]
+pub struct AlreadyReported;
+
+impl fmt::Display for AlreadyReported {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("failed (reported above)")
+    }
+}
+impl std::error::Error for AlreadyReported {}
 
 /// Returns early with a [`UsageError`].
 #[macro_export]
@@ -50,6 +65,7 @@ pub fn report(tool: &str, result: anyhow::Result<()>) -> i32 {
     match result {
         Ok(()) => EXIT_OK,
         Err(e) if is_broken_pipe(&e) => EXIT_OK,
+        Err(e) if e.downcast_ref::<AlreadyReported>().is_some() => EXIT_FAILURE,
         Err(e) => {
             eprintln!("{tool}: error: {e:#}");
             if e.downcast_ref::<UsageError>().is_some() {
@@ -122,7 +138,12 @@ impl FromStr for IntPair {
 
 /// Every tool's clap command, for man pages and completion generation.
 pub fn commands() -> Vec<clap::Command> {
-    vec![polyfill3::Args::command()]
+    vec![
+        pat_from_image::Args::command(),
+        pat_info::Args::command(),
+        pat_tile::Args::command(),
+        polyfill3::Args::command(),
+    ]
 }
 
 /// Renders one tool's man page (roff) from its argument definitions.

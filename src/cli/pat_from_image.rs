@@ -1,0 +1,160 @@
+//! `pat-from-image`: converts an image to a `.pat` texture pattern by
+//! resampling (or cropping) it to SIZE x SIZE and quantizing it to K colours
+//! (see [`crate::quantize`] for how and why).
+
+use crate::color::Rgb8;
+use crate::io::{self, display_name, Output};
+use crate::pat::{self, Pattern};
+use crate::quantize::{self, Dither, Options, DEFAULT_COLORS, MAX_QUANT_COLORS};
+use crate::usage_bail;
+use anyhow::{Context, Result};
+use clap::Parser;
+
+const EXAMPLES: &str = "\
+Examples:
+  pat-from-image photo.jpg -o brick.pat
+      64x64 texels, 16 colours chosen for the photo, no dithering.
+  pat-from-image --size 32 --colors 8 --dither floyd-steinberg leaf.png > leaf.pat
+  pat-from-image --crop --size 16 sprite.png -o sprite.pat
+      The central 16x16 pixels exactly; with 16 colours or fewer the
+      conversion is lossless.
+  pat-from-image --palette ega.txt --transparent 255,0,255 icon.png -o icon.pat
+      Force the colours of ega.txt (lines `r,g,b` or `#rrggbb`, `#` comments,
+      or a .pat file); magenta pixels become transparent texels.
+  convert rose: png:- | pat-from-image --report -o rose.pat
+";
+
+/// Convert an image to a .pat texture pattern.
+#[derive(Parser, Debug)]
+#[command(
+    name = "pat-from-image",
+    version,
+    about = "Convert an image to a .pat texture pattern",
+    long_about = "Convert an image (PNG, JPEG, GIF, BMP, TIFF, WebP, PNM/PAM) to a \
+canonical .pat texture pattern: resample it to SIZE x SIZE texels, choose a palette \
+of K colours (median cut refined by k-means, deterministic) and map every pixel to \
+one of them.\n\nResampling averages in linear light with premultiplied alpha: an \
+exact area average (box filter) when shrinking, a Mitchell filter when enlarging. \
+A non-square image is cut to its centred largest square first (the left and right, \
+or top and bottom, margins are dropped) unless --crop is given. Pixels more \
+transparent than --alpha-threshold become transparent texels. The top row of the \
+image becomes the last row of the pattern file, whose row 0 is the bottom.",
+    after_help = EXAMPLES
+)]
+pub struct Args {
+    /// Input image; `-` reads standard input.
+    #[arg(default_value = "-")]
+    pub input: String,
+
+    /// Output .pat file; `-` is standard output. Written only if the whole
+    /// conversion succeeds.
+    #[arg(short, long, default_value = "-", value_name = "FILE")]
+    pub output: String,
+
+    /// Side of the pattern in texels: a multiple of 16 from 16 to 4096.
+    #[arg(long, default_value_t = 64, value_name = "N")]
+    pub size: u64,
+
+    /// Number of colours to choose, 1 to 256. Images with this many distinct
+    /// colours or fewer keep exactly their colours.
+    #[arg(long, default_value_t = DEFAULT_COLORS as u64, value_name = "K", conflicts_with = "palette")]
+    pub colors: u64,
+
+    /// How pixels take palette colours. `none` (the default) keeps texels crisp
+    /// and tiles seamlessly, which suits texture patterns best; `floyd-steinberg`
+    /// diffuses the error (in linear light) for smooth gradients; `ordered` uses
+    /// an 8x8 Bayer matrix, whose regular texture also tiles.
+    #[arg(long, value_enum, default_value_t = Dither::None, value_name = "METHOD")]
+    pub dither: Dither,
+
+    /// Use these colours instead of choosing them: a .pat file (its palette, in
+    /// its order) or a text file with one colour per line as `r,g,b` or `#rrggbb`
+    /// (a `#` not followed by a hex digit starts a comment). At most 256 colours.
+    #[arg(long, value_name = "FILE")]
+    pub palette: Option<String>,
+
+    /// Take the central N x N pixels of the image as they are, without
+    /// resampling. The image must be at least N x N.
+    #[arg(long)]
+    pub crop: bool,
+
+    /// Pixels whose alpha (0-255) is below this become transparent texels;
+    /// 0 keeps every pixel.
+    #[arg(long, default_value_t = quantize::DEFAULT_ALPHA_THRESHOLD, value_name = "A")]
+    pub alpha_threshold: u8,
+
+    /// Pixels of exactly this colour (`r,g,b` or `#rrggbb`, after resampling)
+    /// become transparent texels too. Default: none.
+    #[arg(long, value_name = "COLOR")]
+    pub transparent: Option<Rgb8>,
+
+    /// Print the pattern's size, colours and PSNR against the resampled image
+    /// (8-bit sRGB, over coloured texels) to standard error.
+    #[arg(long)]
+    pub report: bool,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let size = match pat::check_size(args.size) {
+        Ok(s) => s,
+        Err(e) => usage_bail!("invalid --size `{}`: {e}", args.size),
+    };
+    if !(1..=MAX_QUANT_COLORS as u64).contains(&args.colors) {
+        usage_bail!(
+            "invalid --colors `{}`: expected 1 to {MAX_QUANT_COLORS}",
+            args.colors
+        );
+    }
+    let palette = match &args.palette {
+        Some(file) => {
+            let bytes = io::read_input(file).context("reading the --palette file")?;
+            Some(quantize::parse_palette_file(&bytes, display_name(file))?)
+        }
+        None => None,
+    };
+    let name = display_name(&args.input);
+    let bytes = io::read_input(&args.input)?;
+    let img = io::decode_image(&bytes, name)?;
+    let square = if args.crop {
+        quantize::crop_square(&img, size, name)?
+    } else {
+        quantize::resample_square(&img, size)
+    };
+    let opts = Options {
+        colors: args.colors as usize,
+        dither: args.dither,
+        palette,
+        alpha_threshold: args.alpha_threshold,
+        transparent: args.transparent,
+    };
+    let pattern = quantize::quantize(&square, &opts)?;
+    write_pattern(&pattern, &args.output)?;
+    if args.report {
+        let (_, transparent) = pattern.histogram();
+        let psnr = match quantize::psnr(&pattern, &square) {
+            Some(p) if p.is_infinite() => "inf (exact)".to_string(),
+            Some(p) => format!("{p:.2} dB"),
+            None => "n/a (no coloured texels)".to_string(),
+        };
+        eprintln!(
+            "pat-from-image: {name}: {size}x{size}, {} colours, {transparent} transparent texels, PSNR {psnr}",
+            pattern.palette().len()
+        );
+    }
+    Ok(())
+}
+
+fn write_pattern(pattern: &Pattern, output: &str) -> Result<()> {
+    let mut out = Output::create(output, false)?;
+    pattern.write_canonical(&mut out).with_context(|| {
+        format!(
+            "writing {}",
+            if output == io::STDIO {
+                "standard output"
+            } else {
+                output
+            }
+        )
+    })?;
+    out.commit()
+}

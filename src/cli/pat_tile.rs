@@ -1,0 +1,120 @@
+//! `pat-tile`: fill an image with a repeated pattern (texted's VIEW option and
+//! the IRIS `colorclear`), or write a larger tiled `.pat`.
+
+use super::{warn, IntPair, Size};
+use crate::color::Rgb8;
+use crate::io::{display_name, read_input, ImageFormat, Output, PngOptions};
+use crate::pat::Pattern;
+use crate::texture::{tile_image, ScreenTiling};
+use crate::usage_bail;
+use anyhow::{Context, Result};
+use clap::Parser;
+
+const EXAMPLES: &str = "\
+Examples:
+  pat-tile --size 1024x768 -o wall.png fixtures/patterns/brick.pat
+  pat-tile --size 256x256 --scale 4 --background 255,255,255 brick.pat > big.png
+  pat-tile --size 640x480 --format ppm brick.pat | pnmtopng > view.png
+  pat-tile --pat --size 256x256 brick.pat -o brick256.pat";
+
+/// Fill a WxH image with a repeated pattern, one texel per pixel or scaled up;
+/// row 0 of the pattern is at the bottom (IRIS GL). With --pat, write a larger
+/// tiled pattern instead of an image.
+#[derive(Parser, Debug)]
+#[command(name = "pat-tile", version, after_help = EXAMPLES)]
+pub struct Args {
+    /// The pattern; `-` reads standard input.
+    #[arg(default_value = "-")]
+    pub input: String,
+
+    /// Output file; `-` is standard output (binary output to a terminal is refused).
+    #[arg(short, long, default_value = "-")]
+    pub output: String,
+
+    /// Image size (WxH), or with --pat the new pattern's size (square, a multiple of 16).
+    #[arg(long, default_value = "1024x768")]
+    pub size: Size,
+
+    /// Each texel becomes an N x N block of pixels.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=65535))]
+    pub scale: u32,
+
+    /// The texel shown at the lower-left pixel (COL,ROW); negative values allowed.
+    #[arg(
+        long,
+        value_name = "COL,ROW",
+        default_value = "0,0",
+        allow_hyphen_values = true
+    )]
+    pub offset: IntPair,
+
+    /// Colour for transparent texels (`r,g,b` or `#rrggbb`). Without it, PNG and
+    /// PAM keep transparency as alpha and PPM shows black with a warning.
+    #[arg(long, value_name = "COLOR")]
+    pub background: Option<Rgb8>,
+
+    /// Image format; by default from the output's extension, PNG on standard output.
+    #[arg(long, value_enum)]
+    pub format: Option<ImageFormat>,
+
+    /// Write a tiled .pat of --size instead of an image.
+    #[arg(long, conflicts_with = "format")]
+    pub pat: bool,
+}
+
+/// Runs `pat-tile`.
+pub fn run(args: Args) -> Result<()> {
+    let tiling = ScreenTiling {
+        scale: args.scale,
+        offset: (args.offset.0, args.offset.1),
+    };
+    if args.pat {
+        let Size { width, height } = args.size;
+        if width != height || width % 16 != 0 || width > crate::pat::MAX_SIZE {
+            usage_bail!(
+                "--size {}: a pattern must be square with a side that is a multiple of 16 up to {}",
+                args.size,
+                crate::pat::MAX_SIZE
+            );
+        }
+    }
+    let format = if args.pat {
+        None
+    } else {
+        Some(ImageFormat::choose(args.format, &args.output)?)
+    };
+    let name = display_name(&args.input);
+    let bytes = read_input(&args.input)?;
+    let pattern = Pattern::parse(&bytes, name)?;
+
+    let Some(format) = format else {
+        let mut tiled = pattern
+            .tiled(args.size.width, args.scale, tiling.offset)
+            .context("tiling the pattern")?;
+        if let Some(bg) = args.background {
+            tiled = tiled.with_background(bg)?;
+        }
+        let mut out = Output::create(&args.output, false)?;
+        tiled
+            .write_canonical(&mut out)
+            .with_context(|| format!("writing {}", args.output))?;
+        return out.commit();
+    };
+
+    let mut background = args.background;
+    if background.is_none() && !format.supports_alpha() && pattern.histogram().1 > 0 {
+        warn(
+            "pat-tile",
+            format!("{name} has transparent texels and PPM has no alpha: they are black (give --background)"),
+        );
+        background = Some(Rgb8::BLACK);
+    }
+    let image = tile_image(
+        &pattern,
+        args.size.width,
+        args.size.height,
+        tiling,
+        background,
+    );
+    image.save_with(&args.output, format, PngOptions::FLAT_REPEATING)
+}

@@ -1,0 +1,183 @@
+//! Sampling patterns. For now: screen mode, the IRIS hardware pattern
+//! (`defpattern`/`setpattern`, and `colorclear`): pixel (px, py), counted from
+//! the LOWER-left of the image, takes texel (px mod SIZE, py mod SIZE) (SPEC §2).
+
+use crate::color::Rgb8;
+use crate::io::Image;
+use crate::pat::Pattern;
+
+/// How a pattern is laid over the screen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ScreenTiling {
+    /// Each texel covers `scale` x `scale` pixels. Default value: 1.
+    pub scale: u32,
+    /// The texel shown at the image's lower-left pixel. Default value: (0, 0).
+    pub offset: (i64, i64),
+}
+
+impl ScreenTiling {
+    pub const DEFAULT: ScreenTiling = ScreenTiling {
+        scale: 1,
+        offset: (0, 0),
+    };
+
+    /// Texel index (column or row) of pixel coordinate `p` counted from the
+    /// left or bottom edge.
+    #[inline]
+    fn texel(&self, p: u32, offset: i64, size: u32) -> u32 {
+        ((p / self.scale.max(1)) as i64 + offset).rem_euclid(size as i64) as u32
+    }
+}
+
+impl Default for ScreenTiling {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// Fills a `width` x `height` image with the repeated pattern.
+///
+/// Transparent texels take `background`; with no background the image gets an
+/// alpha channel (only if the pattern has transparent texels) and they stay
+/// transparent. The cost is one pass over the output: each distinct texel row
+/// is built once as a full image row (one period, then doubled by copying), and
+/// image rows that show the same texel row are copies of it.
+pub fn tile_image(
+    pattern: &Pattern,
+    width: u32,
+    height: u32,
+    tiling: ScreenTiling,
+    background: Option<Rgb8>,
+) -> Image {
+    let size = pattern.size();
+    let has_transparency = pattern.histogram().1 > 0;
+    let channels: usize = if has_transparency && background.is_none() {
+        4
+    } else {
+        3
+    };
+    let pixel = |t: u16| -> [u8; 4] {
+        match pattern.palette().get(t as usize) {
+            Some(c) => [c.0[0], c.0[1], c.0[2], 255],
+            None => match background {
+                Some(b) => [b.0[0], b.0[1], b.0[2], 255],
+                None => [0, 0, 0, 0],
+            },
+        }
+    };
+    let (w, h) = (width as usize, height as usize);
+    let row_bytes = w * channels;
+    let mut data = vec![0u8; row_bytes * h];
+    let mut previous: Option<(u32, usize)> = None; // (texel row, image row holding it)
+    for y in 0..h {
+        let from_bottom = (h - 1 - y) as u32;
+        let trow = tiling.texel(from_bottom, tiling.offset.1, size);
+        let start = y * row_bytes;
+        if let Some((prev_trow, prev_y)) = previous {
+            if prev_trow == trow {
+                data.copy_within(prev_y * row_bytes..(prev_y + 1) * row_bytes, start);
+                continue;
+            }
+        }
+        let texels = &pattern.texels()[(trow * size) as usize..((trow + 1) * size) as usize];
+        let row = &mut data[start..start + row_bytes];
+        // One period: SIZE * scale pixels (or the whole row if shorter).
+        let period = (size as usize * tiling.scale.max(1) as usize).min(w);
+        for (x, px) in row[..period * channels]
+            .chunks_exact_mut(channels)
+            .enumerate()
+        {
+            let t = texels[tiling.texel(x as u32, tiling.offset.0, size) as usize];
+            px.copy_from_slice(&pixel(t)[..channels]);
+        }
+        // Double the filled prefix until the row is full.
+        let mut filled = period * channels;
+        while filled < row_bytes {
+            let n = filled.min(row_bytes - filled);
+            row.copy_within(0..n, filled);
+            filled += n;
+        }
+        previous = Some((trow, y));
+    }
+    Image {
+        width,
+        height,
+        channels: channels as u8,
+        data,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pat::TRANSPARENT;
+
+    /// 16x16: texel (c, r) has colour index (c + 16 r) % 3, except (1,0) transparent.
+    fn pattern() -> Pattern {
+        let mut t: Vec<u16> = (0..256).map(|i| (i % 3) as u16).collect();
+        t[1] = TRANSPARENT;
+        Pattern::new(
+            16,
+            vec![Rgb8([255, 0, 0]), Rgb8([0, 255, 0]), Rgb8([0, 0, 255])],
+            t,
+        )
+        .unwrap()
+    }
+
+    /// The direct formula, pixel by pixel: the slow route the fast one must match.
+    fn direct(p: &Pattern, w: u32, h: u32, t: ScreenTiling, bg: Rgb8) -> Vec<u8> {
+        let mut out = Vec::new();
+        for y in 0..h {
+            for x in 0..w {
+                let py = h - 1 - y;
+                let c = p
+                    .color_wrapped(
+                        (x / t.scale) as i64 + t.offset.0,
+                        (py / t.scale) as i64 + t.offset.1,
+                    )
+                    .unwrap_or(bg);
+                out.extend_from_slice(&c.0);
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn fast_tiling_matches_the_direct_formula() {
+        let p = pattern();
+        for (w, h, scale, off) in [
+            (1, 1, 1, (0, 0)),
+            (37, 29, 1, (0, 0)),
+            (100, 70, 3, (5, -7)),
+            (16, 16, 1, (-1, 100)),
+            (5, 300, 20, (0, 0)),
+        ] {
+            let t = ScreenTiling { scale, offset: off };
+            let bg = Rgb8([9, 9, 9]);
+            let img = tile_image(&p, w, h, t, Some(bg));
+            assert_eq!(img.channels, 3);
+            assert_eq!(
+                img.data,
+                direct(&p, w, h, t, bg),
+                "{w}x{h} scale {scale} {off:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn row_0_of_the_pattern_is_the_bottom_of_the_image() {
+        let p = pattern();
+        let img = tile_image(&p, 16, 16, ScreenTiling::DEFAULT, None);
+        assert_eq!(img.channels, 4);
+        let px = |x: usize, y: usize| &img.data[(y * 16 + x) * 4..(y * 16 + x) * 4 + 4];
+        // Bottom-left pixel (image row 15) is texel (0,0): index 0, red.
+        assert_eq!(px(0, 15), &[255, 0, 0, 255]);
+        // Texel (1,0) is transparent.
+        assert_eq!(px(1, 15), &[0, 0, 0, 0]);
+        // Top-left pixel is texel (0,15): index 240 % 3 = 0.
+        assert_eq!(px(0, 0), &[255, 0, 0, 255]);
+        // Texel (2,1): (2 + 16) % 3 = 0, red; texel (3,1): 19 % 3 = 1, green.
+        assert_eq!(px(2, 14), &[255, 0, 0, 255]);
+        assert_eq!(px(3, 14), &[0, 255, 0, 255]);
+    }
+}

@@ -1,0 +1,10 @@
+//! Every command-line test, built into one test binary (ripgrep's layout):
+//! one module per tool, and `clitest!` gives each test its own directory.
+
+#[macro_use]
+mod util;
+
+mod man_pages;
+mod pat_from_image;
+mod pat_info;
+mod pat_tile;

@@ -1,0 +1,254 @@
+//! Command-line behaviour of `pat-from-image`: round trips, orientation,
+//! palette forcing, stdin, and every bad input (exit 2 for usage, 1 otherwise,
+//! no output file left behind).
+
+use assert_cmd::Command;
+use patkit::{Pattern, Rgb8};
+use predicates::str::contains;
+use std::path::{Path, PathBuf};
+
+fn tool() -> Command {
+    Command::cargo_bin("pat-from-image").unwrap()
+}
+
+/// A 32x32 RGBA test image with four colours and transparent pixels: the top
+/// row is red, the bottom row blue, a transparent column at x = 5, the rest
+/// green with a white dot at (3, 10).
+fn sample(x: u32, y: u32) -> [u8; 4] {
+    if x == 5 {
+        [77, 77, 77, 0]
+    } else if y == 0 {
+        [255, 0, 0, 255]
+    } else if y == 31 {
+        [0, 0, 255, 255]
+    } else if (x, y) == (3, 10) {
+        [255, 255, 255, 255]
+    } else {
+        [0, 160, 0, 255]
+    }
+}
+
+fn write_png(dir: &Path, name: &str, w: u32, h: u32, f: fn(u32, u32) -> [u8; 4]) -> PathBuf {
+    let path = dir.join(name);
+    image::RgbaImage::from_fn(w, h, |x, y| image::Rgba(f(x, y)))
+        .save(&path)
+        .unwrap();
+    path
+}
+
+fn read_pat(path: &Path) -> Pattern {
+    Pattern::read_file(path).unwrap()
+}
+
+#[test]
+fn few_colours_round_trip_texel_for_texel_with_rows_flipped() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = write_png(dir.path(), "in.png", 32, 32, sample);
+    let out = dir.path().join("out.pat");
+    tool()
+        .args(["--size", "32", "--colors", "4", "-o"])
+        .arg(&out)
+        .arg(&png)
+        .assert()
+        .success();
+    let pat = read_pat(&out);
+    assert_eq!(pat.size(), 32);
+    assert_eq!(pat.palette().len(), 4);
+    for y in 0..32 {
+        for x in 0..32 {
+            let p = sample(x, y);
+            let want = (p[3] == 255).then_some(Rgb8([p[0], p[1], p[2]]));
+            // Image row 0 (top) is the last pattern row.
+            assert_eq!(pat.color_at(x, 31 - y), want, "({x},{y})");
+        }
+    }
+    // Canonical output: reading and writing reproduces it byte for byte.
+    assert_eq!(pat.to_canonical(), std::fs::read_to_string(&out).unwrap());
+}
+
+#[test]
+fn crop_takes_the_central_square_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = write_png(dir.path(), "wide.png", 48, 32, |x, y| {
+        if (16..32).contains(&x) && (8..24).contains(&y) {
+            [(x * 8) as u8, (y * 8) as u8, 0, 255]
+        } else {
+            [0, 0, 0, 255]
+        }
+    });
+    let out = tool()
+        .args(["--crop", "--size", "16", "--colors", "256"])
+        .arg(&png)
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let pat = Pattern::parse(&out, "stdout").unwrap();
+    assert_eq!(pat.palette().len(), 256);
+    for y in 0..16u32 {
+        for x in 0..16u32 {
+            let want = Rgb8([((x + 16) * 8) as u8, ((y + 8) * 8) as u8, 0]);
+            assert_eq!(pat.color_at(x, 15 - y), Some(want));
+        }
+    }
+}
+
+#[test]
+fn stdin_input_and_stdout_output_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = write_png(dir.path(), "in.png", 32, 32, sample);
+    let bytes = std::fs::read(&png).unwrap();
+    let from_file = tool().args(["--size", "32"]).arg(&png).output().unwrap();
+    tool()
+        .args(["--size", "32", "-"])
+        .write_stdin(bytes.clone())
+        .assert()
+        .success()
+        .stdout(String::from_utf8(from_file.stdout).unwrap());
+    // The input defaults to `-`.
+    tool()
+        .args(["--size", "32"])
+        .write_stdin(bytes)
+        .assert()
+        .success()
+        .stdout(predicates::str::starts_with("32 4\n"));
+}
+
+#[test]
+fn a_forced_palette_is_used_whole_from_a_list_or_a_pat() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = write_png(dir.path(), "in.png", 32, 32, sample);
+    let list = dir.path().join("pal.txt");
+    std::fs::write(&list, "# two colours\n#000000\n250,250,250 # light\n").unwrap();
+    let out = dir.path().join("out.pat");
+    tool()
+        .args(["--size", "16", "--palette"])
+        .arg(&list)
+        .arg("-o")
+        .arg(&out)
+        .arg(&png)
+        .assert()
+        .success();
+    let pat = read_pat(&out);
+    assert_eq!(pat.palette(), &[Rgb8([0, 0, 0]), Rgb8([250, 250, 250])]);
+    // The output pattern serves as a palette file too.
+    let out2 = dir.path().join("out2.pat");
+    tool()
+        .args(["--size", "16", "--dither", "floyd-steinberg", "--palette"])
+        .arg(&out)
+        .arg("-o")
+        .arg(&out2)
+        .arg(&png)
+        .assert()
+        .success();
+    assert_eq!(read_pat(&out2).palette(), pat.palette());
+}
+
+#[test]
+fn transparent_colour_and_alpha_threshold_make_transparent_texels() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = write_png(dir.path(), "in.png", 32, 32, sample);
+    let out = tool()
+        .args(["--size", "32", "--transparent", "#00a000"])
+        .arg(&png)
+        .output()
+        .unwrap();
+    let pat = Pattern::parse(&out.stdout, "o").unwrap();
+    assert_eq!(pat.palette().len(), 3);
+    assert_eq!(pat.color_at(0, 15), None);
+    // Threshold 0 keeps the alpha-0 column, with its stored colour.
+    let out = tool()
+        .args(["--size", "32", "--alpha-threshold", "0"])
+        .arg(&png)
+        .output()
+        .unwrap();
+    let pat = Pattern::parse(&out.stdout, "o").unwrap();
+    assert_eq!(pat.histogram().1, 0);
+}
+
+#[test]
+fn every_dither_and_a_large_resample_succeed() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = write_png(dir.path(), "grad.png", 100, 70, |x, y| {
+        [(x * 2) as u8, (y * 3) as u8, 128, 255]
+    });
+    for dither in ["none", "floyd-steinberg", "ordered"] {
+        for size in ["16", "128"] {
+            tool()
+                .args([
+                    "--report", "--colors", "8", "--size", size, "--dither", dither,
+                ])
+                .arg(&png)
+                .assert()
+                .success()
+                .stderr(contains("PSNR"))
+                .stdout(predicates::str::starts_with(format!("{size} 8\n")));
+        }
+    }
+}
+
+/// Runs the tool with an output file, expecting `code` and `message` on stderr
+/// and no file (not even a temporary one) left behind.
+fn fails(args: &[&str], stdin: Option<Vec<u8>>, code: i32, message: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.pat");
+    let mut cmd = tool();
+    cmd.current_dir(dir.path()).args(args).arg("-o").arg(&out);
+    if let Some(s) = stdin {
+        cmd.write_stdin(s);
+    }
+    cmd.assert().code(code).stderr(contains(message));
+    assert!(!out.exists(), "{args:?} left {out:?}");
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .filter(|n| n.to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+}
+
+#[test]
+fn bad_inputs_fail_with_the_right_status_and_leave_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = write_png(dir.path(), "in.png", 32, 32, sample);
+    let png = png.to_str().unwrap();
+    let junk = dir.path().join("junk.png");
+    std::fs::write(&junk, b"this is not an image").unwrap();
+    let junk = junk.to_str().unwrap();
+    let dirname = dir.path().to_str().unwrap();
+
+    fails(&["missing.png"], None, 1, "missing.png");
+    fails(&[dirname], None, 1, "is a directory");
+    fails(&[junk], None, 1, "junk.png: not an image");
+    fails(&["-"], Some(b"junk".to_vec()), 1, "<stdin>: not an image");
+    fails(&["-"], Some(Vec::new()), 1, "<stdin>: not an image");
+    for size in ["0", "17", "8192"] {
+        fails(&["--size", size, png], None, 2, &format!("--size `{size}`"));
+    }
+    fails(&["--size", "abc", png], None, 2, "abc");
+    for k in ["0", "1000"] {
+        fails(&["--colors", k, png], None, 2, &format!("--colors `{k}`"));
+    }
+    fails(&["--transparent", "red", png], None, 2, "`red`");
+    fails(&["--transparent", "1,2", png], None, 2, "`1,2`");
+    fails(&["--dither", "lots", png], None, 2, "lots");
+    fails(&["--alpha-threshold", "300", png], None, 2, "300");
+    fails(&["--crop", "--size", "64", png], None, 1, "32x32");
+    fails(&["--palette", "nopal.txt", png], None, 1, "nopal.txt");
+    fails(&["--palette", png, png], None, 1, "in.png");
+    fails(
+        &["--colors", "4", "--palette", "x", png],
+        None,
+        2,
+        "--palette",
+    );
+    let bad_list = dir.path().join("bad.txt");
+    std::fs::write(&bad_list, "1,2,3\n#12345\n").unwrap();
+    fails(
+        &["--palette", bad_list.to_str().unwrap(), png],
+        None,
+        1,
+        "bad.txt:2",
+    );
+}

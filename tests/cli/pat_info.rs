@@ -1,0 +1,164 @@
+//! `pat-info`: reports, JSON, --check, --at, several files, bad input.
+
+use crate::util::{checker16, repo};
+use predicates::prelude::*;
+
+clitest!(text_report_counts_colours_and_transparency, |dir| {
+    dir.write("c.pat", checker16());
+    let out = dir.cmd("pat-info").arg("c.pat").assert().success();
+    let text = String::from_utf8(out.get_output().stdout.clone()).unwrap();
+    assert!(
+        text.starts_with("c.pat: 16x16, 2 colours, 0.39% transparent\n"),
+        "{text}"
+    );
+    assert!(text.contains("255,0,0      #ff0000      127"), "{text}");
+    assert!(text.contains("0,0,255      #0000ff      128"), "{text}");
+    assert!(text.contains("left/right seamless"), "{text}");
+});
+
+clitest!(json_report_is_one_array_for_scripts, |dir| {
+    dir.write("c.pat", checker16());
+    let out = dir
+        .cmd("pat-info")
+        .args(["--json", "--at", "1,0", "c.pat", "-"])
+        .write_stdin(checker16())
+        .assert()
+        .success();
+    let v: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).unwrap();
+    assert_eq!(v.as_array().unwrap().len(), 2);
+    assert_eq!(v[0]["size"], 16);
+    assert_eq!(v[0]["transparent"]["texels"], 1);
+    assert_eq!(v[0]["colours"][1]["hex"], "#0000ff");
+    assert_eq!(v[0]["texel"]["colour"], 2);
+    assert_eq!(v[1]["file"], "<stdin>");
+    assert_eq!(v[0]["tiling"]["left_right"]["seamless"], true);
+});
+
+clitest!(at_reports_a_transparent_texel_and_refuses_outside, |dir| {
+    dir.write("c.pat", checker16());
+    dir.cmd("pat-info")
+        .args(["--at", "0,0", "c.pat"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("texel (0,0): transparent"));
+    dir.cmd("pat-info")
+        .args(["--at", "0,16", "c.pat"])
+        .assert()
+        .code(1)
+        .stdout("")
+        .stderr(predicate::str::contains(
+            "texel (0,16) is outside the 16x16 pattern",
+        ));
+});
+
+clitest!(check_is_silent_on_success_and_names_each_bad_file, |dir| {
+    dir.write("good.pat", checker16());
+    dir.write("bad.pat", "16 1\n1 2 300\n");
+    dir.write("empty.pat", "");
+    dir.cmd("pat-info")
+        .args(["--check", "good.pat"])
+        .assert()
+        .success()
+        .stdout("")
+        .stderr("");
+    let out = dir
+        .cmd("pat-info")
+        .args([
+            "--check",
+            "bad.pat",
+            "good.pat",
+            "empty.pat",
+            "missing.pat",
+            ".",
+        ])
+        .assert()
+        .code(1)
+        .stdout("");
+    let err = String::from_utf8(out.get_output().stderr.clone()).unwrap();
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 4, "{err}");
+    assert!(
+        lines[0].starts_with("pat-info: error: bad.pat:2: word 5 `300`: out of range"),
+        "{err}"
+    );
+    assert!(
+        lines[1].starts_with("pat-info: error: empty.pat: empty file"),
+        "{err}"
+    );
+    assert!(
+        lines[2].starts_with("pat-info: error: missing.pat: No such file"),
+        "{err}"
+    );
+    assert!(lines[3].contains("is a directory"), "{err}");
+});
+
+clitest!(reports_the_good_files_even_when_one_is_bad, |dir| {
+    dir.write("good.pat", checker16());
+    dir.write("bad.pat", "\x00\x01binary");
+    dir.cmd("pat-info")
+        .args(["bad.pat", "good.pat"])
+        .assert()
+        .code(1)
+        .stdout(predicate::str::contains("good.pat: 16x16"))
+        .stderr(predicate::str::contains("bad.pat:1: byte 0x00 is not text"));
+});
+
+clitest!(usage_errors_exit_2_with_empty_stdout, |dir| {
+    dir.cmd("pat-info")
+        .arg("--bogus")
+        .assert()
+        .code(2)
+        .stdout("");
+    dir.cmd("pat-info")
+        .args(["--at", "x,1", "a.pat"])
+        .assert()
+        .code(2)
+        .stdout("");
+    dir.cmd("pat-info")
+        .args(["--check", "--json", "a.pat"])
+        .assert()
+        .code(2)
+        .stdout("");
+});
+
+clitest!(preview_draws_24_bit_half_blocks, |dir| {
+    dir.write("c.pat", checker16());
+    let out = dir
+        .cmd("pat-info")
+        .args(["--preview", "c.pat"])
+        .assert()
+        .success();
+    let text = String::from_utf8(out.get_output().stdout.clone()).unwrap();
+    assert_eq!(text.matches('▀').count(), 16 * 8);
+    assert!(text.contains("\x1b[38;2;255;0;0m"));
+});
+
+#[test]
+fn every_fixture_pattern_is_valid_with_the_sizes_the_thesis_uses() {
+    let expect = [
+        ("brick", 64),
+        ("wood", 64),
+        ("weave", 32),
+        ("mod", 32),
+        ("bkgrnd", 64),
+        ("pyr", 64),
+        ("chex", 16),
+    ];
+    for (name, size) in expect {
+        let path = repo(&format!("fixtures/patterns/{name}.pat"));
+        let p = patkit::Pattern::read_file(&path).unwrap();
+        assert_eq!(p.size(), size, "{name}");
+        assert!(p.palette().len() >= 2, "{name} has several colours");
+        // Canonical on disk: our writer reproduces the file byte for byte.
+        assert_eq!(
+            p.to_canonical(),
+            std::fs::read_to_string(&path).unwrap(),
+            "{name}"
+        );
+    }
+    for name in ["weave", "mod", "bkgrnd"] {
+        let p =
+            patkit::Pattern::read_file(&repo(&format!("fixtures/patterns/{name}.pat"))).unwrap();
+        assert!(p.histogram().1 > 0, "{name} has transparent texels");
+    }
+}

@@ -1,0 +1,184 @@
+//! `pat-tile`: orientation, formats, --pat, two routes cross-checked, failures.
+
+use crate::util::checker16;
+use predicates::prelude::*;
+use std::io::Read;
+
+/// Decodes PNG/PPM/PAM output into RGBA rows (row 0 at the top).
+fn decode(bytes: &[u8]) -> image::RgbaImage {
+    patkit::io::decode_image(bytes, "out").unwrap()
+}
+
+clitest!(
+    bottom_left_pixel_is_texel_0_0_and_transparency_stays_alpha,
+    |dir| {
+        dir.write("c.pat", checker16());
+        dir.cmd("pat-tile")
+            .args(["--size", "20x18", "-o", "out.png", "c.pat"])
+            .assert()
+            .success()
+            .stdout("");
+        let img = decode(&dir.read("out.png"));
+        assert_eq!(img.dimensions(), (20, 18));
+        // Texel (0,0) at the bottom-left is transparent; (1,0) is blue, (0,1) blue.
+        assert_eq!(img.get_pixel(0, 17).0, [0, 0, 0, 0]);
+        assert_eq!(img.get_pixel(1, 17).0, [0, 0, 255, 255]);
+        assert_eq!(img.get_pixel(0, 16).0, [0, 0, 255, 255]);
+        assert_eq!(img.get_pixel(1, 16).0, [255, 0, 0, 255]);
+        // The pattern repeats every 16 pixels: pixel (16, 17) is texel (0,0) again.
+        assert_eq!(img.get_pixel(16, 17).0, [0, 0, 0, 0]);
+        assert_eq!(img.get_pixel(0, 1).0, [0, 0, 0, 0]);
+    }
+);
+
+clitest!(scale_offset_and_background, |dir| {
+    dir.write("c.pat", checker16());
+    let out = dir
+        .cmd("pat-tile")
+        .args([
+            "--size",
+            "8x8",
+            "--scale",
+            "4",
+            "--offset",
+            "-1,0",
+            "--background",
+            "#102030",
+        ])
+        .args(["--format", "ppm", "c.pat"])
+        .assert()
+        .success();
+    let img = decode(&out.get_output().stdout);
+    // Lower-left 4x4 block shows texel (15, 0): (15+0) odd, blue.
+    assert_eq!(img.get_pixel(0, 7).0, [0, 0, 255, 255]);
+    assert_eq!(img.get_pixel(3, 4).0, [0, 0, 255, 255]);
+    // The next block to the right is texel (0,0): transparent -> background.
+    assert_eq!(img.get_pixel(4, 7).0, [16, 32, 48, 255]);
+});
+
+clitest!(ppm_without_background_warns_and_uses_black, |dir| {
+    dir.write("c.pat", checker16());
+    dir.cmd("pat-tile")
+        .args(["--size", "4x4", "-o", "x.ppm", "c.pat"])
+        .assert()
+        .success()
+        .stderr(predicate::str::starts_with(
+            "pat-tile: warning: c.pat has transparent texels",
+        ));
+    assert!(dir.read("x.ppm").starts_with(b"P6\n4 4\n255\n"));
+});
+
+clitest!(pam_output_has_alpha_when_needed, |dir| {
+    dir.write("c.pat", checker16());
+    dir.cmd("pat-tile")
+        .args(["--size", "3x2", "-o", "x.pam", "c.pat"])
+        .assert()
+        .success();
+    let bytes = dir.read("x.pam");
+    let header = "P7\nWIDTH 3\nHEIGHT 2\nDEPTH 4\nMAXVAL 255\nTUPLTYPE RGB_ALPHA\nENDHDR\n";
+    assert!(bytes.starts_with(header.as_bytes()));
+    assert_eq!(bytes.len(), header.len() + 3 * 2 * 4);
+});
+
+clitest!(two_routes_to_the_same_image_agree, |dir| {
+    // Route 1: tile the 16x16 pattern at scale 2 straight into an image.
+    // Route 2: first make a 64x64 .pat at scale 2, then tile that at scale 1.
+    dir.write("c.pat", checker16());
+    let direct = dir
+        .cmd("pat-tile")
+        .args([
+            "--size", "100x70", "--scale", "2", "--offset", "3,5", "--format", "pam", "c.pat",
+        ])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    dir.cmd("pat-tile")
+        .args([
+            "--pat", "--size", "64x64", "--scale", "2", "--offset", "3,5", "-o", "big.pat", "c.pat",
+        ])
+        .assert()
+        .success();
+    let big = patkit::Pattern::read_file(&dir.path().join("big.pat")).unwrap();
+    assert_eq!(big.size(), 64);
+    let via_pat = dir
+        .cmd("pat-tile")
+        .args(["--size", "100x70", "--format", "pam", "big.pat"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    assert_eq!(direct, via_pat);
+});
+
+clitest!(failures_leave_no_output_and_empty_stdout, |dir| {
+    dir.write("bad.pat", "16 1\n");
+    dir.cmd("pat-tile")
+        .args(["--size", "8x8", "-o", "out.png", "bad.pat"])
+        .assert()
+        .code(1)
+        .stdout("")
+        .stderr(predicate::str::starts_with(
+            "pat-tile: error: bad.pat:1: unexpected end of file",
+        ));
+    dir.cmd("pat-tile")
+        .args(["--size", "8x8", "-o", "out.png", "missing.pat"])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("missing.pat"));
+    assert_eq!(dir.files(), vec!["bad.pat".to_string()]);
+});
+
+clitest!(bad_sizes_and_formats_are_usage_errors, |dir| {
+    dir.write("c.pat", checker16());
+    for size in ["0x5", "100000x10", "60000x60000", "12", "axb"] {
+        dir.cmd("pat-tile")
+            .args(["--size", size, "c.pat"])
+            .assert()
+            .code(2)
+            .stdout("")
+            .stderr(predicate::str::contains(size));
+    }
+    dir.cmd("pat-tile")
+        .args(["--pat", "--size", "64x32", "c.pat"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(
+            "--size 64x32: a pattern must be square",
+        ));
+    dir.cmd("pat-tile")
+        .args(["-o", "x.jpg", "c.pat"])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("unknown image extension `.jpg`"));
+});
+
+#[test]
+fn a_closed_output_pipe_ends_quietly() {
+    let dir = crate::util::Dir::new("closed_pipe");
+    dir.write("c.pat", checker16());
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("pat-tile"))
+        .current_dir(dir.path())
+        .args([
+            "--size",
+            "4096x4096",
+            "--format",
+            "ppm",
+            "--background",
+            "0,0,0",
+            "c.pat",
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut head = [0u8; 100];
+    child.stdout.take().unwrap().read_exact(&mut head).unwrap();
+    // The read end is dropped here, like `| head -c 100`.
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{:?}", out.status);
+    assert_eq!(String::from_utf8_lossy(&out.stderr), "");
+    assert!(head.starts_with(b"P6\n4096 4096\n255\n"));
+}

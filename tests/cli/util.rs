@@ -1,0 +1,91 @@
+//! The per-test directory and helpers shared by the CLI tests.
+
+use std::path::{Path, PathBuf};
+
+/// A fresh temporary directory for one test; tools run with it as their
+/// working directory, and it is removed when the test ends.
+pub struct Dir {
+    tmp: tempfile::TempDir,
+}
+
+impl Dir {
+    pub fn new(test: &str) -> Dir {
+        let tmp = tempfile::Builder::new()
+            .prefix(&format!("patkit-{test}-"))
+            .tempdir()
+            .expect("creating a test directory");
+        Dir { tmp }
+    }
+
+    pub fn path(&self) -> &Path {
+        self.tmp.path()
+    }
+
+    /// Writes a file in the test directory and returns its path.
+    pub fn write(&self, name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
+        let p = self.tmp.path().join(name);
+        if let Some(parent) = p.parent() {
+            std::fs::create_dir_all(parent).unwrap();
+        }
+        std::fs::write(&p, contents).unwrap();
+        p
+    }
+
+    pub fn read(&self, name: &str) -> Vec<u8> {
+        std::fs::read(self.tmp.path().join(name)).unwrap()
+    }
+
+    /// One of the project's tools, run in this directory.
+    pub fn cmd(&self, tool: &str) -> assert_cmd::Command {
+        let mut c = assert_cmd::Command::cargo_bin(tool).unwrap();
+        c.current_dir(self.tmp.path());
+        c
+    }
+
+    /// The names of the files in the directory, sorted.
+    pub fn files(&self) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(self.tmp.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+}
+
+/// A path inside the repository (fixtures, man pages).
+pub fn repo(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+/// The text of a canonical 16x16 pattern: colour 1 red where (col + row) is
+/// even, colour 2 blue where odd, except texel (0,0), which is transparent.
+pub fn checker16() -> String {
+    let mut s = String::from("16 2\n255 0 0\n");
+    for parity in [0u32, 1] {
+        if parity == 1 {
+            s.push_str("0 0 255\n");
+        }
+        for row in 0..16u32 {
+            let mut word = 0u16;
+            for col in 0..16u32 {
+                let set = (col + row) % 2 == parity && !(col == 0 && row == 0);
+                word = (word << 1) | set as u16;
+            }
+            s.push_str(&format!("{word:04x}\n"));
+        }
+    }
+    s
+}
+
+/// Declares a test that gets its own [`Dir`] bound to `$dir`.
+macro_rules! clitest {
+    ($name:ident, |$dir:ident| $body:block) => {
+        #[test]
+        fn $name() {
+            #[allow(unused_variables)]
+            let $dir = $crate::util::Dir::new(stringify!($name));
+            $body
+        }
+    };
+}
