@@ -22,9 +22,17 @@ use std::time::{Duration, Instant};
 
 const FACES: [[[f64; 3]; 3]; 4] = [
     [[100.0, 0.0, 100.0], [100.0, 0.0, -100.0], [0.0, 142.2, 0.0]],
-    [[100.0, 0.0, -100.0], [-100.0, 0.0, -100.0], [0.0, 142.2, 0.0]],
+    [
+        [100.0, 0.0, -100.0],
+        [-100.0, 0.0, -100.0],
+        [0.0, 142.2, 0.0],
+    ],
     [[-100.0, 0.0, 100.0], [100.0, 0.0, 100.0], [0.0, 142.2, 0.0]],
-    [[-100.0, 0.0, -100.0], [-100.0, 0.0, 100.0], [0.0, 142.2, 0.0]],
+    [
+        [-100.0, 0.0, -100.0],
+        [-100.0, 0.0, 100.0],
+        [0.0, 142.2, 0.0],
+    ],
 ];
 
 /// Fastest of `reps` runs (the least disturbed by the 3 other users of the machine).
@@ -160,7 +168,9 @@ fn prepared(faces: &[Vec<DVec3>], incr: f64, horz: f64) -> Vec<(PlanePolygon, Gr
 
 fn ngon(n: usize, r: f64) -> Vec<DVec3> {
     // Tilted out of every axis plane, like a face of a model.
-    let (u, w) = DVec3::new(0.3, 0.8, -0.5).normalize().any_orthonormal_pair();
+    let (u, w) = DVec3::new(0.3, 0.8, -0.5)
+        .normalize()
+        .any_orthonormal_pair();
     (0..n)
         .map(|i| {
             let a = std::f64::consts::TAU * (i as f64 + 0.5) / n as f64;
@@ -223,8 +233,12 @@ fn main() {
     };
     let (t_whole, n_whole) = run(&[]);
     let (t_compat, n_compat) = run(&["--compat", "thesis"]);
-    let bytes = std::fs::metadata(dir.path().join("out.json")).unwrap().len();
-    println!("## 1. Table 5.1 pyramid, incr 1, whole process (read, partition, write JSON to a file)\n");
+    let bytes = std::fs::metadata(dir.path().join("out.json"))
+        .unwrap()
+        .len();
+    println!(
+        "## 1. Table 5.1 pyramid, incr 1, whole process (read, partition, write JSON to a file)\n"
+    );
     println!("| run | polygons | wall time | vs IRIS 1987 (121.7 s) |");
     println!("|---|---:|---:|---:|");
     println!("| thesis (IRIS 2400, 1987) | 70,632 | 121.7 s | 1x |");
@@ -312,7 +326,10 @@ fn main() {
         let (tf, ff) = best(reps, || fast(polys, &mut part));
         if fs.n != ff.n {
             // Slivers at the rounding limit may fall either way.
-            eprintln!("note: {name} at {incr}: thesis algo {} cells, strip {}", fs.n, ff.n);
+            eprintln!(
+                "note: {name} at {incr}: thesis algo {} cells, strip {}",
+                fs.n, ff.n
+            );
         }
         println!(
             "| {name} | {incr} | {} | {:.2} ms | {:.1} | {:.3} ms | {:.2} | {:.0}x |",
@@ -325,9 +342,19 @@ fn main() {
         );
     };
     for incr in [1.0, 0.5, 0.25] {
-        row("pyramid (4 triangles)", &prepared(&faces, incr, -5.0), incr, 7);
+        row(
+            "pyramid (4 triangles)",
+            &prepared(&faces, incr, -5.0),
+            incr,
+            7,
+        );
     }
     for n in [4, 8, 16, 32, 64] {
-        row(&format!("regular {n}-gon, r 100"), &prepared(&[ngon(n, 100.0)], 0.5, 0.0), 0.5, 5);
+        row(
+            &format!("regular {n}-gon, r 100"),
+            &prepared(&[ngon(n, 100.0)], 0.5, 0.0),
+            0.5,
+            5,
+        );
     }
 }

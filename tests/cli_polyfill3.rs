@@ -287,3 +287,42 @@ fn help_has_examples_and_defaults() {
     assert!(s.contains("[default: 1]"));
     assert!(s.contains("--max-polygons"));
 }
+
+#[test]
+fn cull_drops_back_faces_and_cells_out_of_view() {
+    let dir = tempfile::tempdir().unwrap();
+    demo2(dir.path());
+    let d = dir.path();
+    // The thesis's demo2 camera (docs/camera.md).
+    std::fs::write(
+        d.join("cam.json"),
+        r#"{"lookat": {"eye": [0, 100, -5], "center": [0, 0, -900], "twist": 0},
+            "perspective": {"fovy": 55, "aspect": 1.0, "near": 0, "far": 1000}}"#,
+    )
+    .unwrap();
+    let all = count(d, &["scenes/demo2-plain.json"]);
+    let seen = count(
+        d,
+        &["--camera", "cam.json", "--cull", "scenes/demo2-plain.json"],
+    );
+    // The plain's near cells lie below the 55° view, its far ones are kept.
+    assert!(seen > 0 && seen < all, "{seen} of {all}");
+    // The plain turned over faces away from the camera: nothing is written.
+    let under = r#"{"vertices":[[-500,0,-800],[500,0,-800],[500,0,0],[-500,0,0]],"pattern":{"file":"patterns/chex.pat","incr":25}}"#;
+    std::fs::write(d.join("under.json"), under).unwrap();
+    assert_eq!(
+        count(d, &["--camera", "cam.json", "--cull", "under.json"]),
+        0
+    );
+    // --camera alone is a usage error, --cull alone too.
+    polyfill3()
+        .current_dir(d)
+        .args(["--camera", "cam.json", "under.json"])
+        .assert()
+        .code(2);
+    polyfill3()
+        .current_dir(d)
+        .args(["--cull", "under.json"])
+        .assert()
+        .code(2);
+}

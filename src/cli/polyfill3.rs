@@ -1,6 +1,7 @@
 //! `polyfill3`: partition 3D polygons into texture point polygons (the thesis's
 //! `polcolorf3`, ch. IV, with SPEC §2 "object" placement).
 
+use crate::geom::cull::ViewVolume;
 use crate::geom::merge::RunMerger;
 use crate::geom::partition::{estimate_cells, thesis_partition};
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
@@ -104,6 +105,13 @@ pub struct Args {
     /// world units (for "circle" and "arc" records).
     #[arg(long, default_value_t = 0.01)]
     pub tolerance: f64,
+    /// Camera JSON file (SPEC §3, docs/camera.md) for --cull.
+    #[arg(long, value_name = "FILE")]
+    pub camera: Option<String>,
+    /// Drop polygons facing away from the --camera and cells wholly outside
+    /// its view volume before they are written.
+    #[arg(long, requires = "camera")]
+    pub cull: bool,
     /// Print a JSON summary to standard error.
     #[arg(long)]
     pub json: bool,
@@ -115,6 +123,7 @@ struct Summary {
     records: u64,
     passed: u64,
     partitioned: u64,
+    culled: u64,
     polygons: u64,
 }
 
@@ -143,6 +152,16 @@ pub fn run(args: Args) -> Result<()> {
     if args.compat.is_some() && args.merge {
         usage_bail!("--merge and --compat thesis cannot be combined: the thesis does not merge");
     }
+    if args.camera.is_some() && !args.cull {
+        usage_bail!("--camera is only used by --cull: add --cull, or leave out --camera");
+    }
+    let volume = match &args.camera {
+        Some(path) => {
+            let cam = crate::camera::Camera::load(path)?;
+            Some(ViewVolume::new(cam.view, cam.projection, cam.near, cam.far))
+        }
+        None => None,
+    };
     let start = Instant::now();
     let source = display_name(&args.input).to_string();
     let base = stream::base_dir(&args.input);
@@ -159,6 +178,7 @@ pub fn run(args: Args) -> Result<()> {
         patterns: HashMap::new(),
         partitioner: Partitioner::new(),
         writer: CellWriter::new(out),
+        volume,
         summary: Summary::default(),
         warned_mode: false,
     };
@@ -178,6 +198,7 @@ pub fn run(args: Args) -> Result<()> {
                 "records": s.records,
                 "passed_through": s.passed,
                 "partitioned": s.partitioned,
+                "culled": s.culled,
                 "polygons": s.polygons,
                 "seconds": start.elapsed().as_secs_f64(),
             })
@@ -192,6 +213,7 @@ struct Job<'a> {
     patterns: HashMap<PathBuf, Rc<Pattern>>,
     partitioner: Partitioner,
     writer: CellWriter<Output>,
+    volume: Option<ViewVolume>,
     summary: Summary,
     warned_mode: bool,
 }
@@ -254,6 +276,12 @@ impl Job<'_> {
             other => outline(other, a.tolerance),
         };
         let poly = map_to_plane(&vertices, rotate, a.planarity_tol)?;
+        if let Some(vol) = &self.volume {
+            if vol.back_facing(poly.frame.normal, poly.frame.origin) || vol.outside(&vertices) {
+                self.summary.culled += 1;
+                return Ok(());
+            }
+        }
         let grid = Grid::new(&poly.points, place);
         let estimate = (poly.area / (place.incr * place.incr)).min(estimate_cells(
             grid.xmax - grid.xmin,
@@ -275,6 +303,7 @@ impl Job<'_> {
             a.merge,
             a.max_polygons - self.summary.polygons,
         );
+        self.writer.volume = self.volume;
         match a.compat {
             None => self.partitioner.run(&poly, &grid, &mut self.writer),
             Some(Compat::Thesis) => {
@@ -310,6 +339,8 @@ impl Job<'_> {
 /// other fields, serialized once per input polygon.
 pub struct CellWriter<W: Write> {
     out: W,
+    /// With `--cull`: cells wholly outside this volume are not written.
+    pub volume: Option<ViewVolume>,
     pattern: Option<Rc<Pattern>>,
     /// `,"key":value` for every field carried over, serialized once.
     rest: Vec<u8>,
@@ -336,6 +367,7 @@ impl<W: Write> CellWriter<W> {
     pub fn new(out: W) -> Self {
         CellWriter {
             out,
+            volume: None,
             pattern: None,
             rest: Vec::new(),
             buf: Vec::with_capacity(2 * FLUSH_BYTES),
@@ -477,6 +509,9 @@ impl<W: Write> CellSink for CellWriter<W> {
     fn cell(&mut self, k: i64, j: i64, world: &[DVec3], _plane: &[glam::DVec2], full: bool) {
         let (c, r, idx) = self.texel(k, j);
         let Some(idx) = idx else { return };
+        if self.volume.is_some_and(|v| v.outside(world)) {
+            return;
+        }
         if let Some(m) = self.merger.as_mut() {
             if full {
                 if !m.continues(k, j, idx as u32) {

@@ -28,13 +28,27 @@ impl ViewVolume {
     pub fn new(view: DMat4, projection: DMat4, near: f64, far: f64) -> ViewVolume {
         let inv = view.inverse();
         let parallel = projection.row(3) == DVec4::new(0.0, 0.0, 0.0, 1.0);
+        // For a parallel view the rays run along the eye direction d (d.z = -1)
+        // that the x and y rows of the projection leave unchanged: -z for an
+        // orthographic view, slanted for an oblique one (cavalier, cabinet).
+        let eye_dir = if parallel {
+            let (r0, r1) = (projection.row(0), projection.row(1));
+            let det = r0.x * r1.y - r0.y * r1.x;
+            DVec3::new(
+                (r0.z * r1.y - r0.y * r1.z) / det,
+                (r0.x * r1.z - r0.z * r1.x) / det,
+                -1.0,
+            )
+        } else {
+            -DVec3::Z
+        };
         ViewVolume {
             view,
             projection,
             near,
             far,
             eye: (!parallel).then(|| inv.transform_point3(DVec3::ZERO)),
-            direction: inv.transform_vector3(-DVec3::Z).normalize(),
+            direction: inv.transform_vector3(eye_dir).normalize(),
         }
     }
 
@@ -100,6 +114,17 @@ mod tests {
             assert!(!v.back_facing(DVec3::Y, DVec3::new(0.0, 0.0, -400.0)));
             assert!(v.back_facing(-DVec3::Y, DVec3::new(0.0, 0.0, -400.0)));
         }
+    }
+
+    #[test]
+    fn oblique_parallel_views_cull_along_the_direction_of_projection() {
+        // Cavalier-like shear: x_clip = x + z (rays along (1, 0, -1) in the eye frame).
+        let mut proj = DMat4::IDENTITY;
+        proj.z_axis.x = 1.0;
+        let v = ViewVolume::new(DMat4::IDENTITY, proj, -10.0, 10.0);
+        // A plane facing +x is seen by rays travelling -x... here rays travel +x: back.
+        assert!(v.back_facing(DVec3::X, DVec3::ZERO));
+        assert!(!v.back_facing(-DVec3::X + DVec3::Z * 0.1, DVec3::ZERO));
     }
 
     #[test]
