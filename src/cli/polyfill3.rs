@@ -454,9 +454,20 @@ impl<W: Write> CellWriter<W> {
             b.push(b']');
         }
         let [r, g, bl] = color.0;
-        let _ = write!(b, "],\"color\":[{r},{g},{bl}],\"texel\":[{col},{row}]");
+        b.extend_from_slice(b"],\"color\":[");
+        push_uint(b, r as u64);
+        b.push(b',');
+        push_uint(b, g as u64);
+        b.push(b',');
+        push_uint(b, bl as u64);
+        b.extend_from_slice(b"],\"texel\":[");
+        push_uint(b, col as u64);
+        b.push(b',');
+        push_uint(b, row as u64);
+        b.push(b']');
         if cells > 1 {
-            let _ = write!(b, ",\"cells\":{cells}");
+            b.extend_from_slice(b",\"cells\":");
+            push_uint(b, cells as u64);
         }
         b.extend_from_slice(&self.rest);
         b.extend_from_slice(b"}\n");
@@ -499,6 +510,22 @@ impl<W: Write> CellWriter<W> {
         }
         Ok(())
     }
+}
+
+/// Appends an unsigned integer in decimal (`write!` costs more than the rest
+/// of a record's integers together).
+fn push_uint(b: &mut Vec<u8>, mut n: u64) {
+    let mut d = [0u8; 20];
+    let mut i = d.len();
+    loop {
+        i -= 1;
+        d[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    b.extend_from_slice(&d[i..]);
 }
 
 impl<W: Write> CellSink for CellWriter<W> {

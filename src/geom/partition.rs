@@ -169,6 +169,7 @@ pub struct Partitioner {
     pts: Vec<DVec2>,
     world: Vec<DVec3>,
     cols: Vec<DVec3>,
+    xs: Vec<f64>,
     ranges: Vec<(i64, i64)>,
     segs: Vec<(DVec2, DVec2)>,
 }
@@ -190,9 +191,12 @@ impl Partitioner {
                 tag: Tag::Edge(i as u32),
             }));
         // ex * gx(k) for every column line: a corner is row_base + this.
+        // gx(k), and ex * gx(k), for every column line: a corner is
+        // row_base + ex * gx(k), the same bits as Frame::to_world gives.
+        self.xs.clear();
+        self.xs.extend((grid.k0..=grid.k1 + 1).map(|k| grid.gx(k)));
         self.cols.clear();
-        self.cols
-            .extend((grid.k0..=grid.k1 + 1).map(|k| frame.ex * grid.gx(k)));
+        self.cols.extend(self.xs.iter().map(|&x| frame.ex * x));
         let col = |k: i64| (k - grid.k0) as usize;
         for j in grid.j0..=grid.j1 {
             let (ylo, yhi) = (grid.gy(j), grid.gy(j + 1));
@@ -263,19 +267,23 @@ impl Partitioner {
                     let gap_end = blo.min(kend + 1);
                     let px = 0.5 * (grid.gx(cursor) + grid.gx(cursor + 1));
                     if inside_even_odd(&self.segs, DVec2::new(px, ym)) {
+                        // Corners are shared along the run: each cell computes
+                        // only its right-hand pair.
+                        let (c0, xl) = (self.cols[col(cursor)], self.xs[col(cursor)]);
+                        let (mut bl, mut tl, mut xl) = (rb_lo + c0, rb_hi + c0, xl);
                         for k in cursor..gap_end {
+                            let (c1, xr) = (self.cols[col(k + 1)], self.xs[col(k + 1)]);
+                            let (br, tr) = (rb_lo + c1, rb_hi + c1);
                             if sink.wants(k, j) {
-                                let (c0, c1) = (self.cols[col(k)], self.cols[col(k + 1)]);
-                                let sq = [rb_lo + c0, rb_lo + c1, rb_hi + c1, rb_hi + c0];
-                                let (xl, xr) = (grid.gx(k), grid.gx(k + 1));
                                 let pl = [
                                     DVec2::new(xl, ylo),
                                     DVec2::new(xr, ylo),
                                     DVec2::new(xr, yhi),
                                     DVec2::new(xl, yhi),
                                 ];
-                                sink.cell(k, j, &sq, &pl, true);
+                                sink.cell(k, j, &[bl, br, tr, tl], &pl, true);
                             }
+                            (bl, tl, xl) = (br, tr, xr);
                         }
                     }
                     cursor = gap_end;
