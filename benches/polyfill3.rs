@@ -196,6 +196,32 @@ fn main() {
         .map(|f| f.iter().map(|a| DVec3::from_array(*a)).collect())
         .collect();
     let mut part = Partitioner::new();
+
+    // 0. Table 5.1's counts through the thesis's loop (`--compat thesis`).
+    if !std::env::args().any(|a| a == "--profile-pyramid") {
+        const THESIS: [u64; 10] = [70632, 17936, 8092, 4616, 3008, 2116, 1572, 1224, 984, 808];
+        println!(
+            "## 0. Table 5.1 counts (pyramid of App. C, fully opaque 64x64 pattern, horz -5)\n"
+        );
+        println!("| incr | thesis | --compat thesis | difference | polyfill3 (cells with area) |");
+        println!("|---:|---:|---:|---:|---:|");
+        for (i, want) in THESIS.iter().enumerate() {
+            let incr = (i + 1) as f64;
+            let polys = prepared(&faces, incr, -5.0);
+            let mut compat = Fold::default();
+            for (p, _) in &polys {
+                patkit::geom::partition::thesis_partition(p, incr, -5, 0, 64, &mut compat);
+            }
+            let exact = fast(&polys, &mut part);
+            println!(
+                "| {incr} | {want} | {} | {:+} | {} |",
+                compat.n,
+                compat.n as i64 - *want as i64,
+                exact.n
+            );
+        }
+        println!();
+    }
     // `cargo bench --bench polyfill3 -- --profile-pyramid`: only the fast path
     // on the pyramid at incr 1, long enough for `perf record`.
     if std::env::args().any(|a| a == "--profile-pyramid") {
@@ -283,27 +309,32 @@ fn main() {
         w.finish().unwrap();
         cells
     });
-    // The same polygons, collected, then serialized alone.
-    struct Collect(Vec<(i64, i64, [DVec3; 8], usize)>);
+    // The same polygons, collected (vertices in one flat array), then
+    // serialized alone.
+    #[derive(Default)]
+    struct Collect {
+        cells: Vec<(i64, i64, u32, u32)>,
+        verts: Vec<DVec3>,
+    }
     impl CellSink for Collect {
         fn wants(&mut self, _: i64, _: i64) -> bool {
             true
         }
         fn cell(&mut self, k: i64, j: i64, w: &[DVec3], _: &[DVec2], _: bool) {
-            let mut a = [DVec3::ZERO; 8];
-            let n = w.len().min(8);
-            a[..n].copy_from_slice(&w[..n]);
-            self.0.push((k, j, a, n));
+            self.cells
+                .push((k, j, self.verts.len() as u32, w.len() as u32));
+            self.verts.extend_from_slice(w);
         }
     }
-    let mut coll = Collect(Vec::with_capacity(cells as usize));
+    let mut coll = Collect::default();
     part.run(&bigp[0].0, &bigp[0].1, &mut coll);
     let (t_ser_only, _) = best(3, || {
         let mut w = CellWriter::new(std::io::sink());
         w.begin(&rec, pattern.clone(), false, u64::MAX);
-        let dummy = [DVec2::ZERO; 8];
-        for (k, j, a, n) in &coll.0 {
-            w.cell(*k, *j, &a[..*n], &dummy[..*n], false);
+        let dummy = [DVec2::ZERO; 64];
+        for &(k, j, at, n) in &coll.cells {
+            let (at, n) = (at as usize, n as usize);
+            w.cell(k, j, &coll.verts[at..at + n], &dummy[..n], false);
         }
         w.finish().unwrap();
     });
