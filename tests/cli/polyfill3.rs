@@ -326,3 +326,45 @@ fn cull_drops_back_faces_and_cells_out_of_view() {
         .assert()
         .code(2);
 }
+
+#[test]
+fn json_summary_rotation_and_compat_shifts() {
+    let dir = tempfile::tempdir().unwrap();
+    write_pat(&dir.path().join("p.pat"), 16, |_, _| false);
+    let d = dir.path();
+    let tri = r#"{"vertices":[[0,0,0],[4,0,0],[0,4,0]],"pattern":{"file":"p.pat"}}"#;
+    std::fs::write(
+        d.join("t.json"),
+        format!("{tri}\n{{\"rect\":[0,0,1,1],\"color\":[1,1,1]}}\n"),
+    )
+    .unwrap();
+    let out = polyfill3()
+        .current_dir(d)
+        .args(["--json", "t.json"])
+        .assert()
+        .success();
+    let o = out.get_output();
+    let summary: Value = serde_json::from_slice(&o.stderr).unwrap();
+    assert_eq!(summary["records"], 2);
+    assert_eq!(summary["passed_through"], 1);
+    assert_eq!(summary["partitioned"], 1);
+    let n = o.stdout.iter().filter(|&&b| b == b'\n').count() as u64;
+    assert_eq!(summary["polygons"].as_u64().unwrap() + 1, n);
+    // Rotating the pattern 45 degrees changes the cells, not the area.
+    let out = polyfill3()
+        .current_dir(d)
+        .args(["--rotate", "45", "t.json"])
+        .assert()
+        .success();
+    let recs = lines(&out.get_output().stdout);
+    let cut: Vec<&Value> = recs.iter().filter(|r| r.get("texel").is_some()).collect();
+    assert!((cut.iter().map(|r| area(r)).sum::<f64>() - 8.0).abs() < 1e-12);
+    assert_ne!(cut.len() as u64 + 1, n);
+    // The thesis's loop takes integer shifts only.
+    let out = polyfill3()
+        .current_dir(d)
+        .args(["--compat", "thesis", "--horz", "0.5", "t.json"])
+        .assert()
+        .code(1);
+    assert!(String::from_utf8_lossy(&out.get_output().stderr).contains("must be integers"));
+}
