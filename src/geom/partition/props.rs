@@ -300,8 +300,11 @@ fn check(c: &Case) -> Result<(), String> {
         if *side == 0 || *side == 2 {
             let other = on_line.get(&(*k, *j, side + 1));
             if let Some(o) = other {
+                // A convex polygon's cells meet vertex to vertex: the same
+                // points on the shared line, bit for bit. A concave one's may
+                // also carry a bridge's end on one side only.
                 let common = pts.intersection(o).count();
-                if common == 0 && pts.len() >= 2 && o.len() >= 2 {
+                if (c.convex && pts != o) || (common == 0 && pts.len() >= 2 && o.len() >= 2) {
                     return Err(format!(
                         "cells across line {side} of ({k},{j}) share no vertex: {pts:?} vs {o:?}"
                     ));
