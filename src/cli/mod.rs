@@ -12,6 +12,7 @@ use std::str::FromStr;
 pub mod pat_from_image;
 pub mod pat_info;
 pub mod pat_tile;
+pub mod polyfill3;
 
 /// A usage error found after clap's own parsing (contradictory flags, values out
 /// of range): reported like any error, but the exit status is 2.
@@ -161,6 +162,7 @@ pub fn commands() -> Vec<clap::Command> {
         pat_from_image::Args::command(),
         pat_info::Args::command(),
         pat_tile::Args::command(),
+        polyfill3::Args::command(),
     ]
 }
 
