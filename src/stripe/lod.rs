@@ -1,0 +1,199 @@
+//! Level of detail (seed 001, "Texture Blending" and Fig. 7): which levels of
+//! the modulation map's pyramid a pixel reads, and how much of each.
+//!
+//! The seed takes `ΔP_max`, the larger of the screen-space changes of `P` per
+//! pixel, as a floating-point number `2^e × 1.xxxx...` and reads off
+//! `LOD = 10 + e` (Fig. 7: 2^0 → LOD 10, 2^−10 → LOD 0, for 1024-entry maps)
+//! and the four bits after the leading one as the blend factor `a` in sixteenths:
+//! `m = a M_L + (1 − a) M`, `M` the modulation at LOD and `M_L` at the next,
+//! coarser, LOD. The seed's LOD number is this module's level `k` (level `k` has
+//! `N / 2^k` entries), and its 10 is `log2 N`.
+//!
+//! Modes:
+//!
+//! * [`LodMode::Blend`] (default): the continuous version. The rate `ρ` is the
+//!   number of level-0 samples per pixel, `N |∇P|` (the gradient's length: a
+//!   box of that width has the same second moment as the trapezoid that a
+//!   pixel square projects to in `P`, so it is the box that best stands for the
+//!   pixel); `λ = log2 ρ`, `k = floor λ`, `a = λ − k` with no rounding.
+//! * [`LodMode::Nearest`]: one level, `k = round(λ)`: the baseline.
+//! * [`LodMode::Cig`] (`--cig-compat`): the seed's rule exactly: `ΔP_max =
+//!   max(|∂P/∂x|, |∂P/∂y|)`, integer exponent, 4-bit `a`. Since
+//!   `log2(1 + f) ≈ f`, its `e + a` is a piecewise-linear log2, coarser than
+//!   `λ` by up to 0.086 levels.
+//!
+//! Below level 0 (magnification) the finest level is used alone; beyond the
+//! last level (one entry) the last level is used alone.
+
+/// How a pixel's levels are chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum LodMode {
+    /// The nearest level only.
+    Nearest,
+    /// Continuous LOD, blended linearly between the two nearest levels.
+    #[default]
+    Blend,
+    /// The Compuscene III rule: ΔP_max, integer exponent, 4-bit blend factor.
+    #[value(name = "cig")]
+    Cig,
+}
+
+/// The levels a pixel reads: `m = (1 − a) level[k] + a level[k + 1]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lod {
+    pub level: usize,
+    /// Weight of level `level + 1`, in `[0, 1)`; 0 when only `level` is read.
+    pub a: f32,
+}
+
+/// The seed's blend factor resolution: 4 bits.
+pub const CIG_BLEND_STEPS: f64 = 16.0;
+
+impl LodMode {
+    /// The LOD for screen-space derivatives `(px, py)` of `P` (map periods per
+    /// pixel) on a map of `n` entries with `levels = log2 n + 1` levels.
+    #[inline]
+    pub fn select(self, px: f64, py: f64, n: usize, levels: usize) -> Lod {
+        let last = levels - 1;
+        let n = n as f64;
+        match self {
+            LodMode::Blend | LodMode::Nearest => {
+                let rate = n * px.hypot(py);
+                let lambda = rate.log2();
+                if lambda.is_nan() || lambda <= 0.0 {
+                    // Magnified, exactly one sample per pixel, or no gradient.
+                    return Lod { level: 0, a: 0.0 };
+                }
+                if self == LodMode::Nearest {
+                    let k = (lambda.round() as usize).min(last);
+                    return Lod { level: k, a: 0.0 };
+                }
+                if lambda >= last as f64 {
+                    return Lod {
+                        level: last,
+                        a: 0.0,
+                    };
+                }
+                let k = lambda.floor();
+                Lod {
+                    level: k as usize,
+                    a: (lambda - k) as f32,
+                }
+            }
+            LodMode::Cig => {
+                let dp = px.abs().max(py.abs()) * n;
+                if dp.is_nan() || dp < 1.0 {
+                    return Lod { level: 0, a: 0.0 };
+                }
+                if !dp.is_finite() {
+                    return Lod {
+                        level: last,
+                        a: 0.0,
+                    };
+                }
+                // dp = 2^e × (1 + f): the exponent and the top four fraction bits.
+                let bits = dp.to_bits();
+                let e = ((bits >> 52) & 0x7ff) as i64 - 1023;
+                let xxxx = (bits >> 48) & 0xf;
+                if e >= last as i64 {
+                    return Lod {
+                        level: last,
+                        a: 0.0,
+                    };
+                }
+                Lod {
+                    level: e as usize,
+                    a: (xxxx as f64 / CIG_BLEND_STEPS) as f32,
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const N: usize = 1024;
+    const LEVELS: usize = 11;
+
+    #[test]
+    fn blend_is_log2_of_samples_per_pixel() {
+        let s = 1.0 / N as f64;
+        assert_eq!(
+            LodMode::Blend.select(0.5 * s, 0.0, N, LEVELS),
+            Lod { level: 0, a: 0.0 }
+        );
+        assert_eq!(
+            LodMode::Blend.select(4.0 * s, 0.0, N, LEVELS),
+            Lod { level: 2, a: 0.0 }
+        );
+        let l = LodMode::Blend.select(0.0, 6.0 * s, N, LEVELS);
+        assert_eq!(l.level, 2);
+        assert!((l.a as f64 - (1.5f64).log2()).abs() < 1e-6);
+        // The gradient's length: 3-4-5.
+        let l = LodMode::Blend.select(3.0 * s, 4.0 * s, N, LEVELS);
+        assert!((l.a as f64 - (5.0f64 / 4.0).log2()).abs() < 1e-6 && l.level == 2);
+        assert_eq!(
+            LodMode::Blend.select(3.0, 0.0, N, LEVELS),
+            Lod { level: 10, a: 0.0 }
+        );
+        assert_eq!(LodMode::Blend.select(f64::NAN, 0.0, N, LEVELS).level, 0);
+    }
+
+    #[test]
+    fn nearest_rounds_the_level() {
+        let s = 1.0 / N as f64;
+        assert_eq!(LodMode::Nearest.select(5.0 * s, 0.0, N, LEVELS).level, 2);
+        assert_eq!(LodMode::Nearest.select(6.0 * s, 0.0, N, LEVELS).level, 3);
+        assert_eq!(LodMode::Nearest.select(1e9, 0.0, N, LEVELS).level, 10);
+    }
+
+    #[test]
+    fn cig_follows_figure_7() {
+        // ΔP_max = 2^0 → LOD 10; 2^-10 → LOD 0; 2^-3 × 1.1010b → LOD 7, a = 10/16.
+        assert_eq!(
+            LodMode::Cig.select(1.0, 0.5, N, LEVELS),
+            Lod { level: 10, a: 0.0 }
+        );
+        assert_eq!(
+            LodMode::Cig.select(1.0 / 1024.0, 0.0, N, LEVELS),
+            Lod { level: 0, a: 0.0 }
+        );
+        let dp = (1.0 + 10.0 / 16.0 + 1.0 / 64.0) / 8.0;
+        assert_eq!(
+            LodMode::Cig.select(0.0, -dp, N, LEVELS),
+            Lod {
+                level: 7,
+                a: 10.0 / 16.0
+            }
+        );
+        // ΔP_max is the larger component, not the gradient's length.
+        assert_eq!(
+            LodMode::Cig
+                .select(3.0 / 1024.0, 3.0 / 1024.0, N, LEVELS)
+                .level,
+            1
+        );
+        assert_eq!(LodMode::Cig.select(f64::INFINITY, 0.0, N, LEVELS).level, 10);
+    }
+
+    #[test]
+    fn cig_is_within_a_tenth_of_a_level_of_blend() {
+        // Along one axis both measure the same rate; the piecewise-linear log2
+        // stays within 0.0861 of the true one (max of log2(1+f) − f), plus the
+        // 4-bit truncation of 1/16.
+        let mut r = 1.0;
+        while r < 1024.0 {
+            let b = LodMode::Blend.select(r / 1024.0, 0.0, N, LEVELS);
+            let c = LodMode::Cig.select(r / 1024.0, 0.0, N, LEVELS);
+            let lb = b.level as f64 + b.a as f64;
+            let lc = c.level as f64 + c.a as f64;
+            assert!(
+                (lb - lc) >= -1e-6 && lb - lc <= 0.0861 + 1.0 / 16.0,
+                "{r}: {lb} {lc}"
+            );
+            r *= 1.037;
+        }
+    }
+}
