@@ -143,16 +143,11 @@ impl ModulationMap {
         self.values.len().trailing_zeros() as usize + 1
     }
 
-    /// Whether bytes look like a map file (their first word is [`MAGIC`]).
+    /// Whether bytes look like a map file: their first word (after blank
+    /// lines and `#` comments) is [`MAGIC`].
     pub fn sniff(bytes: &[u8]) -> bool {
-        let start = bytes.iter().position(|b| !b.is_ascii_whitespace());
-        start.is_some_and(|s| {
-            let rest = &bytes[s..];
-            rest.starts_with(MAGIC.as_bytes())
-                && rest
-                    .get(MAGIC.len())
-                    .map_or(true, |b| b.is_ascii_whitespace())
-        })
+        let mut w = Words::new(bytes, "", "");
+        matches!(w.next(), Ok(Some(word)) if word.text == MAGIC)
     }
 
     /// Reads a map file; errors name the file, line and word.
@@ -369,6 +364,9 @@ mod tests {
     #[test]
     fn sniff_tells_maps_from_patterns() {
         assert!(ModulationMap::sniff(b"\n STRIPE 4\n1 2 3 4"));
+        assert!(ModulationMap::sniff(
+            b"# made by a script\nSTRIPE 4\n1 2 3 4"
+        ));
         assert!(!ModulationMap::sniff(b"16 1\n"));
         assert!(!ModulationMap::sniff(b"STRIPED"));
         assert!(!ModulationMap::sniff(b""));

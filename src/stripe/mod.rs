@@ -32,6 +32,7 @@
 //! average is a sum over the map samples it crosses of sample value times the
 //! area between consecutive iso-lines, each area an exact convex clip.
 
+pub mod from_image;
 pub mod lod;
 pub mod map;
 pub mod mapping;

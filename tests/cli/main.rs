@@ -8,3 +8,4 @@ mod man_pages;
 mod pat_from_image;
 mod pat_info;
 mod pat_tile;
+mod stripe;
