@@ -22,8 +22,18 @@
 //!   `log2(1 + f) ≈ f`, its `e + a` is a piecewise-linear log2, coarser than
 //!   `λ` by up to 0.086 levels.
 //!
-//! Below level 0 (magnification) the finest level is used alone; beyond the
-//! last level (one entry) the last level is used alone.
+//! Below level 0 (magnification) the finest level is used alone, crisp;
+//! beyond the last level (one entry) the last level is used alone.
+//!
+//! Within a level, the blend and nearest modes interpolate linearly between
+//! the two entries whose centres bracket `P` (the 1-D "bilinear" of a
+//! mip-map), so the filter is centred on the pixel instead of on the aligned
+//! block of `2^k` samples that happens to contain `P`; on a receding ground
+//! plane of random stripes (the test in `stripe/tests.rs`) it cuts the RMSE
+//! against the box-filtered reference from 10.8 to 7.5 (nearest level) and
+//! from 9.6 to 6.8 (blended levels). The cig mode keeps the seed's single table
+//! reference per level ("requiring only one memory reference per sample
+//! point").
 
 /// How a pixel's levels are chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -44,6 +54,19 @@ pub struct Lod {
     pub level: usize,
     /// Weight of level `level + 1`, in `[0, 1)`; 0 when only `level` is read.
     pub a: f32,
+    /// Interpolate linearly between the two entries nearest to `P` within a
+    /// level (minified pixels in the blend and nearest modes), rather than
+    /// reading the one entry that covers `P` (the seed's single memory
+    /// reference, and magnified pixels, where the crisp map is exact).
+    pub linear: bool,
+}
+
+impl Lod {
+    const CRISP: Lod = Lod {
+        level: 0,
+        a: 0.0,
+        linear: false,
+    };
 }
 
 /// The seed's blend factor resolution: 4 bits.
@@ -62,48 +85,50 @@ impl LodMode {
                 let lambda = rate.log2();
                 if lambda.is_nan() || lambda <= 0.0 {
                     // Magnified, exactly one sample per pixel, or no gradient.
-                    return Lod { level: 0, a: 0.0 };
+                    return Lod::CRISP;
                 }
+                let single = |level: usize| Lod {
+                    level,
+                    a: 0.0,
+                    linear: true,
+                };
                 if self == LodMode::Nearest {
-                    let k = (lambda.round() as usize).min(last);
-                    return Lod { level: k, a: 0.0 };
+                    return single((lambda.round() as usize).min(last));
                 }
                 if lambda >= last as f64 {
-                    return Lod {
-                        level: last,
-                        a: 0.0,
-                    };
+                    return single(last);
                 }
                 let k = lambda.floor();
                 Lod {
                     level: k as usize,
                     a: (lambda - k) as f32,
+                    linear: true,
                 }
             }
             LodMode::Cig => {
+                let single = |level: usize| Lod {
+                    level,
+                    a: 0.0,
+                    linear: false,
+                };
                 let dp = px.abs().max(py.abs()) * n;
                 if dp.is_nan() || dp < 1.0 {
-                    return Lod { level: 0, a: 0.0 };
+                    return single(0);
                 }
                 if !dp.is_finite() {
-                    return Lod {
-                        level: last,
-                        a: 0.0,
-                    };
+                    return single(last);
                 }
                 // dp = 2^e × (1 + f): the exponent and the top four fraction bits.
                 let bits = dp.to_bits();
                 let e = ((bits >> 52) & 0x7ff) as i64 - 1023;
                 let xxxx = (bits >> 48) & 0xf;
                 if e >= last as i64 {
-                    return Lod {
-                        level: last,
-                        a: 0.0,
-                    };
+                    return single(last);
                 }
                 Lod {
                     level: e as usize,
                     a: (xxxx as f64 / CIG_BLEND_STEPS) as f32,
+                    linear: false,
                 }
             }
         }
@@ -120,13 +145,14 @@ mod tests {
     #[test]
     fn blend_is_log2_of_samples_per_pixel() {
         let s = 1.0 / N as f64;
-        assert_eq!(
-            LodMode::Blend.select(0.5 * s, 0.0, N, LEVELS),
-            Lod { level: 0, a: 0.0 }
-        );
+        assert_eq!(LodMode::Blend.select(0.5 * s, 0.0, N, LEVELS), Lod::CRISP);
         assert_eq!(
             LodMode::Blend.select(4.0 * s, 0.0, N, LEVELS),
-            Lod { level: 2, a: 0.0 }
+            Lod {
+                level: 2,
+                a: 0.0,
+                linear: true
+            }
         );
         let l = LodMode::Blend.select(0.0, 6.0 * s, N, LEVELS);
         assert_eq!(l.level, 2);
@@ -136,7 +162,11 @@ mod tests {
         assert!((l.a as f64 - (5.0f64 / 4.0).log2()).abs() < 1e-6 && l.level == 2);
         assert_eq!(
             LodMode::Blend.select(3.0, 0.0, N, LEVELS),
-            Lod { level: 10, a: 0.0 }
+            Lod {
+                level: 10,
+                a: 0.0,
+                linear: true
+            }
         );
         assert_eq!(LodMode::Blend.select(f64::NAN, 0.0, N, LEVELS).level, 0);
     }
@@ -154,18 +184,27 @@ mod tests {
         // ΔP_max = 2^0 → LOD 10; 2^-10 → LOD 0; 2^-3 × 1.1010b → LOD 7, a = 10/16.
         assert_eq!(
             LodMode::Cig.select(1.0, 0.5, N, LEVELS),
-            Lod { level: 10, a: 0.0 }
+            Lod {
+                level: 10,
+                a: 0.0,
+                linear: false
+            }
         );
         assert_eq!(
             LodMode::Cig.select(1.0 / 1024.0, 0.0, N, LEVELS),
-            Lod { level: 0, a: 0.0 }
+            Lod {
+                level: 0,
+                a: 0.0,
+                linear: false
+            }
         );
         let dp = (1.0 + 10.0 / 16.0 + 1.0 / 64.0) / 8.0;
         assert_eq!(
             LodMode::Cig.select(0.0, -dp, N, LEVELS),
             Lod {
                 level: 7,
-                a: 10.0 / 16.0
+                a: 10.0 / 16.0,
+                linear: false,
             }
         );
         // ΔP_max is the larger component, not the gradient's length.

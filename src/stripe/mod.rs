@@ -107,12 +107,35 @@ impl Modulation {
         self.data[self.offsets[k] + i]
     }
 
+    /// Level `k` at `P`, interpolated linearly between the two entries whose
+    /// centres bracket `P` (the map repeating).
+    #[inline]
+    pub fn sample_linear(&self, k: usize, p: f64) -> f32 {
+        let nk = self.n >> k;
+        let u = p * nk as f64 - 0.5;
+        let below = u.floor();
+        let f = (u - below) as f32;
+        let i = below as i64;
+        let mask = nk as i64 - 1;
+        let level = &self.data[self.offsets[k]..self.offsets[k] + nk];
+        let a = level[(i & mask) as usize];
+        let b = level[((i + 1) & mask) as usize];
+        a + f * (b - a)
+    }
+
     /// `m = (1 − a) M + a M_L` (the seed's `m = a M_L + (1 − a) M`).
     #[inline]
     pub fn lookup(&self, p: f64, lod: Lod) -> f32 {
-        let m = self.sample(lod.level, p);
+        let read = |k: usize| {
+            if lod.linear {
+                self.sample_linear(k, p)
+            } else {
+                self.sample(k, p)
+            }
+        };
+        let m = read(lod.level);
         if lod.a > 0.0 {
-            m + lod.a * (self.sample(lod.level + 1, p) - m)
+            m + lod.a * (read(lod.level + 1) - m)
         } else {
             m
         }
