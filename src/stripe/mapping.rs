@@ -324,6 +324,40 @@ mod tests {
         checked
     }
 
+    proptest::proptest! {
+        #[test]
+        fn random_views_and_planes_match_direct_evaluation(
+            eye in proptest::array::uniform3(-50.0f64..50.0),
+            look in proptest::array::uniform3(-1.0f64..1.0),
+            fovy in 10.0f64..120.0,
+            normal in proptest::array::uniform3(-1.0f64..1.0),
+            offset in -20.0f64..20.0,
+            grad in proptest::array::uniform3(-0.01f64..0.01),
+            p0 in -2.0f64..2.0,
+            ortho in proptest::bool::ANY,
+        ) {
+            let (eye, look, normal) = (DVec3::from(eye), DVec3::from(look), DVec3::from(normal));
+            proptest::prop_assume!(look.length() > 0.1 && normal.length() > 0.1);
+            // Keep "up" away from the line of sight.
+            let up = if look.normalize().y.abs() > 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+            let centre = eye + look;
+            let projection = if ortho {
+                json!({"ortho": {"left": -10, "right": 10, "bottom": -8, "top": 8, "near": 0.1, "far": 1e4}})
+            } else {
+                json!({"perspective": {"fovy": fovy, "aspect": 1.25, "near": 0.1, "far": 1e4}})
+            };
+            let mut v = json!({"lookat": {"eye": eye.to_array(), "center": centre.to_array(), "up": up}});
+            v.as_object_mut().unwrap().extend(projection.as_object().unwrap().clone());
+            let cam = camera(v);
+            let normal = normal.normalize();
+            let point = eye + normal * offset;
+            // Planes seen (nearly) edge-on are refused, which is right.
+            if ScreenMapping::new(&cam, 320, 256, normal, point, DVec3::from(grad), p0).is_ok() {
+                check(&cam, 320, 256, normal, point, DVec3::from(grad), p0);
+            }
+        }
+    }
+
     #[test]
     fn ground_plane_and_wall_match_direct_evaluation() {
         let cam = camera(json!({
