@@ -15,8 +15,9 @@
 //!   number of level-0 samples per pixel, `N |∇P|` (the gradient's length: a
 //!   box of that width has the same second moment as the trapezoid that a
 //!   pixel square projects to in `P`, so it is the box that best stands for the
-//!   pixel); `λ = log2 ρ`, `k = floor λ`, `a = λ − k` with no rounding.
-//! * [`LodMode::Nearest`]: one level, `k = round(λ)`: the baseline.
+//!   pixel); `λ = log2 ρ +` [`LOD_BIAS`], `k = floor λ`, `a = λ − k` with no
+//!   rounding.
+//! * [`LodMode::Nearest`]: one level, `k = round(λ)` (same `λ`): the baseline.
 //! * [`LodMode::Cig`] (`--cig-compat`): the seed's rule exactly: `ΔP_max =
 //!   max(|∂P/∂x|, |∂P/∂y|)`, integer exponent, 4-bit `a`. Since
 //!   `log2(1 + f) ≈ f`, its `e + a` is a piecewise-linear log2, coarser than
@@ -69,6 +70,17 @@ impl Lod {
     };
 }
 
+/// Added to `λ` in the blend and nearest modes. With linear interpolation
+/// within a level, level `k` acts as a filter of standard deviation `2^k / 2`
+/// (box of `2^k` samples convolved with a tent of half-width `2^k`), against
+/// `ρ / √12` for the pixel's own footprint; matching the two would give a bias
+/// of `−log2 √3 = −0.79`, but that blurs the bars of `runway.map` visibly.
+/// Measured RMSE against the box reference (`examples/stripe_shade.rs`,
+/// ground and wall at 1024x768, runway.map; and the random-strip ground plane
+/// of `stripe/tests.rs`) is lowest near −0.25 on both scenes and both faces
+/// (runway, all pixels: bias 0 → 6.31, −0.25 → 4.88, −0.5 → 5.75, −0.79 → 7.48).
+pub const LOD_BIAS: f64 = -0.25;
+
 /// The seed's blend factor resolution: 4 bits.
 pub const CIG_BLEND_STEPS: f64 = 16.0;
 
@@ -81,8 +93,9 @@ impl LodMode {
         let n = n as f64;
         match self {
             LodMode::Blend | LodMode::Nearest => {
-                let rate = n * px.hypot(py);
-                let lambda = rate.log2();
+                // log2 of the rate ρ = N |∇P|, as half the log2 of ρ² (no hypot:
+                // its overflow care costs more than the whole lookup).
+                let lambda = 0.5 * (n * n * (px * px + py * py)).log2() + LOD_BIAS;
                 if lambda.is_nan() || lambda <= 0.0 {
                     // Magnified, exactly one sample per pixel, or no gradient.
                     return Lod::CRISP;
@@ -142,24 +155,27 @@ mod tests {
     const N: usize = 1024;
     const LEVELS: usize = 11;
 
+    /// `λ` of a rate, as the blend mode computes it.
+    fn lambda(rate: f64) -> f64 {
+        rate.log2() + LOD_BIAS
+    }
+
+    fn level_and_a(l: Lod) -> f64 {
+        l.level as f64 + l.a as f64
+    }
+
     #[test]
     fn blend_is_log2_of_samples_per_pixel() {
         let s = 1.0 / N as f64;
         assert_eq!(LodMode::Blend.select(0.5 * s, 0.0, N, LEVELS), Lod::CRISP);
-        assert_eq!(
-            LodMode::Blend.select(4.0 * s, 0.0, N, LEVELS),
-            Lod {
-                level: 2,
-                a: 0.0,
-                linear: true
-            }
-        );
+        // Rate 2^(2 - LOD_BIAS): exactly level 2.
+        let l = LodMode::Blend.select(2f64.powf(2.0 - LOD_BIAS) * s, 0.0, N, LEVELS);
+        assert!(l.linear && (level_and_a(l) - 2.0).abs() < 1e-6, "{l:?}");
         let l = LodMode::Blend.select(0.0, 6.0 * s, N, LEVELS);
-        assert_eq!(l.level, 2);
-        assert!((l.a as f64 - (1.5f64).log2()).abs() < 1e-6);
+        assert!((level_and_a(l) - lambda(6.0)).abs() < 1e-6, "{l:?}");
         // The gradient's length: 3-4-5.
         let l = LodMode::Blend.select(3.0 * s, 4.0 * s, N, LEVELS);
-        assert!((l.a as f64 - (5.0f64 / 4.0).log2()).abs() < 1e-6 && l.level == 2);
+        assert!((level_and_a(l) - lambda(5.0)).abs() < 1e-6, "{l:?}");
         assert_eq!(
             LodMode::Blend.select(3.0, 0.0, N, LEVELS),
             Lod {
@@ -174,8 +190,11 @@ mod tests {
     #[test]
     fn nearest_rounds_the_level() {
         let s = 1.0 / N as f64;
-        assert_eq!(LodMode::Nearest.select(5.0 * s, 0.0, N, LEVELS).level, 2);
-        assert_eq!(LodMode::Nearest.select(6.0 * s, 0.0, N, LEVELS).level, 3);
+        assert_eq!(
+            LodMode::Nearest.select(5.0 * s, 0.0, N, LEVELS).level,
+            lambda(5.0).round() as usize
+        );
+        assert_eq!(LodMode::Nearest.select(7.0 * s, 0.0, N, LEVELS).level, 3);
         assert_eq!(LodMode::Nearest.select(1e9, 0.0, N, LEVELS).level, 10);
     }
 
@@ -222,11 +241,11 @@ mod tests {
         // Along one axis both measure the same rate; the piecewise-linear log2
         // stays within 0.0861 of the true one (max of log2(1+f) − f), plus the
         // 4-bit truncation of 1/16.
-        let mut r = 1.0;
+        let mut r = 1.2; // above 2^-LOD_BIAS, where blend starts minifying
         while r < 1024.0 {
             let b = LodMode::Blend.select(r / 1024.0, 0.0, N, LEVELS);
             let c = LodMode::Cig.select(r / 1024.0, 0.0, N, LEVELS);
-            let lb = b.level as f64 + b.a as f64;
+            let lb = b.level as f64 + b.a as f64 - LOD_BIAS;
             let lc = c.level as f64 + c.a as f64;
             assert!(
                 (lb - lc) >= -1e-6 && lb - lc <= 0.0861 + 1.0 / 16.0,
