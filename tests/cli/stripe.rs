@@ -279,3 +279,19 @@ clitest!(
         );
     }
 );
+
+clitest!(pat_info_previews_a_map_one_line_per_level, |dir| {
+    dir.write("m.map", MAP8);
+    let out = dir
+        .cmd("pat-info")
+        .args(["--preview", "m.map"])
+        .assert()
+        .success();
+    let text = stdout_of(&out);
+    // The report (2 + 4 lines), then one grey strip per level: 8, 4, 2, 1 cells.
+    let strips: Vec<&str> = text.lines().filter(|l| l.contains("\x1b[48;2;")).collect();
+    assert_eq!(strips.len(), 4, "{text}");
+    assert_eq!(strips[0].matches("\x1b[48;2;").count(), 8);
+    assert_eq!(strips[3].matches("\x1b[48;2;").count(), 1);
+    assert!(strips[0].starts_with("\x1b[48;2;0;0;0m "), "{text}");
+});
