@@ -12,6 +12,7 @@ pub mod io;
 pub mod pat;
 pub mod quantize;
 pub mod stream;
+pub mod stripe;
 pub mod texture;
 pub mod transform;
 

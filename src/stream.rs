@@ -360,7 +360,9 @@ impl Record {
                 )
             }
         };
-        if color.is_none() && pattern.is_none() {
+        // A stripe texture (crate::stripe::record) may carry its own colour
+        // code, so it counts as colouring the record.
+        if color.is_none() && pattern.is_none() && !fields.contains_key("stripe") {
             return Err(field_err(
                 index,
                 "no \"color\" and no \"pattern\": expected at least one",
@@ -851,6 +853,13 @@ mod tests {
         assert!(read_all("").unwrap().is_empty());
         assert!(read_all(" \n ").unwrap().is_empty());
         assert!(read_all("[]").unwrap().is_empty());
+    }
+
+    #[test]
+    fn a_stripe_texture_colours_a_record_by_itself() {
+        let recs = read_all(r#"{"vertices":[[0,0],[1,0],[0,1]],"stripe":{"code":3}}"#).unwrap();
+        assert_eq!(recs[0].color, None);
+        assert!(recs[0].fields.contains_key("stripe"));
     }
 
     #[test]
