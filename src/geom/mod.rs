@@ -1,7 +1,19 @@
 //! Planes, clipping and partition of polygons into texture point polygons.
 //!
 //! This file holds what every geometric consumer shares: turning the thesis's
-//! 2D records (`rect`, `circle`, `arc`) into polygons.
+//! 2D records (`rect`, `circle`, `arc`) into polygons. [`plane`] maps a 3D
+//! polygon to its plane, [`clip`] holds the clipping primitives, [`partition`]
+//! cuts a polygon into texture point polygons (`polyfill3`), [`merge`] joins
+//! runs of equal cells and [`cull`] drops what a camera cannot see.
+
+pub mod clip;
+pub mod cull;
+pub mod merge;
+pub mod partition;
+pub mod plane;
+
+pub use partition::{CellSink, Grid, Partitioner, Placement};
+pub use plane::{map_to_plane, Frame, PlaneError, PlanePolygon};
 
 use crate::stream::Shape;
 use glam::DVec3;

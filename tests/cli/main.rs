@@ -8,4 +8,6 @@ mod man_pages;
 mod pat_from_image;
 mod pat_info;
 mod pat_tile;
+mod polyfill3;
+mod stripe;
 mod scene_render;

@@ -1,0 +1,555 @@
+//! `polyfill3`: partition 3D polygons into texture point polygons (the thesis's
+//! `polcolorf3`, ch. IV, with SPEC §2 "object" placement).
+
+use crate::geom::cull::ViewVolume;
+use crate::geom::merge::RunMerger;
+use crate::geom::partition::{estimate_cells, thesis_partition};
+use crate::geom::plane::DEFAULT_PLANARITY_TOL;
+use crate::geom::{map_to_plane, outline, CellSink, Grid, Partitioner, Placement};
+use crate::io::{display_name, Output, STDIO};
+use crate::pat::Pattern;
+use crate::stream::{self, PatternMode, Record, Shape};
+use crate::usage_bail;
+use anyhow::{anyhow, Context, Result};
+use clap::{Parser, ValueEnum};
+use glam::DVec3;
+use serde_json::Value;
+use std::collections::HashMap;
+use std::io::{BufRead, BufReader, Write};
+use std::path::PathBuf;
+use std::rc::Rc;
+use std::time::Instant;
+
+const EXAMPLES: &str = "\
+Examples:
+  polyfill3 scene.json -o cells.json
+      Partition every polygon of scene.json that has a \"pattern\".
+  polyfill3 --pattern bricks.pat --incr 2 --horz -5 faces.json
+      Defaults for polygons whose \"pattern\" leaves them out (the thesis's demo2).
+  polyfill3 --merge scene.json | scene-render -o out.png -
+      Join runs of equal whole cells into fewer polygons.
+  polyfill3 --compat thesis --incr 25 plain.json | wc -l
+      The thesis's own loop, degenerate polygons included (Table 5.1).";
+
+/// Which algorithm partitions the polygons.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Compat {
+    /// The thesis's loop (Fig. 4.7): accumulated grid, inclusive bounds,
+    /// degenerate polygons along the far edges.
+    Thesis,
+}
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "polyfill3",
+    version,
+    about = "Partition 3D polygons into flat-coloured texture point polygons",
+    long_about = "Reads a polygon stream (SPEC §2: a JSON array or NDJSON), and writes, for \
+every polygon with a \"pattern\" in \"object\" mode, one flat-coloured polygon per \
+non-transparent texel cell it covers, in the polygon's plane and winding: the \
+thesis's polcolorf3. Each output record keeps the input's other fields, with \
+\"vertices\" (always [x,y,z]), \"color\" (the texel's colour) and \"texel\": \
+[column, row]. Records without a pattern, and patterns in \"screen\" or \"uv\" \
+mode, pass through unchanged.\n\n\
+Placement (SPEC §2): plane x along the edge vertex0->vertex1 rotated by \
+\"rotate\" degrees counter-clockwise, y 90 degrees counter-clockwise from it \
+seen from the front; texel column floor((x - xmin)/incr - horz) mod SIZE, row \
+floor((y - ymin)/incr - vert) mod SIZE. Concave polygons are supported; a \
+cell whose piece falls apart gives one polygon whose parts are joined by \
+zero-width bridges along the cell's sides. Only cells with positive area are \
+written, and neighbouring cells share their vertices bit for bit.\n\n\
+--json prints a summary (records, polygons, seconds) to standard error.",
+    after_help = EXAMPLES
+)]
+pub struct Args {
+    /// Input polygon stream, `-` for standard input.
+    #[arg(default_value = "-")]
+    pub input: String,
+    /// Output file (NDJSON), `-` for standard output.
+    #[arg(short, long, default_value = "-")]
+    pub output: String,
+    /// Pattern file for records whose "pattern" names no "file" (relative to
+    /// the current directory).
+    #[arg(long, value_name = "FILE")]
+    pub pattern: Option<PathBuf>,
+    /// Side of one texel in world units, for records without "incr".
+    #[arg(long, default_value_t = 1.0)]
+    pub incr: f64,
+    /// Degrees counter-clockwise of the pattern's x from the first edge, for
+    /// records without "rotate".
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub rotate: f64,
+    /// Shift of the pattern right in texels, for records without "horz".
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub horz: f64,
+    /// Shift of the pattern up in texels, for records without "vert".
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub vert: f64,
+    /// Join runs of same-coloured whole cells of a row into one polygon
+    /// (the record gets "cells": how many).
+    #[arg(long)]
+    pub merge: bool,
+    /// Reproduce another algorithm: `thesis` is the thesis's loop, degenerate
+    /// polygons included (horz and vert must be integers).
+    #[arg(long, value_enum)]
+    pub compat: Option<Compat>,
+    /// Largest distance of a vertex from the polygon's plane, relative to the
+    /// polygon's size (bounding-box diagonal).
+    #[arg(long, default_value_t = DEFAULT_PLANARITY_TOL)]
+    pub planarity_tol: f64,
+    /// Refuse a job that would write more polygons than this (estimated from
+    /// each polygon's area / incr² before its cells are written).
+    #[arg(long, default_value_t = 50_000_000)]
+    pub max_polygons: u64,
+    /// Largest distance of a circle's or arc's chords from the true curve, in
+    /// world units (for "circle" and "arc" records).
+    #[arg(long, default_value_t = 0.01)]
+    pub tolerance: f64,
+    /// Camera JSON file (SPEC §3, docs/camera.md) for --cull.
+    #[arg(long, value_name = "FILE")]
+    pub camera: Option<String>,
+    /// Drop polygons facing away from the --camera and cells wholly outside
+    /// its view volume before they are written.
+    #[arg(long, requires = "camera")]
+    pub cull: bool,
+    /// Print a JSON summary to standard error.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Counts for `--json`.
+#[derive(Default, Debug)]
+struct Summary {
+    records: u64,
+    passed: u64,
+    partitioned: u64,
+    culled: u64,
+    polygons: u64,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    if !(args.incr.is_finite() && args.incr > 0.0) {
+        usage_bail!("--incr {}: expected a positive number", args.incr);
+    }
+    for (name, v) in [
+        ("--rotate", args.rotate),
+        ("--horz", args.horz),
+        ("--vert", args.vert),
+    ] {
+        if !v.is_finite() {
+            usage_bail!("{name} {v}: expected a finite number");
+        }
+    }
+    if !(args.planarity_tol >= 0.0 && args.planarity_tol.is_finite()) {
+        usage_bail!(
+            "--planarity-tol {}: expected a number >= 0",
+            args.planarity_tol
+        );
+    }
+    if !(args.tolerance > 0.0 && args.tolerance.is_finite()) {
+        usage_bail!("--tolerance {}: expected a positive number", args.tolerance);
+    }
+    if args.compat.is_some() && args.merge {
+        usage_bail!("--merge and --compat thesis cannot be combined: the thesis does not merge");
+    }
+    if args.camera.is_some() && !args.cull {
+        usage_bail!("--camera is only used by --cull: add --cull, or leave out --camera");
+    }
+    let volume = match &args.camera {
+        Some(path) => {
+            let cam = crate::camera::Camera::load(path)?;
+            Some(ViewVolume::new(cam.view, cam.projection, cam.near, cam.far))
+        }
+        None => None,
+    };
+    let start = Instant::now();
+    let source = display_name(&args.input).to_string();
+    let base = stream::base_dir(&args.input);
+    let reader: Box<dyn BufRead> = if args.input == STDIO {
+        Box::new(BufReader::with_capacity(1 << 16, std::io::stdin().lock()))
+    } else {
+        let f = std::fs::File::open(&args.input).with_context(|| args.input.clone())?;
+        Box::new(BufReader::with_capacity(1 << 16, f))
+    };
+    let out = Output::create(&args.output, false)?;
+    let mut job = Job {
+        args: &args,
+        base,
+        patterns: HashMap::new(),
+        partitioner: Partitioner::new(),
+        writer: CellWriter::new(out),
+        volume,
+        summary: Summary::default(),
+        warned_mode: false,
+    };
+    stream::for_each_record(reader, &source, |rec| {
+        let index = rec.index;
+        job.record(rec)
+            .with_context(|| format!("{source}: record {index}"))
+    })?;
+    job.writer.into_inner()?.commit()?;
+    if args.json {
+        let s = &job.summary;
+        eprintln!(
+            "{}",
+            serde_json::json!({
+                "tool": "polyfill3",
+                "input": source,
+                "records": s.records,
+                "passed_through": s.passed,
+                "partitioned": s.partitioned,
+                "culled": s.culled,
+                "polygons": s.polygons,
+                "seconds": start.elapsed().as_secs_f64(),
+            })
+        );
+    }
+    Ok(())
+}
+
+struct Job<'a> {
+    args: &'a Args,
+    base: PathBuf,
+    patterns: HashMap<PathBuf, Rc<Pattern>>,
+    partitioner: Partitioner,
+    writer: CellWriter<Output>,
+    volume: Option<ViewVolume>,
+    summary: Summary,
+    warned_mode: bool,
+}
+
+impl Job<'_> {
+    fn pattern(&mut self, file: Option<&str>) -> Result<Rc<Pattern>> {
+        let path = match (file, &self.args.pattern) {
+            (Some(f), _) => stream::resolve(&self.base, f),
+            (None, Some(p)) => p.clone(),
+            (None, None) => {
+                return Err(anyhow!(
+                    "pattern: no \"file\" in the record and no --pattern given"
+                ))
+            }
+        };
+        if let Some(p) = self.patterns.get(&path) {
+            return Ok(p.clone());
+        }
+        let p = Rc::new(Pattern::read_file(&path).map_err(|e| anyhow!("pattern: {e}"))?);
+        self.patterns.insert(path, p.clone());
+        Ok(p)
+    }
+
+    fn record(&mut self, rec: Record) -> Result<()> {
+        self.summary.records += 1;
+        let Some(pref) = rec.pattern.clone() else {
+            self.summary.passed += 1;
+            return self.writer.pass(&rec.fields);
+        };
+        let mode = pref.mode.unwrap_or(if rec.uv.is_some() {
+            PatternMode::Uv
+        } else {
+            PatternMode::Object
+        });
+        if mode != PatternMode::Object || rec.uv.is_some() {
+            if !self.warned_mode {
+                crate::cli::warn(
+                    "polyfill3",
+                    format!(
+                        "record {}: patterns in \"screen\" or \"uv\" mode are not partitioned; \
+                         such records pass through unchanged",
+                        rec.index
+                    ),
+                );
+                self.warned_mode = true;
+            }
+            self.summary.passed += 1;
+            return self.writer.pass(&rec.fields);
+        }
+        let pattern = self.pattern(pref.file.as_deref())?;
+        let a = self.args;
+        let place = Placement {
+            incr: pref.incr.unwrap_or(a.incr),
+            horz: pref.horz.unwrap_or(a.horz),
+            vert: pref.vert.unwrap_or(a.vert),
+        };
+        let rotate = pref.rotate.unwrap_or(a.rotate);
+        let vertices = match &rec.shape {
+            Shape::Polygon(v) => v.clone(),
+            other => outline(other, a.tolerance),
+        };
+        let poly = map_to_plane(&vertices, rotate, a.planarity_tol)?;
+        if let Some(vol) = &self.volume {
+            if vol.back_facing(poly.frame.normal, poly.frame.origin) || vol.outside(&vertices) {
+                self.summary.culled += 1;
+                return Ok(());
+            }
+        }
+        let grid = Grid::new(&poly.points, place);
+        let estimate = (poly.area / (place.incr * place.incr)).min(estimate_cells(
+            grid.xmax - grid.xmin,
+            grid.ymax - grid.ymin,
+            place.incr,
+        ));
+        if self.summary.polygons as f64 + estimate > a.max_polygons as f64 {
+            return Err(anyhow!(
+                "about {estimate:.0} polygons at incr {} would take the output past \
+                 --max-polygons {} ({} written so far)",
+                place.incr,
+                a.max_polygons,
+                self.summary.polygons
+            ));
+        }
+        self.writer.begin(
+            &rec,
+            pattern,
+            a.merge,
+            a.max_polygons - self.summary.polygons,
+        );
+        self.writer.volume = self.volume;
+        match a.compat {
+            None => self.partitioner.run(&poly, &grid, &mut self.writer),
+            Some(Compat::Thesis) => {
+                let (h, v) = (place.horz, place.vert);
+                if h.fract() != 0.0 || v.fract() != 0.0 {
+                    return Err(anyhow!(
+                        "--compat thesis: horz {h} and vert {v} must be integers, as in the thesis"
+                    ));
+                }
+                let size = self.writer.pattern_size();
+                thesis_partition(
+                    &poly,
+                    place.incr,
+                    h as i64,
+                    v as i64,
+                    size,
+                    &mut self.writer,
+                )
+            }
+        }
+        self.writer.finish()?;
+        self.summary.partitioned += 1;
+        self.summary.polygons += self.writer.written;
+        Ok(())
+    }
+}
+
+/// The output side of a partition: turns cells into NDJSON records.
+///
+/// Serialization is hand-written (floats by `zmij`, the formatter serde_json
+/// itself uses, so the text is the same): each record is
+/// `{"vertices":[...],"color":[r,g,b],"texel":[c,r]` followed by the input's
+/// other fields, serialized once per input polygon.
+pub struct CellWriter<W: Write> {
+    out: W,
+    /// With `--cull`: cells wholly outside this volume are not written.
+    pub volume: Option<ViewVolume>,
+    pattern: Option<Rc<Pattern>>,
+    /// `,"key":value` for every field carried over, serialized once.
+    rest: Vec<u8>,
+    buf: Vec<u8>,
+    merger: Option<RunMerger>,
+    /// Polygons written for the current input polygon.
+    written: u64,
+    /// Most polygons this input polygon may still write.
+    budget: u64,
+    error: Option<std::io::Error>,
+    float: zmij::Buffer,
+}
+
+/// Fields an output record does not carry over: the geometry, the colour and
+/// the pattern are replaced by the cell's.
+const REPLACED: [&str; 8] = [
+    "vertices", "rect", "circle", "arc", "color", "pattern", "uv", "texel",
+];
+
+/// Bytes of output gathered before they are handed to the output stream.
+const FLUSH_BYTES: usize = 1 << 16;
+
+impl<W: Write> CellWriter<W> {
+    pub fn new(out: W) -> Self {
+        CellWriter {
+            out,
+            volume: None,
+            pattern: None,
+            rest: Vec::new(),
+            buf: Vec::with_capacity(2 * FLUSH_BYTES),
+            merger: None,
+            written: 0,
+            budget: 0,
+            error: None,
+            float: zmij::Buffer::new(),
+        }
+    }
+
+    /// Writes a record unchanged.
+    pub fn pass(&mut self, fields: &serde_json::Map<String, Value>) -> Result<()> {
+        stream::write_ndjson(&mut self.buf, fields)?;
+        if self.buf.len() >= FLUSH_BYTES {
+            self.drain()?;
+        }
+        Ok(())
+    }
+
+    /// Writes what is buffered and returns the output.
+    pub fn into_inner(mut self) -> Result<W> {
+        self.drain()?;
+        Ok(self.out)
+    }
+
+    /// Prepares for the cells of one input record.
+    pub fn begin(&mut self, rec: &Record, pattern: Rc<Pattern>, merge: bool, budget: u64) {
+        self.rest.clear();
+        for (k, v) in &rec.fields {
+            if REPLACED.contains(&k.as_str()) {
+                continue;
+            }
+            self.rest.push(b',');
+            serde_json::to_writer(&mut self.rest, &Value::String(k.clone()))
+                .expect("writing to a Vec cannot fail");
+            self.rest.push(b':');
+            serde_json::to_writer(&mut self.rest, v).expect("writing to a Vec cannot fail");
+        }
+        self.pattern = Some(pattern);
+        self.merger = merge.then(|| self.merger.take().unwrap_or_default());
+        self.written = 0;
+        self.budget = budget;
+        self.error = None;
+    }
+
+    fn pattern_size(&self) -> i64 {
+        self.pattern.as_ref().map_or(16, |p| p.size() as i64)
+    }
+
+    fn texel(&self, k: i64, j: i64) -> (u32, u32, Option<u16>) {
+        let p = self.pattern.as_ref().expect("begin() sets the pattern");
+        let s = p.size() as i64;
+        let (c, r) = (k.rem_euclid(s) as u32, j.rem_euclid(s) as u32);
+        (c, r, p.index_at(c, r))
+    }
+
+    fn write_record(&mut self, col: u32, row: u32, index: u16, world: &[DVec3], cells: usize) {
+        if self.written >= self.budget {
+            self.error.get_or_insert_with(|| {
+                std::io::Error::other("the output would exceed --max-polygons")
+            });
+            return;
+        }
+        let color = self
+            .pattern
+            .as_ref()
+            .expect("begin() sets the pattern")
+            .palette()[index as usize];
+        let b = &mut self.buf;
+        b.extend_from_slice(b"{\"vertices\":[");
+        for (i, p) in world.iter().enumerate() {
+            if i > 0 {
+                b.push(b',');
+            }
+            b.push(b'[');
+            for (n, x) in [p.x, p.y, p.z].into_iter().enumerate() {
+                if n > 0 {
+                    b.push(b',');
+                }
+                // -0.0 is written as 0.0: the same point, and stabler text.
+                b.extend_from_slice(self.float.format_finite(x + 0.0).as_bytes());
+            }
+            b.push(b']');
+        }
+        let [r, g, bl] = color.0;
+        b.extend_from_slice(b"],\"color\":[");
+        push_uint(b, r as u64);
+        b.push(b',');
+        push_uint(b, g as u64);
+        b.push(b',');
+        push_uint(b, bl as u64);
+        b.extend_from_slice(b"],\"texel\":[");
+        push_uint(b, col as u64);
+        b.push(b',');
+        push_uint(b, row as u64);
+        b.push(b']');
+        if cells > 1 {
+            b.extend_from_slice(b",\"cells\":");
+            push_uint(b, cells as u64);
+        }
+        b.extend_from_slice(&self.rest);
+        b.extend_from_slice(b"}\n");
+        self.written += 1;
+        if self.buf.len() >= FLUSH_BYTES {
+            if let Err(e) = self.drain() {
+                self.error.get_or_insert(e);
+            }
+        }
+    }
+
+    fn flush_run(&mut self) {
+        let Some(mut m) = self.merger.take() else {
+            return;
+        };
+        if let Some(run) = m.take() {
+            let (c, r, _) = self.texel(run.first, run.row);
+            let (key, cells) = (run.key as u16, run.cells);
+            let verts = run.vertices.to_vec();
+            self.write_record(c, r, key, &verts, cells);
+        }
+        self.merger = Some(m);
+    }
+
+    fn drain(&mut self) -> std::io::Result<()> {
+        self.out.write_all(&self.buf)?;
+        self.buf.clear();
+        Ok(())
+    }
+
+    /// Writes what is pending for the current record.
+    pub fn finish(&mut self) -> Result<()> {
+        self.flush_run();
+        if let Some(e) = self.error.take() {
+            self.buf.clear();
+            return Err(e.into());
+        }
+        if self.buf.len() >= FLUSH_BYTES {
+            self.drain()?;
+        }
+        Ok(())
+    }
+}
+
+/// Appends an unsigned integer in decimal (`write!` costs more than the rest
+/// of a record's integers together).
+fn push_uint(b: &mut Vec<u8>, mut n: u64) {
+    let mut d = [0u8; 20];
+    let mut i = d.len();
+    loop {
+        i -= 1;
+        d[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    b.extend_from_slice(&d[i..]);
+}
+
+impl<W: Write> CellSink for CellWriter<W> {
+    fn wants(&mut self, k: i64, j: i64) -> bool {
+        self.error.is_none() && self.texel(k, j).2.is_some()
+    }
+
+    fn cell(&mut self, k: i64, j: i64, world: &[DVec3], _plane: &[glam::DVec2], full: bool) {
+        let (c, r, idx) = self.texel(k, j);
+        let Some(idx) = idx else { return };
+        if self.volume.is_some_and(|v| v.outside(world)) {
+            return;
+        }
+        if let Some(m) = self.merger.as_mut() {
+            if full {
+                if !m.continues(k, j, idx as u32) {
+                    self.flush_run();
+                }
+                let m = self.merger.as_mut().expect("merging");
+                m.push(k, j, idx as u32, world);
+                return;
+            }
+            self.flush_run();
+        }
+        self.write_record(c, r, idx, world, 1);
+    }
+}

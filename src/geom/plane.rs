@@ -1,0 +1,300 @@
+//! The plane of a 3D polygon and the 2D frame the pattern is laid in (SPEC §2,
+//! "object" mode; the thesis's `map_to_xy_plane`, ch. IV.B).
+//!
+//! The thesis rotates the polygon into the x-y plane with Euler angles about y
+//! and x. That construction divides by the length of the normal's projection,
+//! which vanishes when the normal lies along an axis. Here the normal is
+//! Newell's (a sum over all edges, exact for any planar polygon and stable for
+//! concave or nearly degenerate ones) and the frame is built directly:
+//! +x along the first edge from vertex 0 that has length in the plane, rotated
+//! by `rotate` degrees counter-clockwise about the normal, +y = n × x. There is
+//! no special direction, so no singularity.
+//!
+//! Plane coordinates are measured from the vertices' centroid, not from the
+//! world origin: a polygon 1e7 away from the origin keeps its full precision in
+//! the plane. Only translation-invariant quantities (xmin, ymin, the grid)
+//! depend on plane coordinates, so the choice of origin does not move the
+//! pattern (SPEC §2 puts it at vertex 0; the offset cancels in `x - xmin`).
+
+use glam::{DVec2, DVec3};
+use std::fmt;
+
+/// A polygon whose area is at most this fraction of the square of its size
+/// (bounding-box diagonal) is rejected as having no area: below it the normal's
+/// direction is dominated by rounding and no frame is meaningful.
+pub const ZERO_AREA_REL: f64 = 1e-12;
+
+/// Default `--planarity-tol`: the largest distance of a vertex from the
+/// polygon's best-fit plane, relative to the polygon's size. 1e-6 accepts
+/// everything written out at single precision and rejects real mistakes.
+pub const DEFAULT_PLANARITY_TOL: f64 = 1e-6;
+
+/// An orthonormal frame in the polygon's plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    /// Point of the plane that plane coordinates (0, 0) map to.
+    pub origin: DVec3,
+    /// Unit +x in the plane.
+    pub ex: DVec3,
+    /// Unit +y in the plane: `normal × ex`, 90° counter-clockwise from +x seen
+    /// from the front.
+    pub ey: DVec3,
+    /// Unit normal, towards the front (the side the vertices are counter-clockwise from).
+    pub normal: DVec3,
+}
+
+impl Frame {
+    /// Plane coordinates of a world point (projected onto the plane).
+    #[inline]
+    pub fn to_plane(&self, p: DVec3) -> DVec2 {
+        let d = p - self.origin;
+        DVec2::new(d.dot(self.ex), d.dot(self.ey))
+    }
+
+    /// The world point of plane coordinates, evaluated as
+    /// `(origin + ey*y) + ex*x` and never otherwise: a grid corner then has the
+    /// same bits whichever cell computes it, and the partition can cache
+    /// `origin + ey*y` per row and `ex*x` per column (see `partition`).
+    #[inline]
+    pub fn to_world(&self, p: DVec2) -> DVec3 {
+        self.row_base(p.y) + self.ex * p.x
+    }
+
+    /// `origin + ey*y`: the world point of plane point (0, y).
+    #[inline]
+    pub fn row_base(&self, y: f64) -> DVec3 {
+        self.origin + self.ey * y
+    }
+}
+
+/// A polygon mapped to its plane.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlanePolygon {
+    pub frame: Frame,
+    /// The vertices in plane coordinates, counter-clockwise (positive area).
+    pub points: Vec<DVec2>,
+    /// Bounding-box diagonal in world units: the scale every tolerance is relative to.
+    pub size: f64,
+    /// Area (world units², positive).
+    pub area: f64,
+}
+
+/// Why a polygon has no plane frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PlaneError {
+    TooFewVertices(usize),
+    NotFinite,
+    ZeroArea {
+        area: f64,
+        size: f64,
+    },
+    NonPlanar {
+        deviation: f64,
+        size: f64,
+        vertex: usize,
+        tolerance: f64,
+    },
+}
+
+impl fmt::Display for PlaneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            PlaneError::TooFewVertices(n) => {
+                write!(f, "a polygon needs at least 3 vertices, found {n}")
+            }
+            PlaneError::NotFinite => f.write_str("a vertex coordinate is not finite"),
+            PlaneError::ZeroArea { area, size } => write!(
+                f,
+                "the polygon has no area (area {area:e} for size {size:e}): its vertices are collinear or repeated"
+            ),
+            PlaneError::NonPlanar {
+                deviation,
+                size,
+                vertex,
+                tolerance,
+            } => write!(
+                f,
+                "the polygon is not planar: vertex {vertex} is {deviation:e} from its plane, \
+                 {:e} of its size {size:e} (--planarity-tol {tolerance:e})",
+                deviation / size
+            ),
+        }
+    }
+}
+
+impl std::error::Error for PlaneError {}
+
+/// Newell's normal of a closed polygon, with vertices taken relative to `c`
+/// for precision. Its length is twice the polygon's area; it points to the
+/// side the vertices are counter-clockwise from.
+pub fn newell_normal(v: &[DVec3], c: DVec3) -> DVec3 {
+    let n = v.len();
+    let mut s = DVec3::ZERO;
+    for i in 0..n {
+        let a = v[i] - c;
+        let b = v[(i + 1) % n] - c;
+        s.x += (a.y - b.y) * (a.z + b.z);
+        s.y += (a.z - b.z) * (a.x + b.x);
+        s.z += (a.x - b.x) * (a.y + b.y);
+    }
+    s
+}
+
+/// Maps a polygon to its plane: Newell normal, planarity check against
+/// `planarity_tol` (relative to the size), frame with +x along the first edge
+/// from vertex 0 rotated `rotate_deg` counter-clockwise.
+pub fn map_to_plane(
+    v: &[DVec3],
+    rotate_deg: f64,
+    planarity_tol: f64,
+) -> Result<PlanePolygon, PlaneError> {
+    if v.len() < 3 {
+        return Err(PlaneError::TooFewVertices(v.len()));
+    }
+    if v.iter().any(|p| !p.is_finite()) || !rotate_deg.is_finite() {
+        return Err(PlaneError::NotFinite);
+    }
+    let (lo, hi) = v
+        .iter()
+        .fold((v[0], v[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    let size = (hi - lo).length();
+    let centroid = v.iter().fold(DVec3::ZERO, |s, &p| s + (p - v[0])) / v.len() as f64 + v[0];
+    let nn = newell_normal(v, centroid);
+    let area = nn.length() / 2.0;
+    if area.is_nan() || area <= ZERO_AREA_REL * size * size {
+        return Err(PlaneError::ZeroArea { area, size });
+    }
+    let normal = nn / (2.0 * area);
+    // Planarity: the distance of every vertex from the plane through the centroid.
+    let (vertex, deviation) = v
+        .iter()
+        .map(|&p| (p - centroid).dot(normal).abs())
+        .enumerate()
+        .fold(
+            (0, 0.0f64),
+            |best, (i, d)| if d > best.1 { (i, d) } else { best },
+        );
+    if deviation > planarity_tol * size {
+        return Err(PlaneError::NonPlanar {
+            deviation,
+            size,
+            vertex,
+            tolerance: planarity_tol,
+        });
+    }
+    // +x: the first edge from vertex 0 with length in the plane. One exists,
+    // since the area is positive.
+    let ex0 = v[1..]
+        .iter()
+        .map(|&p| {
+            let d = p - v[0];
+            d - normal * d.dot(normal)
+        })
+        .find(|d| d.length() > ZERO_AREA_REL.sqrt() * size)
+        .map(|d| d.normalize())
+        .ok_or(PlaneError::ZeroArea { area, size })?;
+    let (s, c) = rotate_deg.to_radians().sin_cos();
+    let ex = if rotate_deg == 0.0 {
+        ex0
+    } else {
+        (ex0 * c + normal.cross(ex0) * s).normalize()
+    };
+    let ey = normal.cross(ex);
+    let frame = Frame {
+        origin: centroid,
+        ex,
+        ey,
+        normal,
+    };
+    let points = v.iter().map(|&p| frame.to_plane(p)).collect();
+    Ok(PlanePolygon {
+        frame,
+        points,
+        size,
+        area,
+    })
+}
+
+/// Signed area of a 2D polygon (positive when counter-clockwise), with
+/// coordinates taken relative to its first vertex for precision.
+pub fn signed_area(p: &[DVec2]) -> f64 {
+    if p.len() < 3 {
+        return 0.0;
+    }
+    let o = p[0];
+    let mut s = 0.0;
+    for i in 1..p.len() - 1 {
+        let a = p[i] - o;
+        let b = p[i + 1] - o;
+        s += a.perp_dot(b);
+    }
+    s / 2.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square_in(frame: DVec3, u: DVec3, w: DVec3) -> Vec<DVec3> {
+        vec![frame, frame + u, frame + u + w, frame + w]
+    }
+
+    #[test]
+    fn normals_along_each_axis_have_a_frame() {
+        let o = DVec3::new(3.0, -2.0, 7.0);
+        for (u, w, n) in [
+            (DVec3::X, DVec3::Y, DVec3::Z),
+            (DVec3::Y, DVec3::X, -DVec3::Z),
+            (DVec3::Y, DVec3::Z, DVec3::X),
+            (DVec3::Z, DVec3::X, DVec3::Y),
+            (DVec3::X, DVec3::Z, -DVec3::Y),
+        ] {
+            let p = map_to_plane(&square_in(o, u * 2.0, w * 2.0), 0.0, 1e-9).unwrap();
+            assert!(
+                (p.frame.normal - n).length() < 1e-15,
+                "{:?}",
+                p.frame.normal
+            );
+            assert!((p.frame.ex - u).length() < 1e-15);
+            assert!((p.area - 4.0).abs() < 1e-12);
+            assert!(signed_area(&p.points) > 0.0);
+            for (q, &w3) in p.points.iter().zip(&square_in(o, u * 2.0, w * 2.0)) {
+                assert!((p.frame.to_world(*q) - w3).length() < 1e-14);
+            }
+        }
+    }
+
+    #[test]
+    fn rotate_turns_x_counter_clockwise_about_the_normal() {
+        let v = square_in(DVec3::ZERO, DVec3::X, DVec3::Y);
+        let p = map_to_plane(&v, 90.0, 1e-9).unwrap();
+        assert!((p.frame.ex - DVec3::Y).length() < 1e-15);
+        assert!((p.frame.ey + DVec3::X).length() < 1e-15);
+    }
+
+    #[test]
+    fn degenerate_and_non_planar_polygons_are_refused() {
+        let line = [DVec3::ZERO, DVec3::X, DVec3::X * 2.0, DVec3::X];
+        assert!(matches!(
+            map_to_plane(&line, 0.0, 1e-6),
+            Err(PlaneError::ZeroArea { .. })
+        ));
+        let warped = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.1), DVec3::Y];
+        let e = map_to_plane(&warped, 0.0, 1e-6).unwrap_err();
+        assert!(matches!(e, PlaneError::NonPlanar { .. }));
+        assert!(e.to_string().contains("not planar"), "{e}");
+        assert!(map_to_plane(&warped, 0.0, 0.1).is_ok());
+    }
+
+    #[test]
+    fn repeated_first_vertex_takes_the_next_edge() {
+        let v = [
+            DVec3::ZERO,
+            DVec3::ZERO,
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(-1.0, 1.0, 0.0),
+        ];
+        let p = map_to_plane(&v, 0.0, 1e-9).unwrap();
+        assert!((p.frame.ex - DVec3::Y).length() < 1e-15);
+    }
+}

@@ -1,0 +1,370 @@
+//! `polyfill3` end to end: pass-through, fields, bad input, the thesis's counts.
+
+use assert_cmd::Command;
+use serde_json::Value;
+use std::path::Path;
+
+fn polyfill3() -> Command {
+    Command::cargo_bin("polyfill3").unwrap()
+}
+
+/// A SIZE x SIZE pattern in the `.pat` text format: every texel colour 0
+/// (opaque), except those `transparent` says.
+fn write_pat(path: &Path, size: usize, transparent: impl Fn(usize, usize) -> bool) {
+    let mut s = format!("{size} 1\n200 100 50\n");
+    for row in 0..size {
+        let words: Vec<String> = (0..size / 16)
+            .map(|w| {
+                let mut bits = 0u16;
+                for b in 0..16 {
+                    if !transparent(w * 16 + b, row) {
+                        bits |= 0x8000 >> b;
+                    }
+                }
+                format!("{bits:04x}")
+            })
+            .collect();
+        s += &words.join(" ");
+        s += "\n";
+    }
+    std::fs::write(path, s).unwrap();
+}
+
+fn lines(out: &[u8]) -> Vec<Value> {
+    std::str::from_utf8(out)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
+fn area(v: &Value) -> f64 {
+    let p: Vec<[f64; 3]> = serde_json::from_value(v["vertices"].clone()).unwrap();
+    let mut n = [0.0; 3];
+    for i in 0..p.len() {
+        let (a, b) = (p[i], p[(i + 1) % p.len()]);
+        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+    }
+    (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() / 2.0
+}
+
+#[test]
+fn records_without_a_pattern_pass_through_byte_for_byte() {
+    let line = r#"{"id":7,"vertices":[[0,0,0],[1,0,0],[0,1,0]],"color":[1,2,3],"tag":{"x":[1.5]}}"#;
+    let out = polyfill3()
+        .write_stdin(format!("{line}\n"))
+        .assert()
+        .success();
+    assert_eq!(
+        String::from_utf8_lossy(&out.get_output().stdout),
+        format!("{line}\n")
+    );
+}
+
+#[test]
+fn cells_carry_unknown_fields_colour_and_texel() {
+    let dir = tempfile::tempdir().unwrap();
+    write_pat(&dir.path().join("p.pat"), 16, |c, r| c == 1 && r == 0);
+    let scene = dir.path().join("s.json");
+    std::fs::write(
+        &scene,
+        r#"[{"id":"sq","vertices":[[0,0],[2,0],[2,2],[0,2]],"pattern":{"file":"p.pat","incr":1},"uv_note":1}]"#,
+    )
+    .unwrap();
+    let out = polyfill3().arg(&scene).assert().success();
+    let recs = lines(&out.get_output().stdout);
+    // 4 cells, texel (1, 0) transparent.
+    assert_eq!(recs.len(), 3);
+    for r in &recs {
+        assert_eq!(r["id"], "sq");
+        assert_eq!(r["uv_note"], 1);
+        assert_eq!(r["color"], serde_json::json!([200, 100, 50]));
+        assert!(r.get("pattern").is_none());
+        assert_eq!(r["vertices"][0].as_array().unwrap().len(), 3);
+    }
+    assert_eq!(recs[0]["texel"], serde_json::json!([0, 0]));
+    assert_eq!(recs[1]["texel"], serde_json::json!([0, 1]));
+    assert_eq!(
+        recs[0]["vertices"],
+        serde_json::json!([
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0]
+        ])
+    );
+}
+
+#[test]
+fn two_d_records_with_a_pattern_are_partitioned() {
+    let dir = tempfile::tempdir().unwrap();
+    write_pat(&dir.path().join("p.pat"), 16, |_, _| false);
+    let out = polyfill3()
+        .current_dir(dir.path())
+        .args(["--pattern", "p.pat", "--incr", "10"])
+        .write_stdin(
+            "{\"rect\":[0,0,100,50],\"pattern\":{}}\n{\"circle\":{\"center\":[0,0],\"radius\":10},\"pattern\":{\"incr\":1}}\n",
+        )
+        .assert()
+        .success();
+    let recs = lines(&out.get_output().stdout);
+    let rect: f64 = recs.iter().take(50).map(area).sum();
+    assert!((rect - 5000.0).abs() < 1e-9);
+    let disc: f64 = recs.iter().skip(50).map(area).sum();
+    // Chords within --tolerance 0.01 of the circle lose about 2/3 * 0.01 * 2πr.
+    assert!((disc - std::f64::consts::PI * 100.0).abs() < 0.5, "{disc}");
+}
+
+#[test]
+fn merge_covers_the_same_area_with_fewer_polygons() {
+    let dir = tempfile::tempdir().unwrap();
+    write_pat(&dir.path().join("p.pat"), 16, |c, _| c % 4 == 3);
+    let scene = r#"{"vertices":[[0,0,0],[30,0,0],[30,0,-20],[0,0,-20]],"pattern":{"file":"p.pat","incr":1.5}}"#;
+    std::fs::write(dir.path().join("s.json"), scene).unwrap();
+    let plain = polyfill3()
+        .current_dir(dir.path())
+        .arg("s.json")
+        .assert()
+        .success();
+    let merged = polyfill3()
+        .current_dir(dir.path())
+        .args(["--merge", "s.json"])
+        .assert()
+        .success();
+    let (a, b) = (
+        lines(&plain.get_output().stdout),
+        lines(&merged.get_output().stdout),
+    );
+    assert!(b.len() * 2 < a.len(), "{} vs {}", b.len(), a.len());
+    let sa: f64 = a.iter().map(area).sum();
+    let sb: f64 = b.iter().map(area).sum();
+    assert!((sa - sb).abs() < 1e-9 * sa);
+    let cells: u64 = b
+        .iter()
+        .map(|r| r.get("cells").and_then(Value::as_u64).unwrap_or(1))
+        .sum();
+    assert_eq!(cells as usize, a.len());
+}
+
+/// The App. C scenes with patterns written in the tempdir: an opaque 64x64
+/// stand-in for the lost pyr.pat, an opaque 16x16 for chex.pat.
+fn demo2(dir: &Path) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/scenes");
+    std::fs::create_dir_all(dir.join("scenes")).unwrap();
+    std::fs::create_dir_all(dir.join("patterns")).unwrap();
+    for f in ["demo2-faces.json", "demo2-plain.json"] {
+        std::fs::copy(root.join(f), dir.join("scenes").join(f)).unwrap();
+    }
+    write_pat(&dir.join("patterns/pyr.pat"), 64, |_, _| false);
+    write_pat(&dir.join("patterns/chex.pat"), 16, |_, _| false);
+}
+
+fn count(dir: &Path, args: &[&str]) -> usize {
+    let out = polyfill3().current_dir(dir).args(args).assert().success();
+    out.get_output()
+        .stdout
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+}
+
+#[test]
+fn thesis_counts_on_the_demo2_scenes() {
+    let dir = tempfile::tempdir().unwrap();
+    demo2(dir.path());
+    let d = dir.path();
+    // The plain: 1,353 in the thesis (19,289 - 17,936), of which 1,280 have area.
+    assert_eq!(
+        count(d, &["--compat", "thesis", "scenes/demo2-plain.json"]),
+        1353
+    );
+    assert_eq!(count(d, &["scenes/demo2-plain.json"]), 1280);
+    // The pyramid at incr 2 (App. C): the thesis counts 17,936; its loop in
+    // double precision gives 17,932 (one touching cell per face fewer).
+    assert_eq!(
+        count(d, &["--compat", "thesis", "scenes/demo2-faces.json"]),
+        17932
+    );
+    assert_eq!(count(d, &["scenes/demo2-faces.json"]), 17928);
+}
+
+#[test]
+fn bad_input_names_the_record_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    write_pat(&dir.path().join("p.pat"), 16, |_, _| false);
+    std::fs::write(dir.path().join("bad.pat"), "16 1\n1 2 3\nzz\n").unwrap();
+    let ok = r#"{"vertices":[[0,0],[1,0],[0,1]],"pattern":{"file":"p.pat"}}"#;
+    let cases: &[(&str, &str)] = &[
+        (
+            r#"{"vertices":[[0,0],[1,0]],"pattern":{"file":"p.pat"}}"#,
+            "at least 3 vertices",
+        ),
+        (
+            r#"{"vertices":[[0,0],[1,0],[2,0]],"pattern":{"file":"p.pat"}}"#,
+            "no area",
+        ),
+        (
+            r#"{"vertices":[[0,0,0],[1,0,0],[1,1,0.5],[0,1,0]],"pattern":{"file":"p.pat"}}"#,
+            "not planar",
+        ),
+        (
+            r#"{"vertices":[[0,0],[1,0],[0,NaN]],"pattern":{"file":"p.pat"}}"#,
+            "invalid JSON",
+        ),
+        (
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"pattern":{"file":"p.pat","incr":0}}"#,
+            "incr",
+        ),
+        (
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"pattern":{"file":"nope.pat"}}"#,
+            "nope.pat",
+        ),
+        (
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"pattern":{"file":"bad.pat"}}"#,
+            "bad.pat",
+        ),
+        (
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"pattern":{}}"#,
+            "no --pattern",
+        ),
+        (
+            r#"{"vertices":[[0,0],[1000,0],[0,1000]],"pattern":{"file":"p.pat","incr":0.01}}"#,
+            "--max-polygons",
+        ),
+    ];
+    for (bad, want) in cases {
+        let out = polyfill3()
+            .current_dir(dir.path())
+            .args(["--max-polygons", "1000000"])
+            .write_stdin(format!("{ok}\n{bad}\n"))
+            .assert()
+            .code(1);
+        let o = out.get_output();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.starts_with("polyfill3: error: <stdin>: record 1"),
+            "{bad}: {err}"
+        );
+        assert!(err.contains(want), "{bad}: {err}");
+        assert!(o.stdout.is_empty(), "{bad}");
+    }
+    // The non-planar error gives the deviation.
+    let out = polyfill3()
+        .current_dir(dir.path())
+        .write_stdin(cases[2].0)
+        .assert()
+        .code(1);
+    assert!(String::from_utf8_lossy(&out.get_output().stderr).contains("from its plane"));
+    // A bad flag is a usage error; a failed run leaves no output file.
+    polyfill3()
+        .args(["--incr", "0"])
+        .write_stdin(ok)
+        .assert()
+        .code(2);
+    polyfill3()
+        .args(["--incr", "-1"])
+        .write_stdin(ok)
+        .assert()
+        .code(2);
+    let target = dir.path().join("out.json");
+    polyfill3()
+        .current_dir(dir.path())
+        .arg("-o")
+        .arg(&target)
+        .write_stdin(format!("{ok}\n{}\n", cases[1].0))
+        .assert()
+        .code(1);
+    assert!(!target.exists());
+}
+
+#[test]
+fn help_has_examples_and_defaults() {
+    let out = polyfill3().arg("--help").assert().success();
+    let s = String::from_utf8_lossy(&out.get_output().stdout).to_string();
+    assert!(s.contains("Examples:"));
+    assert!(s.contains("[default: 1]"));
+    assert!(s.contains("--max-polygons"));
+}
+
+#[test]
+fn cull_drops_back_faces_and_cells_out_of_view() {
+    let dir = tempfile::tempdir().unwrap();
+    demo2(dir.path());
+    let d = dir.path();
+    // The thesis's demo2 camera (docs/camera.md).
+    std::fs::write(
+        d.join("cam.json"),
+        r#"{"lookat": {"eye": [0, 100, -5], "center": [0, 0, -900], "twist": 0},
+            "perspective": {"fovy": 55, "aspect": 1.0, "near": 0, "far": 1000}}"#,
+    )
+    .unwrap();
+    let all = count(d, &["scenes/demo2-plain.json"]);
+    let seen = count(
+        d,
+        &["--camera", "cam.json", "--cull", "scenes/demo2-plain.json"],
+    );
+    // The plain's near cells lie below the 55° view, its far ones are kept.
+    assert!(seen > 0 && seen < all, "{seen} of {all}");
+    // The plain turned over faces away from the camera: nothing is written.
+    let under = r#"{"vertices":[[-500,0,-800],[500,0,-800],[500,0,0],[-500,0,0]],"pattern":{"file":"patterns/chex.pat","incr":25}}"#;
+    std::fs::write(d.join("under.json"), under).unwrap();
+    assert_eq!(
+        count(d, &["--camera", "cam.json", "--cull", "under.json"]),
+        0
+    );
+    // --camera alone is a usage error, --cull alone too.
+    polyfill3()
+        .current_dir(d)
+        .args(["--camera", "cam.json", "under.json"])
+        .assert()
+        .code(2);
+    polyfill3()
+        .current_dir(d)
+        .args(["--cull", "under.json"])
+        .assert()
+        .code(2);
+}
+
+#[test]
+fn json_summary_rotation_and_compat_shifts() {
+    let dir = tempfile::tempdir().unwrap();
+    write_pat(&dir.path().join("p.pat"), 16, |_, _| false);
+    let d = dir.path();
+    let tri = r#"{"vertices":[[0,0,0],[4,0,0],[0,4,0]],"pattern":{"file":"p.pat"}}"#;
+    std::fs::write(
+        d.join("t.json"),
+        format!("{tri}\n{{\"rect\":[0,0,1,1],\"color\":[1,1,1]}}\n"),
+    )
+    .unwrap();
+    let out = polyfill3()
+        .current_dir(d)
+        .args(["--json", "t.json"])
+        .assert()
+        .success();
+    let o = out.get_output();
+    let summary: Value = serde_json::from_slice(&o.stderr).unwrap();
+    assert_eq!(summary["records"], 2);
+    assert_eq!(summary["passed_through"], 1);
+    assert_eq!(summary["partitioned"], 1);
+    let n = o.stdout.iter().filter(|&&b| b == b'\n').count() as u64;
+    assert_eq!(summary["polygons"].as_u64().unwrap() + 1, n);
+    // Rotating the pattern 45 degrees changes the cells, not the area.
+    let out = polyfill3()
+        .current_dir(d)
+        .args(["--rotate", "45", "t.json"])
+        .assert()
+        .success();
+    let recs = lines(&out.get_output().stdout);
+    let cut: Vec<&Value> = recs.iter().filter(|r| r.get("texel").is_some()).collect();
+    assert!((cut.iter().map(|r| area(r)).sum::<f64>() - 8.0).abs() < 1e-12);
+    assert_ne!(cut.len() as u64 + 1, n);
+    // The thesis's loop takes integer shifts only.
+    let out = polyfill3()
+        .current_dir(d)
+        .args(["--compat", "thesis", "--horz", "0.5", "t.json"])
+        .assert()
+        .code(1);
+    assert!(String::from_utf8_lossy(&out.get_output().stderr).contains("must be integers"));
+}
