@@ -324,3 +324,32 @@ clitest!(thesis_demo1_matches_its_golden_image, |dir| {
         .success();
     assert_matches_golden(&out.get_output().stdout, "examples/golden/demo1.png");
 });
+
+clitest!(
+    thesis_demo2_through_polyfill3_matches_its_golden_image,
+    |dir| {
+        // App. C / Fig. 4.10: polyfill3 cuts the pyramid and the plain into texture
+        // point polygons; scene-render draws them through the thesis's camera.
+        let scene = crate::util::repo("examples/scenes/demo2.json");
+        dir.cmd("polyfill3")
+            .arg(&scene)
+            .args(["-o", "demo2.ndjson"])
+            .assert()
+            .success();
+        let bkgrnd = crate::util::repo("fixtures/patterns/bkgrnd.pat");
+        let out = dir
+            .cmd("scene-render")
+            .args([
+                "--perspective",
+                "55,1,0,1000",
+                "--lookat",
+                "0,100,-5,0,0,-900",
+            ])
+            .args(["--cull", "back", "--background-pattern"])
+            .arg(&bkgrnd)
+            .arg("demo2.ndjson")
+            .assert()
+            .success();
+        assert_matches_golden(&out.get_output().stdout, "examples/golden/demo2.png");
+    }
+);
