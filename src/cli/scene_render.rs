@@ -165,13 +165,11 @@ fn run_in_pool(args: Args) -> Result<()> {
         width,
         height,
     };
-    let bg = Background {
-        color: args.background,
-        pattern: match &args.background_pattern {
-            Some(p) => Some(Pattern::read_file(std::path::Path::new(p))?),
-            None => None,
-        },
+    let bg_pattern = match &args.background_pattern {
+        Some(p) => Some(Pattern::read_file(std::path::Path::new(p))?),
+        None => None,
     };
+    let bg = Background::new(args.background, bg_pattern.as_ref());
     let t_read = std::time::Instant::now();
     let polys = read_scene(&args.input, &view, args.cull)?;
     let t_render = std::time::Instant::now();
