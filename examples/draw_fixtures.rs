@@ -172,7 +172,10 @@ fn chex() -> RgbaImage {
 /// smoothly interpolated, so the picture it makes tiles without a seam.
 fn value_noise(x: f64, y: f64, cells: u64, seed: u64) -> f64 {
     let lattice = |i: i64, j: i64| {
-        let (i, j) = (i.rem_euclid(cells as i64) as u64, j.rem_euclid(cells as i64) as u64);
+        let (i, j) = (
+            i.rem_euclid(cells as i64) as u64,
+            j.rem_euclid(cells as i64) as u64,
+        );
         (hash(i * 7919 + j, seed) % 10_000) as f64 / 10_000.0
     };
     let (i, j) = (x.floor() as i64, y.floor() as i64);
@@ -192,7 +195,8 @@ fn marble() -> RgbaImage {
         let mut turbulence = 0.0;
         for (octave, cells) in [4u64, 8, 16, 32].into_iter().enumerate() {
             let scale = cells as f64 / SIDE as f64;
-            turbulence += value_noise(x as f64 * scale, y as f64 * scale, cells, 11) / (1 << octave) as f64;
+            turbulence +=
+                value_noise(x as f64 * scale, y as f64 * scale, cells, 11) / (1 << octave) as f64;
         }
         let phase = 2.0 * PI * (2.0 * x as f64 / SIDE as f64 + y as f64 / SIDE as f64);
         let vein = (phase + 5.0 * turbulence).sin().abs().powf(0.35);

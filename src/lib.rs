@@ -12,7 +12,9 @@ pub mod io;
 pub mod pat;
 pub mod quantize;
 pub mod stream;
+pub mod stripe;
 pub mod texture;
+pub mod transform;
 
 pub use color::Rgb8;
 pub use pat::{ParseError, Pattern, TRANSPARENT};

@@ -55,9 +55,29 @@ pub const EXIT_USAGE: i32 = 2;
 /// run, print the error chain as `TOOL: error: a: b: c`, exit 0/1/2.
 /// A closed output pipe (`| head`) ends the tool quietly with status 0.
 pub fn main<A: clap::Parser>(run: fn(A) -> anyhow::Result<()>) -> ! {
-    let args = A::parse();
     let tool = A::command().get_name().to_string();
+    let args = match A::try_parse() {
+        Ok(args) => args,
+        Err(e) => exit_usage(&tool, e),
+    };
     std::process::exit(report(&tool, run(args)))
+}
+
+/// Prints clap's verdict: `--help` and `--version` to stdout with status 0,
+/// anything else as `TOOL: error: ...` (SPEC §5) with status 2.
+fn exit_usage(tool: &str, e: clap::Error) -> ! {
+    use clap::error::ErrorKind;
+    match e.kind() {
+        ErrorKind::DisplayHelp
+        | ErrorKind::DisplayVersion
+        | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => e.exit(),
+        _ => {
+            let text = e.render().to_string();
+            let text = text.strip_prefix("error: ").unwrap_or(&text);
+            eprint!("{tool}: error: {text}");
+            std::process::exit(EXIT_USAGE)
+        }
+    }
 }
 
 /// Maps a result to an exit status, printing the error if there is one.

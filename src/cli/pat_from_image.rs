@@ -22,6 +22,9 @@ Examples:
       Force the colours of ega.txt (lines `r,g,b` or `#rrggbb`, `#` comments,
       or a .pat file); magenta pixels become transparent texels.
   convert rose: png:- | pat-from-image --report -o rose.pat
+  pat-from-image --stripe --angle 90 --length 512 field.jpg -o furrow.map
+      A stripe modulation map: the image's luminance averaged along the
+      stripes, varying upwards (90 degrees) across them.
 ";
 
 /// Convert an image to a .pat texture pattern.
@@ -92,9 +95,35 @@ pub struct Args {
     /// (8-bit sRGB, over coloured texels) to standard error.
     #[arg(long)]
     pub report: bool,
+
+    /// Write a stripe modulation map instead of a pattern: the image's
+    /// luminance (linear light, alpha-weighted) averaged along the stripes,
+    /// its profile across them resampled to --length entries and encoded to
+    /// 0..=255 sRGB.
+    #[arg(long, conflicts_with_all = ["size", "colors", "dither", "palette", "crop", "transparent", "alpha_threshold", "report"])]
+    pub stripe: bool,
+
+    /// With --stripe: the direction across the stripes, degrees
+    /// counter-clockwise from the image's +x axis (0: the map runs left to
+    /// right; 90: bottom to top).
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "DEG",
+        requires = "stripe",
+        allow_negative_numbers = true
+    )]
+    pub angle: f64,
+
+    /// With --stripe: the map's length, a power of two from 1 to 65536.
+    #[arg(long, default_value_t = crate::stripe::map::DEFAULT_LEN as u64, value_name = "N", requires = "stripe")]
+    pub length: u64,
 }
 
 pub fn run(args: Args) -> Result<()> {
+    if args.stripe {
+        return run_stripe(&args);
+    }
     let size = match pat::check_size(args.size) {
         Ok(s) => s,
         Err(e) => usage_bail!("invalid --size `{}`: {e}", args.size),
@@ -144,6 +173,40 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
+fn run_stripe(args: &Args) -> Result<()> {
+    if let Err(e) = crate::stripe::map::check_len(args.length) {
+        usage_bail!("invalid --length `{}`: {e}", args.length);
+    }
+    if !args.angle.is_finite() {
+        usage_bail!(
+            "invalid --angle `{}`: expected a finite number of degrees",
+            args.angle
+        );
+    }
+    let name = display_name(&args.input);
+    let bytes = io::read_input(&args.input)?;
+    let img = io::decode_image(&bytes, name)?;
+    let map = crate::stripe::from_image::map_from_image(
+        &img,
+        args.angle,
+        args.length,
+        crate::stripe::Fade::default(),
+    )
+    .with_context(|| name.to_string())?;
+    let mut out = Output::create(&args.output, false)?;
+    map.write_canonical(&mut out).with_context(|| {
+        format!(
+            "writing {}",
+            if args.output == io::STDIO {
+                "standard output"
+            } else {
+                &args.output
+            }
+        )
+    })?;
+    out.commit()
+}
+
 fn write_pattern(pattern: &Pattern, output: &str) -> Result<()> {
     let mut out = Output::create(output, false)?;
     pattern.write_canonical(&mut out).with_context(|| {
@@ -157,4 +220,20 @@ fn write_pattern(pattern: &Pattern, output: &str) -> Result<()> {
         )
     })?;
     out.commit()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn arguments_are_consistent_and_the_man_page_renders() {
+        Args::command().debug_assert();
+        let man = crate::cli::man_page(Args::command());
+        assert!(man.contains("pat\\-from\\-image") && man.contains("alpha\\-threshold"));
+        assert!(crate::cli::commands()
+            .iter()
+            .any(|c| c.get_name() == "pat-from-image"));
+    }
 }

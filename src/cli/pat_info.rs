@@ -1,8 +1,15 @@
-//! `pat-info`: examine and validate `.pat` patterns.
+//! `pat-info`: examine and validate `.pat` patterns and stripe modulation
+//! maps (told apart by content: a map starts with `STRIPE`), and print a
+//! polygon record's stripe texture in the seed's terms (seed 001's PVA/TRA
+//! examine commands).
 
 use super::{AlreadyReported, IntPair};
 use crate::io::{display_name, read_input};
 use crate::pat::{Pattern, Seam};
+use crate::stripe::map::ModulationMap;
+use crate::stripe::record::{LoadedStripe, StripeSpec, TranslationSpec};
+use crate::stripe::vector::Orientation;
+use crate::usage_bail;
 use anyhow::Result;
 use clap::Parser;
 use serde_json::{json, Value};
@@ -14,17 +21,29 @@ Examples:
   pat-info --preview fixtures/patterns/*.pat
   pat-info --check *.pat && echo all valid
   pat-info --at 3,5 --json brick.pat | jq '.[0].texel'
-  pat-tile --pat --size 256x256 brick.pat | pat-info -";
+  pat-tile --pat --size 256x256 brick.pat | pat-info -
+  pat-info fixtures/stripes/furrow.map
+      A modulation map: its length and, per level of detail, min/max/mean.
+  pat-info --record 0 scene.json
+      Record 0's stripe texture: spacing, start point, yaw, pitch, ...";
 
-/// Examine multi-colour texture patterns: size, colours and their coverage,
-/// transparency, whether the pattern tiles without a seam, single texels, and a
-/// true-colour terminal preview.
+/// Examine multi-colour texture patterns (size, colours and their coverage,
+/// transparency, whether the pattern tiles without a seam, single texels, a
+/// true-colour terminal preview), stripe modulation maps (length, levels of
+/// detail and their range), and a polygon record's stripe texture.
 #[derive(Parser, Debug)]
 #[command(name = "pat-info", version, after_help = EXAMPLES)]
 pub struct Args {
-    /// Pattern files; `-` reads standard input.
+    /// Pattern (.pat) or modulation map files, or with --record one polygon
+    /// stream; `-` reads standard input.
     #[arg(default_value = "-")]
     pub files: Vec<String>,
+
+    /// Print record N (0-based) of the polygon stream FILE: its stripe texture
+    /// in the seed's terms (spacing, start point, yaw, pitch, translation,
+    /// colour select and colour code).
+    #[arg(long, value_name = "N", conflicts_with_all = ["check", "at", "preview"])]
+    pub record: Option<usize>,
 
     /// Validate only: print nothing on success, one error per invalid file, and
     /// exit 1 if any file is invalid.
@@ -51,12 +70,46 @@ pub struct Args {
 
 /// Runs `pat-info`.
 pub fn run(args: Args) -> Result<()> {
+    if let Some(n) = args.record {
+        if args.files.len() != 1 {
+            usage_bail!("--record takes exactly one polygon stream file");
+        }
+        return record_report(&args.files[0], n, args.json);
+    }
     let mut stdout = std::io::stdout().lock();
     let mut failures = 0usize;
     let mut reports = Vec::new();
     for file in &args.files {
         let name = display_name(file);
-        let result = read_input(file)
+        let bytes = read_input(file);
+        if let Ok(b) = &bytes {
+            if ModulationMap::sniff(b) {
+                let result = ModulationMap::parse(b, name)
+                    .map_err(anyhow::Error::new)
+                    .and_then(|m| match args.at {
+                        Some(_) => anyhow::bail!(
+                            "{name}: --at names a texel of a pattern, but this is a modulation map"
+                        ),
+                        None => Ok(m),
+                    });
+                match result {
+                    Err(e) => {
+                        eprintln!("pat-info: error: {e:#}");
+                        failures += 1;
+                    }
+                    Ok(_) if args.check => {}
+                    Ok(m) if args.json => reports.push(map_json(name, &m)),
+                    Ok(m) => {
+                        write!(stdout, "{}", map_text(name, &m))?;
+                        if args.preview {
+                            write!(stdout, "{}", map_preview(&m, args.preview_size))?;
+                        }
+                    }
+                }
+                continue;
+            }
+        }
+        let result = bytes
             .and_then(|bytes| Pattern::parse(&bytes, name).map_err(anyhow::Error::new))
             .and_then(|p| texel(&p, args.at).map(|t| (p, t)));
         let (pattern, at) = match result {
@@ -213,6 +266,231 @@ fn json_report(name: &str, p: &Pattern, at: Option<(u32, u32, Option<u16>)>) -> 
         };
     }
     obj
+}
+
+fn map_text(name: &str, m: &ModulationMap) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{name}: modulation map, {} entries, {} levels, fade {}",
+        m.len(),
+        m.levels(),
+        m.fade().word()
+    );
+    let _ = writeln!(s, "  level  entries     min     max    mean");
+    for l in m.level_stats() {
+        let _ = writeln!(
+            s,
+            "  {:>5}  {:>7}  {:>6.2}  {:>6.2}  {:>6.2}",
+            l.level, l.entries, l.min, l.max, l.mean
+        );
+    }
+    s
+}
+
+fn map_json(name: &str, m: &ModulationMap) -> Value {
+    let levels: Vec<Value> = m
+        .level_stats()
+        .iter()
+        .map(|l| {
+            json!({"level": l.level, "entries": l.entries, "min": round4(l.min), "max": round4(l.max), "mean": round4(l.mean)})
+        })
+        .collect();
+    json!({
+        "file": name,
+        "kind": "modulation map",
+        "length": m.len(),
+        "fade": m.fade().word(),
+        "levels": levels,
+    })
+}
+
+/// Four decimals: the level statistics are sRGB codes, and f64 noise past
+/// that (61.00000000000001) only distracts.
+fn round4(x: f64) -> f64 {
+    (x * 1e4).round() / 1e4
+}
+
+/// One line of grey cells per level, finest first, at most `max` cells wide.
+fn map_preview(m: &ModulationMap, max: u32) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    for level in m.pyramid() {
+        let step = level.len().div_ceil(max as usize).max(1);
+        for v in level.iter().step_by(step) {
+            let g = crate::color::linear_to_srgb(*v as f32);
+            let _ = write!(s, "\x1b[48;2;{g};{g};{g}m ");
+        }
+        s.push_str("\x1b[0m\n");
+    }
+    s
+}
+
+/// Stops the record scan once record `n` has been found.
+#[derive(Debug)]
+struct Found;
+impl std::fmt::Display for Found {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("found")
+    }
+}
+impl std::error::Error for Found {}
+
+/// `--record N`: the record's stripe texture in the seed's terms.
+fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
+    let name = display_name(file);
+    let bytes = read_input(file)?;
+    let mut found = None;
+    let mut count = 0usize;
+    let scan = crate::stream::for_each_record(bytes.as_slice(), name, |r| {
+        count += 1;
+        if r.index == n {
+            found = Some(r);
+            return Err(Found.into());
+        }
+        Ok(())
+    });
+    match scan {
+        Err(e) if e.downcast_ref::<Found>().is_none() => return Err(e),
+        _ => {}
+    }
+    let Some(record) = found else {
+        anyhow::bail!(
+            "{name}: record {n} does not exist: the stream has {count} record{} (numbered from 0)",
+            if count == 1 { "" } else { "s" }
+        );
+    };
+    let spec = StripeSpec::from_fields(&record.fields)
+        .map_err(|m| anyhow::anyhow!("{name}: record {n}: {m}"))?
+        .ok_or_else(|| anyhow::anyhow!("{name}: record {n} has no \"stripe\" texture"))?;
+    let loaded = spec
+        .load(&crate::stream::base_dir(file))
+        .map_err(|e| e.context(format!("{name}: record {n}")))?;
+    let mut stdout = std::io::stdout().lock();
+    if as_json {
+        serde_json::to_writer_pretty(&mut stdout, &record_json(name, n, &loaded, record.color))?;
+        writeln!(stdout)?;
+    } else {
+        write!(stdout, "{}", record_text(name, n, &loaded, record.color))?;
+    }
+    stdout.flush()?;
+    Ok(())
+}
+
+fn translation_words(t: &TranslationSpec) -> String {
+    match t {
+        TranslationSpec::Identity => "identity (the null translator, slope one)".into(),
+        TranslationSpec::Brightness(b) => format!("brightness {b}"),
+        TranslationSpec::Contrast(c) => format!("contrast {c}"),
+        TranslationSpec::File(f) => format!("file {f}"),
+    }
+}
+
+fn record_text(name: &str, n: usize, l: &LoadedStripe, colour: Option<crate::Rgb8>) -> String {
+    use std::fmt::Write;
+    let v = &l.spec.vector;
+    let len = l.map.len();
+    let (yaw, pitch) = v.orientation.yaw_pitch();
+    let np = v.orientation.normal();
+    let mut s = String::new();
+    let _ = writeln!(s, "{name}: record {n}: stripe texture");
+    let _ = writeln!(
+        s,
+        "  map           {} ({len} entries, {} levels, fade {})",
+        l.spec.map,
+        l.map.levels(),
+        l.map.fade().word()
+    );
+    let _ = writeln!(
+        s,
+        "  spacing       {} (w, world units per sample; repeats every {}; K_p = 1/({len} w) = {})",
+        v.spacing,
+        v.period(len),
+        v.k_p(len)
+    );
+    let _ = writeln!(
+        s,
+        "  start point   {} (sample; P0 = {})",
+        v.phase,
+        v.p0(len)
+    );
+    let _ = writeln!(
+        s,
+        "  yaw           {yaw} (degrees from East, positive North)"
+    );
+    let _ = writeln!(s, "  pitch         {pitch} (degrees above horizontal)");
+    if let Orientation::Plane { plane, theta } = v.orientation {
+        let _ = writeln!(
+            s,
+            "  plane         {} ({}), theta {theta}",
+            plane.name(),
+            plane.seed_name()
+        );
+    }
+    let _ = writeln!(s, "  N_p           {} {} {}", np.x, np.y, np.z);
+    let _ = writeln!(
+        s,
+        "  translation   {}",
+        translation_words(&l.spec.translation)
+    );
+    let _ = writeln!(s, "  select        {}", l.spec.select.name());
+    match l.spec.code {
+        Some(c) => {
+            let rgb = l.colours.get(c);
+            let _ = writeln!(s, "  colour code   {c} ({rgb} {})", rgb.hex());
+        }
+        None => {
+            let _ = match colour {
+                Some(rgb) => writeln!(
+                    s,
+                    "  colour        {rgb} {} (the record's \"color\")",
+                    rgb.hex()
+                ),
+                None => writeln!(s, "  colour        none (no code, no \"color\")"),
+            };
+        }
+    }
+    s
+}
+
+fn record_json(name: &str, n: usize, l: &LoadedStripe, colour: Option<crate::Rgb8>) -> Value {
+    let v = &l.spec.vector;
+    let len = l.map.len();
+    let (yaw, pitch) = v.orientation.yaw_pitch();
+    let np = v.orientation.normal();
+    let mut o = json!({
+        "file": name,
+        "record": n,
+        "map": l.spec.map,
+        "length": len,
+        "levels": l.map.levels(),
+        "fade": l.map.fade().word(),
+        "spacing": v.spacing,
+        "start_point": v.phase,
+        "k_p": v.k_p(len),
+        "p0": v.p0(len),
+        "yaw": yaw,
+        "pitch": pitch,
+        "n_p": [np.x, np.y, np.z],
+        "translation": translation_words(&l.spec.translation),
+        "select": l.spec.select.name(),
+    });
+    if let Orientation::Plane { plane, theta } = v.orientation {
+        o["plane"] = json!(plane.name());
+        o["theta"] = json!(theta);
+    }
+    let face = match l.spec.code {
+        Some(c) => {
+            o["code"] = json!(c);
+            Some(l.colours.get(c))
+        }
+        None => colour,
+    };
+    if let Some(rgb) = face {
+        o["colour"] = json!({"rgb": rgb.0, "hex": rgb.hex()});
+    }
+    o
 }
 
 /// Light and dark greys of the checker that stands for transparency.

@@ -9,3 +9,4 @@ mod pat_from_image;
 mod pat_info;
 mod pat_tile;
 mod polyfill3;
+mod stripe;

@@ -252,3 +252,50 @@ fn bad_inputs_fail_with_the_right_status_and_leave_no_output() {
         "bad.txt:2",
     );
 }
+
+/// Two routes to the same pattern (netpbm's pnmtile.test style): every fixture,
+/// tiled one texel per pixel by `pat-tile` and piped into `pat-from-image`
+/// with enough colours, comes back texel for texel, transparency included.
+#[test]
+fn every_fixture_survives_pat_tile_then_pat_from_image() {
+    for name in ["brick", "wood", "weave", "mod", "bkgrnd", "pyr", "chex"] {
+        let path = crate::util::repo(&format!("fixtures/patterns/{name}.pat"));
+        let original = Pattern::read_file(&path).unwrap();
+        let size = original.size().to_string();
+        let png = Command::cargo_bin("pat-tile")
+            .unwrap()
+            .args([
+                "--size",
+                &format!("{size}x{size}"),
+                "--scale",
+                "1",
+                "--format",
+                "png",
+            ])
+            .arg(&path)
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone();
+        let text = tool()
+            .args(["--size", &size, "--colors", "256", "-"])
+            .write_stdin(png)
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone();
+        let back = Pattern::parse(&text, name).unwrap();
+        assert_eq!(back.size(), original.size(), "{name}");
+        for row in 0..original.size() {
+            for col in 0..original.size() {
+                assert_eq!(
+                    back.color_at(col, row),
+                    original.color_at(col, row),
+                    "{name} texel ({col},{row})"
+                );
+            }
+        }
+    }
+}

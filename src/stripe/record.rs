@@ -1,0 +1,428 @@
+//! The `"stripe"` object of a polygon record (schema in `docs/stripe.md`): the
+//! seed's texture record (texture code → map, pattern vector, translation map;
+//! modulation colour select; face colour code) as JSON that users edit with
+//! ordinary tools, the way the seed's TRA/PVA commands examined and modified it.
+//!
+//! `src/stream.rs` keeps every field of a record in [`Record::fields`]; this
+//! module reads `fields["stripe"]` from there, so the stream's typed API is
+//! unchanged and tools that forward records pass the object through.
+
+use super::map::ModulationMap;
+use super::tables::{ColourTable, Select, Translation};
+use super::vector::{Orientation, PatternVector, RefPlane};
+use super::{LodMode, Modulation, ScreenMapping, StripeTexture};
+use crate::camera::Camera;
+use crate::color::Rgb8;
+use crate::stream::{resolve, Record, Shape};
+use anyhow::{Context, Result};
+use glam::DVec3;
+use serde_json::{Map, Value};
+use std::path::Path;
+use std::sync::Arc;
+
+/// The keys a `"stripe"` object may have.
+pub const KEYS: [&str; 11] = [
+    "map",
+    "spacing",
+    "phase",
+    "yaw",
+    "pitch",
+    "plane",
+    "theta",
+    "translation",
+    "select",
+    "code",
+    "colours",
+];
+
+/// How the record names its translation map.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TranslationSpec {
+    Identity,
+    Brightness(f64),
+    Contrast(f64),
+    /// A translation map file, as written in the record.
+    File(String),
+}
+
+/// A record's stripe texture, checked but not yet loaded.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StripeSpec {
+    /// The modulation map file, as written in the record.
+    pub map: String,
+    /// Orientation, spacing and phase. The phase is in map samples.
+    pub vector: PatternVector,
+    pub translation: TranslationSpec,
+    pub select: Select,
+    /// Face colour code into the colour-code table; without it the record's
+    /// `"color"` is the face colour.
+    pub code: Option<u8>,
+    /// A colour-code table file replacing entries of the default table.
+    pub colours: Option<String>,
+}
+
+fn number(obj: &Map<String, Value>, key: &str) -> Result<Option<f64>, String> {
+    match obj.get(key) {
+        None => Ok(None),
+        Some(v) => match v.as_f64() {
+            Some(x) if x.is_finite() => Ok(Some(x)),
+            _ => Err(format!("stripe.{key}: expected a number, found {v}")),
+        },
+    }
+}
+
+fn string<'a>(
+    obj: &'a Map<String, Value>,
+    key: &str,
+    what: &str,
+) -> Result<Option<&'a str>, String> {
+    match obj.get(key) {
+        None => Ok(None),
+        Some(Value::String(s)) => Ok(Some(s)),
+        Some(v) => Err(format!("stripe.{key}: expected {what}, found {v}")),
+    }
+}
+
+impl StripeSpec {
+    /// The record's stripe texture, if it has a `"stripe"` field. Errors name
+    /// the field as `stripe.KEY`.
+    pub fn from_fields(fields: &Map<String, Value>) -> Result<Option<StripeSpec>, String> {
+        fields.get("stripe").map(StripeSpec::from_value).transpose()
+    }
+
+    /// Parses a `"stripe"` object.
+    pub fn from_value(v: &Value) -> Result<StripeSpec, String> {
+        let obj = v
+            .as_object()
+            .ok_or_else(|| format!("stripe: expected an object, found {v}"))?;
+        if let Some(k) = obj.keys().find(|k| !KEYS.contains(&k.as_str())) {
+            return Err(format!(
+                "stripe.{k}: unknown key: expected one of {}",
+                KEYS.join(", ")
+            ));
+        }
+        let map = string(obj, "map", "the path of a modulation map")?
+            .ok_or("stripe.map: missing: the path of the modulation map file")?
+            .to_string();
+        let spacing = number(obj, "spacing")?
+            .ok_or("stripe.spacing: missing: the world distance w between map samples")?;
+        let phase = number(obj, "phase")?.unwrap_or(0.0);
+        let yaw = number(obj, "yaw")?;
+        let pitch = number(obj, "pitch")?;
+        let plane = string(obj, "plane", "\"xy\", \"yz\" or \"zx\"")?;
+        let theta = number(obj, "theta")?;
+        let has_yaw_pitch = yaw.is_some() || pitch.is_some();
+        let has_plane = plane.is_some() || theta.is_some();
+        let orientation = match (has_yaw_pitch, has_plane) {
+            (true, true) => return Err("stripe: give yaw/pitch or plane/theta, not both".into()),
+            (true, false) => Orientation::YawPitch {
+                yaw: yaw.unwrap_or(0.0),
+                pitch: pitch.unwrap_or(0.0),
+            },
+            (false, true) => {
+                let p = plane.ok_or("stripe.theta: needs \"plane\": xy, yz or zx")?;
+                Orientation::Plane {
+                    plane: RefPlane::parse(p).ok_or_else(|| {
+                        format!("stripe.plane: `{p}` is not a reference plane: expected xy, yz or zx")
+                    })?,
+                    theta: theta.unwrap_or(0.0),
+                }
+            }
+            (false, false) => {
+                return Err(
+                    "stripe: missing orientation: give \"yaw\" (and \"pitch\") or \"plane\" and \"theta\""
+                        .into(),
+                )
+            }
+        };
+        let vector =
+            PatternVector::new(orientation, spacing, phase).map_err(|e| format!("stripe.{e}"))?;
+        let translation = match obj.get("translation") {
+            None => TranslationSpec::Identity,
+            Some(Value::String(s)) if s == "identity" => TranslationSpec::Identity,
+            Some(Value::String(s)) => TranslationSpec::File(s.clone()),
+            Some(Value::Object(t)) if t.len() == 1 => {
+                let (k, v) = t.iter().next().expect("one entry");
+                let x = v.as_f64().filter(|x| x.is_finite()).ok_or_else(|| {
+                    format!("stripe.translation.{k}: expected a number, found {v}")
+                })?;
+                let spec = match k.as_str() {
+                    "brightness" => TranslationSpec::Brightness(x),
+                    "contrast" => TranslationSpec::Contrast(x),
+                    _ => {
+                        return Err(format!(
+                            "stripe.translation.{k}: unknown: expected brightness or contrast"
+                        ))
+                    }
+                };
+                // Check the range now, so the error belongs to the record.
+                spec_table(&spec, Path::new("."))
+                    .map_err(|e| format!("stripe.translation.{e:#}"))?;
+                spec
+            }
+            Some(v) => {
+                return Err(format!(
+                    "stripe.translation: expected \"identity\", a file name, {{\"brightness\": b}} or {{\"contrast\": c}}, found {v}"
+                ))
+            }
+        };
+        let select = match string(obj, "select", "letters of r, g, b")? {
+            None => Select::default(),
+            Some(s) => Select::parse(s).map_err(|e| format!("stripe.{e}"))?,
+        };
+        let code =
+            match obj.get("code") {
+                None => None,
+                Some(v) => Some(v.as_u64().filter(|&c| c <= 255).ok_or_else(|| {
+                    format!("stripe.code: expected a colour code 0..=255, found {v}")
+                })? as u8),
+            };
+        let colours =
+            string(obj, "colours", "the path of a colour-code table")?.map(str::to_string);
+        Ok(StripeSpec {
+            map,
+            vector,
+            translation,
+            select,
+            code,
+            colours,
+        })
+    }
+
+    /// Reads the files the spec names, resolving relative paths against `base`
+    /// (the stream's directory, [`crate::stream::base_dir`]).
+    pub fn load(&self, base: &Path) -> Result<LoadedStripe> {
+        let map_path = resolve(base, &self.map);
+        let map = ModulationMap::read_file(&map_path)?;
+        let translation = spec_table(&self.translation, base)?;
+        let colours = match &self.colours {
+            None => ColourTable::default(),
+            Some(f) => {
+                let path = resolve(base, f);
+                let bytes =
+                    crate::io::read_path(&path).with_context(|| path.display().to_string())?;
+                ColourTable::parse(&bytes, &path.display().to_string())?
+            }
+        };
+        let modulation = Arc::new(Modulation::new(&map, &translation));
+        Ok(LoadedStripe {
+            spec: self.clone(),
+            map,
+            translation,
+            colours,
+            modulation,
+        })
+    }
+}
+
+fn spec_table(spec: &TranslationSpec, base: &Path) -> Result<Translation> {
+    Ok(match spec {
+        TranslationSpec::Identity => Translation::identity(),
+        TranslationSpec::Brightness(b) => Translation::brightness(*b)?,
+        TranslationSpec::Contrast(c) => Translation::contrast(*c)?,
+        TranslationSpec::File(f) => {
+            let path = resolve(base, f);
+            let bytes = crate::io::read_path(&path).with_context(|| path.display().to_string())?;
+            Translation::parse(&bytes, &path.display().to_string())?
+        }
+    })
+}
+
+/// A stripe spec with its files read and its pyramid built.
+#[derive(Clone, Debug)]
+pub struct LoadedStripe {
+    pub spec: StripeSpec,
+    pub map: ModulationMap,
+    pub translation: Translation,
+    pub colours: ColourTable,
+    pub modulation: Arc<Modulation>,
+}
+
+impl LoadedStripe {
+    /// The face colour: colour code `code` of the table, else the record's
+    /// `"color"`, else `default`.
+    pub fn face_colour(&self, record_colour: Option<Rgb8>, default: Rgb8) -> Rgb8 {
+        match self.spec.code {
+            Some(c) => self.colours.get(c),
+            None => record_colour.unwrap_or(default),
+        }
+    }
+
+    /// The per-pixel shader of `record`'s face for `camera` and a
+    /// `width` x `height` image. Fails for shapes with no plane (degenerate
+    /// polygons) and faces seen edge-on.
+    pub fn texture_for(
+        &self,
+        record: &Record,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        mode: LodMode,
+        default_colour: Rgb8,
+    ) -> Result<StripeTexture> {
+        let (normal, point) = face_plane(&record.shape).ok_or_else(|| {
+            anyhow::anyhow!(
+                "record {}: the face has no plane (its vertices are collinear)",
+                record.index
+            )
+        })?;
+        let n = self.map.len();
+        let mapping = ScreenMapping::new(
+            camera,
+            width,
+            height,
+            normal,
+            point,
+            self.spec.vector.gradient(n),
+            self.spec.vector.p0(n),
+        )
+        .with_context(|| format!("record {}", record.index))?;
+        Ok(StripeTexture::new(
+            Arc::clone(&self.modulation),
+            mapping,
+            self.spec.select,
+            self.face_colour(record.color, default_colour),
+            mode,
+        ))
+    }
+}
+
+/// The plane of a shape: unit normal (Newell's method, so a slightly
+/// non-planar polygon gets its best-fit normal) and a point on it. The 2D
+/// primitives lie in z = 0 facing +z.
+pub fn face_plane(shape: &Shape) -> Option<(DVec3, DVec3)> {
+    match shape {
+        Shape::Polygon(v) => {
+            let mut n = DVec3::ZERO;
+            for i in 0..v.len() {
+                let (a, b) = (v[i], v[(i + 1) % v.len()]);
+                n += DVec3::new(
+                    (a.y - b.y) * (a.z + b.z),
+                    (a.z - b.z) * (a.x + b.x),
+                    (a.x - b.x) * (a.y + b.y),
+                );
+            }
+            let len = n.length();
+            (len > 0.0 && len.is_finite()).then(|| (n / len, v[0]))
+        }
+        _ => Some((DVec3::Z, DVec3::ZERO)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    fn spec(v: Value) -> Result<StripeSpec, String> {
+        StripeSpec::from_value(&v)
+    }
+
+    #[test]
+    fn a_full_record_parses() {
+        let s = spec(
+            json!({"map": "furrow.map", "spacing": 0.5, "phase": 12, "yaw": 30, "pitch": -10,
+            "translation": {"contrast": 1.5}, "select": "g", "code": 20, "colours": "c.ct"}),
+        )
+        .unwrap();
+        assert_eq!(s.map, "furrow.map");
+        assert_eq!(s.vector.spacing, 0.5);
+        assert_eq!(s.vector.phase, 12.0);
+        assert_eq!(
+            s.vector.orientation,
+            Orientation::YawPitch {
+                yaw: 30.0,
+                pitch: -10.0
+            }
+        );
+        assert_eq!(s.translation, TranslationSpec::Contrast(1.5));
+        assert_eq!(s.select, Select([false, true, false]));
+        assert_eq!((s.code, s.colours.as_deref()), (Some(20), Some("c.ct")));
+        let p = spec(
+            json!({"map": "m", "spacing": 1, "plane": "zx", "theta": 45, "translation": "t.tm"}),
+        )
+        .unwrap();
+        assert_eq!(
+            p.vector.orientation,
+            Orientation::Plane {
+                plane: RefPlane::Zx,
+                theta: 45.0
+            }
+        );
+        assert_eq!(p.translation, TranslationSpec::File("t.tm".into()));
+        assert_eq!(p.select, Select::default());
+    }
+
+    #[test]
+    fn bad_values_are_named_by_field() {
+        let base = json!({"map": "m", "spacing": 1, "yaw": 0});
+        let with = |k: &str, v: Value| {
+            let mut o = base.clone();
+            o[k] = v;
+            spec(o).unwrap_err()
+        };
+        assert_eq!(with("spacing", json!(0)), "stripe.spacing: 0 is not positive: the spacing w is the world distance between map samples");
+        assert!(with("spacing", json!(-2.5)).starts_with("stripe.spacing: -2.5 is not positive"));
+        assert_eq!(
+            with("yaw", json!(400)),
+            "stripe.yaw: 400 is out of range: expected 0 to 360 degrees"
+        );
+        assert_eq!(
+            with("pitch", json!(-91)),
+            "stripe.pitch: -91 is out of range: expected -90 to 90 degrees"
+        );
+        assert!(with("select", json!("rq")).contains("stripe.select: `rq`: `q` is not a colour"));
+        assert!(with("code", json!(256)).contains("stripe.code: expected a colour code 0..=255"));
+        assert!(with("translation", json!({"brightness": 999}))
+            .contains("stripe.translation.brightness: 999 is out of range"));
+        assert!(
+            with("translation", json!({"gamma": 2})).contains("stripe.translation.gamma: unknown")
+        );
+        assert!(with("plane", json!("zx")).contains("not both"));
+        assert!(with("spaceing", json!(1)).contains("stripe.spaceing: unknown key"));
+        assert!(spec(json!({"map": "m", "spacing": 1}))
+            .unwrap_err()
+            .contains("missing orientation"));
+        assert!(spec(json!({"spacing": 1, "yaw": 0}))
+            .unwrap_err()
+            .contains("stripe.map: missing"));
+        assert!(spec(json!({"map": "m", "yaw": 0}))
+            .unwrap_err()
+            .contains("stripe.spacing: missing"));
+        assert!(
+            spec(json!({"map": "m", "spacing": 1, "plane": "xz", "theta": 500}))
+                .unwrap_err()
+                .contains("stripe.theta: 500")
+        );
+        assert!(spec(json!({"map": "m", "spacing": 1, "plane": "up"}))
+            .unwrap_err()
+            .contains("`up` is not a reference plane"));
+        assert!(spec(json!([1]))
+            .unwrap_err()
+            .contains("stripe: expected an object"));
+    }
+
+    #[test]
+    fn records_without_stripe_have_none() {
+        let fields = json!({"vertices": [[0,0],[1,0],[0,1]]});
+        assert_eq!(
+            StripeSpec::from_fields(fields.as_object().unwrap()),
+            Ok(None)
+        );
+    }
+
+    #[test]
+    fn newell_normal_follows_counter_clockwise_order() {
+        let sq = Shape::Polygon(vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, -1.0),
+            DVec3::new(0.0, 0.0, -1.0),
+        ]);
+        // Counter-clockwise seen from above (x right, north = -z up the page): the normal points up.
+        let (n, _) = face_plane(&sq).unwrap();
+        assert!((n - DVec3::Y).length() < 1e-15, "{n}");
+        let line = Shape::Polygon(vec![DVec3::ZERO, DVec3::X, DVec3::X * 2.0]);
+        assert_eq!(face_plane(&line), None);
+    }
+}

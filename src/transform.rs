@@ -1,0 +1,389 @@
+//! 3D transformations (Harrington ch. 8, Alg. 8.7-8.11 and "Rotation about an
+//! arbitrary axis"): translation, scaling, rotation about x, y, z and about any
+//! axis through any point, and 4x4 matrices.
+//!
+//! The textbook multiplies ROW vectors, `[x y z 1] · T1 · T2 ...`, so a list of
+//! steps is applied in the order it is written: the first step moves the
+//! points first. In JSON a transform is that list:
+//!
+//! ```json
+//! "transform": [{"rotate": 90, "axis": "y"}, {"translate": [0, 0, -500]}]
+//! ```
+//!
+//! rotates by 90° about y, then translates: IRIS's `translate(0,0,-500);
+//! rotate(900,'Y'); callobj(...)` (IRIS post-multiplies column-style, so its
+//! calls read in the reverse order). Rotations are right-handed (x: y into z,
+//! y: z into x, z: x into y), angles in degrees. `{"matrix": [[..4..] x4]}` is
+//! in the textbook's row-vector layout: the translation is the last row, and the
+//! last column must be `0 0 0 1` (affine).
+//!
+//! Internally a transform is a glam column-vector matrix (`M_col = M_rowᵀ`).
+
+use glam::{DMat3, DMat4, DVec3};
+use serde_json::Value;
+use std::fmt;
+
+/// A transform whose 3x3 part has |det| below this, relative to the cube of its
+/// largest entry, squashes space onto a plane or line: it cannot be undone and
+/// makes polygons degenerate, so it is rejected as singular.
+pub const SINGULAR_RELATIVE_DET: f64 = 1e-12;
+/// An arbitrary rotation axis shorter than this is no direction.
+pub const MIN_AXIS_LENGTH: f64 = 1e-300;
+/// How far a matrix may be from a similarity (rotation times uniform scale),
+/// relative, and still count as one: object-mode patterns survive only those.
+pub const SIMILARITY_TOLERANCE: f64 = 1e-9;
+
+/// An invertible affine 3D transform.
+///
+/// Guarantees: every entry is finite; the last row (column-vector form) is
+/// `0 0 0 1`; the linear part is not singular.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transform(DMat4);
+
+/// Why a transform was refused, naming the step.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TransformError(pub String);
+
+impl fmt::Display for TransformError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+impl std::error::Error for TransformError {}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Transform::IDENTITY
+    }
+}
+
+impl Transform {
+    pub const IDENTITY: Transform = Transform(DMat4::IDENTITY);
+
+    /// Alg. 8.8 TRANSLATE-3.
+    pub fn translate(t: DVec3) -> Transform {
+        Transform(DMat4::from_translation(t))
+    }
+
+    /// Scaling about the origin; zero factors are singular and refused.
+    pub fn scale(s: DVec3) -> Result<Transform, TransformError> {
+        Transform::checked(DMat4::from_scale(s))
+    }
+
+    /// Alg. 8.9-8.11: right-handed rotation by `degrees` about a unit axis.
+    pub fn rotate_axis(axis: DVec3, degrees: f64) -> Result<Transform, TransformError> {
+        let len = axis.length();
+        if len.is_nan() || len <= MIN_AXIS_LENGTH || !len.is_finite() {
+            return Err(TransformError(format!(
+                "rotation axis [{}, {}, {}] has no direction",
+                axis.x, axis.y, axis.z
+            )));
+        }
+        Ok(Transform(DMat4::from_axis_angle(
+            axis / len,
+            degrees.to_radians(),
+        )))
+    }
+
+    /// Rotation about the line through `point` along `axis`: translate the
+    /// axis to the origin, rotate, translate back (the textbook's steps (b)-(h),
+    /// with the two alignment rotations folded into one axis-angle rotation).
+    pub fn rotate_about(
+        point: DVec3,
+        axis: DVec3,
+        degrees: f64,
+    ) -> Result<Transform, TransformError> {
+        let r = Transform::rotate_axis(axis, degrees)?;
+        Ok(Transform::translate(-point)
+            .then(r)
+            .then(Transform::translate(point)))
+    }
+
+    /// From a matrix in the textbook's row-vector layout (`[x y z 1] · M`).
+    pub fn from_row_matrix(rows: [[f64; 4]; 4]) -> Result<Transform, TransformError> {
+        if rows[0][3] != 0.0 || rows[1][3] != 0.0 || rows[2][3] != 0.0 || rows[3][3] != 1.0 {
+            return Err(TransformError(format!(
+                "matrix: the last column is [{}, {}, {}, {}], expected [0, 0, 0, 1] (an affine transform)",
+                rows[0][3], rows[1][3], rows[2][3], rows[3][3]
+            )));
+        }
+        // Row-vector M is the transpose of the column-vector matrix; glam's
+        // from_cols_array_2d takes columns, which are exactly the rows of M.
+        Transform::checked(DMat4::from_cols_array_2d(&rows))
+    }
+
+    fn checked(m: DMat4) -> Result<Transform, TransformError> {
+        if !m.to_cols_array().iter().all(|x| x.is_finite()) {
+            return Err(TransformError("a matrix entry is not finite".into()));
+        }
+        let lin = DMat3::from_mat4(m);
+        let scale = lin
+            .to_cols_array()
+            .iter()
+            .fold(0.0f64, |a, &x| a.max(x.abs()));
+        let det = lin.determinant();
+        if scale == 0.0 || det.abs() <= SINGULAR_RELATIVE_DET * scale.powi(3) {
+            return Err(TransformError(format!(
+                "singular: determinant {det:e} squashes space flat, so polygons would vanish"
+            )));
+        }
+        Ok(Transform(m))
+    }
+
+    /// This transform followed by `next` (row-vector order: `self · next`).
+    pub fn then(self, next: Transform) -> Transform {
+        Transform(next.0 * self.0)
+    }
+
+    /// The column-vector matrix.
+    pub fn matrix(&self) -> DMat4 {
+        self.0
+    }
+
+    pub fn apply(&self, p: DVec3) -> DVec3 {
+        self.0.transform_point3(p)
+    }
+
+    /// The matrix in the textbook's row-vector layout.
+    pub fn row_matrix(&self) -> [[f64; 4]; 4] {
+        self.0.to_cols_array_2d()
+    }
+
+    /// The uniform scale factor when the linear part is a similarity (a
+    /// rotation or reflection times one scale), else `None`.
+    pub fn similarity_scale(&self) -> Option<f64> {
+        let lin = DMat3::from_mat4(self.0);
+        let s = lin.determinant().abs().cbrt();
+        let gram = lin.transpose() * lin / (s * s);
+        let off = (gram - DMat3::IDENTITY)
+            .to_cols_array()
+            .iter()
+            .fold(0.0f64, |a, &x| a.max(x.abs()));
+        (off <= SIMILARITY_TOLERANCE).then_some(s)
+    }
+
+    /// True when the transform mirrors space (negative determinant): windings
+    /// seen from the front reverse.
+    pub fn mirrors(&self) -> bool {
+        DMat3::from_mat4(self.0).determinant() < 0.0
+    }
+
+    /// Parses a JSON transform: a list of steps applied in order (or one step).
+    pub fn from_json(v: &Value) -> Result<Transform, TransformError> {
+        let steps: Vec<&Value> = match v {
+            Value::Array(a) => a.iter().collect(),
+            Value::Object(_) => vec![v],
+            other => {
+                return Err(TransformError(format!(
+                    "transform: expected a list of steps, found {other}"
+                )))
+            }
+        };
+        let mut t = Transform::IDENTITY;
+        for (i, step) in steps.iter().enumerate() {
+            let s =
+                parse_step(step).map_err(|e| TransformError(format!("transform step {i}: {e}")))?;
+            t = t.then(s);
+        }
+        Ok(t)
+    }
+}
+
+fn vec3(v: &Value, what: &str) -> Result<DVec3, String> {
+    let a = v
+        .as_array()
+        .filter(|a| a.len() == 3)
+        .ok_or_else(|| format!("{what}: expected [x, y, z], found {v}"))?;
+    let mut out = [0.0; 3];
+    for (o, x) in out.iter_mut().zip(a) {
+        *o = x
+            .as_f64()
+            .filter(|f| f.is_finite())
+            .ok_or_else(|| format!("{what}: expected finite numbers, found {v}"))?;
+    }
+    Ok(DVec3::from_array(out))
+}
+
+fn number(v: &Value, what: &str) -> Result<f64, String> {
+    v.as_f64()
+        .filter(|f| f.is_finite())
+        .ok_or_else(|| format!("{what}: expected a finite number, found {v}"))
+}
+
+fn parse_step(v: &Value) -> Result<Transform, String> {
+    let obj = v.as_object().ok_or_else(|| {
+        format!("expected an object such as {{\"translate\": [x,y,z]}}, found {v}")
+    })?;
+    let allowed: &[&str] = if obj.contains_key("translate") {
+        &["translate"]
+    } else if obj.contains_key("scale") {
+        &["scale", "about"]
+    } else if obj.contains_key("rotate") {
+        &["rotate", "axis", "point"]
+    } else if obj.contains_key("matrix") {
+        &["matrix"]
+    } else {
+        return Err(format!(
+            "expected one of \"translate\", \"scale\", \"rotate\", \"matrix\", found {v}"
+        ));
+    };
+    if let Some(k) = obj.keys().find(|k| !allowed.contains(&k.as_str())) {
+        return Err(format!("unexpected key \"{k}\" beside \"{}\"", allowed[0]));
+    }
+    if let Some(t) = obj.get("translate") {
+        return Ok(Transform::translate(vec3(t, "translate")?));
+    }
+    if let Some(s) = obj.get("scale") {
+        let factors = match s {
+            Value::Array(_) => vec3(s, "scale")?,
+            _ => DVec3::splat(number(s, "scale")?),
+        };
+        let scale = Transform::scale(factors).map_err(|e| format!("scale: {e}"))?;
+        return Ok(match obj.get("about") {
+            Some(p) => {
+                let p = vec3(p, "about")?;
+                Transform::translate(-p)
+                    .then(scale)
+                    .then(Transform::translate(p))
+            }
+            None => scale,
+        });
+    }
+    if let Some(r) = obj.get("rotate") {
+        let degrees = number(r, "rotate")?;
+        let axis = match obj.get("axis") {
+            None => return Err("rotate: needs \"axis\": \"x\", \"y\", \"z\" or [x, y, z]".into()),
+            Some(Value::String(s)) => match s.to_ascii_lowercase().as_str() {
+                "x" => DVec3::X,
+                "y" => DVec3::Y,
+                "z" => DVec3::Z,
+                other => return Err(format!("axis: `{other}` is not x, y, z or [x, y, z]")),
+            },
+            Some(a) => vec3(a, "axis")?,
+        };
+        let point = obj.get("point").map(|p| vec3(p, "point")).transpose()?;
+        let r = match point {
+            Some(p) => Transform::rotate_about(p, axis, degrees),
+            None => Transform::rotate_axis(axis, degrees),
+        };
+        return r.map_err(|e| format!("rotate: {e}"));
+    }
+    let m = &obj["matrix"];
+    let rows = m
+        .as_array()
+        .filter(|r| r.len() == 4)
+        .ok_or_else(|| format!("matrix: expected 4 rows of 4 numbers, found {m}"))?;
+    let mut out = [[0.0; 4]; 4];
+    for (i, row) in rows.iter().enumerate() {
+        let r = row
+            .as_array()
+            .filter(|r| r.len() == 4)
+            .ok_or_else(|| format!("matrix row {i}: expected 4 numbers, found {row}"))?;
+        for (j, x) in r.iter().enumerate() {
+            out[i][j] = number(x, &format!("matrix[{i}][{j}]"))?;
+        }
+    }
+    Transform::from_row_matrix(out).map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    fn close(a: DVec3, b: DVec3) -> bool {
+        (a - b).length() < 1e-9 * (1.0 + b.length())
+    }
+
+    #[test]
+    fn rotations_are_right_handed_like_alg_8_9_to_8_11() {
+        let r = |axis: &str, p: DVec3| {
+            Transform::from_json(&json!({"rotate": 90, "axis": axis}))
+                .unwrap()
+                .apply(p)
+        };
+        // x: y into z; y: z into x; z: x into y.
+        assert!(close(r("x", DVec3::Y), DVec3::Z));
+        assert!(close(r("y", DVec3::Z), DVec3::X));
+        assert!(close(r("z", DVec3::X), DVec3::Y));
+    }
+
+    #[test]
+    fn steps_apply_in_the_order_written_like_row_vectors() {
+        let t = Transform::from_json(&json!([
+            {"rotate": 90, "axis": "y"},
+            {"translate": [0, 0, -500]}
+        ]))
+        .unwrap();
+        // (100,0,0) rotates to (0,0,-100), then moves to (0,0,-600).
+        assert!(close(
+            t.apply(DVec3::new(100.0, 0.0, 0.0)),
+            DVec3::new(0.0, 0.0, -600.0)
+        ));
+        // The row-vector matrix has the translation in its last row.
+        let m = Transform::from_json(&json!({"translate": [1, 2, 3]}))
+            .unwrap()
+            .row_matrix();
+        assert_eq!(m[3], [1.0, 2.0, 3.0, 1.0]);
+    }
+
+    #[test]
+    fn matrix_step_uses_the_textbook_layout() {
+        let t =
+            Transform::from_json(&json!({"matrix": [[0,1,0,0],[-1,0,0,0],[0,0,1,0],[5,6,7,1]]}))
+                .unwrap();
+        // [1 0 0 1] · M = [0 1 0 0] + [5 6 7 1]: rotate x into y, then translate.
+        assert!(close(t.apply(DVec3::X), DVec3::new(5.0, 7.0, 7.0)));
+    }
+
+    #[test]
+    fn rotation_about_an_arbitrary_axis_through_a_point_fixes_the_axis() {
+        let p = DVec3::new(3.0, -2.0, 7.0);
+        let axis = DVec3::new(1.0, 2.0, 2.0);
+        let t = Transform::rotate_about(p, axis, 37.0).unwrap();
+        assert!(close(t.apply(p), p));
+        assert!(close(t.apply(p + axis * 4.0), p + axis * 4.0));
+        // A full turn is the identity; three 120° turns about (1,1,1) cycle the axes.
+        let full = Transform::rotate_about(p, axis, 360.0).unwrap();
+        assert!(close(full.apply(DVec3::ONE), DVec3::ONE));
+        let third = Transform::rotate_axis(DVec3::ONE, 120.0).unwrap();
+        assert!(close(third.apply(DVec3::X), DVec3::Y));
+    }
+
+    #[test]
+    fn scale_about_a_point_and_similarity() {
+        let t = Transform::from_json(&json!({"scale": 2, "about": [1, 1, 1]})).unwrap();
+        assert!(close(
+            t.apply(DVec3::new(2.0, 1.0, 1.0)),
+            DVec3::new(3.0, 1.0, 1.0)
+        ));
+        assert!((t.similarity_scale().unwrap() - 2.0).abs() < 1e-12);
+        let r = Transform::rotate_axis(DVec3::new(1.0, 2.0, 3.0), 33.0).unwrap();
+        assert!((r.similarity_scale().unwrap() - 1.0).abs() < 1e-12);
+        let squash = Transform::from_json(&json!({"scale": [1, 2, 1]})).unwrap();
+        assert_eq!(squash.similarity_scale(), None);
+        let mirror = Transform::from_json(&json!({"scale": [-1, 1, 1]})).unwrap();
+        assert!(mirror.mirrors());
+    }
+
+    #[test]
+    fn singular_and_non_finite_transforms_are_errors_naming_the_step() {
+        let e = |v: Value| Transform::from_json(&v).unwrap_err().to_string();
+        assert!(e(json!([{"translate": [1, 2, 3]}, {"scale": [1, 0, 1]}]))
+            .starts_with("transform step 1: scale: singular"));
+        assert!(
+            e(json!({"matrix": [[1,0,0,0],[0,1,0,0],[1,1,0,0],[0,0,0,1]]})).contains("singular")
+        );
+        assert!(
+            e(json!({"matrix": [[1,0,0,1],[0,1,0,0],[0,0,1,0],[0,0,0,1]]})).contains("last column")
+        );
+        assert!(e(json!({"rotate": 10, "axis": [0, 0, 0]})).contains("has no direction"));
+        assert!(e(json!({"rotate": 10})).contains("needs \"axis\""));
+        assert!(e(json!({"rotate": 10, "axis": "w"})).contains("`w` is not x, y, z"));
+        assert!(e(json!({"translate": [1, 2]})).contains("expected [x, y, z]"));
+        assert!(e(json!({"spin": 3})).contains("expected one of"));
+        assert!(e(json!({"translate": [1, 2, 3], "scale": 2})).contains("unexpected key"));
+        assert!(e(json!({"scale": 1e-200})).contains("singular"));
+        assert!(e(json!("x")).starts_with("transform: expected a list"));
+    }
+}
