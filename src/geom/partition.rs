@@ -175,6 +175,7 @@ pub struct Partitioner {
     ranges: Vec<(i64, i64)>,
     segs: Vec<(DVec2, DVec2)>,
     rings: Vec<Vec<DVec2>>,
+    run: Vec<TVertex>,
 }
 
 impl Partitioner {
@@ -304,13 +305,41 @@ impl Partitioner {
                 }
                 r += 1;
                 let bhi = bhi.min(kend);
+                // For a concave polygon the strip can be long (many edges
+                // cross it): cut out this run's slab first, so that each cell
+                // clips only the few vertices of its own run. The slab's
+                // bridges are undone by `split_on_border` below.
+                let source = if convex || bhi == cursor {
+                    &self.strip
+                } else {
+                    let (x0, x1) = (grid.gx(cursor), grid.gx(bhi + 1));
+                    clip_tagged(
+                        &self.strip,
+                        orig,
+                        Axis::X,
+                        x0,
+                        true,
+                        (ylo, yhi),
+                        &mut self.tmp,
+                    );
+                    clip_tagged(
+                        &self.tmp,
+                        orig,
+                        Axis::X,
+                        x1,
+                        false,
+                        (ylo, yhi),
+                        &mut self.run,
+                    );
+                    &self.run
+                };
                 for k in cursor..=bhi {
                     if !sink.wants(k, j) {
                         continue;
                     }
                     let (xl, xr) = (grid.gx(k), grid.gx(k + 1));
                     clip_tagged(
-                        &self.strip,
+                        source,
                         orig,
                         Axis::X,
                         xl,
