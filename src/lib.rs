@@ -11,6 +11,7 @@ pub mod geom;
 pub mod io;
 pub mod pat;
 pub mod quantize;
+pub mod raster;
 pub mod stream;
 pub mod stripe;
 pub mod texture;

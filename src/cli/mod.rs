@@ -13,6 +13,7 @@ pub mod pat_from_image;
 pub mod pat_info;
 pub mod pat_tile;
 pub mod polyfill3;
+pub mod scene_render;
 
 /// A usage error found after clap's own parsing (contradictory flags, values out
 /// of range): reported like any error, but the exit status is 2.
@@ -163,6 +164,7 @@ pub fn commands() -> Vec<clap::Command> {
         pat_info::Args::command(),
         pat_tile::Args::command(),
         polyfill3::Args::command(),
+        scene_render::Args::command(),
     ]
 }
 

@@ -9,4 +9,5 @@ mod pat_from_image;
 mod pat_info;
 mod pat_tile;
 mod polyfill3;
+mod scene_render;
 mod stripe;

@@ -1,0 +1,3 @@
+fn main() {
+    patkit::cli::main(patkit::cli::scene_render::run)
+}

@@ -1,0 +1,535 @@
+//! Exact-area anti-aliasing (`--aa exact`): each pixel is the box-filtered
+//! (area-weighted) linear-light mean of what is visible in its square.
+//!
+//! 1. **Fragments.** Each convex piece of a polygon (the polygon itself, or its
+//!    ear-clipping triangles when concave) is cut into pixel rows and then into
+//!    pixels by axis clipping; new vertices take the grid coordinate exactly, and
+//!    crossings of an edge are computed from its inside endpoint, so the
+//!    fragments of polygons that share an edge meet exactly. Pixels whose four
+//!    corners lie in the piece are marked *full* without any clipping.
+//! 2. **Visibility.** Nearness is affine over the screen, so the part of
+//!    fragment G in front of fragment F is G cut by one line (where
+//!    `q_G - q_F > 0`): a convex polygon. The visible part of F is F minus the
+//!    union of those pieces over every other G, computed by convex subtraction
+//!    (the remainder stays a list of convex polygons). This is exact for
+//!    interpenetrating polygons too, with no depth sorting.
+//! 3. **Blend.** The pixel is `sum(area_F * colour_F) + (1 - sum(area_F)) * bg`
+//!    in linear light, accumulated in f64 in a fixed order.
+//!
+//! Fast path: a full fragment that is nearer than every other fragment at all
+//! four corners of the pixel (differences of affine functions are extreme at
+//! corners) hides them entirely, and the pixel is its colour.
+//!
+//! Two same-coloured polygons sharing an edge give areas that sum to the area of
+//! their union up to ~1e-16; [`AREA_EPS`] absorbs that so no seam of background
+//! shows through, and the pixel is bit for bit that of one polygon.
+
+use super::clip::{clip_axis, clip_line};
+use super::{area2, tie_tolerance, Background, ScreenPoly};
+use glam::DVec2;
+
+/// Areas (in pixels) below this are rounding noise, not geometry: f64 shoelace
+/// areas of unit-scale fragments are exact to ~1e-15, while the smallest area
+/// that can change an 8-bit sRGB value is ~1e-6 (1/255 of the darkest step).
+pub const AREA_EPS: f64 = 1e-12;
+
+/// Edges shorter than this (pixels) are clipping debris: a crossing computed a
+/// hair from an existing vertex. Their direction is rounding noise, so they
+/// must not serve as a separating axis or as a cutting line (a zero-length
+/// edge would "separate" everything and cut nothing). Skipping them moves
+/// the result by at most this length times the pixel, far below 8 bits.
+pub const EDGE_EPS: f64 = 1e-9;
+
+/// One polygon's part of one pixel.
+#[derive(Clone, Copy, Debug)]
+struct Frag {
+    /// Pixel index within the tile.
+    pixel: u32,
+    /// Polygon index.
+    poly: u32,
+    /// Vertices in the arena, or `len == 0` for the full pixel square.
+    start: u32,
+    len: u32,
+}
+
+/// Renders one tile with exact coverage.
+pub fn render_tile(
+    polys: &[ScreenPoly],
+    bin: &[u32],
+    bg: &Background,
+    tile: [u32; 4],
+) -> Vec<[f32; 3]> {
+    let [tx0, ty0, tx1, ty1] = tile;
+    let tw = (tx1 - tx0) as usize;
+    let th = (ty1 - ty0) as usize;
+    let mut frags: Vec<Frag> = Vec::new();
+    let mut arena: Vec<DVec2> = Vec::new();
+    let (mut band, mut tmp, mut cell, mut tmp2) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for &pi in bin {
+        let p = &polys[pi as usize];
+        for piece in &p.pieces {
+            let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+            for v in piece {
+                x0 = x0.min(v.x);
+                y0 = y0.min(v.y);
+                x1 = x1.max(v.x);
+                y1 = y1.max(v.y);
+            }
+            let ry0 = (y0.floor() as u32).max(ty0);
+            let ry1 = (y1.ceil() as u32).min(ty1);
+            for py in ry0..ry1 {
+                let (yb, yt) = (py as f64, py as f64 + 1.0);
+                tmp.clear();
+                clip_axis(piece, 1, yb, true, &mut tmp);
+                band.clear();
+                clip_axis(&tmp, 1, yt, false, &mut band);
+                if band.len() < 3 {
+                    continue;
+                }
+                let (mut bx0, mut bx1) = (f64::MAX, f64::MIN);
+                // Spans of the band on its bottom and top lines: the pixel
+                // [x, x+1] is full iff it lies within both (convexity).
+                let (mut lb, mut rb, mut lt, mut rt) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+                for v in &band {
+                    bx0 = bx0.min(v.x);
+                    bx1 = bx1.max(v.x);
+                    if v.y == yb {
+                        lb = lb.min(v.x);
+                        rb = rb.max(v.x);
+                    }
+                    if v.y == yt {
+                        lt = lt.min(v.x);
+                        rt = rt.max(v.x);
+                    }
+                }
+                let full_lo = lb.max(lt).ceil();
+                let full_hi = rb.min(rt).floor();
+                let cx0 = (bx0.floor() as u32).max(tx0);
+                let cx1 = (bx1.ceil() as u32).min(tx1);
+                for px in cx0..cx1 {
+                    let pixel = ((py - ty0) as usize * tw + (px - tx0) as usize) as u32;
+                    let (xl, xr) = (px as f64, px as f64 + 1.0);
+                    if xl >= full_lo && xr <= full_hi {
+                        frags.push(Frag {
+                            pixel,
+                            poly: pi,
+                            start: 0,
+                            len: 0,
+                        });
+                        continue;
+                    }
+                    tmp2.clear();
+                    clip_axis(&band, 0, xl, true, &mut tmp2);
+                    cell.clear();
+                    clip_axis(&tmp2, 0, xr, false, &mut cell);
+                    if cell.len() < 3 || area2(&cell) <= 2.0 * AREA_EPS {
+                        continue;
+                    }
+                    frags.push(Frag {
+                        pixel,
+                        poly: pi,
+                        start: arena.len() as u32,
+                        len: cell.len() as u32,
+                    });
+                    arena.extend_from_slice(&cell);
+                }
+            }
+        }
+    }
+    // Group by pixel, keeping stream order within a pixel.
+    frags.sort_by_key(|f| f.pixel);
+    let mut out = Vec::with_capacity(tw * th);
+    let mut fi = 0;
+    let mut scratch = Scratch::default();
+    for idx in 0..(tw * th) as u32 {
+        let start = fi;
+        while fi < frags.len() && frags[fi].pixel == idx {
+            fi += 1;
+        }
+        let (px, py) = (tx0 + idx % tw as u32, ty0 + idx / tw as u32);
+        out.push(resolve_pixel(
+            polys,
+            &frags[start..fi],
+            &arena,
+            bg,
+            px,
+            py,
+            &mut scratch,
+        ));
+    }
+    out
+}
+
+#[derive(Default)]
+struct Scratch {
+    pieces: Vec<Vec<DVec2>>,
+    next: Vec<Vec<DVec2>>,
+    occ: Vec<DVec2>,
+    a: Vec<DVec2>,
+    b: Vec<DVec2>,
+    alive: Vec<bool>,
+    cols: Vec<[f64; 3]>,
+}
+
+fn frag_verts<'a>(f: &Frag, arena: &'a [DVec2], square: &'a [DVec2; 4]) -> &'a [DVec2] {
+    if f.len == 0 {
+        square
+    } else {
+        &arena[f.start as usize..(f.start + f.len) as usize]
+    }
+}
+
+/// `q_G - q_F` as an affine function, shifted by the tie rule: positive where G
+/// is in front of F. The later polygon wins within [`tie_tolerance`] (painter's order).
+fn front_of(g: &ScreenPoly, f: &ScreenPoly, at: (f64, f64)) -> [f64; 3] {
+    let d = [
+        g.plane[0] - f.plane[0],
+        g.plane[1] - f.plane[1],
+        g.plane[2] - f.plane[2],
+    ];
+    let bias = tie_tolerance(g.q(at.0, at.1), f.q(at.0, at.1), g.tie_floor);
+    let c = if g.order > f.order {
+        d[2] + bias
+    } else {
+        d[2] - bias
+    };
+    [d[0], d[1], c]
+}
+
+fn resolve_pixel(
+    polys: &[ScreenPoly],
+    frags: &[Frag],
+    arena: &[DVec2],
+    bg: &Background,
+    px: u32,
+    py: u32,
+    s: &mut Scratch,
+) -> [f32; 3] {
+    let (x, y) = (px as f64, py as f64);
+    let square = [
+        DVec2::new(x, y),
+        DVec2::new(x + 1.0, y),
+        DVec2::new(x + 1.0, y + 1.0),
+        DVec2::new(x, y + 1.0),
+    ];
+    let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
+    let centre = (x + 0.5, y + 0.5);
+    if frags.is_empty() {
+        return bg.at(px, py).map(|c| c as f32);
+    }
+    // Colours here; a screen-mode pattern's transparent texel removes the
+    // fragment from this pixel altogether.
+    s.cols.clear();
+    s.alive.clear();
+    for f in frags {
+        let c = polys[f.poly as usize].color_at(px, py);
+        s.alive.push(c.is_some());
+        s.cols.push(c.unwrap_or_default());
+    }
+    // Fast path: the nearest full fragment at the centre, if it is in front of
+    // every other fragment over the whole pixel.
+    let mut best: Option<usize> = None;
+    for (i, f) in frags.iter().enumerate() {
+        if f.len == 0 && s.alive[i] {
+            let q = polys[f.poly as usize].q(centre.0, centre.1);
+            if best.map_or(true, |b| {
+                q > polys[frags[b].poly as usize].q(centre.0, centre.1)
+            }) {
+                best = Some(i);
+            }
+        }
+    }
+    if let Some(b) = best {
+        let fb = &polys[frags[b].poly as usize];
+        let mut all_hidden = true;
+        for (i, g) in frags.iter().enumerate() {
+            if i == b || !s.alive[i] {
+                continue;
+            }
+            let gp = &polys[g.poly as usize];
+            let d = front_of(gp, fb, centre);
+            // G never in front of the full fragment B anywhere in the pixel.
+            if corners
+                .iter()
+                .all(|&(cx, cy)| d[0] * cx + d[1] * cy + d[2] <= 0.0)
+            {
+                s.alive[i] = false;
+            } else {
+                all_hidden = false;
+            }
+        }
+        if all_hidden {
+            return s.cols[b].map(|c| c as f32);
+        }
+    }
+    let mut acc = [0.0f64; 3];
+    let mut covered = 0.0f64;
+    for (i, f) in frags.iter().enumerate() {
+        if !s.alive[i] {
+            continue;
+        }
+        let fp = &polys[f.poly as usize];
+        s.pieces.clear();
+        s.pieces.push(frag_verts(f, arena, &square).to_vec());
+        for (j, g) in frags.iter().enumerate() {
+            if j == i || !s.alive[j] || s.pieces.is_empty() {
+                continue;
+            }
+            let gv = frag_verts(g, arena, &square);
+            if s.pieces.len() == 1 && disjoint(&s.pieces[0], gv) {
+                continue; // Neighbours that only share an edge.
+            }
+            let gp = &polys[g.poly as usize];
+            let d = front_of(gp, fp, centre);
+            let val = |v: &DVec2| d[0] * v.x + d[1] * v.y + d[2];
+            if gv.iter().all(|v| val(v) <= 0.0) {
+                continue; // G is behind F wherever G is.
+            }
+            s.occ.clear();
+            if gv.iter().all(|v| val(v) >= 0.0) {
+                s.occ.extend_from_slice(gv);
+            } else {
+                clip_line(gv, d, &mut s.occ);
+            }
+            if s.occ.len() < 3 || area2(&s.occ) <= 2.0 * AREA_EPS {
+                continue;
+            }
+            s.next.clear();
+            for piece in s.pieces.drain(..) {
+                subtract(&piece, &s.occ, &mut s.next, &mut s.a, &mut s.b);
+            }
+            std::mem::swap(&mut s.pieces, &mut s.next);
+        }
+        let area: f64 = s.pieces.iter().map(|p| area2(p)).sum::<f64>() * 0.5;
+        if area > AREA_EPS {
+            covered += area;
+            for ch in 0..3 {
+                acc[ch] += area * s.cols[i][ch];
+            }
+        }
+    }
+    let rest = 1.0 - covered;
+    if rest > AREA_EPS {
+        let b = bg.at(px, py);
+        for ch in 0..3 {
+            acc[ch] += rest * b[ch];
+        }
+    }
+    acc.map(|c| c as f32)
+}
+
+/// Whether two convex counter-clockwise polygons have no interior in common:
+/// some edge of one has the whole other on its outer side (separating axis;
+/// touching along an edge counts as disjoint).
+fn disjoint(a: &[DVec2], b: &[DVec2]) -> bool {
+    let separated = |p: &[DVec2], q: &[DVec2]| {
+        let n = p.len();
+        (0..n).any(|i| {
+            let (s, e) = (p[i], p[(i + 1) % n]);
+            let dir = e - s;
+            dir.length_squared() > EDGE_EPS * EDGE_EPS
+                && q.iter().all(|&v| dir.perp_dot(v - s) <= 0.0)
+        })
+    };
+    separated(a, b) || separated(b, a)
+}
+
+/// Appends the convex pieces of `p \ o` (both convex, counter-clockwise) to
+/// `out`: for each edge of `o`, the part of `p` to its right is outside `o` and
+/// kept; the rest goes on to the next edge, and what is left at the end lies in
+/// `o` and is dropped.
+fn subtract(
+    p: &[DVec2],
+    o: &[DVec2],
+    out: &mut Vec<Vec<DVec2>>,
+    cur: &mut Vec<DVec2>,
+    tmp: &mut Vec<DVec2>,
+) {
+    cur.clear();
+    cur.extend_from_slice(p);
+    let n = o.len();
+    for i in 0..n {
+        if cur.len() < 3 {
+            return;
+        }
+        let (a, b) = (o[i], o[(i + 1) % n]);
+        // Left of a->b: (b - a) x (p - a) >= 0, as a*x + b*y + c.
+        let e = b - a;
+        if e.length_squared() <= EDGE_EPS * EDGE_EPS {
+            continue;
+        }
+        let line = [-e.y, e.x, e.y * a.x - e.x * a.y];
+        tmp.clear();
+        clip_line(cur, [-line[0], -line[1], -line[2]], tmp);
+        if tmp.len() >= 3 && area2(tmp) > 2.0 * AREA_EPS {
+            out.push(tmp.clone());
+        }
+        tmp.clear();
+        clip_line(cur, line, tmp);
+        std::mem::swap(cur, tmp);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::{perspective, poly2};
+    use super::super::{project, render, Aa, Cull, View};
+    use super::*;
+    use crate::color::Rgb8;
+    use glam::DVec3;
+
+    fn render_exact(polys: &[ScreenPoly], w: u32, h: u32) -> crate::io::Image {
+        render(polys, &Background::color(Rgb8::BLACK), w, h, Aa::Exact).to_image()
+    }
+
+    #[test]
+    fn a_half_covered_pixel_is_the_linear_light_half() {
+        let v = View::ortho2(0.0, 2.0, 0.0, 1.0, 2, 1);
+        // Covers pixel 0 fully and half of pixel 1 (diagonal).
+        let p = poly2(
+            &v,
+            &[[0.0, 0.0], [2.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+            Rgb8::WHITE,
+            0,
+        )
+        .unwrap();
+        let img = render_exact(&[p], 2, 1);
+        assert_eq!(img.data, vec![255, 255, 255, 188, 188, 188]);
+    }
+
+    #[test]
+    fn two_triangles_sharing_an_edge_render_exactly_like_one_quad() {
+        let v = View::ortho2(0.0, 16.0, 0.0, 16.0, 16, 16);
+        let (a, b, c, d) = ([1.3, 0.7], [14.9, 2.2], [13.1, 15.4], [0.2, 12.8]);
+        let c1 = Rgb8([200, 120, 30]);
+        let quad = poly2(&v, &[a, b, c, d], c1, 0).unwrap();
+        let t1 = poly2(&v, &[a, b, c], c1, 0).unwrap();
+        let t2 = poly2(&v, &[a, c, d], c1, 1).unwrap();
+        assert_eq!(
+            render_exact(&[quad], 16, 16),
+            render_exact(&[t1, t2], 16, 16)
+        );
+    }
+
+    #[test]
+    fn interpenetrating_polygons_split_a_pixel_along_their_intersection() {
+        // Two squares crossing at x = 0.5 inside one pixel: left half red in
+        // front, right half blue in front; the result is the linear mean.
+        let v = View::ortho2(0.0, 1.0, 0.0, 1.0, 1, 1);
+        let sq = |z0: f64, z1: f64, c: Rgb8, o: u32| {
+            project(
+                &v,
+                &[
+                    DVec3::new(0.0, 0.0, z0),
+                    DVec3::new(1.0, 0.0, z1),
+                    DVec3::new(1.0, 1.0, z1),
+                    DVec3::new(0.0, 1.0, z0),
+                ],
+                c,
+                o,
+                Cull::None,
+            )
+            .unwrap()
+        };
+        let red = sq(0.5, -0.5, Rgb8([255, 0, 0]), 0);
+        let blue = sq(-0.5, 0.5, Rgb8([0, 0, 255]), 1);
+        let img = render_exact(&[red, blue], 1, 1);
+        assert_eq!(img.data, vec![188, 0, 188]);
+    }
+
+    #[test]
+    fn perspective_ground_plane_with_near_zero_renders_finite_pixels() {
+        let v = perspective(60.0, 32, 24, 0.0, 1000.0);
+        let ground = [
+            DVec3::new(-500.0, -1.0, 0.0),
+            DVec3::new(500.0, -1.0, 0.0),
+            DVec3::new(500.0, -1.0, -800.0),
+            DVec3::new(-500.0, -1.0, -800.0),
+        ];
+        let p = project(&v, &ground, Rgb8::WHITE, 0, Cull::None).unwrap();
+        let img = render_exact(&[p], 32, 24);
+        // Bottom row white, top row black: the horizon lies in between.
+        assert!(img.data[(23 * 32) * 3..].iter().all(|&c| c == 255));
+        assert!(img.data[..32 * 3].iter().all(|&c| c == 0));
+    }
+}
+
+#[cfg(test)]
+mod ties {
+    use super::super::tests::poly2;
+    use super::super::{render, Aa, View};
+    use super::*;
+    use crate::color::Rgb8;
+
+    #[test]
+    fn coplanar_overlap_goes_to_the_later_polygon_without_double_counting() {
+        let v = View::ortho2(0.0, 4.0, 0.0, 4.0, 4, 4);
+        let red = poly2(
+            &v,
+            &[[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]],
+            Rgb8([255, 0, 0]),
+            0,
+        )
+        .unwrap();
+        let blue = poly2(
+            &v,
+            &[[1.0, 1.0], [3.0, 1.0], [3.0, 3.0], [1.0, 3.0]],
+            Rgb8([0, 0, 255]),
+            1,
+        )
+        .unwrap();
+        let bg = Background::color(Rgb8::BLACK);
+        let want = |i: usize| {
+            let (x, y) = (i % 4, i / 4);
+            if (1..3).contains(&x) && (1..3).contains(&y) {
+                [0, 0, 255]
+            } else {
+                [255, 0, 0]
+            }
+        };
+        for aa in [Aa::Exact, Aa::None, Aa::Ss(4)] {
+            let img = render(&[red.clone(), blue.clone()], &bg, 4, 4, aa).to_image();
+            for (i, p) in img.data.chunks(3).enumerate() {
+                assert_eq!(p, want(i), "{aa:?} pixel {i}");
+            }
+        }
+        let r = super::super::reference::render(&[red, blue], &bg, 4, 4, 6);
+        for (i, p) in r.frame.to_image().data.chunks(3).enumerate() {
+            assert_eq!(p, want(i), "reference pixel {i}");
+        }
+    }
+}
+
+#[cfg(test)]
+mod debris {
+    use super::*;
+
+    fn v(x: f64, y: f64) -> DVec2 {
+        DVec2::new(x, y)
+    }
+
+    #[test]
+    fn near_duplicate_vertices_neither_separate_nor_cut() {
+        // Clipping leaves a crossing a hair from a vertex: a tiny edge whose
+        // direction is noise. It must not make overlapping polygons "disjoint"
+        // nor keep the whole polygon as "outside" the occluder.
+        let tri = [v(0.0, 0.0), v(1.0, 0.0), v(0.0, 1.0)];
+        let with_debris = [
+            v(0.0, 0.0),
+            v(1.0, 0.0),
+            v(1.0, 0.0),
+            v(1.0 - 1e-14, 1e-14),
+            v(0.0, 1.0),
+        ];
+        let small = [v(0.1, 0.1), v(0.3, 0.1), v(0.1, 0.3)];
+        assert!(!disjoint(&with_debris, &small));
+        assert!(!disjoint(&small, &with_debris));
+        let (mut out, mut a, mut b) = (Vec::new(), Vec::new(), Vec::new());
+        subtract(&small, &with_debris, &mut out, &mut a, &mut b);
+        let left: f64 = out.iter().map(|p| area2(p)).sum();
+        assert!(left.abs() < 1e-12, "{out:?}");
+        out.clear();
+        subtract(&tri, &tri, &mut out, &mut a, &mut b);
+        assert!(out.iter().map(|p| area2(p)).sum::<f64>().abs() < 1e-12);
+    }
+}

@@ -1,0 +1,806 @@
+//! The rasterizer: from world-space polygons to an 8-bit sRGB image.
+//!
+//! The pipeline is the classic one, split one idea per module:
+//!
+//! 1. [`clip`]: each polygon is transformed to homogeneous clip coordinates and
+//!    clipped there, *before* the perspective divide, so nothing behind the eye
+//!    is ever drawn mirrored and no division by zero happens (near = 0 works).
+//! 2. [`project`] (this file): the divide and the viewport map give screen
+//!    coordinates in pixels, y up, (0,0) the lower-left corner of the image.
+//!    Each polygon gets an affine *nearness* function over the screen (bigger is
+//!    nearer): `1/w` for perspective views, `-z_clip` for parallel ones. Both are
+//!    exactly affine in screen space for a planar polygon, and both are kept in
+//!    f64, so depth precision does not depend on the near plane.
+//! 3. One of three resolvers turns the screen polygons into linear-light pixels:
+//!    [`scan`] (point sampling, `--aa none` and `--aa ss<N>`, watertight on exact
+//!    integer edge functions), [`coverage`] (`--aa exact`: the exact area of every
+//!    visible polygon in every pixel), [`reference`] (`--reference`: the SPEC §4
+//!    reference by an independent method, with its own error estimate).
+//! 4. [`Frame::to_image`] encodes linear light to sRGB once, rounding.
+//!
+//! Work is split into fixed square tiles of [`TILE`] pixels; every tile is
+//! computed from the same inputs in the same order whatever the number of
+//! threads, so the output is byte-identical for any `--threads`.
+//!
+//! Visibility ties (coplanar overlapping polygons, z-fighting) go to the polygon
+//! that comes later in the stream (painter's order), in all three
+//! resolvers alike (see [`DEPTH_TIE_REL`]).
+
+// Per-channel loops `for ch in 0..3` over several arrays at once read better
+// than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+
+pub mod clip;
+pub mod compare;
+pub mod coverage;
+pub mod reference;
+pub mod scan;
+
+use crate::color::{linear_to_srgb, srgb_to_linear_f64, Rgb8};
+use crate::io::Image;
+use crate::pat::Pattern;
+use glam::{DMat4, DVec2, DVec3, DVec4};
+
+/// Side of the square tiles work is split into. 32 keeps a tile's sample
+/// buffers in cache for up to 16x16 supersampling while leaving a 1024x768
+/// image 768 tiles to share among threads.
+pub const TILE: u32 = 32;
+
+/// Relative depth tolerance under which two polygons count as equally near at a
+/// point (coplanar overlap): the later polygon in the stream then wins, as
+/// in painter's order (the IRIS drawing 2D shapes one over the other, or OpenGL
+/// with `GL_LEQUAL`). 1e-9 is
+/// far above f64 rounding of the plane fit (~1e-15) and far below any real depth
+/// separation in a scene that f64 can tell apart.
+pub const DEPTH_TIE_REL: f64 = 1e-9;
+
+impl View {
+    /// The nearness scale of the view, the floor of the tie tolerance: without
+    /// it, polygons at exactly nearness 0 (2D records at z = 0 under ortho2)
+    /// would tie with a zero tolerance and each hide neither. Parallel views:
+    /// the depth range; perspective: `1/far`, the smallest nearness visible.
+    pub fn nearness_scale(&self) -> f64 {
+        if self.perspective {
+            1.0 / self.far.abs().max(f64::MIN_POSITIVE)
+        } else {
+            self.near.abs().max(self.far.abs()).max(f64::MIN_POSITIVE)
+        }
+    }
+}
+
+/// The tie tolerance between two nearness values at a point: relative to
+/// them, floored by the view's scale (stored in each polygon as `tie_floor`).
+#[inline]
+pub fn tie_tolerance(qa: f64, qb: f64, floor: f64) -> f64 {
+    DEPTH_TIE_REL * qa.abs().max(qb.abs()) + floor
+}
+
+/// For a perspective view the clipper keeps `w >= W_EPSILON_REL * far` (in eye
+/// units: distance in front of the eye). This is what makes `near = 0` work: the
+/// near plane `z >= 0` alone would let vertices reach `w = 0` and divide by zero.
+/// At 1e-9 of the far distance the lost sliver is invisible at any image size
+/// this tool makes (it would need a polygon lying within a billionth of the
+/// scene depth of the eye).
+pub const W_EPSILON_REL: f64 = 1e-9;
+
+/// Curves (`circle`, `arc`) are flattened to polygons whose chords stray at most
+/// this many pixels from the true curve: far below what 8 bits can show.
+pub const CURVE_TOLERANCE_PX: f64 = 1.0 / 256.0;
+
+/// The view a frame is rendered from: world → clip matrix and the clip volume
+/// contract of `camera.rs` (visible iff `-w<=x<=w`, `-w<=y<=w`,
+/// `near <= z_clip <= far`; `z_clip = -z_eye`; `w = -z_eye` in perspective and 1
+/// in parallel views).
+#[derive(Clone, Debug, PartialEq)]
+pub struct View {
+    pub world_to_clip: DMat4,
+    pub near: f64,
+    pub far: f64,
+    pub perspective: bool,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl View {
+    /// IRIS `ortho2(left, right, bottom, top)`: a parallel view of the z = 0
+    /// plane with near = -1 and far = 1, as in IRIS GL.
+    pub fn ortho2(l: f64, r: f64, b: f64, t: f64, width: u32, height: u32) -> View {
+        let m = DMat4::from_cols(
+            DVec4::new(2.0 / (r - l), 0.0, 0.0, 0.0),
+            DVec4::new(0.0, 2.0 / (t - b), 0.0, 0.0),
+            // z_clip = -z_eye, and the eye space of ortho2 is world space.
+            DVec4::new(0.0, 0.0, -1.0, 0.0),
+            DVec4::new(-(r + l) / (r - l), -(t + b) / (t - b), 0.0, 1.0),
+        );
+        View {
+            world_to_clip: m,
+            near: -1.0,
+            far: 1.0,
+            perspective: false,
+            width,
+            height,
+        }
+    }
+
+    /// Clip coordinates of a world point.
+    pub fn to_clip(&self, p: DVec3) -> DVec4 {
+        self.world_to_clip * p.extend(1.0)
+    }
+
+    /// Screen position (pixels, y up) of a clip-space point with `w > 0`.
+    pub fn to_screen(&self, c: DVec4) -> DVec2 {
+        let (w, h) = (self.width as f64, self.height as f64);
+        let x = ((c.x / c.w) * 0.5 + 0.5) * w;
+        let y = ((c.y / c.w) * 0.5 + 0.5) * h;
+        // Clipping keeps |x/w| <= 1 up to rounding; clamp that rounding away so
+        // every later stage may assume the polygon lies within the image.
+        DVec2::new(x.clamp(0.0, w), y.clamp(0.0, h))
+    }
+
+    /// Nearness at a clip-space point: bigger is nearer (see the module doc).
+    pub fn nearness(&self, c: DVec4) -> f64 {
+        if self.perspective {
+            1.0 / c.w
+        } else {
+            -c.z
+        }
+    }
+}
+
+/// Which faces to drop (SPEC §2: vertices counter-clockwise seen from the front).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Cull {
+    /// Draw both faces.
+    #[default]
+    None,
+    /// Drop polygons seen from behind (clockwise on screen).
+    Back,
+    /// Drop polygons seen from the front (counter-clockwise on screen).
+    Front,
+}
+
+/// A polygon ready for a resolver: clipped, projected, counter-clockwise on
+/// screen (back faces are reversed when not culled).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScreenPoly {
+    /// Screen positions in pixels, y up, counter-clockwise, no repeated neighbours.
+    pub verts: Vec<DVec2>,
+    /// Nearness `q = a*x + b*y + c` over the screen (bigger is nearer).
+    pub plane: [f64; 3],
+    /// Linear-light colour.
+    pub color: [f64; 3],
+    /// A screen-mode pattern (SPEC §2, the IRIS `setpattern`) that replaces
+    /// `color`: pixel (x, y) from the lower-left shows texel (x mod SIZE,
+    /// y mod SIZE), and the polygon is absent where that texel is transparent.
+    pub screen: Option<std::sync::Arc<ScreenPattern>>,
+    /// Position in the stream: draw order, for visibility ties.
+    pub order: u32,
+    /// Convex pieces (index triples or the whole polygon) that tile the polygon
+    /// exactly: the polygon itself when convex, else an ear-clipping triangulation.
+    pub pieces: Vec<Vec<DVec2>>,
+    /// Absolute part of the tie tolerance: [`DEPTH_TIE_REL`] times the view's
+    /// [`View::nearness_scale`].
+    pub tie_floor: f64,
+    /// Pixel bounding box, inclusive-exclusive: `x0..x1`, `y0..y1` (y up).
+    pub bbox: [u32; 4],
+}
+
+impl ScreenPoly {
+    /// The polygon's linear colour at pixel (x, y); `None` where a screen-mode
+    /// pattern is transparent.
+    #[inline]
+    pub fn color_at(&self, x: u32, y: u32) -> Option<[f64; 3]> {
+        match &self.screen {
+            None => Some(self.color),
+            Some(p) => p.at(x, y),
+        }
+    }
+
+    /// Nearness at a screen point.
+    #[inline]
+    pub fn q(&self, x: f64, y: f64) -> f64 {
+        self.plane[0] * x + self.plane[1] * y + self.plane[2]
+    }
+}
+
+/// Twice the signed area (shoelace), positive counter-clockwise with y up.
+pub fn area2(v: &[DVec2]) -> f64 {
+    let n = v.len();
+    let mut s = 0.0;
+    for i in 0..n {
+        let (a, b) = (v[i], v[(i + 1) % n]);
+        s += a.x * b.y - b.x * a.y;
+    }
+    s
+}
+
+/// Screen coordinates within this many pixels of a whole or half pixel are
+/// moved onto it: the viewport map's rounding (1e-15 px) would otherwise make
+/// a pixel-aligned 2D rectangle cover its border pixels by 1 - 1e-15. Any
+/// geometry this close to the grid is on it for every purpose of 8-bit output.
+pub const GRID_SNAP_PX: f64 = 1e-9;
+
+fn snap_grid(v: f64) -> f64 {
+    let r = (v * 2.0).round() * 0.5;
+    if (v - r).abs() <= GRID_SNAP_PX {
+        r
+    } else {
+        v
+    }
+}
+
+/// Clips, projects and orients one world polygon. `None` when nothing of it is
+/// visible, it is culled, or it is edge-on (zero area on screen).
+pub fn project(
+    view: &View,
+    world: &[DVec3],
+    color: Rgb8,
+    order: u32,
+    cull: Cull,
+) -> Option<ScreenPoly> {
+    let clip_space: Vec<DVec4> = world.iter().map(|&p| view.to_clip(p)).collect();
+    if clip_space.iter().any(|c| !c.is_finite()) {
+        return None;
+    }
+    let clipped = clip::clip_polygon(&clip_space, view);
+    if clipped.len() < 3 {
+        return None;
+    }
+    let mut verts: Vec<DVec2> = Vec::with_capacity(clipped.len());
+    let mut qs: Vec<f64> = Vec::with_capacity(clipped.len());
+    for &c in &clipped {
+        let s = view.to_screen(c).map(snap_grid);
+        if verts.last() == Some(&s) {
+            continue;
+        }
+        verts.push(s);
+        qs.push(view.nearness(c));
+    }
+    while verts.len() > 1 && verts.first() == verts.last() {
+        verts.pop();
+        qs.pop();
+    }
+    if verts.len() < 3 {
+        return None;
+    }
+    let a2 = area2(&verts);
+    if a2 == 0.0 || !a2.is_finite() {
+        return None;
+    }
+    match cull {
+        Cull::Back if a2 < 0.0 => return None,
+        Cull::Front if a2 > 0.0 => return None,
+        _ => {}
+    }
+    if a2 < 0.0 {
+        verts.reverse();
+        qs.reverse();
+    }
+    let plane = newell_plane(&verts, &qs)?;
+    let pieces = if is_convex(&verts) {
+        vec![verts.clone()]
+    } else {
+        ear_clip(&verts)
+    };
+    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+    for v in &verts {
+        x0 = x0.min(v.x);
+        y0 = y0.min(v.y);
+        x1 = x1.max(v.x);
+        y1 = y1.max(v.y);
+    }
+    let (w, h) = (view.width, view.height);
+    let bbox = [
+        (x0.floor().max(0.0) as u32).min(w),
+        (y0.floor().max(0.0) as u32).min(h),
+        (x1.ceil().max(0.0) as u32).min(w),
+        (y1.ceil().max(0.0) as u32).min(h),
+    ];
+    let c = color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0));
+    Some(ScreenPoly {
+        verts,
+        plane,
+        color: c,
+        screen: None,
+        order,
+        pieces,
+        tie_floor: DEPTH_TIE_REL * view.nearness_scale(),
+        bbox,
+    })
+}
+
+/// The affine nearness `q(x, y)` through a planar polygon's screen vertices, by
+/// Newell's method on the points `(x, y, q)`: it uses every vertex, so it stays
+/// well conditioned for slivers where any three vertices would not.
+fn newell_plane(v: &[DVec2], q: &[f64]) -> Option<[f64; 3]> {
+    let n = v.len();
+    let (mut nx, mut ny, mut nz) = (0.0, 0.0, 0.0);
+    let (mut cx, mut cy, mut cq) = (0.0, 0.0, 0.0);
+    for i in 0..n {
+        let j = (i + 1) % n;
+        nx += (v[i].y - v[j].y) * (q[i] + q[j]);
+        ny += (q[i] - q[j]) * (v[i].x + v[j].x);
+        nz += (v[i].x - v[j].x) * (v[i].y + v[j].y);
+        cx += v[i].x;
+        cy += v[i].y;
+        cq += q[i];
+    }
+    let k = n as f64;
+    let (cx, cy, cq) = (cx / k, cy / k, cq / k);
+    if nz == 0.0 {
+        return None;
+    }
+    let a = -nx / nz;
+    let b = -ny / nz;
+    let plane = [a, b, cq - a * cx - b * cy];
+    plane.iter().all(|c| c.is_finite()).then_some(plane)
+}
+
+/// Relative tolerance of the convexity test: a turn against the polygon's
+/// orientation smaller than this share of the product of the two edge lengths
+/// counts as straight (clipping and projection leave such rounding-level kinks).
+const CONVEX_REL: f64 = 1e-12;
+
+/// Whether a counter-clockwise polygon is convex (collinear and repeated
+/// vertices allowed).
+pub fn is_convex(v: &[DVec2]) -> bool {
+    let mut v: Vec<DVec2> = v.to_vec();
+    v.dedup();
+    while v.len() > 1 && v.first() == v.last() {
+        v.pop();
+    }
+    let n = v.len();
+    (0..n).all(|i| {
+        let (a, b, c) = (v[i], v[(i + 1) % n], v[(i + 2) % n]);
+        let (e, f) = (b - a, c - b);
+        e.perp_dot(f) >= -CONVEX_REL * e.length() * f.length()
+    })
+}
+
+/// Ear-clipping triangulation of a simple counter-clockwise polygon. Robust to
+/// repeated and collinear vertices: zero-area ears are dropped, and if no proper
+/// ear is found (a self-intersecting or numerically degenerate remainder) the
+/// most convex remaining corner is cut, so it always terminates with at most
+/// n - 2 triangles.
+pub fn ear_clip(poly: &[DVec2]) -> Vec<Vec<DVec2>> {
+    let mut idx: Vec<usize> = (0..poly.len()).collect();
+    let mut out = Vec::with_capacity(poly.len().saturating_sub(2));
+    while idx.len() > 3 {
+        let m = idx.len();
+        let mut cut = None;
+        let mut best = (f64::MIN, 0usize);
+        for i in 0..m {
+            let (a, b, c) = (
+                poly[idx[(i + m - 1) % m]],
+                poly[idx[i]],
+                poly[idx[(i + 1) % m]],
+            );
+            let turn = (b - a).perp_dot(c - b);
+            if turn > best.0 {
+                best = (turn, i);
+            }
+            if turn <= 0.0 {
+                continue;
+            }
+            let blocked = idx.iter().any(|&k| {
+                let p = poly[k];
+                p != a && p != b && p != c && in_triangle(p, a, b, c)
+            });
+            if !blocked {
+                cut = Some(i);
+                break;
+            }
+        }
+        let i = cut.unwrap_or(best.1);
+        let (a, b, c) = (
+            poly[idx[(i + m - 1) % m]],
+            poly[idx[i]],
+            poly[idx[(i + 1) % m]],
+        );
+        if (b - a).perp_dot(c - b) > 0.0 {
+            out.push(vec![a, b, c]);
+        }
+        idx.remove(i);
+    }
+    let (a, b, c) = (poly[idx[0]], poly[idx[1]], poly[idx[2]]);
+    if (b - a).perp_dot(c - b) > 0.0 {
+        out.push(vec![a, b, c]);
+    }
+    out
+}
+
+/// Point in (or on) a counter-clockwise triangle.
+fn in_triangle(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> bool {
+    (b - a).perp_dot(p - a) >= 0.0
+        && (c - b).perp_dot(p - b) >= 0.0
+        && (a - c).perp_dot(p - c) >= 0.0
+}
+
+/// A pattern laid over the screen, texels decoded to linear light once.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScreenPattern {
+    size: u32,
+    /// Row 0 at the bottom; `None` is transparent.
+    texels: Vec<Option<[f64; 3]>>,
+}
+
+impl ScreenPattern {
+    pub fn new(p: &Pattern) -> ScreenPattern {
+        let size = p.size();
+        let mut texels = Vec::with_capacity((size * size) as usize);
+        for row in 0..size {
+            for col in 0..size {
+                texels.push(
+                    p.color_at(col, row)
+                        .map(|c| c.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0))),
+                );
+            }
+        }
+        ScreenPattern { size, texels }
+    }
+
+    /// Linear colour of pixel (x, y) counted from the lower-left.
+    #[inline]
+    pub fn at(&self, x: u32, y: u32) -> Option<[f64; 3]> {
+        self.texels[((y % self.size) * self.size + x % self.size) as usize]
+    }
+}
+
+/// What lies behind every polygon: a colour, or the thesis's `colorclear`
+/// pattern tiled in screen mode (pixel (x, y) from the lower-left takes texel
+/// (x mod SIZE, y mod SIZE); transparent texels show the colour).
+#[derive(Clone, Debug)]
+pub struct Background {
+    pub color: Rgb8,
+    pub pattern: Option<Pattern>,
+}
+
+impl Background {
+    pub fn color(color: Rgb8) -> Background {
+        Background {
+            color,
+            pattern: None,
+        }
+    }
+
+    /// Linear-light colour of pixel (x, y), y counted from the bottom.
+    #[inline]
+    pub fn at(&self, x: u32, y: u32) -> [f64; 3] {
+        let c = match &self.pattern {
+            Some(p) => p.color_wrapped(x as i64, y as i64).unwrap_or(self.color),
+            None => self.color,
+        };
+        c.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0))
+    }
+}
+
+/// How pixels are computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Aa {
+    /// One sample at each pixel centre.
+    None,
+    /// `k x k` samples per pixel on a regular grid (`--aa ss<k²>`).
+    Ss(u32),
+    /// Exact area coverage, box filter.
+    Exact,
+}
+
+/// Most samples per side of a pixel for `--aa ss<N>`: 16 (256 samples) keeps the
+/// fixed-point edge functions of [`scan`] within i64 for a 65535-pixel image.
+pub const MAX_SS_SIDE: u32 = 16;
+
+impl std::str::FromStr for Aa {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Aa, String> {
+        match s {
+            "none" => return Ok(Aa::None),
+            "exact" => return Ok(Aa::Exact),
+            _ => {}
+        }
+        let bad = || {
+            format!(
+                "invalid anti-aliasing `{s}`: expected none, exact or ss<N> with N a square \
+                 from 1 to {} (ss4, ss16, ...)",
+                MAX_SS_SIDE * MAX_SS_SIDE
+            )
+        };
+        let n: u32 = s
+            .strip_prefix("ss")
+            .and_then(|n| n.parse().ok())
+            .ok_or_else(bad)?;
+        let k = (n as f64).sqrt().round() as u32;
+        if k == 0 || k * k != n || k > MAX_SS_SIDE {
+            return Err(bad());
+        }
+        Ok(if k == 1 { Aa::None } else { Aa::Ss(k) })
+    }
+}
+
+/// A frame of linear-light pixels, rows from the bottom (y up).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    /// Linear RGB, `(y * width + x)`, y from the bottom.
+    pub pixels: Vec<[f32; 3]>,
+}
+
+impl Frame {
+    /// Assembles a frame from per-tile results (each a row-major block of the
+    /// tile's pixels, in [`tiles`] order).
+    fn from_tiles(
+        width: u32,
+        height: u32,
+        tiles: &[[u32; 4]],
+        blocks: Vec<Vec<[f32; 3]>>,
+    ) -> Frame {
+        let mut pixels = vec![[0.0f32; 3]; width as usize * height as usize];
+        for (t, block) in tiles.iter().zip(blocks) {
+            let tw = (t[2] - t[0]) as usize;
+            for (r, row) in block.chunks_exact(tw).enumerate() {
+                let y = t[1] as usize + r;
+                let start = y * width as usize + t[0] as usize;
+                pixels[start..start + tw].copy_from_slice(row);
+            }
+        }
+        Frame {
+            width,
+            height,
+            pixels,
+        }
+    }
+
+    /// Encodes to 8-bit sRGB, rounding once; row 0 of the image is the top.
+    pub fn to_image(&self) -> Image {
+        let (w, h) = (self.width as usize, self.height as usize);
+        let mut data = Vec::with_capacity(w * h * 3);
+        for y in (0..h).rev() {
+            for p in &self.pixels[y * w..(y + 1) * w] {
+                data.extend(p.map(linear_to_srgb));
+            }
+        }
+        Image {
+            width: self.width,
+            height: self.height,
+            channels: 3,
+            data,
+        }
+    }
+}
+
+/// The tiles of a `width x height` frame: `[x0, y0, x1, y1]`, row-major from the
+/// bottom.
+pub fn tiles(width: u32, height: u32) -> Vec<[u32; 4]> {
+    let mut out = Vec::new();
+    for y in (0..height).step_by(TILE as usize) {
+        for x in (0..width).step_by(TILE as usize) {
+            out.push([x, y, (x + TILE).min(width), (y + TILE).min(height)]);
+        }
+    }
+    out
+}
+
+/// For every tile, the indices of the polygons whose bounding box meets it, in
+/// stream order.
+pub fn bin(polys: &[ScreenPoly], width: u32, height: u32) -> Vec<Vec<u32>> {
+    let tx = width.div_ceil(TILE) as usize;
+    let ty = height.div_ceil(TILE) as usize;
+    let mut bins = vec![Vec::new(); tx * ty];
+    for (i, p) in polys.iter().enumerate() {
+        let [x0, y0, x1, y1] = p.bbox;
+        if x1 <= x0 || y1 <= y0 {
+            continue;
+        }
+        for ty_i in (y0 / TILE) as usize..=((y1 - 1) / TILE) as usize {
+            for tx_i in (x0 / TILE) as usize..=((x1 - 1) / TILE) as usize {
+                bins[ty_i * tx + tx_i].push(i as u32);
+            }
+        }
+    }
+    bins
+}
+
+/// Renders projected polygons with the chosen anti-aliasing. Runs on the
+/// current rayon pool; the result does not depend on its size.
+pub fn render(polys: &[ScreenPoly], bg: &Background, width: u32, height: u32, aa: Aa) -> Frame {
+    use rayon::prelude::*;
+    let tiles = tiles(width, height);
+    let bins = bin(polys, width, height);
+    let blocks: Vec<Vec<[f32; 3]>> = match aa {
+        Aa::Exact => tiles
+            .par_iter()
+            .zip(&bins)
+            .map(|(t, b)| coverage::render_tile(polys, b, bg, *t))
+            .collect(),
+        Aa::None | Aa::Ss(_) => {
+            let k = if let Aa::Ss(k) = aa { k } else { 1 };
+            let snapped: Vec<scan::FixedPoly> = polys
+                .par_iter()
+                .map(|p| scan::FixedPoly::new(p, k))
+                .collect();
+            tiles
+                .par_iter()
+                .zip(&bins)
+                .map(|(t, b)| scan::render_tile(polys, &snapped, b, bg, *t, k))
+                .collect()
+        }
+    };
+    Frame::from_tiles(width, height, &tiles, blocks)
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// A perspective view for tests: eye at the origin looking down -z, vertical
+    /// field `fovy` degrees, with the camera contract's z_clip = w = -z_eye.
+    pub fn perspective(fovy: f64, width: u32, height: u32, near: f64, far: f64) -> View {
+        let f = 1.0 / (fovy.to_radians() / 2.0).tan();
+        let aspect = width as f64 / height as f64;
+        let m = DMat4::from_cols(
+            DVec4::new(f / aspect, 0.0, 0.0, 0.0),
+            DVec4::new(0.0, f, 0.0, 0.0),
+            DVec4::new(0.0, 0.0, -1.0, -1.0),
+            DVec4::new(0.0, 0.0, 0.0, 0.0),
+        );
+        View {
+            world_to_clip: m,
+            near,
+            far,
+            perspective: true,
+            width,
+            height,
+        }
+    }
+
+    pub fn poly2(view: &View, pts: &[[f64; 2]], color: Rgb8, order: u32) -> Option<ScreenPoly> {
+        let w: Vec<DVec3> = pts.iter().map(|p| DVec3::new(p[0], p[1], 0.0)).collect();
+        project(view, &w, color, order, Cull::None)
+    }
+
+    #[test]
+    fn aa_names_parse() {
+        assert_eq!("none".parse::<Aa>().unwrap(), Aa::None);
+        assert_eq!("exact".parse::<Aa>().unwrap(), Aa::Exact);
+        assert_eq!("ss16".parse::<Aa>().unwrap(), Aa::Ss(4));
+        assert_eq!("ss1".parse::<Aa>().unwrap(), Aa::None);
+        for bad in ["ss3", "ss0", "ss", "ss512", "ssx", "fxaa"] {
+            assert!(bad.parse::<Aa>().unwrap_err().contains(bad));
+        }
+    }
+
+    #[test]
+    fn ortho2_maps_world_units_to_pixels() {
+        let v = View::ortho2(0.0, 100.0, 0.0, 50.0, 100, 50);
+        let p = poly2(
+            &v,
+            &[[10.0, 5.0], [20.0, 5.0], [20.0, 15.0]],
+            Rgb8::WHITE,
+            0,
+        )
+        .unwrap();
+        assert_eq!(p.verts[0], DVec2::new(10.0, 5.0));
+        assert_eq!(p.bbox, [10, 5, 20, 15]);
+    }
+
+    #[test]
+    fn culling_follows_the_ccw_front_rule_and_back_faces_are_reoriented() {
+        let v = View::ortho2(0.0, 10.0, 0.0, 10.0, 10, 10);
+        let ccw: Vec<DVec3> = [[1.0, 1.0], [5.0, 1.0], [1.0, 5.0]]
+            .iter()
+            .map(|p| DVec3::new(p[0], p[1], 0.0))
+            .collect();
+        let cw: Vec<DVec3> = ccw.iter().rev().copied().collect();
+        assert!(project(&v, &ccw, Rgb8::WHITE, 0, Cull::Back).is_some());
+        assert!(project(&v, &cw, Rgb8::WHITE, 0, Cull::Back).is_none());
+        assert!(project(&v, &ccw, Rgb8::WHITE, 0, Cull::Front).is_none());
+        let p = project(&v, &cw, Rgb8::WHITE, 0, Cull::None).unwrap();
+        assert!(area2(&p.verts) > 0.0);
+    }
+
+    #[test]
+    fn concave_polygons_are_triangulated_exactly() {
+        // An L shape with a repeated and a collinear vertex.
+        let l = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(4.0, 0.0),
+            DVec2::new(4.0, 1.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(1.0, 3.0),
+            DVec2::new(0.0, 3.0),
+        ];
+        assert!(!is_convex(&l));
+        let tris = ear_clip(&l);
+        let sum: f64 = tris.iter().map(|t| area2(t)).sum();
+        assert!((sum - area2(&l)).abs() < 1e-12, "{sum}");
+        assert!(tris.iter().all(|t| area2(t) > 0.0));
+    }
+
+    #[test]
+    fn nearness_is_affine_and_bigger_nearer_in_both_projections() {
+        let v = perspective(60.0, 64, 64, 0.0, 100.0);
+        let tri: Vec<DVec3> = vec![
+            DVec3::new(-1.0, -1.0, -2.0),
+            DVec3::new(1.0, -1.0, -4.0),
+            DVec3::new(0.0, 1.0, -3.0),
+        ];
+        let p = project(&v, &tri, Rgb8::WHITE, 0, Cull::None).unwrap();
+        for (s, w) in p.verts.iter().zip([2.0, 4.0, 3.0]) {
+            assert!((p.q(s.x, s.y) - 1.0 / w).abs() < 1e-12);
+        }
+        let o = View::ortho2(0.0, 10.0, 0.0, 10.0, 10, 10);
+        let near = project(
+            &o,
+            &[
+                DVec3::new(1.0, 1.0, 0.5),
+                DVec3::new(5.0, 1.0, 0.5),
+                DVec3::new(1.0, 5.0, 0.5),
+            ],
+            Rgb8::WHITE,
+            0,
+            Cull::None,
+        )
+        .unwrap();
+        let far = project(
+            &o,
+            &[
+                DVec3::new(1.0, 1.0, -0.5),
+                DVec3::new(5.0, 1.0, -0.5),
+                DVec3::new(1.0, 5.0, -0.5),
+            ],
+            Rgb8::WHITE,
+            0,
+            Cull::None,
+        )
+        .unwrap();
+        assert!(near.q(2.0, 2.0) > far.q(2.0, 2.0));
+    }
+}
+
+#[cfg(test)]
+mod determinism {
+    use super::scan::tests::Rng;
+    use super::tests::perspective;
+    use super::*;
+
+    #[test]
+    fn output_is_identical_for_any_thread_count() {
+        let v = perspective(60.0, 100, 70, 0.0, 100.0);
+        let mut rng = Rng(7);
+        let polys: Vec<ScreenPoly> = (0..300)
+            .filter_map(|i| {
+                let c = DVec3::new(
+                    rng.next() * 10.0 - 5.0,
+                    rng.next() * 8.0 - 4.0,
+                    -3.0 - rng.next() * 20.0,
+                );
+                let tri: Vec<DVec3> = (0..3)
+                    .map(|_| c + DVec3::new(rng.next() * 3.0, rng.next() * 3.0, rng.next() * 3.0))
+                    .collect();
+                project(&v, &tri, Rgb8([i as u8, 255 - i as u8, 77]), i, Cull::None)
+            })
+            .collect();
+        let bg = Background::color(Rgb8([3, 4, 5]));
+        for aa in [Aa::None, Aa::Ss(3), Aa::Exact] {
+            let run = |n: usize| {
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build()
+                    .unwrap()
+                    .install(|| render(&polys, &bg, 100, 70, aa).to_image())
+            };
+            let one = run(1);
+            assert_eq!(one, run(3), "{aa:?}");
+        }
+        let run_ref = |n: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap()
+                .install(|| reference::render(&polys, &bg, 100, 70, 6).frame.to_image())
+        };
+        assert_eq!(run_ref(1), run_ref(2));
+    }
+}

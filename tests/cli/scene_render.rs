@@ -1,0 +1,355 @@
+//! `scene-render`: formats, cameras, anti-aliasing modes against the reference,
+//! comparison reports, determinism across threads, and failures.
+
+use predicates::prelude::*;
+
+fn decode(bytes: &[u8]) -> image::RgbaImage {
+    patkit::io::decode_image(bytes, "out").unwrap()
+}
+
+/// A white triangle whose hypotenuse halves pixel (1, 0) of a 2x1 image, plus
+/// a full pixel 0.
+const HALF: &str = r#"{"vertices":[[0,0],[2,0],[1,1],[0,1]],"color":[255,255,255]}"#;
+
+clitest!(
+    half_covered_pixel_is_linear_light_half_in_every_format,
+    |dir| {
+        dir.write("s.json", HALF);
+        dir.cmd("scene-render")
+            .args(["--size", "2x1", "s.json", "-o", "a.png"])
+            .assert()
+            .success()
+            .stdout("");
+        let img = decode(&dir.read("a.png"));
+        assert_eq!(img.get_pixel(0, 0).0, [255, 255, 255, 255]);
+        assert_eq!(img.get_pixel(1, 0).0, [188, 188, 188, 255]);
+        let out = dir
+            .cmd("scene-render")
+            .args(["--size", "2x1", "--format", "ppm"])
+            .write_stdin(HALF)
+            .assert()
+            .success();
+        assert_eq!(
+            out.get_output().stdout,
+            b"P6\n2 1\n255\n\xff\xff\xff\xbc\xbc\xbc"
+        );
+        dir.cmd("scene-render")
+            .args(["--size", "2x1", "s.json", "-o", "a.pam"])
+            .assert()
+            .success();
+        assert!(dir.read("a.pam").starts_with(b"P7\n"));
+    }
+);
+
+clitest!(exact_matches_the_reference_and_compare_reports, |dir| {
+    dir.write(
+        "s.json",
+        r#"[{"circle":{"center":[20,15],"radius":11.3},"color":[200,40,10]},
+            {"arc":{"center":[30,20],"radius":9,"start":30,"end":300},"color":[10,40,200]},
+            {"vertices":[[3,3],[37,5],[20,28]],"color":[250,250,0]}]"#,
+    );
+    dir.cmd("scene-render")
+        .args(["--size", "40x30", "--reference", "s.json", "-o", "ref.png"])
+        .assert()
+        .success()
+        .stderr(predicate::str::contains(
+            "scene-render: reference: error estimate",
+        ));
+    let out = dir
+        .cmd("scene-render")
+        .args([
+            "--size",
+            "40x30",
+            "s.json",
+            "--compare",
+            "ref.png",
+            "--json",
+        ])
+        .assert()
+        .success();
+    let v: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).unwrap();
+    assert!(v["compare"]["max_error"].as_u64().unwrap() <= 1, "{v}");
+    // Point sampling is measurably worse, and the diff image is written.
+    dir.cmd("scene-render")
+        .args([
+            "--size", "40x30", "--aa", "none", "s.json", "-o", "none.png",
+        ])
+        .assert()
+        .success();
+    let out = dir
+        .cmd("scene-render")
+        .args([
+            "--image",
+            "none.png",
+            "--compare",
+            "ref.png",
+            "--diff",
+            "d.png",
+        ])
+        .assert()
+        .success();
+    let text = String::from_utf8(out.get_output().stdout.clone()).unwrap();
+    assert!(
+        text.contains("rmse") && text.contains("psnr") && text.contains("off>4"),
+        "{text}"
+    );
+    assert_eq!(decode(&dir.read("d.png")).dimensions(), (40, 30));
+});
+
+clitest!(thread_count_does_not_change_a_byte, |dir| {
+    let mut s = String::new();
+    for i in 0..200 {
+        let (x, y) = ((i * 37 % 90) as f64, (i * 53 % 60) as f64);
+        s.push_str(&format!(
+            "{{\"vertices\":[[{x},{y},{}],[{},{y},0],[{x},{},1]],\"color\":[{},{},90]}}\n",
+            (i % 7) as f64 / 10.0,
+            x + 13.5,
+            y + 9.25,
+            i % 256,
+            (i * 7) % 256
+        ));
+    }
+    dir.write("s.json", s);
+    for aa in ["exact", "ss4", "none"] {
+        let run = |t: &str| {
+            dir.cmd("scene-render")
+                .args(["--size", "100x70", "--aa", aa, "--threads", t, "s.json"])
+                .assert()
+                .success()
+                .get_output()
+                .stdout
+                .clone()
+        };
+        assert_eq!(run("1"), run("3"), "{aa}");
+    }
+});
+
+clitest!(thesis_demo2_camera_with_near_zero, |dir| {
+    // The plain of demo 2, seen through perspective(550, 1.0, 0.0, 1000.0) and
+    // lookat(0,100,-5, 0,0,-900): it fills the lower part of the screen.
+    dir.write(
+        "plain.json",
+        r#"{"vertices":[[-500,0,0],[500,0,0],[500,0,-800],[-500,0,-800]],"color":[0,200,0]}"#,
+    );
+    dir.write(
+        "cam.json",
+        r#"{"lookat":{"eye":[0,100,-5],"center":[0,0,-900],"twist":0},
+            "perspective":{"fovy":55,"aspect":1.0,"near":0,"far":1000}}"#,
+    );
+    dir.cmd("scene-render")
+        .args([
+            "--size",
+            "64x48",
+            "--camera",
+            "cam.json",
+            "--cull",
+            "back",
+            "plain.json",
+            "-o",
+            "p.png",
+        ])
+        .assert()
+        .success();
+    let img = decode(&dir.read("p.png"));
+    assert_eq!(img.get_pixel(32, 47).0, [0, 200, 0, 255]);
+    assert_eq!(img.get_pixel(32, 0).0, [0, 0, 0, 255]);
+    // Seen from below, the plain is a back face.
+    dir.cmd("scene-render")
+        .args([
+            "--size",
+            "64x48",
+            "--perspective",
+            "55,1,0,1000",
+            "--lookat",
+            "0,-100,-5,0,0,-900",
+        ])
+        .args(["--cull", "back", "plain.json", "-o", "q.png"])
+        .assert()
+        .success();
+    assert!(decode(&dir.read("q.png"))
+        .pixels()
+        .all(|p| p.0 == [0, 0, 0, 255]));
+});
+
+clitest!(background_pattern_tiles_from_the_lower_left, |dir| {
+    dir.write("c.pat", crate::util::checker16());
+    dir.cmd("scene-render")
+        .args([
+            "--size",
+            "4x3",
+            "--background-pattern",
+            "c.pat",
+            "--background",
+            "9,9,9",
+        ])
+        .args(["-o", "b.png"])
+        .write_stdin("")
+        .assert()
+        .success();
+    let img = decode(&dir.read("b.png"));
+    // Texel (0,0) (transparent) at the bottom-left, then blue, red alternating.
+    assert_eq!(img.get_pixel(0, 2).0, [9, 9, 9, 255]);
+    assert_eq!(img.get_pixel(1, 2).0, [0, 0, 255, 255]);
+    assert_eq!(img.get_pixel(1, 1).0, [255, 0, 0, 255]);
+});
+
+clitest!(
+    screen_mode_patterns_render_directly_with_transparency,
+    |dir| {
+        // The IRIS hardware pattern of demo 1: texel (x mod 16, y mod 16) at pixel
+        // (x, y) from the lower-left; the transparent texel (0,0) shows the green
+        // rectangle drawn first, beneath.
+        dir.write("p/c.pat", crate::util::checker16());
+        dir.write(
+        "p/s.json",
+        r#"[{"rect":[0,0,4,3],"color":[0,255,0]},
+            {"vertices":[[0,0,0.5],[4,0,0.5],[4,3,0.5],[0,3,0.5]],"pattern":{"file":"c.pat","mode":"screen"}}]"#,
+    );
+        for aa in ["exact", "none", "ss4"] {
+            dir.cmd("scene-render")
+                .args(["--size", "4x3", "--aa", aa, "p/s.json", "-o", "o.png"])
+                .assert()
+                .success();
+            let img = decode(&dir.read("o.png"));
+            assert_eq!(img.get_pixel(0, 2).0, [0, 255, 0, 255], "{aa}");
+            assert_eq!(img.get_pixel(1, 2).0, [0, 0, 255, 255], "{aa}");
+            assert_eq!(img.get_pixel(1, 1).0, [255, 0, 0, 255], "{aa}");
+        }
+    }
+);
+
+clitest!(patterned_records_ask_for_polyfill3, |dir| {
+    dir.write(
+        "s.json",
+        r#"[{"rect":[0,0,5,5],"color":[1,2,3]},{"rect":[0,0,5,5],"pattern":{"file":"b.pat"}}]"#,
+    );
+    dir.cmd("scene-render")
+        .args(["--size", "8x8", "s.json", "-o", "o.png"])
+        .assert()
+        .code(1)
+        .stdout("")
+        .stderr("scene-render: error: s.json: record 1 has a pattern: partition it with polyfill3 first\n");
+    assert_eq!(dir.files(), vec!["s.json"]);
+});
+
+clitest!(bad_inputs_fail_cleanly_leaving_nothing, |dir| {
+    dir.write(
+        "nan.json",
+        r#"{"vertices":[[NaN,0],[1,0],[0,1]],"color":[0,0,0]}"#,
+    );
+    dir.write("ok.json", HALF);
+    let cases: Vec<(Vec<&str>, i32, &str)> = vec![
+        (vec!["nan.json"], 1, "invalid JSON"),
+        (vec!["missing.json"], 1, "missing.json"),
+        (vec!["--size", "100000x100000", "ok.json"], 2, "too large"),
+        (vec!["--size", "0x5", "ok.json"], 2, "empty"),
+        (vec!["--aa", "ss3", "ok.json"], 2, "ss3"),
+        (
+            vec!["--perspective", "0,1,0,10", "ok.json"],
+            2,
+            "--perspective",
+        ),
+        (vec!["--ortho2", "0,0,0,1", "ok.json"], 2, ""),
+        (vec!["--compare", "nope.png", "ok.json"], 1, "nope.png"),
+        (vec!["--diff", "d.png", "ok.json"], 2, "--compare"),
+        (vec!["--json", "ok.json"], 2, "--json"),
+        (vec!["--background", "300,0,0", "ok.json"], 2, "300,0,0"),
+    ];
+    for (args, code, msg) in cases {
+        dir.cmd("scene-render")
+            .args(&args)
+            .args(["-o", "out.png"])
+            .assert()
+            .code(code)
+            .stdout("")
+            .stderr(predicate::str::starts_with("").and(predicate::str::contains(msg)));
+        assert_eq!(dir.files(), vec!["nan.json", "ok.json"], "{args:?}");
+    }
+});
+
+#[test]
+fn closed_pipe_ends_quietly() {
+    // `scene-render big.json | head -c 100`: the write fails with EPIPE, the
+    // tool exits 0 without a message.
+    let dir = crate::util::Dir::new("closed_pipe");
+    dir.write("s.json", HALF);
+    let bin = assert_cmd::cargo::cargo_bin("scene-render");
+    let out = std::process::Command::new("sh")
+        .current_dir(dir.path())
+        .arg("-c")
+        .arg(format!(
+            "{{ '{}' --size 2000x2000 --aa none --format ppm s.json; echo \"status=$?\" >&2; }} | head -c 100 > /dev/null",
+            bin.display()
+        ))
+        .output()
+        .unwrap();
+    assert_eq!(String::from_utf8_lossy(&out.stderr), "status=0\n");
+}
+
+/// Golden images are compared within this tolerance: at most one 8-bit code on
+/// any channel and an RMSE of 0.01, so `powf` differing in the last ulp between
+/// platforms' maths libraries cannot fail the test while any real change does.
+const GOLDEN_MAX_ERROR: u8 = 1;
+const GOLDEN_RMSE: f64 = 0.01;
+
+fn assert_matches_golden(rendered: &[u8], golden: &str) {
+    let load = |bytes: &[u8], name: &str| {
+        let rgba = patkit::io::decode_image(bytes, name).unwrap();
+        let (width, height) = rgba.dimensions();
+        patkit::io::Image {
+            width,
+            height,
+            channels: 4,
+            data: rgba.into_raw(),
+        }
+    };
+    let path = crate::util::repo(golden);
+    let want = load(&std::fs::read(&path).unwrap(), golden);
+    let got = load(rendered, "rendered");
+    let m = patkit::raster::compare::compare(&got, &want).unwrap();
+    assert!(
+        m.max_error <= GOLDEN_MAX_ERROR && m.rmse <= GOLDEN_RMSE,
+        "{golden}: {m:?}"
+    );
+}
+
+clitest!(thesis_demo1_matches_its_golden_image, |dir| {
+    // App. B: screen-mode brick, wood, weave and mod on white, ortho2(0,1023,0,767).
+    let scene = crate::util::repo("examples/scenes/demo1.json");
+    let out = dir
+        .cmd("scene-render")
+        .args(["--ortho2", "0,1023,0,767", "--background", "255,255,255"])
+        .arg(&scene)
+        .assert()
+        .success();
+    assert_matches_golden(&out.get_output().stdout, "examples/golden/demo1.png");
+});
+
+clitest!(
+    thesis_demo2_through_polyfill3_matches_its_golden_image,
+    |dir| {
+        // App. C / Fig. 4.10: polyfill3 cuts the pyramid and the plain into texture
+        // point polygons; scene-render draws them through the thesis's camera.
+        let scene = crate::util::repo("examples/scenes/demo2.json");
+        dir.cmd("polyfill3")
+            .arg(&scene)
+            .args(["-o", "demo2.ndjson"])
+            .assert()
+            .success();
+        let bkgrnd = crate::util::repo("fixtures/patterns/bkgrnd.pat");
+        let out = dir
+            .cmd("scene-render")
+            .args([
+                "--perspective",
+                "55,1,0,1000",
+                "--lookat",
+                "0,100,-5,0,0,-900",
+            ])
+            .args(["--cull", "back", "--background-pattern"])
+            .arg(&bkgrnd)
+            .arg("demo2.ndjson")
+            .assert()
+            .success();
+        assert_matches_golden(&out.get_output().stdout, "examples/golden/demo2.png");
+    }
+);
