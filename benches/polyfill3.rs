@@ -395,6 +395,25 @@ fn main() {
             7,
         );
     }
+    // Concave: a 64-pointed star (radii 100 and 60 alternating).
+    let star: Vec<DVec3> = ngon(128, 100.0)
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| {
+            let c = DVec3::new(10.0, -3.0, 5.0);
+            if i % 2 == 1 {
+                c + (p - c) * 0.6
+            } else {
+                p
+            }
+        })
+        .collect();
+    row(
+        "star, 128 vertices (concave)",
+        &prepared(&[star], 0.5, 0.0),
+        0.5,
+        5,
+    );
     for n in [4, 8, 16, 32, 64] {
         row(
             &format!("regular {n}-gon, r 100"),

@@ -55,9 +55,9 @@ Placement (SPEC §2): plane x along the edge vertex0->vertex1 rotated by \
 \"rotate\" degrees counter-clockwise, y 90 degrees counter-clockwise from it \
 seen from the front; texel column floor((x - xmin)/incr - horz) mod SIZE, row \
 floor((y - ymin)/incr - vert) mod SIZE. Concave polygons are supported; a \
-cell whose piece falls apart gives one polygon whose parts are joined by \
-zero-width bridges along the cell's sides. Only cells with positive area are \
-written, and neighbouring cells share their vertices bit for bit.\n\n\
+cell whose piece of a concave polygon falls apart gives one polygon per part. \
+Only pieces with positive area are written, and neighbouring cells share \
+their vertices bit for bit.\n\n\
 --json prints a summary (records, polygons, seconds) to standard error.",
     after_help = EXAMPLES
 )]

@@ -191,6 +191,162 @@ pub fn clip_tagged(
     }
 }
 
+/// Splits the clip of a polygon to a cell into its separate parts.
+///
+/// Sutherland–Hodgman gives one ring even when a concave polygon's piece of
+/// the cell falls apart: the parts are joined by zero-width bridges along the
+/// cell's border. Here the ring `q` (the output of clipping to the cell
+/// `[xl,xr] x [ylo,yhi]`) is cut into its chains of input edges, each of which
+/// enters and leaves through the border; each chain's exit is joined to the
+/// next entry counter-clockwise along the border, passing the cell corners in
+/// between (Weiler–Atherton for a rectangle). Every point is kept with its
+/// bits; the only new points are cell corners.
+///
+/// With one chain this still matters: the ring can carry a zero-width spike
+/// along the border, left by a bridge of the strip the cell was cut from.
+///
+/// Returns false, leaving `rings` empty, when there is nothing to rebuild (no
+/// chain: the cell is whole) or the chains do not pair up (a degenerate
+/// touch): then `q` itself is the answer.
+pub fn split_on_border(
+    q: &[TVertex],
+    (xl, ylo, xr, yhi): (f64, f64, f64, f64),
+    rings: &mut Vec<Vec<DVec2>>,
+) -> bool {
+    rings.clear();
+    let n = q.len();
+    let is_edge = |i: usize| matches!(q[i % n].tag, Tag::Edge(_));
+    let (w, h) = (xr - xl, yhi - ylo);
+    let per = 2.0 * (w + h);
+    // Position along the border, counter-clockwise from the lower-left corner.
+    let t = |p: DVec2| {
+        if p.y == ylo {
+            p.x - xl
+        } else if p.x == xr {
+            w + (p.y - ylo)
+        } else if p.y == yhi {
+            w + h + (xr - p.x)
+        } else {
+            2.0 * w + h + (yhi - p.y)
+        }
+    };
+    // The common case, without allocating: one chain, and the way back along
+    // the border runs counter-clockwise from its exit to its entry without
+    // turning back. Then `q` is already right.
+    let (mut count, mut s0) = (0, 0);
+    for i in 0..n {
+        if is_edge(i) && !is_edge(i + n - 1) {
+            count += 1;
+            s0 = i;
+        }
+    }
+    if count == 0 {
+        return false;
+    }
+    if count == 1 {
+        let mut e = s0;
+        while is_edge(e) {
+            e = (e + 1) % n;
+        }
+        let te = t(q[e].p);
+        let to_entry = (t(q[s0].p) - te).rem_euclid(per);
+        let (mut i, mut prev, mut monotone) = (e, 0.0, true);
+        loop {
+            i = (i + 1) % n;
+            if i == s0 {
+                break;
+            }
+            let d = (t(q[i].p) - te).rem_euclid(per);
+            if d < prev || d > to_entry {
+                monotone = false;
+                break;
+            }
+            prev = d;
+        }
+        if monotone {
+            return false;
+        }
+    }
+    let starts: Vec<usize> = (0..n)
+        .filter(|&i| is_edge(i) && !is_edge(i + n - 1))
+        .collect();
+    // Each chain: vertices s..=e (cyclically), entering at s, leaving at e.
+    let chains: Vec<(usize, usize, f64, f64)> = starts
+        .iter()
+        .map(|&s| {
+            let mut e = s;
+            while is_edge(e) {
+                e = (e + 1) % n;
+            }
+            (s, e, t(q[s].p), t(q[e].p))
+        })
+        .collect();
+    // The next chain after each one: the first entry counter-clockwise from its exit.
+    let next: Vec<(usize, f64)> = chains
+        .iter()
+        .map(|&(_, _, _, te)| {
+            chains
+                .iter()
+                .enumerate()
+                .map(|(i, c)| (i, (c.2 - te).rem_euclid(per)))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .expect("one chain or more")
+        })
+        .collect();
+    let mut hit = vec![false; chains.len()];
+    for &(i, _) in &next {
+        if std::mem::replace(&mut hit[i], true) {
+            return false;
+        }
+    }
+    let corners = [
+        (0.0, DVec2::new(xl, ylo)),
+        (w, DVec2::new(xr, ylo)),
+        (w + h, DVec2::new(xr, yhi)),
+        (2.0 * w + h, DVec2::new(xl, yhi)),
+    ];
+    let mut used = vec![false; chains.len()];
+    for c0 in 0..chains.len() {
+        if used[c0] {
+            continue;
+        }
+        let mut ring: Vec<DVec2> = Vec::new();
+        let mut c = c0;
+        while !used[c] {
+            used[c] = true;
+            let (s, e, _, te) = chains[c];
+            let mut i = s;
+            loop {
+                if ring.last() != Some(&q[i].p) {
+                    ring.push(q[i].p);
+                }
+                if i == e {
+                    break;
+                }
+                i = (i + 1) % n;
+            }
+            let (nx, d) = next[c];
+            let mut passed: Vec<(f64, DVec2)> = corners
+                .iter()
+                .map(|&(tc, p)| ((tc - te).rem_euclid(per), p))
+                .filter(|&(dc, _)| dc > 0.0 && dc < d)
+                .collect();
+            passed.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for (_, p) in passed {
+                if ring.last() != Some(&p) {
+                    ring.push(p);
+                }
+            }
+            c = nx;
+        }
+        while ring.len() > 1 && ring.first() == ring.last() {
+            ring.pop();
+        }
+        rings.push(ring);
+    }
+    true
+}
+
 /// Inclusive clip of a polygon to the closed box `[x0,x1] x [y0,y1]` (the
 /// thesis's four clipping boundaries, Fig. 4.5), appending to `out`. The
 /// result is empty only when the polygon does not reach the box at all; a

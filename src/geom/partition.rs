@@ -18,18 +18,20 @@
 //!    `(origin + ey*y) + ex*x` (`Frame::to_world`), so cells on either side of
 //!    a grid line share their vertices bit for bit: no cracks.
 //! 4. Cells are kept only when their piece has positive area: no degenerate
-//!    output. A cell whose piece of a concave polygon falls apart into several
-//!    parts gives ONE polygon, whose parts are joined by zero-width bridges
-//!    along the cell's sides (Sutherland–Hodgman's output): the count is then
-//!    exactly the number of cells with area, and a rasterizer fills the parts
-//!    and nothing between them.
+//!    output. For a concave polygon, a boundary cell's piece is rebuilt from
+//!    its chains of input edges joined along the cell's border
+//!    (`clip::split_on_border`): Sutherland–Hodgman alone would join parts by
+//!    zero-width bridges whose ends lie outside the polygon. A piece that
+//!    falls apart gives one polygon per part, all with the cell's texel; so
+//!    the number of distinct cells written is exactly the number of cells with
+//!    area, and the number of polygons can exceed it by the extra parts.
 //!
 //! Concave polygons and repeated or collinear vertices need nothing special:
 //! clipping handles them, and the inside test of a run is even-odd.
 //! Self-intersecting polygons are outside the contract (SPEC §2 asks for
 //! planar polygons; the result is then the clip of the signed regions).
 
-use super::clip::{clip_closed, clip_tagged, Axis, TVertex, Tag};
+use super::clip::{clip_closed, clip_tagged, split_on_border, Axis, TVertex, Tag};
 use super::plane::{signed_area, PlanePolygon};
 use glam::{DVec2, DVec3};
 
@@ -172,6 +174,8 @@ pub struct Partitioner {
     xs: Vec<f64>,
     ranges: Vec<(i64, i64)>,
     segs: Vec<(DVec2, DVec2)>,
+    rings: Vec<Vec<DVec2>>,
+    run: Vec<TVertex>,
 }
 
 impl Partitioner {
@@ -198,6 +202,9 @@ impl Partitioner {
         self.cols.clear();
         self.cols.extend(self.xs.iter().map(|&x| frame.ex * x));
         let col = |k: i64| (k - grid.k0) as usize;
+        // A convex polygon's strips and cells are single pieces without
+        // bridges: the rebuild of `split_on_border` can be skipped.
+        let convex = is_convex(orig);
         for j in grid.j0..=grid.j1 {
             let (ylo, yhi) = (grid.gy(j), grid.gy(j + 1));
             clip_tagged(
@@ -298,13 +305,41 @@ impl Partitioner {
                 }
                 r += 1;
                 let bhi = bhi.min(kend);
+                // For a concave polygon the strip can be long (many edges
+                // cross it): cut out this run's slab first, so that each cell
+                // clips only the few vertices of its own run. The slab's
+                // bridges are undone by `split_on_border` below.
+                let source = if convex || bhi == cursor {
+                    &self.strip
+                } else {
+                    let (x0, x1) = (grid.gx(cursor), grid.gx(bhi + 1));
+                    clip_tagged(
+                        &self.strip,
+                        orig,
+                        Axis::X,
+                        x0,
+                        true,
+                        (ylo, yhi),
+                        &mut self.tmp,
+                    );
+                    clip_tagged(
+                        &self.tmp,
+                        orig,
+                        Axis::X,
+                        x1,
+                        false,
+                        (ylo, yhi),
+                        &mut self.run,
+                    );
+                    &self.run
+                };
                 for k in cursor..=bhi {
                     if !sink.wants(k, j) {
                         continue;
                     }
                     let (xl, xr) = (grid.gx(k), grid.gx(k + 1));
                     clip_tagged(
-                        &self.strip,
+                        source,
                         orig,
                         Axis::X,
                         xl,
@@ -324,8 +359,30 @@ impl Partitioner {
                     if self.cell_b.len() < 3 {
                         continue;
                     }
+                    // Rebuild the piece from its chains of input edges: no
+                    // bridges, and a concave polygon's piece that falls apart
+                    // gives one polygon per part.
                     self.pts.clear();
-                    self.pts.extend(self.cell_b.iter().map(|v| v.p));
+                    if !convex && split_on_border(&self.cell_b, (xl, ylo, xr, yhi), &mut self.rings)
+                    {
+                        if self.rings.len() > 1 {
+                            for ring in &self.rings {
+                                if ring.len() < 3 || signed_area(ring) <= 0.0 {
+                                    continue;
+                                }
+                                self.world.clear();
+                                self.world.extend(ring.iter().map(|&p| frame.to_world(p)));
+                                sink.cell(k, j, &self.world, ring, false);
+                            }
+                            continue;
+                        }
+                        self.pts.extend_from_slice(&self.rings[0]);
+                    } else {
+                        self.pts.extend(self.cell_b.iter().map(|v| v.p));
+                    }
+                    if self.pts.len() < 3 {
+                        continue;
+                    }
                     if signed_area(&self.pts) <= 0.0 {
                         continue;
                     }
@@ -357,6 +414,32 @@ impl Partitioner {
                 cursor = bhi + 1;
             }
         }
+    }
+}
+
+/// Whether a counter-clockwise polygon turns left (or goes straight) at
+/// every vertex. Repeated vertices are skipped.
+fn is_convex(p: &[DVec2]) -> bool {
+    let n = p.len();
+    let mut prev: Option<DVec2> = None;
+    let mut first: Option<DVec2> = None;
+    // Walk the edges twice around so the last turns, back to the first edge, count too.
+    for i in 0..=n {
+        let d = p[(i + 1) % n] - p[i % n];
+        if d == DVec2::ZERO {
+            continue;
+        }
+        if let Some(q) = prev {
+            if q.perp_dot(d) < 0.0 {
+                return false;
+            }
+        }
+        first.get_or_insert(d);
+        prev = Some(d);
+    }
+    match (prev, first) {
+        (Some(a), Some(b)) => a.perp_dot(b) >= 0.0,
+        _ => true,
     }
 }
 
