@@ -105,10 +105,16 @@ fn field_err(index: usize, msg: impl Into<String>) -> (usize, String) {
 }
 
 fn as_finite(v: &Value, what: &str) -> Result<f64, String> {
+    finite(v, || what.to_string())
+}
+
+/// A finite number, naming the field only on error: the label is built lazily
+/// because this runs for every coordinate of every record.
+fn finite(v: &Value, what: impl FnOnce() -> String) -> Result<f64, String> {
     match v.as_f64() {
         Some(x) if x.is_finite() => Ok(x),
-        Some(_) => Err(format!("{what} is not finite")),
-        None => Err(format!("{what}: expected a number, found {}", short(v))),
+        Some(_) => Err(format!("{} is not finite", what())),
+        None => Err(format!("{}: expected a number, found {}", what(), short(v))),
     }
 }
 
@@ -137,7 +143,7 @@ fn number_array<const N: usize>(v: &Value, what: &str) -> Result<[f64; N], Strin
     }
     let mut out = [0.0; N];
     for (i, (o, x)) in out.iter_mut().zip(arr).enumerate() {
-        *o = as_finite(x, &format!("{what}[{i}]"))?;
+        *o = finite(x, || format!("{what}[{i}]"))?;
     }
     Ok(out)
 }
@@ -187,7 +193,7 @@ fn parse_vertices(v: &Value) -> Result<Vec<DVec3>, String> {
                         short(p)
                     )
                 })?;
-            let c = |k: usize| as_finite(&xs[k], &format!("vertices[{i}][{k}]"));
+            let c = |k: usize| finite(&xs[k], || format!("vertices[{i}][{k}]"));
             Ok(DVec3::new(
                 c(0)?,
                 c(1)?,
