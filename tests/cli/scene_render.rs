@@ -353,3 +353,49 @@ clitest!(
         assert_matches_golden(&out.get_output().stdout, "examples/golden/demo2.png");
     }
 );
+
+// The thesis's demo 2 view described by the IRIS model and by the textbook's
+// view system (VRP at the eye, VPN towards the look-at point, a window of
+// tan(27.5°) at view distance 1, front 0, back 1000): the images are identical.
+clitest!(
+    the_same_view_described_both_ways_renders_identically,
+    |dir| {
+        dir.write(
+            "scene.json",
+            r#"[{"vertices":[[-500,0,0],[500,0,0],[500,0,-800],[-500,0,-800]],"color":[40,120,40]},
+            {"vertices":[[100,0,-400],[100,0,-600],[0,142.2,-500]],"color":[200,160,90]},
+            {"vertices":[[-100,0,-400],[100,0,-400],[0,142.2,-500]],"color":[180,140,80]},
+            {"vertices":[[-100,0,-600],[-100,0,-400],[0,142.2,-500]],"color":[160,120,70]}]"#,
+        );
+        dir.write(
+            "iris.json",
+            r#"{"lookat":{"eye":[0,100,-5],"center":[0,0,-900],"twist":0},
+            "perspective":{"fovy":55,"aspect":1.0,"near":0,"far":1000}}"#,
+        );
+        let t = 27.5f64.to_radians().tan();
+        dir.write(
+            "textbook.json",
+            format!(
+                r#"{{"view":{{"vrp":[0,100,-5],"vpn":[0,-100,-895],"view_up":[0,1,0],
+                "view_distance":1,"window":[{m},{t},{m},{t}],"cop":[0,100,-5],
+                "front":0,"back":1000}}}}"#,
+                m = -t
+            ),
+        );
+        for cam in ["iris", "textbook"] {
+            dir.cmd("scene-render")
+                .args(["--size", "256x192", "--camera", &format!("{cam}.json")])
+                .args(["scene.json", "-o", &format!("{cam}.png")])
+                .assert()
+                .success();
+        }
+        let (a, b) = (
+            decode(&dir.read("iris.png")),
+            decode(&dir.read("textbook.png")),
+        );
+        // Not a blank frame: the pyramid and the plain are both in view.
+        assert!(a.pixels().any(|p| p.0 == [40, 120, 40, 255]));
+        assert!(a.pixels().any(|p| p.0[0] > 150));
+        assert_eq!(a, b);
+    }
+);
