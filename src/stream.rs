@@ -543,6 +543,21 @@ impl Objects {
         Ok(())
     }
 
+    /// Checks that a top-level instance names an object defined before it.
+    pub fn check_instance(&self, inst: &Instance) -> Result<(), StreamError> {
+        if self.defs.contains_key(&inst.object) {
+            return Ok(());
+        }
+        Err(StreamError {
+            source: String::new(),
+            record: Some(inst.index),
+            message: format!(
+                "instance of unknown object `{}` (define it first)",
+                inst.object
+            ),
+        })
+    }
+
     pub fn get(&self, name: &str) -> Option<&ObjectDef> {
         self.defs.get(name).map(|d| &**d)
     }
@@ -558,18 +573,8 @@ impl Objects {
             Item::Record(r) => each(r),
             Item::Object(def) => Ok(self.define(def)?),
             Item::Instance(inst) => {
-                let def = self
-                    .defs
-                    .get(&inst.object)
-                    .cloned()
-                    .ok_or_else(|| StreamError {
-                        source: String::new(),
-                        record: Some(inst.index),
-                        message: format!(
-                            "instance of unknown object `{}` (define it first)",
-                            inst.object
-                        ),
-                    })?;
+                self.check_instance(&inst)?;
+                let def = self.defs[&inst.object].clone();
                 self.place(&def, inst.transform, inst.index, each)
             }
         }
