@@ -417,6 +417,25 @@ pub struct Instance {
     pub fields: Map<String, Value>,
 }
 
+impl ObjectDef {
+    /// What [`Objects::define`] needs to check a definition (its name, index
+    /// and the instances inside it), without its records: for tools that
+    /// keep the records in their own form.
+    pub fn skeleton(&self) -> ObjectDef {
+        ObjectDef {
+            index: self.index,
+            name: self.name.clone(),
+            items: self
+                .items
+                .iter()
+                .filter(|it| !matches!(it, Item::Record(_)))
+                .cloned()
+                .collect(),
+            fields: Map::new(),
+        }
+    }
+}
+
 impl Item {
     /// Builds the typed view of one JSON stream element.
     pub fn from_value(index: usize, value: Value) -> Result<Item, (usize, String)> {

@@ -202,7 +202,7 @@ pub fn run(args: Args) -> Result<()> {
                 .with_context(|| format!("{source}: record {index}"))
         }
         Item::Object(def) => {
-            objects.define(skeleton(&def)).map_err(named)?;
+            objects.define(def.skeleton()).map_err(named)?;
             job.object(def, &source)
         }
         Item::Instance(inst) => {
@@ -230,22 +230,6 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// What [`Objects::define`] needs to check a definition (its name, and the
-/// instances inside it): the records themselves are not kept.
-fn skeleton(def: &ObjectDef) -> ObjectDef {
-    ObjectDef {
-        index: def.index,
-        name: def.name.clone(),
-        items: def
-            .items
-            .iter()
-            .filter(|it| !matches!(it, Item::Record(_)))
-            .cloned()
-            .collect(),
-        fields: serde_json::Map::new(),
-    }
 }
 
 struct Job<'a> {

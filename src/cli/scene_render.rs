@@ -9,7 +9,8 @@ use crate::pat::Pattern;
 use crate::raster::{
     self, compare, reference, Aa, Background, Cull, ScreenPattern, ScreenPoly, View,
 };
-use crate::stream::{for_each_record, PatternMode, Shape};
+use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, Record, Shape};
+use crate::transform::Transform;
 use crate::usage_bail;
 use anyhow::{Context, Result};
 use clap::Parser;
@@ -293,8 +294,7 @@ fn read_scene(input: &str, view: &View, cull: Cull) -> Result<Vec<ScreenPoly>> {
             std::fs::File::open(path).with_context(|| input.to_string())?,
         ))
     };
-    let mut polys = Vec::new();
-    for_each_record(reader, &name, |rec| {
+    let scene = read_items(reader, &name, |rec| {
         let mut screen = None;
         if let Some(pref) = &rec.pattern {
             let mode = pref.mode.unwrap_or(if rec.uv.is_some() {
@@ -330,17 +330,155 @@ fn read_scene(input: &str, view: &View, cull: Cull) -> Result<Vec<ScreenPoly>> {
                 }
             }
         }
-        let color = rec.color.unwrap_or(Rgb8::BLACK);
-        let tol = curve_tolerance(&rec.shape, view);
-        let outline = crate::geom::outline(&rec.shape, tol);
-        let order = u32::try_from(rec.index).context("more than 2^32 records")?;
-        if let Some(mut p) = raster::project(view, &outline, color, order, cull) {
-            p.screen = screen;
-            polys.push(p);
+        Ok(Drawable {
+            index: rec.index,
+            shape: rec.shape,
+            color: rec.color.unwrap_or(Rgb8::BLACK),
+            screen,
+        })
+    })?;
+    let mut polys = Vec::new();
+    project_parts(&scene.parts, view, None, None, cull, &mut polys)?;
+    Ok(polys)
+}
+
+/// One record ready to draw, in its own coordinates (world coordinates at the
+/// top level, the object's inside a definition). Only the geometry is kept,
+/// not the record's JSON.
+struct Drawable {
+    index: usize,
+    shape: Shape,
+    color: Rgb8,
+    screen: Option<Arc<ScreenPattern>>,
+}
+
+/// A stream element as the renderer keeps it.
+enum Part {
+    Draw(Drawable),
+    /// An instance (the thesis's `callobj`): the object's parts are shared,
+    /// never copied; they are projected through the instance's transform.
+    Place {
+        index: usize,
+        object: std::rc::Rc<Vec<Part>>,
+        transform: Transform,
+    },
+}
+
+/// The stream read into parts, objects defined once.
+#[derive(Default)]
+struct Scene {
+    parts: Vec<Part>,
+}
+
+/// Reads the stream, keeping objects and instances (the thesis's
+/// `makeobj`/`callobj`, Fig. 5.1): every record, inside an object or not, goes
+/// through `each` once; an instance refers to its object's parts.
+fn read_items(
+    reader: Box<dyn BufRead>,
+    name: &str,
+    mut each: impl FnMut(Record) -> Result<Drawable>,
+) -> Result<Scene> {
+    let mut checks = Objects::default();
+    let mut objects: HashMap<String, std::rc::Rc<Vec<Part>>> = HashMap::new();
+    let mut scene = Scene::default();
+    let named = |mut e: crate::stream::StreamError| {
+        e.source = name.to_string();
+        e
+    };
+    let place = |inst: Instance, objects: &HashMap<String, std::rc::Rc<Vec<Part>>>| Part::Place {
+        index: inst.index,
+        object: objects[&inst.object].clone(),
+        transform: inst.transform,
+    };
+    for_each_item(reader, name, |item| {
+        match item {
+            Item::Record(rec) => scene.parts.push(Part::Draw(each(rec)?)),
+            Item::Object(def) => {
+                checks.define(def.skeleton()).map_err(named)?;
+                let mut parts = Vec::with_capacity(def.items.len());
+                for it in def.items {
+                    parts.push(match it {
+                        Item::Record(rec) => Part::Draw(each(rec)?),
+                        Item::Instance(inst) => place(inst, &objects),
+                        Item::Object(_) => {
+                            unreachable!("Objects::define rejects nested definitions")
+                        }
+                    });
+                }
+                objects.insert(def.name, std::rc::Rc::new(parts));
+            }
+            Item::Instance(inst) => {
+                checks.check_instance(&inst).map_err(named)?;
+                scene.parts.push(place(inst, &objects));
+            }
         }
         Ok(())
     })?;
-    Ok(polys)
+    Ok(scene)
+}
+
+/// Clips and projects parts into screen polygons. `placed` is the transform
+/// of the instance being drawn (object to world) and `order` its position in
+/// the stream: every polygon of an instance draws at the instance's place, as
+/// when the instance is expanded. An instance's polygons are never copied:
+/// the view's matrix is multiplied by the instance's, so the clip-space
+/// vertices the clipper makes anyway are the only transformed buffer.
+fn project_parts(
+    parts: &[Part],
+    base: &View,
+    placed: Option<Transform>,
+    order: Option<u32>,
+    cull: Cull,
+    out: &mut Vec<ScreenPoly>,
+) -> Result<()> {
+    let moved;
+    let view = match placed {
+        Some(t) => {
+            moved = View {
+                world_to_clip: base.world_to_clip * t.matrix(),
+                ..base.clone()
+            };
+            &moved
+        }
+        None => base,
+    };
+    for part in parts {
+        match part {
+            Part::Draw(d) => {
+                let order = match order {
+                    Some(o) => o,
+                    None => u32::try_from(d.index).context("more than 2^32 records")?,
+                };
+                let outline = match &d.shape {
+                    Shape::Polygon(v) => std::borrow::Cow::Borrowed(v.as_slice()),
+                    other => std::borrow::Cow::Owned(crate::geom::outline(
+                        other,
+                        curve_tolerance(other, view),
+                    )),
+                };
+                if let Some(mut p) = raster::project(view, &outline, d.color, order, cull) {
+                    p.screen = d.screen.clone();
+                    out.push(p);
+                }
+            }
+            Part::Place {
+                index,
+                object,
+                transform,
+            } => {
+                let order = match order {
+                    Some(o) => o,
+                    None => u32::try_from(*index).context("more than 2^32 records")?,
+                };
+                let total = match placed {
+                    Some(outer) => transform.then(outer),
+                    None => *transform,
+                };
+                project_parts(object, base, Some(total), Some(order), cull, out)?;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// World-space chord tolerance for a curved record, from the view's scale at
