@@ -423,6 +423,25 @@ pub struct Instance {
     pub fields: Map<String, Value>,
 }
 
+impl ObjectDef {
+    /// What [`Objects::define`] needs to check a definition (its name, index
+    /// and the instances inside it), without its records: for tools that
+    /// keep the records in their own form.
+    pub fn skeleton(&self) -> ObjectDef {
+        ObjectDef {
+            index: self.index,
+            name: self.name.clone(),
+            items: self
+                .items
+                .iter()
+                .filter(|it| !matches!(it, Item::Record(_)))
+                .cloned()
+                .collect(),
+            fields: Map::new(),
+        }
+    }
+}
+
 impl Item {
     /// Builds the typed view of one JSON stream element.
     pub fn from_value(index: usize, value: Value) -> Result<Item, (usize, String)> {
@@ -549,6 +568,21 @@ impl Objects {
         Ok(())
     }
 
+    /// Checks that a top-level instance names an object defined before it.
+    pub fn check_instance(&self, inst: &Instance) -> Result<(), StreamError> {
+        if self.defs.contains_key(&inst.object) {
+            return Ok(());
+        }
+        Err(StreamError {
+            source: String::new(),
+            record: Some(inst.index),
+            message: format!(
+                "instance of unknown object `{}` (define it first)",
+                inst.object
+            ),
+        })
+    }
+
     pub fn get(&self, name: &str) -> Option<&ObjectDef> {
         self.defs.get(name).map(|d| &**d)
     }
@@ -564,18 +598,8 @@ impl Objects {
             Item::Record(r) => each(r),
             Item::Object(def) => Ok(self.define(def)?),
             Item::Instance(inst) => {
-                let def = self
-                    .defs
-                    .get(&inst.object)
-                    .cloned()
-                    .ok_or_else(|| StreamError {
-                        source: String::new(),
-                        record: Some(inst.index),
-                        message: format!(
-                            "instance of unknown object `{}` (define it first)",
-                            inst.object
-                        ),
-                    })?;
+                self.check_instance(&inst)?;
+                let def = self.defs[&inst.object].clone();
                 self.place(&def, inst.transform, inst.index, each)
             }
         }
