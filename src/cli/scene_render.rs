@@ -273,10 +273,10 @@ fn load_image(name: &str) -> Result<Image> {
     })
 }
 
-/// Reads the stream and projects every record. Screen-mode patterns (the IRIS
-/// hardware patterns of the thesis's demo 1) are drawn directly; object-mode
-/// and uv patterns are refused: `polyfill3` partitions object-mode patterns
-/// into flat-coloured texture point polygons.
+/// Reads the stream and projects every record. Patterns are drawn directly:
+/// screen mode (the IRIS hardware patterns of the thesis's demo 1) per pixel,
+/// object and uv placement through their screen → texel map
+/// (`scene_texture`), integrated exactly over texel cells by `--aa exact`.
 fn read_scene(input: &str, view: &View, cull: Cull) -> Result<Vec<ScreenPoly>> {
     let name = display_name(input).to_string();
     let base = crate::stream::base_dir(input);
@@ -296,38 +296,32 @@ fn read_scene(input: &str, view: &View, cull: Cull) -> Result<Vec<ScreenPoly>> {
     let mut polys = Vec::new();
     for_each_record(reader, &name, |rec| {
         let mut screen = None;
+        // "object" and "uv" patterns: placed after projection (below).
+        let mut placed = None;
         if let Some(pref) = &rec.pattern {
             let mode = pref.mode.unwrap_or(if rec.uv.is_some() {
                 PatternMode::Uv
             } else {
                 PatternMode::Object
             });
-            match mode {
-                PatternMode::Object => anyhow::bail!(
-                    "{name}: record {} has a pattern: partition it with polyfill3 first",
-                    rec.index
-                ),
-                PatternMode::Uv => anyhow::bail!(
-                    "{name}: record {}: patterns placed by \"uv\" are not supported yet",
-                    rec.index
-                ),
-                PatternMode::Screen => {
-                    let Some(file) = &pref.file else {
-                        anyhow::bail!("{name}: record {}: pattern.file is missing", rec.index);
-                    };
-                    let path = crate::stream::resolve(&base, file);
-                    let p = match patterns.get(&path) {
-                        Some(p) => p.clone(),
-                        None => {
-                            let pat = Pattern::read_file(&path)
-                                .with_context(|| format!("{name}: record {}", rec.index))?;
-                            let p = Arc::new(ScreenPattern::new(&pat));
-                            patterns.insert(path, p.clone());
-                            p
-                        }
-                    };
-                    screen = Some(p);
+            let Some(file) = &pref.file else {
+                anyhow::bail!("{name}: record {}: pattern.file is missing", rec.index);
+            };
+            // Only patterns the scene references are read, each once.
+            let path = crate::stream::resolve(&base, file);
+            let p = match patterns.get(&path) {
+                Some(p) => p.clone(),
+                None => {
+                    let pat = Pattern::read_file(&path)
+                        .with_context(|| format!("{name}: record {}", rec.index))?;
+                    let p = Arc::new(ScreenPattern::new(&pat));
+                    patterns.insert(path, p.clone());
+                    p
                 }
+            };
+            match mode {
+                PatternMode::Screen => screen = Some(p),
+                PatternMode::Object | PatternMode::Uv => placed = Some((pref, mode, p)),
             }
         }
         let color = rec.color.unwrap_or(Rgb8::BLACK);
@@ -336,6 +330,23 @@ fn read_scene(input: &str, view: &View, cull: Cull) -> Result<Vec<ScreenPoly>> {
         let order = u32::try_from(rec.index).context("more than 2^32 records")?;
         if let Some(mut p) = raster::project(view, &outline, color, order, cull) {
             p.screen = screen;
+            if let Some((pref, mode, texels)) = placed {
+                let tex = super::scene_texture::place(
+                    view,
+                    &outline,
+                    pref,
+                    mode,
+                    rec.uv.as_deref(),
+                    texels,
+                )
+                .with_context(|| format!("{name}: record {}", rec.index))?;
+                match tex {
+                    Some(t) => p.texture = Some(Arc::new(t)),
+                    // Visible by the projection but not by the fit: rounding
+                    // at a sliver; nothing to draw.
+                    None => return Ok(()),
+                }
+            }
             polys.push(p);
         }
         Ok(())

@@ -1,10 +1,28 @@
-//! Sampling patterns. For now: screen mode, the IRIS hardware pattern
-//! (`defpattern`/`setpattern`, and `colorclear`): pixel (px, py), counted from
-//! the LOWER-left of the image, takes texel (px mod SIZE, py mod SIZE) (SPEC §2).
+//! Sampling patterns.
+//!
+//! - Screen mode (this file): the IRIS hardware pattern (`defpattern`/
+//!   `setpattern`, and `colorclear`): pixel (px, py), counted from the
+//!   LOWER-left of the image, takes texel (px mod SIZE, py mod SIZE) (SPEC §2).
+//! - [`map`]: where a pattern lies on a projected polygon in "object" and
+//!   "uv" placement (the screen → texel projective map).
+//! - [`cells`]: the exact box filter, a fragment cut into its texel cells.
+
+pub mod cells;
+pub mod map;
 
 use crate::color::Rgb8;
 use crate::io::Image;
 use crate::pat::Pattern;
+use crate::raster::ScreenPattern;
+use std::sync::Arc;
+
+/// A pattern placed on one projected polygon ("object" or "uv" mode): its
+/// texels (linear light, shared between polygons) and the screen → texel map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PolyTexture {
+    pub texels: Arc<ScreenPattern>,
+    pub map: map::TexMap,
+}
 
 /// How a pattern is laid over the screen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
