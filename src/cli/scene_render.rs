@@ -69,6 +69,9 @@ pub struct Args {
     #[command(flatten)]
     pub camera: CameraArgs,
 
+    #[command(flatten)]
+    pub texture: super::scene_texture::TextureArgs,
+
     /// Which faces to drop; the front is the side from which the vertices run
     /// counter-clockwise.
     #[arg(long, value_enum, default_value_t = Cull::None)]
@@ -173,7 +176,7 @@ fn run_in_pool(args: Args) -> Result<()> {
         },
     };
     let t_read = std::time::Instant::now();
-    let polys = read_scene(&args.input, &view, args.cull)?;
+    let polys = read_scene(&args.input, &view, args.cull, &args.texture)?;
     let t_render = std::time::Instant::now();
     let (img, residual) = if args.reference {
         let r = reference::render(&polys, &bg, width, height, args.reference_samples);
@@ -277,7 +280,12 @@ fn load_image(name: &str) -> Result<Image> {
 /// screen mode (the IRIS hardware patterns of the thesis's demo 1) per pixel,
 /// object and uv placement through their screen → texel map
 /// (`scene_texture`), integrated exactly over texel cells by `--aa exact`.
-fn read_scene(input: &str, view: &View, cull: Cull) -> Result<Vec<ScreenPoly>> {
+fn read_scene(
+    input: &str,
+    view: &View,
+    cull: Cull,
+    texture: &super::scene_texture::TextureArgs,
+) -> Result<Vec<ScreenPoly>> {
     let name = display_name(input).to_string();
     let base = crate::stream::base_dir(input);
     let mut patterns: HashMap<std::path::PathBuf, Arc<ScreenPattern>> = HashMap::new();
@@ -332,6 +340,8 @@ fn read_scene(input: &str, view: &View, cull: Cull) -> Result<Vec<ScreenPoly>> {
             p.screen = screen;
             if let Some((pref, mode, texels)) = placed {
                 let tex = super::scene_texture::place(
+                    texture,
+                    color,
                     view,
                     &outline,
                     pref,

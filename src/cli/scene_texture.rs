@@ -3,15 +3,61 @@
 //! pixel (`crate::texture`) instead of being exploded into texel polygons by
 //! `polyfill3` first.
 
+use crate::color::{srgb_to_linear_f64, Rgb8};
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::geom::Placement;
 use crate::raster::{ScreenPattern, View};
 use crate::stream::{PatternMode, PatternRef};
+use crate::texture::boundary::{Boundary, Bounds};
 use crate::texture::map::{object_uv, TexMap};
 use crate::texture::PolyTexture;
 use anyhow::Result;
 use glam::{DVec2, DVec3};
 use std::sync::Arc;
+
+/// How "object" and "uv" patterns are applied.
+#[derive(clap::Args, Debug, Clone)]
+pub struct TextureArgs {
+    /// What a pattern shows outside its bounds (texel columns and rows outside
+    /// 0..SIZE), XGL's boundary conditions: repeat (XGL wrap; SPEC §2 tiling),
+    /// transparent (the polygon's own colour, as if untextured), clamp (the
+    /// --boundary-color), mirror, edge (the closest boundary texel).
+    #[arg(long, value_enum, value_name = "MODE", default_value_t = Boundary::Repeat)]
+    pub boundary: Boundary,
+
+    /// The boundary condition along u only (overrides --boundary). When u and
+    /// v differ and both exceed the bounds, XGL's precedence decides:
+    /// transparent, clamp, repeat, mirror, edge.
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub boundary_u: Option<Boundary>,
+
+    /// The boundary condition along v only (overrides --boundary).
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub boundary_v: Option<Boundary>,
+
+    /// The constant colour of --boundary clamp (`r,g,b` or `#rrggbb`).
+    #[arg(long, value_name = "COLOR", default_value = "0,0,0")]
+    pub boundary_color: Rgb8,
+
+    /// Interpolate texture coordinates linearly on the screen instead of
+    /// perspective-correctly (XGL's PERSP_NONE): faster hardware once, wrong
+    /// under perspective; for reproducing such images.
+    #[arg(long)]
+    pub no_perspective_correction: bool,
+}
+
+impl TextureArgs {
+    fn bounds(&self) -> Bounds {
+        Bounds {
+            u: self.boundary_u.unwrap_or(self.boundary),
+            v: self.boundary_v.unwrap_or(self.boundary),
+        }
+    }
+}
+
+fn linear(c: Rgb8) -> [f64; 3] {
+    c.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0))
+}
 
 /// `polyfill3`'s defaults for a record's missing placement fields (its
 /// `--incr 1 --rotate 0 --horz 0 --vert 0`), so both paths place a pattern
@@ -24,8 +70,11 @@ pub const DEFAULT_PLACEMENT: Placement = Placement {
 
 /// The texture of a record placed in `mode` (object or uv) over the world
 /// polygon `outline`; `None` when nothing of it is visible. `uv` are the
-/// record's per-vertex coordinates.
+/// record's per-vertex coordinates; `color` the record's own colour.
+#[allow(clippy::too_many_arguments)]
 pub fn place(
+    args: &TextureArgs,
+    color: Rgb8,
     view: &View,
     outline: &[DVec3],
     pref: &PatternRef,
@@ -59,5 +108,15 @@ pub fn place(
             outline.len()
         );
     }
-    Ok(TexMap::fit(view, outline, &coords).map(|map| PolyTexture { texels, map }))
+    Ok(
+        TexMap::fit(view, outline, &coords, !args.no_perspective_correction).map(|map| {
+            PolyTexture {
+                texels,
+                map,
+                bounds: args.bounds(),
+                intrinsic: linear(color),
+                constant: linear(args.boundary_color),
+            }
+        }),
+    )
 }

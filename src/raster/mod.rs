@@ -210,7 +210,7 @@ impl ScreenPoly {
             None => self.color_at(x, y),
             Some(t) => {
                 let uv = t.map.uv(sx, sy);
-                t.texels.texel(uv.x.floor() as i64, uv.y.floor() as i64)
+                t.texel(uv.x.floor() as i64, uv.y.floor() as i64)
             }
         }
     }

@@ -89,7 +89,7 @@ pub fn split(
     let k1 = (hi.x.ceil() as i64 - 1).max(k0);
     let j1 = (hi.y.ceil() as i64 - 1).max(j0);
     if k0 == k1 && j0 == j1 {
-        return Split::Whole(tex.texels.texel(k0, j0));
+        return Split::Whole(tex.texel(k0, j0));
     }
     let cells = (k1 - k0 + 1).saturating_mul(j1 - j0 + 1);
     if cells > MAX_EXACT_CELLS {
@@ -105,7 +105,7 @@ pub fn split(
             continue;
         }
         for k in k0..=k1 {
-            let Some(color) = tex.texels.texel(k, j) else {
+            let Some(color) = tex.texel(k, j) else {
                 continue;
             };
             s.b.clear();
@@ -166,7 +166,7 @@ fn fallback(
             }
             let c = s.cell.iter().fold(DVec2::ZERO, |a, &p| a + p) / s.cell.len() as f64;
             let t = tex.map.uv(c.x, c.y);
-            let Some(color) = tex.texels.texel(t.x.floor() as i64, t.y.floor() as i64) else {
+            let Some(color) = tex.texel(t.x.floor() as i64, t.y.floor() as i64) else {
                 continue;
             };
             pieces.push(Piece {

@@ -58,7 +58,17 @@ impl TexMap {
     /// vertices: the polygon is clipped exactly as [`crate::raster::project`]
     /// clips it, carrying (u, v), and `U`, `V`, `D` are fitted through the
     /// clipped vertices. `None` when nothing is visible or the fit degenerates.
-    pub fn fit(view: &View, world: &[DVec3], uv: &[DVec2]) -> Option<TexMap> {
+    ///
+    /// `perspective_correct = false` interpolates (u, v) linearly over the
+    /// screen instead (`D = 1`): XGL's `PERSP_NONE`, exact only for parallel
+    /// views, kept to reproduce images made that way.
+    pub fn fit(
+        view: &View,
+        world: &[DVec3],
+        uv: &[DVec2],
+        perspective_correct: bool,
+    ) -> Option<TexMap> {
+        let projective = view.perspective && perspective_correct;
         let pairs: Vec<(DVec4, DVec2)> = world
             .iter()
             .zip(uv)
@@ -75,7 +85,7 @@ impl TexMap {
         let (mut us, mut vs, mut ds) = (Vec::new(), Vec::new(), Vec::new());
         for (c, t) in &clipped {
             let s = view.to_screen(*c);
-            let d = if view.perspective { 1.0 / c.w } else { 1.0 };
+            let d = if projective { 1.0 / c.w } else { 1.0 };
             if pts.last() == Some(&s) {
                 continue;
             }
@@ -95,7 +105,7 @@ impl TexMap {
         }
         let u = crate::raster::newell_plane(&pts, &us)?;
         let v = crate::raster::newell_plane(&pts, &vs)?;
-        let d = if view.perspective {
+        let d = if projective {
             crate::raster::newell_plane(&pts, &ds)?
         } else {
             [0.0, 0.0, 1.0]
@@ -151,7 +161,7 @@ mod tests {
             DVec3::new(9.0, 5.0, 0.0),
         ];
         let uv = [DVec2::ZERO, DVec2::new(4.0, 0.0), DVec2::new(4.0, 2.0)];
-        let m = TexMap::fit(&view, &world, &uv).unwrap();
+        let m = TexMap::fit(&view, &world, &uv, true).unwrap();
         let at = m.uv(5.0, 3.0);
         assert!((at - DVec2::new(2.0, 1.0)).length() < 1e-12, "{at}");
     }
@@ -172,7 +182,7 @@ mod tests {
             DVec2::new(2.0, 2.0),
             DVec2::new(0.0, 2.0),
         ];
-        let m = TexMap::fit(&view, &world, &uv).unwrap();
+        let m = TexMap::fit(&view, &world, &uv, true).unwrap();
         // World point (0, -1, -2) is uv (1, 1); it projects to x = 50,
         // y = 50 - 50/2 = 25 (f = 1, w = 2).
         let at = m.uv(50.0, 25.0);
@@ -181,6 +191,10 @@ mod tests {
         // near (y = 0) and far (y = 100/3) edges instead.
         let mid = m.uv(50.0, 50.0 / 3.0);
         assert!((mid.y - 1.0).abs() > 0.1, "{mid}");
+        // ... which is what PERSP_NONE does.
+        let none = TexMap::fit(&view, &world, &uv, false).unwrap();
+        let mid = none.uv(50.0, 50.0 / 3.0);
+        assert!((mid.y - 1.0).abs() < 1e-9, "{mid}");
     }
 
     #[test]

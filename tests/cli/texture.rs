@@ -214,3 +214,105 @@ clitest!(
         }
     }
 );
+
+const BANDS: [[u8; 3]; 4] = [[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 0]];
+
+/// Seed 003 (XGL): "the texture appeared once in the center of the polygon
+/// with a border of the original polygon visible around the sides": texture
+/// coordinates -0.5..1.5 (here -8..24 texels of a 16x16 pattern whose
+/// columns come in four bands of four) on a 64x64 quad, 2 pixels per texel.
+fn xgl_quad(dir: &Dir, flags: &[&str]) -> Vec<u8> {
+    dir.write("b.pat", pattern_from(|c, _| Some(c / 4), &BANDS));
+    dir.write(
+        "s.json",
+        r#"{"vertices":[[0,0],[64,0],[64,64],[0,64]],"uv":[[-8,-8],[24,-8],[24,24],[-8,24]],"color":[50,60,70],"pattern":{"file":"b.pat"}}"#,
+    );
+    dir.cmd("scene-render")
+        .args(["--size", "64x64", "--boundary-color", "9,8,7"])
+        .args(flags)
+        .args(["s.json", "-o", "o.ppm"])
+        .assert()
+        .success();
+    dir.read("o.ppm")
+}
+
+clitest!(
+    seed003_quad_from_minus_half_to_one_and_a_half_per_boundary_mode,
+    |dir| {
+        // Pixel x = 1 is u in [-7.5, -7): cell -8. Pixel 32 is cell 8, inside.
+        for (mode, outside) in [
+            ("repeat", BANDS[2]),          // -8 mod 16 = 8
+            ("mirror", BANDS[1]),          // reversed: column 7
+            ("edge", BANDS[0]),            // the closest boundary texel, column 0
+            ("clamp", [9, 8, 7]),          // the constant
+            ("transparent", [50, 60, 70]), // the polygon's own colour
+        ] {
+            let img = xgl_quad(&dir, &["--boundary", mode]);
+            assert_eq!(pixel(&img, 64, 64, 1, 32), outside, "{mode}");
+            assert_eq!(pixel(&img, 64, 64, 32, 32), BANDS[2], "{mode} inside");
+            // Right of the pattern: x = 62 is cell 23.
+            let right = match mode {
+                "repeat" => BANDS[1], // 23 mod 16 = 7
+                "mirror" => BANDS[2], // 2*16 - 1 - 23 = 8
+                "edge" => BANDS[3],   // column 15
+                _ => outside,
+            };
+            assert_eq!(pixel(&img, 64, 64, 62, 32), right, "{mode} right");
+        }
+    }
+);
+
+clitest!(
+    xgl_precedence_applies_only_where_both_coordinates_exceed,
+    |dir| {
+        let img = xgl_quad(&dir, &["--boundary-u", "repeat", "--boundary-v", "clamp"]);
+        // Only u out: repeat.
+        assert_eq!(pixel(&img, 64, 64, 1, 32), BANDS[2]);
+        // Only v out: clamp.
+        assert_eq!(pixel(&img, 64, 64, 32, 1), [9, 8, 7]);
+        // Both out: clamp outranks wrap.
+        assert_eq!(pixel(&img, 64, 64, 1, 1), [9, 8, 7]);
+    }
+);
+
+clitest!(
+    no_perspective_correction_interpolates_on_the_screen,
+    |dir| {
+        dir.write("q.pat", quadrant_pattern());
+        // A floor quad receding from the eye: with perspective correction the
+        // far half of the texture takes less than half the screen height.
+        dir.write(
+        "s.json",
+        r#"{"vertices":[[-1,-1,-1],[1,-1,-1],[1,-1,-3],[-1,-1,-3]],"uv":[[0,0],[2,0],[2,2],[0,2]],"color":[0,0,0],"pattern":{"file":"q.pat"}}"#,
+    );
+        let rows_of_far_half = |flags: &[&str]| {
+            dir.cmd("scene-render")
+                .args([
+                    "--size",
+                    "100x100",
+                    "--perspective",
+                    "90,1,0.1,10",
+                    "--aa",
+                    "none",
+                ])
+                .args(flags)
+                .args(["s.json", "-o", "o.ppm"])
+                .assert()
+                .success();
+            let img = dir.read("o.ppm");
+            // Column 50 is u = 1 on the boundary; column 40 is u < 1: quadrant
+            // 0 (near, v < 1) or 2 (far).
+            (0..100)
+                .filter(|&y| pixel(&img, 100, 100, 40, y) == QUADRANTS[2])
+                .count()
+        };
+        let correct = rows_of_far_half(&[]);
+        let linear = rows_of_far_half(&["--no-perspective-correction"]);
+        // Screen y = 50 - 50/|z| (fovy 90): the quad spans y = 0 (z = -1) to
+        // 33.3 (z = -3). Perspective-correct, v = 1 at z = -2, y = 25: pixel
+        // centres 25.5..32.5, 8 rows. PERSP_NONE puts v = 1 at the screen
+        // midpoint, y = 16.7: centres 17.5..32.5, 16 rows.
+        assert_eq!(correct, 8);
+        assert_eq!(linear, 16);
+    }
+);
