@@ -49,6 +49,32 @@ pub fn clip_polygon(poly: &[DVec4], view: &View) -> Vec<DVec4> {
     cur
 }
 
+/// Clips a clip-space polygon carrying a 2D attribute per vertex (texture
+/// coordinates), by the same planes and the same interpolation as
+/// [`clip_polygon`]: the clip-space part of the result is bit for bit what
+/// [`clip_polygon`] returns, so the attribute lands on the same vertices.
+pub fn clip_carrying(poly: &[(DVec4, DVec2)], view: &View) -> Vec<(DVec4, DVec2)> {
+    let mut cur = poly.to_vec();
+    let mut next = Vec::with_capacity(poly.len() + 8);
+    for f in planes(view) {
+        if cur.is_empty() {
+            break;
+        }
+        if cur.iter().all(|&(c, _)| f(c) >= 0.0) {
+            continue;
+        }
+        next.clear();
+        clip_against(
+            &cur,
+            |(c, _)| f(c),
+            &mut next,
+            |a, b, t| (a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t),
+        );
+        std::mem::swap(&mut cur, &mut next);
+    }
+    cur
+}
+
 /// One Sutherland–Hodgman pass: keeps the part where `d(p) >= 0`. `lerp(inside,
 /// outside, t)` makes the crossing, always from the inside endpoint.
 pub fn clip_against<T: Copy>(

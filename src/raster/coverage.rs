@@ -57,6 +57,107 @@ struct Frag {
     /// Vertices in the arena, or `len == 0` for the full pixel square.
     start: u32,
     len: u32,
+    /// Index of this fragment's own colour (a texel's) in the tile's colour
+    /// list, or [`POLY_COLOR`] for the polygon's colour.
+    color: u32,
+}
+
+/// [`Frag::color`] of a fragment coloured by its polygon.
+const POLY_COLOR: u32 = u32::MAX;
+
+/// Per-tile buffers for fragments of textured polygons.
+#[derive(Default)]
+struct TexScratch {
+    colors: Vec<[f64; 3]>,
+    pieces: Vec<crate::texture::cells::Piece>,
+    verts: Vec<DVec2>,
+    cells: crate::texture::cells::Scratch,
+}
+
+/// Pushes one fragment of polygon `pi` in `pixel` (`verts` empty = the full
+/// pixel square): as is, or, for a textured polygon, cut into its texel cells
+/// (`crate::texture::cells`), each piece with its texel's colour.
+#[allow(clippy::too_many_arguments)]
+fn push_frag(
+    p: &ScreenPoly,
+    pi: u32,
+    pixel: u32,
+    (px, py): (u32, u32),
+    verts: &[DVec2],
+    frags: &mut Vec<Frag>,
+    arena: &mut Vec<DVec2>,
+    t: &mut TexScratch,
+) {
+    use crate::texture::cells::{split, Split};
+    let Some(tex) = &p.texture else {
+        let (start, len) = if verts.is_empty() {
+            (0, 0)
+        } else {
+            arena.extend_from_slice(verts);
+            ((arena.len() - verts.len()) as u32, verts.len() as u32)
+        };
+        frags.push(Frag {
+            pixel,
+            poly: pi,
+            start,
+            len,
+            color: POLY_COLOR,
+        });
+        return;
+    };
+    let (x, y) = (px as f64, py as f64);
+    let square = [
+        DVec2::new(x, y),
+        DVec2::new(x + 1.0, y),
+        DVec2::new(x + 1.0, y + 1.0),
+        DVec2::new(x, y + 1.0),
+    ];
+    let shape: &[DVec2] = if verts.is_empty() { &square } else { verts };
+    t.pieces.clear();
+    t.verts.clear();
+    match split(
+        shape,
+        px,
+        py,
+        tex,
+        &mut t.verts,
+        &mut t.pieces,
+        &mut t.cells,
+    ) {
+        Split::Whole(None) => {}
+        Split::Whole(Some(c)) => {
+            t.colors.push(c);
+            let color = (t.colors.len() - 1) as u32;
+            let (start, len) = if verts.is_empty() {
+                (0, 0)
+            } else {
+                arena.extend_from_slice(verts);
+                ((arena.len() - verts.len()) as u32, verts.len() as u32)
+            };
+            frags.push(Frag {
+                pixel,
+                poly: pi,
+                start,
+                len,
+                color,
+            });
+        }
+        Split::Pieces => {
+            for piece in &t.pieces {
+                t.colors.push(piece.color);
+                frags.push(Frag {
+                    pixel,
+                    poly: pi,
+                    start: arena.len() as u32,
+                    len: piece.len,
+                    color: (t.colors.len() - 1) as u32,
+                });
+                arena.extend_from_slice(
+                    &t.verts[piece.start as usize..(piece.start + piece.len) as usize],
+                );
+            }
+        }
+    }
 }
 
 /// Renders one tile with exact coverage.
@@ -72,6 +173,7 @@ pub fn render_tile(
     let mut frags: Vec<Frag> = Vec::new();
     let mut arena: Vec<DVec2> = Vec::new();
     let (mut band, mut tmp, mut cell, mut tmp2) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut tex = TexScratch::default();
     for &pi in bin {
         let p = &polys[pi as usize];
         for piece in &p.pieces {
@@ -117,12 +219,16 @@ pub fn render_tile(
                     let pixel = ((py - ty0) as usize * tw + (px - tx0) as usize) as u32;
                     let (xl, xr) = (px as f64, px as f64 + 1.0);
                     if xl >= full_lo && xr <= full_hi {
-                        frags.push(Frag {
+                        push_frag(
+                            p,
+                            pi,
                             pixel,
-                            poly: pi,
-                            start: 0,
-                            len: 0,
-                        });
+                            (px, py),
+                            &[],
+                            &mut frags,
+                            &mut arena,
+                            &mut tex,
+                        );
                         continue;
                     }
                     tmp2.clear();
@@ -132,13 +238,16 @@ pub fn render_tile(
                     if cell.len() < 3 || area2(&cell) <= 2.0 * AREA_EPS {
                         continue;
                     }
-                    frags.push(Frag {
+                    push_frag(
+                        p,
+                        pi,
                         pixel,
-                        poly: pi,
-                        start: arena.len() as u32,
-                        len: cell.len() as u32,
-                    });
-                    arena.extend_from_slice(&cell);
+                        (px, py),
+                        &cell,
+                        &mut frags,
+                        &mut arena,
+                        &mut tex,
+                    );
                 }
             }
         }
@@ -158,6 +267,7 @@ pub fn render_tile(
             polys,
             &frags[start..fi],
             &arena,
+            &tex.colors,
             bg,
             px,
             py,
@@ -203,10 +313,12 @@ fn front_of(g: &ScreenPoly, f: &ScreenPoly, at: (f64, f64)) -> [f64; 3] {
     [d[0], d[1], c]
 }
 
+#[allow(clippy::too_many_arguments)]
 fn resolve_pixel(
     polys: &[ScreenPoly],
     frags: &[Frag],
     arena: &[DVec2],
+    colors: &[[f64; 3]],
     bg: &Background,
     px: u32,
     py: u32,
@@ -229,7 +341,11 @@ fn resolve_pixel(
     s.cols.clear();
     s.alive.clear();
     for f in frags {
-        let c = polys[f.poly as usize].color_at(px, py);
+        let c = if f.color == POLY_COLOR {
+            polys[f.poly as usize].color_at(px, py)
+        } else {
+            Some(colors[f.color as usize])
+        };
         s.alive.push(c.is_some());
         s.cols.push(c.unwrap_or_default());
     }

@@ -173,6 +173,11 @@ pub struct ScreenPoly {
     /// `color`: pixel (x, y) from the lower-left shows texel (x mod SIZE,
     /// y mod SIZE), and the polygon is absent where that texel is transparent.
     pub screen: Option<std::sync::Arc<ScreenPattern>>,
+    /// A pattern in "object" or "uv" placement (SPEC §2), sampled per pixel
+    /// through its screen → texel map (`crate::texture`). Each resolver
+    /// integrates it exactly over texel cells; transparent texels leave the
+    /// polygon absent there.
+    pub texture: Option<std::sync::Arc<crate::texture::PolyTexture>>,
     /// Position in the stream: draw order, for visibility ties.
     pub order: u32,
     /// Convex pieces (index triples or the whole polygon) that tile the polygon
@@ -193,6 +198,20 @@ impl ScreenPoly {
         match &self.screen {
             None => Some(self.color),
             Some(p) => p.at(x, y),
+        }
+    }
+
+    /// The polygon's linear colour at the screen point (sx, sy) of pixel
+    /// (x, y): the texel there for an "object" or "uv" pattern (point
+    /// sampling, `None` where transparent), else [`ScreenPoly::color_at`].
+    #[inline]
+    pub fn color_at_point(&self, x: u32, y: u32, sx: f64, sy: f64) -> Option<[f64; 3]> {
+        match &self.texture {
+            None => self.color_at(x, y),
+            Some(t) => {
+                let uv = t.map.uv(sx, sy);
+                t.texel(uv.x.floor() as i64, uv.y.floor() as i64)
+            }
         }
     }
 
@@ -302,6 +321,7 @@ pub fn project(
         plane,
         color: c,
         screen: None,
+        texture: None,
         order,
         pieces,
         tie_floor: DEPTH_TIE_REL * view.nearness_scale(),
@@ -312,7 +332,7 @@ pub fn project(
 /// The affine nearness `q(x, y)` through a planar polygon's screen vertices, by
 /// Newell's method on the points `(x, y, q)`: it uses every vertex, so it stays
 /// well conditioned for slivers where any three vertices would not.
-fn newell_plane(v: &[DVec2], q: &[f64]) -> Option<[f64; 3]> {
+pub fn newell_plane(v: &[DVec2], q: &[f64]) -> Option<[f64; 3]> {
     let n = v.len();
     let (mut nx, mut ny, mut nz) = (0.0, 0.0, 0.0);
     let (mut cx, mut cy, mut cq) = (0.0, 0.0, 0.0);
@@ -443,6 +463,19 @@ impl ScreenPattern {
     #[inline]
     pub fn at(&self, x: u32, y: u32) -> Option<[f64; 3]> {
         self.texels[((y % self.size) * self.size + x % self.size) as usize]
+    }
+
+    /// Linear colour of texel cell (k, j) of the infinite tiling: column
+    /// `k mod SIZE`, row `j mod SIZE` (SPEC §2); `None` is transparent.
+    #[inline]
+    pub fn texel(&self, k: i64, j: i64) -> Option<[f64; 3]> {
+        let s = self.size as i64;
+        self.texels[(j.rem_euclid(s) * s + k.rem_euclid(s)) as usize]
+    }
+
+    /// Side of the pattern in texels.
+    pub fn size(&self) -> u32 {
+        self.size
     }
 }
 

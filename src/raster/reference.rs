@@ -224,7 +224,9 @@ fn pixel(
     // Exact pixels: a covering polygon nearer than all others at the corners.
     for &ci in cands {
         let f = &polys[ci as usize];
-        if !covers_square(&f.verts, x, y) {
+        // A textured polygon's colour varies over the square (and may be
+        // transparent): always integrated.
+        if f.texture.is_some() || !covers_square(&f.verts, x, y) {
             continue;
         }
         let hides_all = cands.iter().all(|&gi| {
@@ -382,6 +384,14 @@ fn events(
             });
         }
     }
+    // Texel cell boundaries of textured candidates: along a line the colour
+    // changes at them, so its visible lengths stop being linear in y where
+    // they cross anything.
+    for &ci in cands {
+        if let Some(t) = &polys[ci as usize].texture {
+            texel_lines(&t.map, x, y, centre, prims);
+        }
+    }
     for i in 0..prims.len() {
         for j in i + 1..prims.len() {
             let (u, w) = (prims[i], prims[j]);
@@ -403,6 +413,88 @@ fn events(
             let q = u.p + u.d * t;
             if q.x >= x0 && q.x <= x1 {
                 push(q.y);
+            }
+        }
+    }
+}
+
+/// Most texel boundary lines of one direction, per textured polygon and pixel,
+/// that become events (and, along a line, breaks). A pixel spanning more
+/// texels than this is minified far past visible texel edges; the lines
+/// left out cost accuracy that the residual (fine vs coarse strips) then
+/// reports, so the reference never claims more than it computed.
+pub const MAX_TEXEL_LINES: i64 = 256;
+
+/// Unbounded prims along the texel cell boundaries `u = k`, `v = j` that
+/// cross the pixel at (x, y).
+fn texel_lines(
+    m: &crate::texture::map::TexMap,
+    x: f64,
+    y: f64,
+    centre: glam::DVec2,
+    prims: &mut Vec<Prim>,
+) {
+    use glam::DVec2;
+    let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
+    let den = |(cx, cy): (f64, f64)| m.d[0] * cx + m.d[1] * cy + m.d[2];
+    if corners.iter().any(|&c| den(c) <= 0.0) {
+        // The pixel reaches the horizon of the polygon's plane, where the
+        // map has no meaning outside the (clipped) polygon: no events here.
+        // Each line is still exact by its breaks; the residual reports the
+        // rest.
+        return;
+    }
+    for dir in 0..2 {
+        let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+        for &(cx, cy) in &corners {
+            let t = m.uv(cx, cy);
+            let c = if dir == 0 { t.x } else { t.y };
+            lo = lo.min(c);
+            hi = hi.max(c);
+        }
+        let (k0, k1) = (lo.floor() as i64 + 1, hi.ceil() as i64 - 1);
+        if k1 < k0 {
+            continue;
+        }
+        for k in k0..=k1.min(k0 + MAX_TEXEL_LINES - 1) {
+            let [a, b, c] = if dir == 0 {
+                m.u_side(k as f64, true)
+            } else {
+                m.v_side(k as f64, true)
+            };
+            let nn = a * a + b * b;
+            if nn == 0.0 {
+                continue;
+            }
+            let t = (a * centre.x + b * centre.y + c) / nn;
+            prims.push(Prim {
+                p: centre - DVec2::new(a, b) * t,
+                d: DVec2::new(-b, a),
+                bounded: false,
+            });
+        }
+    }
+}
+
+/// Pushes onto `breaks` the x in (a, b) where the texel coordinate
+/// `n/d` (affine numerator and denominator over the screen) crosses an
+/// integer along the line at height y.
+fn texel_breaks(n: [f64; 3], d: [f64; 3], a: f64, b: f64, y: f64, breaks: &mut Vec<f64>) {
+    let (n1, n0) = (n[0], n[1] * y + n[2]);
+    let (d1, d0) = (d[0], d[1] * y + d[2]);
+    let (ua, ub) = ((n1 * a + n0) / (d1 * a + d0), (n1 * b + n0) / (d1 * b + d0));
+    if !(ua.is_finite() && ub.is_finite()) {
+        return;
+    }
+    let (lo, hi) = (ua.min(ub), ua.max(ub));
+    let (k0, k1) = (lo.floor() as i64 + 1, hi.ceil() as i64 - 1);
+    for k in k0..=k1.min(k0.saturating_add(MAX_TEXEL_LINES - 1)) {
+        // n1 x + n0 = k (d1 x + d0)
+        let den = n1 - k as f64 * d1;
+        if den != 0.0 {
+            let xc = (k as f64 * d0 - n0) / den;
+            if xc > a && xc < b {
+                breaks.push(xc);
             }
         }
     }
@@ -481,6 +573,13 @@ fn line_colour(
             }
         }
     }
+    // Texel boundaries of textured spans.
+    for &(a, b, ci) in &s.spans {
+        if let Some(t) = &polys[cands[ci] as usize].texture {
+            texel_breaks(t.map.u, t.map.d, a, b, y, &mut s.breaks);
+            texel_breaks(t.map.v, t.map.d, a, b, y, &mut s.breaks);
+        }
+    }
     s.breaks.sort_by(f64::total_cmp);
     let mut acc = [0.0f64; 3];
     for w in s.breaks.windows(2) {
@@ -489,22 +588,24 @@ fn line_colour(
             continue;
         }
         let mid = 0.5 * (a + b);
-        let mut best: Option<&ScreenPoly> = None;
+        // The nearest polygon that is opaque here (a transparent texel
+        // leaves the point to what is behind).
+        let mut best: Option<(&ScreenPoly, [f64; 3])> = None;
         for &(s0, s1, ci) in &s.spans {
             if mid < s0 || mid > s1 {
                 continue;
             }
             let p = &polys[cands[ci] as usize];
+            let Some(c) = p.color_at_point(x as u32, y as u32, mid, y) else {
+                continue;
+            };
             best = match best {
-                None => Some(p),
-                Some(b) if in_front(p, b, mid, y) => Some(p),
+                None => Some((p, c)),
+                Some((b, _)) if in_front(p, b, mid, y) => Some((p, c)),
                 keep => keep,
             };
         }
-        let c = best.map_or(bgc, |p| {
-            p.color_at(x as u32, y as u32)
-                .expect("candidates are opaque here")
-        });
+        let c = best.map_or(bgc, |(_, c)| c);
         for ch in 0..3 {
             acc[ch] += (b - a) * c[ch];
         }

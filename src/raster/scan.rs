@@ -169,10 +169,14 @@ pub fn render_tile(
                         let old = depth[idx];
                         // A screen-mode pattern's transparent texel leaves
                         // the sample to whatever is behind.
-                        let opaque = p
-                            .screen
-                            .as_ref()
-                            .map_or(true, |s| s.at(x0 + (m as u32) / k, py).is_some());
+                        let opaque = (p.screen.is_none() && p.texture.is_none())
+                            || p.color_at_point(
+                                x0 + (m as u32) / k,
+                                py,
+                                x0 as f64 + (m as f64 + 0.5) / kf,
+                                sy,
+                            )
+                            .is_some();
                         // A later polygon wins unless it is farther by more
                         // than the tie tolerance.
                         if opaque
@@ -200,8 +204,14 @@ pub fn render_tile(
                     if o == u32::MAX {
                         n_bg += 1;
                     } else {
+                        let (px, py) = (tx0 + tx as u32, ty0 + ty as u32);
                         let c = polys[o as usize]
-                            .color_at(tx0 + tx as u32, ty0 + ty as u32)
+                            .color_at_point(
+                                px,
+                                py,
+                                px as f64 + (i as f64 + 0.5) / kf,
+                                py as f64 + (j as f64 + 0.5) / kf,
+                            )
                             .expect("transparent texels own no sample");
                         for ch in 0..3 {
                             acc[ch] += c[ch];

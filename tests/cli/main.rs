@@ -11,3 +11,4 @@ mod pat_tile;
 mod polyfill3;
 mod scene_render;
 mod stripe;
+mod texture;

@@ -218,7 +218,7 @@ clitest!(
     }
 );
 
-clitest!(patterned_records_ask_for_polyfill3, |dir| {
+clitest!(a_missing_pattern_file_is_named, |dir| {
     dir.write(
         "s.json",
         r#"[{"rect":[0,0,5,5],"color":[1,2,3]},{"rect":[0,0,5,5],"pattern":{"file":"b.pat"}}]"#,
@@ -228,7 +228,8 @@ clitest!(patterned_records_ask_for_polyfill3, |dir| {
         .assert()
         .code(1)
         .stdout("")
-        .stderr("scene-render: error: s.json: record 1 has a pattern: partition it with polyfill3 first\n");
+        .stderr(predicates::str::contains("s.json: record 1"))
+        .stderr(predicates::str::contains("b.pat"));
     assert_eq!(dir.files(), vec!["s.json"]);
 });
 

@@ -1,10 +1,50 @@
-//! Sampling patterns. For now: screen mode, the IRIS hardware pattern
-//! (`defpattern`/`setpattern`, and `colorclear`): pixel (px, py), counted from
-//! the LOWER-left of the image, takes texel (px mod SIZE, py mod SIZE) (SPEC §2).
+//! Sampling patterns.
+//!
+//! - Screen mode (this file): the IRIS hardware pattern (`defpattern`/
+//!   `setpattern`, and `colorclear`): pixel (px, py), counted from the
+//!   LOWER-left of the image, takes texel (px mod SIZE, py mod SIZE) (SPEC §2).
+//! - [`map`]: where a pattern lies on a projected polygon in "object" and
+//!   "uv" placement (the screen → texel projective map).
+//! - [`cells`]: the exact box filter, a fragment cut into its texel cells.
+//! - [`boundary`]: XGL's boundary conditions outside the pattern's bounds.
+
+pub mod boundary;
+pub mod cells;
+pub mod map;
 
 use crate::color::Rgb8;
 use crate::io::Image;
 use crate::pat::Pattern;
+use crate::raster::ScreenPattern;
+use std::sync::Arc;
+
+/// A pattern placed on one projected polygon ("object" or "uv" mode): its
+/// texels (linear light, shared between polygons) and the screen → texel map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PolyTexture {
+    pub texels: Arc<ScreenPattern>,
+    pub map: map::TexMap,
+    /// What lies outside the pattern's bounds (default: repeat, SPEC §2).
+    pub bounds: boundary::Bounds,
+    /// The polygon's own colour, linear (XGL's intrinsic colour): shown
+    /// outside the bounds under [`boundary::Boundary::Transparent`].
+    pub intrinsic: [f64; 3],
+    /// The constant colour of [`boundary::Boundary::Clamp`], linear.
+    pub constant: [f64; 3],
+}
+
+impl PolyTexture {
+    /// Linear colour of texel cell (k, j) of the placement, after the
+    /// boundary conditions; `None` where the pattern's texel is transparent.
+    #[inline]
+    pub fn texel(&self, k: i64, j: i64) -> Option<[f64; 3]> {
+        match self.bounds.lookup(k, j, self.texels.size()) {
+            boundary::Lookup::Texel(c, r) => self.texels.at(c, r),
+            boundary::Lookup::Intrinsic => Some(self.intrinsic),
+            boundary::Lookup::Constant => Some(self.constant),
+        }
+    }
+}
 
 /// How a pattern is laid over the screen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,0 +1,122 @@
+//! `scene-render`'s direct texturing: placing a record's "object" or "uv"
+//! pattern (SPEC §2) on its projected polygon, so that it is sampled per
+//! pixel (`crate::texture`) instead of being exploded into texel polygons by
+//! `polyfill3` first.
+
+use crate::color::{srgb_to_linear_f64, Rgb8};
+use crate::geom::plane::DEFAULT_PLANARITY_TOL;
+use crate::geom::Placement;
+use crate::raster::{ScreenPattern, View};
+use crate::stream::{PatternMode, PatternRef};
+use crate::texture::boundary::{Boundary, Bounds};
+use crate::texture::map::{object_uv, TexMap};
+use crate::texture::PolyTexture;
+use anyhow::Result;
+use glam::{DVec2, DVec3};
+use std::sync::Arc;
+
+/// How "object" and "uv" patterns are applied.
+#[derive(clap::Args, Debug, Clone)]
+pub struct TextureArgs {
+    /// What a pattern shows outside its bounds (texel columns and rows outside
+    /// 0..SIZE), XGL's boundary conditions: repeat (XGL wrap; SPEC §2 tiling),
+    /// transparent (the polygon's own colour, as if untextured), clamp (the
+    /// --boundary-color), mirror, edge (the closest boundary texel).
+    #[arg(long, value_enum, value_name = "MODE", default_value_t = Boundary::Repeat)]
+    pub boundary: Boundary,
+
+    /// The boundary condition along u only (overrides --boundary). When u and
+    /// v differ and both exceed the bounds, XGL's precedence decides:
+    /// transparent, clamp, repeat, mirror, edge.
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub boundary_u: Option<Boundary>,
+
+    /// The boundary condition along v only (overrides --boundary).
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub boundary_v: Option<Boundary>,
+
+    /// The constant colour of --boundary clamp (`r,g,b` or `#rrggbb`).
+    #[arg(long, value_name = "COLOR", default_value = "0,0,0")]
+    pub boundary_color: Rgb8,
+
+    /// Interpolate texture coordinates linearly on the screen instead of
+    /// perspective-correctly (XGL's PERSP_NONE): faster hardware once, wrong
+    /// under perspective; for reproducing such images.
+    #[arg(long)]
+    pub no_perspective_correction: bool,
+}
+
+impl TextureArgs {
+    fn bounds(&self) -> Bounds {
+        Bounds {
+            u: self.boundary_u.unwrap_or(self.boundary),
+            v: self.boundary_v.unwrap_or(self.boundary),
+        }
+    }
+}
+
+fn linear(c: Rgb8) -> [f64; 3] {
+    c.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0))
+}
+
+/// `polyfill3`'s defaults for a record's missing placement fields (its
+/// `--incr 1 --rotate 0 --horz 0 --vert 0`), so both paths place a pattern
+/// the same way.
+pub const DEFAULT_PLACEMENT: Placement = Placement {
+    incr: 1.0,
+    horz: 0.0,
+    vert: 0.0,
+};
+
+/// The texture of a record placed in `mode` (object or uv) over the world
+/// polygon `outline`; `None` when nothing of it is visible. `uv` are the
+/// record's per-vertex coordinates; `color` the record's own colour.
+#[allow(clippy::too_many_arguments)]
+pub fn place(
+    args: &TextureArgs,
+    color: Rgb8,
+    view: &View,
+    outline: &[DVec3],
+    pref: &PatternRef,
+    mode: PatternMode,
+    uv: Option<&[[f64; 2]]>,
+    texels: Arc<ScreenPattern>,
+) -> Result<Option<PolyTexture>> {
+    let coords: Vec<DVec2> = match (mode, uv) {
+        (PatternMode::Uv, Some(uv)) => uv.iter().map(|t| DVec2::new(t[0], t[1])).collect(),
+        (PatternMode::Uv, None) => {
+            anyhow::bail!("pattern.mode is \"uv\" but the record has no \"uv\" coordinates")
+        }
+        _ => {
+            let place = Placement {
+                incr: pref.incr.unwrap_or(DEFAULT_PLACEMENT.incr),
+                horz: pref.horz.unwrap_or(DEFAULT_PLACEMENT.horz),
+                vert: pref.vert.unwrap_or(DEFAULT_PLACEMENT.vert),
+            };
+            object_uv(
+                outline,
+                place,
+                pref.rotate.unwrap_or(0.0),
+                DEFAULT_PLANARITY_TOL,
+            )?
+        }
+    };
+    if coords.len() != outline.len() {
+        anyhow::bail!(
+            "{} texture coordinates for {} vertices",
+            coords.len(),
+            outline.len()
+        );
+    }
+    Ok(
+        TexMap::fit(view, outline, &coords, !args.no_perspective_correction).map(|map| {
+            PolyTexture {
+                texels,
+                map,
+                bounds: args.bounds(),
+                intrinsic: linear(color),
+                constant: linear(args.boundary_color),
+            }
+        }),
+    )
+}

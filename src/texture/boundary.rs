@@ -1,0 +1,158 @@
+//! What a pattern shows outside its bounds (texel columns and rows outside
+//! `0..SIZE`): XGL's boundary conditions (XGL Programmer's Guide, texture
+//! chapter, "Boundary Conditions": the `u_boundary`, `v_boundary` fields of
+//! `Xgl_texture_mipmap_desc`).
+
+/// One direction's boundary condition.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Boundary {
+    /// `XGL_TEXTURE_BOUNDARY_WRAP`: the pattern repeats (SPEC §2's tiling;
+    /// OpenGL's `GL_REPEAT`).
+    #[default]
+    Repeat,
+    /// `XGL_TEXTURE_BOUNDARY_TRANSPARENT`: "finish rendering as though
+    /// texturing were not being done": the polygon's own colour.
+    Transparent,
+    /// `XGL_TEXTURE_BOUNDARY_CLAMP`: a constant colour (`--boundary-color`).
+    Clamp,
+    /// `XGL_TEXTURE_BOUNDARY_MIRROR`: every other copy reversed.
+    Mirror,
+    /// `XGL_TEXTURE_BOUNDARY_CLAMP_BOUNDARY`: the closest boundary texel
+    /// (OpenGL's clamp to edge).
+    Edge,
+}
+
+impl Boundary {
+    /// XGL's order of precedence when u and v both exceed the bounds and their
+    /// conditions differ: transparent, clamp, wrap, mirror, clamp-boundary
+    /// (lower is stronger).
+    fn precedence(self) -> u8 {
+        match self {
+            Boundary::Transparent => 0,
+            Boundary::Clamp => 1,
+            Boundary::Repeat => 2,
+            Boundary::Mirror => 3,
+            Boundary::Edge => 4,
+        }
+    }
+}
+
+/// Where a texel cell index lands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lookup {
+    /// This texel of the pattern.
+    Texel(u32, u32),
+    /// The polygon's own colour.
+    Intrinsic,
+    /// The constant boundary colour.
+    Constant,
+}
+
+/// The boundary conditions of one pattern placement.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Bounds {
+    pub u: Boundary,
+    pub v: Boundary,
+}
+
+/// Index `i` of a `size`-texel axis under one condition; `None` for the
+/// conditions that leave the pattern (transparent, clamp).
+fn axis(mode: Boundary, i: i64, size: i64) -> Option<u32> {
+    if (0..size).contains(&i) {
+        return Some(i as u32);
+    }
+    match mode {
+        Boundary::Repeat => Some(i.rem_euclid(size) as u32),
+        Boundary::Mirror => {
+            let m = i.rem_euclid(2 * size);
+            Some(if m < size { m } else { 2 * size - 1 - m } as u32)
+        }
+        Boundary::Edge => Some(i.clamp(0, size - 1) as u32),
+        Boundary::Transparent | Boundary::Clamp => None,
+    }
+}
+
+fn special(mode: Boundary) -> Lookup {
+    if mode == Boundary::Transparent {
+        Lookup::Intrinsic
+    } else {
+        Lookup::Constant
+    }
+}
+
+impl Bounds {
+    pub fn both(b: Boundary) -> Bounds {
+        Bounds { u: b, v: b }
+    }
+
+    /// The lookup of texel cell (k, j) of a `size` pattern. When both indices
+    /// are out of bounds under different conditions, the stronger one by
+    /// XGL's precedence applies to both.
+    pub fn lookup(&self, k: i64, j: i64, size: u32) -> Lookup {
+        let s = size as i64;
+        let (out_u, out_v) = (!(0..s).contains(&k), !(0..s).contains(&j));
+        let (mu, mv) = if out_u && out_v && self.u != self.v {
+            let m = if self.u.precedence() < self.v.precedence() {
+                self.u
+            } else {
+                self.v
+            };
+            (m, m)
+        } else {
+            (self.u, self.v)
+        };
+        match (axis(mu, k, s), axis(mv, j, s)) {
+            (Some(c), Some(r)) => Lookup::Texel(c, r),
+            (None, _) => special(mu),
+            (_, None) => special(mv),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_condition_maps_indices_as_xgl_describes() {
+        let idx = |b, i| match Bounds::both(b).lookup(i, 0, 16) {
+            Lookup::Texel(c, _) => Some(c),
+            _ => None,
+        };
+        assert_eq!(idx(Boundary::Repeat, -1), Some(15));
+        assert_eq!(idx(Boundary::Repeat, 17), Some(1));
+        assert_eq!(idx(Boundary::Mirror, -1), Some(0));
+        assert_eq!(idx(Boundary::Mirror, 16), Some(15));
+        assert_eq!(idx(Boundary::Mirror, 32), Some(0));
+        assert_eq!(idx(Boundary::Edge, -5), Some(0));
+        assert_eq!(idx(Boundary::Edge, 99), Some(15));
+        assert_eq!(
+            Bounds::both(Boundary::Transparent).lookup(16, 3, 16),
+            Lookup::Intrinsic
+        );
+        assert_eq!(
+            Bounds::both(Boundary::Clamp).lookup(3, -1, 16),
+            Lookup::Constant
+        );
+    }
+
+    #[test]
+    fn precedence_decides_only_when_both_exceed() {
+        let b = Bounds {
+            u: Boundary::Repeat,
+            v: Boundary::Clamp,
+        };
+        // Only u out: u's condition.
+        assert_eq!(b.lookup(17, 3, 16), Lookup::Texel(1, 3));
+        // Only v out: v's.
+        assert_eq!(b.lookup(3, 17, 16), Lookup::Constant);
+        // Both out: clamp outranks wrap.
+        assert_eq!(b.lookup(17, -1, 16), Lookup::Constant);
+        let m = Bounds {
+            u: Boundary::Mirror,
+            v: Boundary::Repeat,
+        };
+        // Both out: wrap outranks mirror, for both coordinates.
+        assert_eq!(m.lookup(-1, -1, 16), Lookup::Texel(15, 15));
+    }
+}

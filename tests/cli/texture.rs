@@ -1,0 +1,318 @@
+//! `scene-render`'s direct texturing ("object" and "uv" patterns sampled per
+//! pixel): against `polyfill3 | scene-render` and the reference, and the
+//! worked examples of the OpenGL chapter (seed 002, ch. 7).
+
+use crate::util::Dir;
+
+/// Largest channel difference (8-bit sRGB codes) allowed between two exact
+/// renderings of the same scene: direct texturing and `polyfill3` both
+/// compute exact areas in f64, so only the final rounding to 8 bits may
+/// differ (a value within ~1e-13 of a rounding boundary), by one code.
+const EXACT_MAX_CODES: u64 = 1;
+
+/// A 16x16 pattern whose texel (c, r) has colour `(c + 2r) % 3` (red, blue,
+/// green) and texel (3, 2) transparent: every neighbour differs from the next
+/// in both directions, so a misplaced cell edge shows.
+fn pattern3() -> String {
+    pattern_from(
+        |c, r| {
+            if (c, r) == (3, 2) {
+                None
+            } else {
+                Some((c + 2 * r) % 3)
+            }
+        },
+        &[[255, 0, 0], [0, 0, 255], [0, 200, 0]],
+    )
+}
+
+/// A canonical .pat text (SPEC §1) from a texel → colour-index function.
+fn pattern_from(f: impl Fn(u32, u32) -> Option<u32>, colors: &[[u8; 3]]) -> String {
+    let mut s = format!("16 {}\n", colors.len());
+    for (i, c) in colors.iter().enumerate() {
+        s.push_str(&format!("{} {} {}\n", c[0], c[1], c[2]));
+        for r in 0..16 {
+            let mut w = 0u16;
+            for c in 0..16 {
+                w = (w << 1) | (f(c, r) == Some(i as u32)) as u16;
+            }
+            s.push_str(&format!("{w:04x}\n"));
+        }
+    }
+    s
+}
+
+/// `--compare REF --image IMG --json`: the max channel error.
+fn max_error(dir: &Dir, img: &str, reference: &str) -> u64 {
+    let out = dir
+        .cmd("scene-render")
+        .args(["--image", img, "--compare", reference, "--json"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    v["compare"]["max_error"].as_u64().unwrap()
+}
+
+const SCENE: &str = r#"{"vertices":[[-3,-1,-2],[3,-1,-2],[3,-1,-12],[-3,-1,-12]],"color":[200,200,200],"pattern":{"file":"p.pat","incr":0.37,"rotate":10,"horz":0.3,"vert":0.6}}
+{"vertices":[[-1,-0.5,-4],[1,-0.2,-4.5],[0.5,1.5,-5]],"color":[255,255,0],"pattern":{"file":"p.pat","incr":0.21}}
+{"vertices":[[-2,-1,-7],[2,-1,-7],[2,2,-7],[-2,2,-7]],"color":[90,90,90]}
+"#;
+
+const CAMERA: [&str; 4] = [
+    "--perspective",
+    "60,1.333,0.1,100",
+    "--lookat",
+    "0,0.5,1,0,-0.5,-5",
+];
+
+clitest!(
+    object_mode_direct_equals_polyfill3_and_the_reference,
+    |dir| {
+        dir.write("p.pat", pattern3());
+        dir.write("s.json", SCENE);
+        let render = |input: &str, extra: &[&str], out: &str| {
+            dir.cmd("scene-render")
+                .args(["--size", "96x72"])
+                .args(CAMERA)
+                .args(extra)
+                .args([input, "-o", out])
+                .assert()
+                .success();
+        };
+        render("s.json", &[], "direct.png");
+        render("s.json", &["--reference"], "ref.png");
+        let out = dir
+            .cmd("polyfill3")
+            .arg("s.json")
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone();
+        dir.write("p3.json", out);
+        render("p3.json", &[], "p3.png");
+        render("p3.json", &["--reference"], "p3ref.png");
+        // The direct reference (texel lines as events) and the reference of the
+        // exploded scene are two independent routes to the same image.
+        assert!(max_error(&dir, "p3ref.png", "ref.png") <= EXACT_MAX_CODES);
+        assert!(max_error(&dir, "direct.png", "ref.png") <= EXACT_MAX_CODES);
+        assert!(max_error(&dir, "p3.png", "ref.png") <= EXACT_MAX_CODES);
+        // Point sampling: the same texel lookup per sample, so identical up to
+        // the samples that fall on a cell edge of the exploded scene.
+        render("s.json", &["--aa", "ss16"], "ss.png");
+        let ss = max_error(&dir, "ss.png", "ref.png");
+        assert!(ss > 0 && ss < 128, "ss16 vs reference: {ss}");
+    }
+);
+
+clitest!(pixel_aligned_texels_are_pixel_exact, |dir| {
+    dir.write("p.pat", pattern3());
+    // incr 2: every texel is a 2x2 block of pixels from the polygon's corner.
+    dir.write(
+        "s.json",
+        r#"{"vertices":[[3,5],[43,5],[43,37],[3,37]],"color":[1,2,3],"pattern":{"file":"p.pat","incr":2}}"#,
+    );
+    for aa in ["exact", "none", "ss4"] {
+        dir.cmd("scene-render")
+            .args(["--size", "48x40", "--aa", aa, "s.json", "-o"])
+            .arg(format!("{aa}.ppm"))
+            .assert()
+            .success();
+    }
+    let out = dir
+        .cmd("polyfill3")
+        .arg("s.json")
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    dir.write("p3.json", out);
+    dir.cmd("scene-render")
+        .args(["--size", "48x40", "p3.json", "-o", "p3.ppm"])
+        .assert()
+        .success();
+    let p3 = dir.read("p3.ppm");
+    for aa in ["exact", "none", "ss4"] {
+        assert!(dir.read(&format!("{aa}.ppm")) == p3, "{aa}");
+    }
+    // Texel (3, 2) is transparent: pixels (3 + 6, 5 + 4) .. show the black
+    // background; its neighbour (2, 2), colour (2 + 4) % 3 = 0, is red.
+    let px = |x: usize, y_up: usize| {
+        let i = p3.len() - 48 * 40 * 3 + ((39 - y_up) * 48 + x) * 3;
+        [p3[i], p3[i + 1], p3[i + 2]]
+    };
+    assert_eq!(px(9, 9), [0, 0, 0]);
+    assert_eq!(px(10, 10), [0, 0, 0]);
+    assert_eq!(px(8, 9), [255, 0, 0]);
+});
+
+/// Seed 002 (OpenGL ch. 7): a 2x2 texture on a 400x300 quad with texture
+/// coordinates 0..1 shows one texel per quadrant (here 16x16 patterns
+/// repeat the 2x2 block; texel units: 0..2).
+fn quad(uv_max: f64) -> String {
+    format!(
+        r#"{{"vertices":[[0,0],[400,0],[400,300],[0,300]],"uv":[[0,0],[{m},0],[{m},{m}],[0,{m}]],"color":[0,0,0],"pattern":{{"file":"q.pat"}}}}"#,
+        m = uv_max
+    )
+}
+
+const QUADRANTS: [[u8; 3]; 4] = [[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 255]];
+
+fn quadrant_pattern() -> String {
+    pattern_from(|c, r| Some((c % 2) + 2 * (r % 2)), &QUADRANTS)
+}
+
+fn pixel(img: &[u8], w: usize, h: usize, x: usize, y_up: usize) -> [u8; 3] {
+    let i = img.len() - w * h * 3 + ((h - 1 - y_up) * w + x) * 3;
+    [img[i], img[i + 1], img[i + 2]]
+}
+
+clitest!(seed002_two_by_two_texture_fills_the_quadrants, |dir| {
+    dir.write("q.pat", quadrant_pattern());
+    dir.write("s.json", quad(2.0));
+    dir.cmd("scene-render")
+        .args(["--size", "400x300", "s.json", "-o", "o.ppm"])
+        .assert()
+        .success();
+    let img = dir.read("o.ppm");
+    let at = |x, y| pixel(&img, 400, 300, x, y);
+    for (x, y, q) in [
+        (0, 0, 0),
+        (199, 149, 0),
+        (200, 0, 1),
+        (399, 149, 1),
+        (0, 150, 2),
+        (199, 299, 2),
+        (200, 150, 3),
+        (399, 299, 3),
+    ] {
+        assert_eq!(at(x, y), QUADRANTS[q], "({x}, {y})");
+    }
+});
+
+clitest!(
+    seed002_repeat_with_coordinates_0_to_10_gives_20_by_15_blocks,
+    |dir| {
+        // OpenGL coordinates 0..10 on a 2-texel texture: 0..20 texels, 20 blocks
+        // of 400/20 = 20 pixels across and 300/20 = 15 up.
+        dir.write("q.pat", quadrant_pattern());
+        dir.write("s.json", quad(20.0));
+        dir.cmd("scene-render")
+            .args(["--size", "400x300", "s.json", "-o", "o.ppm"])
+            .assert()
+            .success();
+        let img = dir.read("o.ppm");
+        for y in 0..300 {
+            for x in 0..400 {
+                let q = (x / 20) % 2 + 2 * ((y / 15) % 2);
+                assert_eq!(pixel(&img, 400, 300, x, y), QUADRANTS[q], "({x}, {y})");
+            }
+        }
+    }
+);
+
+const BANDS: [[u8; 3]; 4] = [[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 0]];
+
+/// Seed 003 (XGL): "the texture appeared once in the center of the polygon
+/// with a border of the original polygon visible around the sides": texture
+/// coordinates -0.5..1.5 (here -8..24 texels of a 16x16 pattern whose
+/// columns come in four bands of four) on a 64x64 quad, 2 pixels per texel.
+fn xgl_quad(dir: &Dir, flags: &[&str]) -> Vec<u8> {
+    dir.write("b.pat", pattern_from(|c, _| Some(c / 4), &BANDS));
+    dir.write(
+        "s.json",
+        r#"{"vertices":[[0,0],[64,0],[64,64],[0,64]],"uv":[[-8,-8],[24,-8],[24,24],[-8,24]],"color":[50,60,70],"pattern":{"file":"b.pat"}}"#,
+    );
+    dir.cmd("scene-render")
+        .args(["--size", "64x64", "--boundary-color", "9,8,7"])
+        .args(flags)
+        .args(["s.json", "-o", "o.ppm"])
+        .assert()
+        .success();
+    dir.read("o.ppm")
+}
+
+clitest!(
+    seed003_quad_from_minus_half_to_one_and_a_half_per_boundary_mode,
+    |dir| {
+        // Pixel x = 1 is u in [-7.5, -7): cell -8. Pixel 32 is cell 8, inside.
+        for (mode, outside) in [
+            ("repeat", BANDS[2]),          // -8 mod 16 = 8
+            ("mirror", BANDS[1]),          // reversed: column 7
+            ("edge", BANDS[0]),            // the closest boundary texel, column 0
+            ("clamp", [9, 8, 7]),          // the constant
+            ("transparent", [50, 60, 70]), // the polygon's own colour
+        ] {
+            let img = xgl_quad(&dir, &["--boundary", mode]);
+            assert_eq!(pixel(&img, 64, 64, 1, 32), outside, "{mode}");
+            assert_eq!(pixel(&img, 64, 64, 32, 32), BANDS[2], "{mode} inside");
+            // Right of the pattern: x = 62 is cell 23.
+            let right = match mode {
+                "repeat" => BANDS[1], // 23 mod 16 = 7
+                "mirror" => BANDS[2], // 2*16 - 1 - 23 = 8
+                "edge" => BANDS[3],   // column 15
+                _ => outside,
+            };
+            assert_eq!(pixel(&img, 64, 64, 62, 32), right, "{mode} right");
+        }
+    }
+);
+
+clitest!(
+    xgl_precedence_applies_only_where_both_coordinates_exceed,
+    |dir| {
+        let img = xgl_quad(&dir, &["--boundary-u", "repeat", "--boundary-v", "clamp"]);
+        // Only u out: repeat.
+        assert_eq!(pixel(&img, 64, 64, 1, 32), BANDS[2]);
+        // Only v out: clamp.
+        assert_eq!(pixel(&img, 64, 64, 32, 1), [9, 8, 7]);
+        // Both out: clamp outranks wrap.
+        assert_eq!(pixel(&img, 64, 64, 1, 1), [9, 8, 7]);
+    }
+);
+
+clitest!(
+    no_perspective_correction_interpolates_on_the_screen,
+    |dir| {
+        dir.write("q.pat", quadrant_pattern());
+        // A floor quad receding from the eye: with perspective correction the
+        // far half of the texture takes less than half the screen height.
+        dir.write(
+        "s.json",
+        r#"{"vertices":[[-1,-1,-1],[1,-1,-1],[1,-1,-3],[-1,-1,-3]],"uv":[[0,0],[2,0],[2,2],[0,2]],"color":[0,0,0],"pattern":{"file":"q.pat"}}"#,
+    );
+        let rows_of_far_half = |flags: &[&str]| {
+            dir.cmd("scene-render")
+                .args([
+                    "--size",
+                    "100x100",
+                    "--perspective",
+                    "90,1,0.1,10",
+                    "--aa",
+                    "none",
+                ])
+                .args(flags)
+                .args(["s.json", "-o", "o.ppm"])
+                .assert()
+                .success();
+            let img = dir.read("o.ppm");
+            // Column 50 is u = 1 on the boundary; column 40 is u < 1: quadrant
+            // 0 (near, v < 1) or 2 (far).
+            (0..100)
+                .filter(|&y| pixel(&img, 100, 100, 40, y) == QUADRANTS[2])
+                .count()
+        };
+        let correct = rows_of_far_half(&[]);
+        let linear = rows_of_far_half(&["--no-perspective-correction"]);
+        // Screen y = 50 - 50/|z| (fovy 90): the quad spans y = 0 (z = -1) to
+        // 33.3 (z = -3). Perspective-correct, v = 1 at z = -2, y = 25: pixel
+        // centres 25.5..32.5, 8 rows. PERSP_NONE puts v = 1 at the screen
+        // midpoint, y = 16.7: centres 17.5..32.5, 16 rows.
+        assert_eq!(correct, 8);
+        assert_eq!(linear, 16);
+    }
+);
