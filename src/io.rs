@@ -60,6 +60,8 @@ pub struct Output {
 
 enum OutputInner {
     Stdout(BufWriter<io::Stdout>),
+    /// A device or pipe named with `-o`, written in place.
+    Device(BufWriter<std::fs::File>),
     File {
         tmp: BufWriter<tempfile::NamedTempFile>,
         path: PathBuf,
@@ -78,9 +80,28 @@ impl Output {
                 inner: OutputInner::Stdout(BufWriter::with_capacity(1 << 16, stdout)),
             });
         }
-        let path = PathBuf::from(name);
+        let mut path = PathBuf::from(name);
         if path.is_dir() {
             bail!("{name}: is a directory, expected an output file name");
+        }
+        if let Ok(meta) = std::fs::metadata(&path) {
+            if !meta.file_type().is_file() {
+                // A device, FIFO or socket (`-o /dev/null`, `-o /dev/stdout`, a
+                // named pipe): there is no file to replace atomically, and a
+                // rename would replace the device node itself. Write straight to it.
+                let f = std::fs::OpenOptions::new()
+                    .write(true)
+                    .open(&path)
+                    .with_context(|| format!("{name}: cannot open for writing"))?;
+                return Ok(Output {
+                    inner: OutputInner::Device(BufWriter::with_capacity(1 << 16, f)),
+                });
+            }
+        }
+        if std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink()) {
+            // Replace the file the link points to, not the link.
+            path = std::fs::canonicalize(&path)
+                .with_context(|| format!("{name}: cannot resolve the link"))?;
         }
         let dir = match path.parent() {
             Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
@@ -110,6 +131,7 @@ impl Output {
     pub fn commit(self) -> Result<()> {
         match self.inner {
             OutputInner::Stdout(mut w) => w.flush().context("writing standard output"),
+            OutputInner::Device(mut w) => w.flush().context("writing the output device"),
             OutputInner::File { tmp, path } => {
                 let tmp = tmp
                     .into_inner()
@@ -128,18 +150,21 @@ impl Write for Output {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
         match &mut self.inner {
             OutputInner::Stdout(w) => w.write(buf),
+            OutputInner::Device(w) => w.write(buf),
             OutputInner::File { tmp, .. } => tmp.write(buf),
         }
     }
     fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
         match &mut self.inner {
             OutputInner::Stdout(w) => w.write_all(buf),
+            OutputInner::Device(w) => w.write_all(buf),
             OutputInner::File { tmp, .. } => tmp.write_all(buf),
         }
     }
     fn flush(&mut self) -> io::Result<()> {
         match &mut self.inner {
             OutputInner::Stdout(w) => w.flush(),
+            OutputInner::Device(w) => w.flush(),
             OutputInner::File { tmp, .. } => tmp.flush(),
         }
     }
@@ -353,6 +378,34 @@ mod tests {
                 "output is readable by others as usual: {mode:o}"
             );
         }
+    }
+
+    #[test]
+    #[cfg(unix)]
+    fn a_device_is_written_in_place_and_a_link_keeps_pointing() {
+        use std::os::unix::fs::FileTypeExt;
+        let mut out = Output::create("/dev/null", true).unwrap();
+        out.write_all(b"discarded").unwrap();
+        out.commit().unwrap();
+        let meta = std::fs::metadata("/dev/null").unwrap();
+        assert!(
+            meta.file_type().is_char_device(),
+            "/dev/null is still a device"
+        );
+
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("real.txt");
+        std::fs::write(&target, b"old").unwrap();
+        let link = dir.path().join("link.txt");
+        std::os::unix::fs::symlink(&target, &link).unwrap();
+        let mut out = Output::create(link.to_str().unwrap(), false).unwrap();
+        out.write_all(b"new").unwrap();
+        out.commit().unwrap();
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(std::fs::read(&target).unwrap(), b"new");
     }
 
     #[test]

@@ -14,6 +14,7 @@ pub mod quantize;
 pub mod raster;
 pub mod stream;
 pub mod stripe;
+mod text;
 pub mod texture;
 pub mod transform;
 

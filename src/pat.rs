@@ -7,6 +7,7 @@
 //! Orientation: row 0 is the BOTTOM row (IRIS GL, y up), exactly as in the file.
 
 use crate::color::Rgb8;
+use crate::text::{Word, Words};
 use std::fmt;
 use std::io::{self, Write};
 use std::path::Path;
@@ -361,138 +362,41 @@ impl fmt::Display for ParseError {
 
 impl std::error::Error for ParseError {}
 
-/// A whitespace tokenizer over bytes that knows lines and word numbers.
+/// What a `.pat` file holds, for the "empty file" and "not text" messages.
+const PAT_CONTENTS: &str = "`SIZE NCOLORS` and colour blocks of hex words";
+
+/// The `.pat` grammar (SPEC §1) over the shared word tokenizer. The format has
+/// no comments: a `#` is a word, and so trailing garbage or a bad number.
 struct Parser<'a> {
-    bytes: &'a [u8],
-    pos: usize,
-    line: usize,
-    words: usize,
-    /// Line of the last word read: where an unexpected end of file is reported.
-    last_line: usize,
-    name: &'a str,
+    words: Words<'a>,
 }
-
-/// One word of the file with its position.
-struct Word<'a> {
-    text: &'a str,
-    line: usize,
-    index: usize,
-}
-
-/// Longest word echoed back in an error message.
-const MAX_ECHO: usize = 24;
 
 impl<'a> Parser<'a> {
     fn new(bytes: &'a [u8], name: &'a str) -> Self {
         Parser {
-            bytes,
-            pos: 0,
-            line: 1,
-            words: 0,
-            last_line: 1,
-            name,
+            words: Words::without_comments(bytes, name, PAT_CONTENTS),
         }
     }
 
-    fn error_at(&self, w: &Word, message: String) -> ParseError {
-        let mut text: String = w.text.chars().take(MAX_ECHO).collect();
-        if w.text.len() > MAX_ECHO {
-            text.push_str("...");
-        }
-        ParseError {
-            file: self.name.to_string(),
-            line: Some(w.line),
-            word: Some((w.index, text)),
-            message,
-        }
-    }
-
-    fn error_here(&self, message: String) -> ParseError {
-        ParseError {
-            file: self.name.to_string(),
-            line: Some(self.line),
-            word: None,
-            message,
-        }
-    }
-
-    /// Next word, `Ok(None)` at end of input, or an error on a non-text byte.
-    fn next_word(&mut self) -> Result<Option<Word<'a>>, ParseError> {
-        let b = self.bytes;
-        while self.pos < b.len() && b[self.pos].is_ascii_whitespace() {
-            if b[self.pos] == b'\n' {
-                self.line += 1;
-            }
-            self.pos += 1;
-        }
-        if self.pos == b.len() {
-            return Ok(None);
-        }
-        let start = self.pos;
-        while self.pos < b.len() && !b[self.pos].is_ascii_whitespace() {
-            let c = b[self.pos];
-            if !c.is_ascii_graphic() {
-                return Err(self.error_here(format!(
-                    "byte 0x{c:02x} is not text: expected a .pat file of decimal and hex words"
-                )));
-            }
-            self.pos += 1;
-        }
-        self.words += 1;
-        self.last_line = self.line;
-        Ok(Some(Word {
-            // Checked above: every byte is printable ASCII.
-            text: std::str::from_utf8(&b[start..self.pos]).expect("ASCII"),
-            line: self.line,
-            index: self.words,
-        }))
-    }
-
-    fn expect_word(&mut self, what: &str) -> Result<Word<'a>, ParseError> {
-        match self.next_word()? {
-            Some(w) => Ok(w),
-            None if self.words == 0 => Err(ParseError {
-                file: self.name.to_string(),
-                line: None,
-                word: None,
-                message: "empty file: expected `SIZE NCOLORS` and colour blocks".into(),
-            }),
-            None => Err(ParseError {
-                line: Some(self.last_line),
-                ..self.error_here(format!("unexpected end of file: expected {what}"))
-            }),
-        }
-    }
-
-    /// An unsigned decimal of any digit count, saturating so absurd values still
-    /// produce a range error rather than an overflow.
-    fn decimal(&mut self, what: &str, max: u64) -> Result<u64, ParseError> {
-        let w = self.expect_word(what)?;
-        if w.text.is_empty() || !w.text.bytes().all(|c| c.is_ascii_digit()) {
-            return Err(self.error_at(&w, format!("expected {what}")));
-        }
-        let v = w.text.bytes().fold(0u64, |acc, c| {
-            acc.saturating_mul(10).saturating_add((c - b'0') as u64)
-        });
-        if v > max {
-            return Err(self.error_at(&w, format!("out of range: expected {what}")));
-        }
-        Ok(v)
-    }
-
-    /// A 16-bit word: 1..4 hex digits of any case, optional `0x`.
-    fn hex_word(&mut self, what: &dyn Fn() -> String) -> Result<u16, ParseError> {
-        let w = self.expect_word(&what())?;
+    /// A 16-bit word: 1..4 hex digits of any case, optional `0x`. `what` is
+    /// only formatted on an error: this runs once per word of the file.
+    fn hex_word(&mut self, what: &dyn Fn() -> String) -> Result<(u16, Word<'a>), ParseError> {
+        let Some(w) = self.words.next()? else {
+            return Err(self
+                .words
+                .expect(&what())
+                .expect_err("the end of the words stays the end"));
+        };
         let digits = w
             .text
             .strip_prefix("0x")
             .or_else(|| w.text.strip_prefix("0X"))
             .unwrap_or(w.text);
         if digits.is_empty() || !digits.bytes().all(|c| c.is_ascii_hexdigit()) {
-            return Err(self.error_at(&w, format!("expected {}", what())));
+            return Err(self.words.error_at(&w, format!("expected {}", what())));
         }
         if digits.len() > 4 {
-            return Err(self.error_at(
+            return Err(self.words.error_at(
                 &w,
                 format!(
                     "more than 4 hex digits (a word is 16 bits): expected {}",
@@ -500,22 +404,18 @@ impl<'a> Parser<'a> {
                 ),
             ));
         }
-        Ok(u16::from_str_radix(digits, 16).expect("checked hex"))
+        Ok((u16::from_str_radix(digits, 16).expect("checked hex"), w))
     }
 
     fn pattern(mut self) -> Result<Pattern, ParseError> {
-        let size_word_line = self.line;
-        let size = self.decimal(
-            "the pattern size, a multiple of 16 from 16 to 4096",
-            u64::MAX,
-        )?;
-        let size = check_size(size).map_err(|e| ParseError {
-            file: self.name.to_string(),
-            line: Some(size_word_line.max(1)),
-            word: Some((1, size.to_string())),
-            message: format!("{e}: expected the pattern size"),
+        let what = "the pattern size, a multiple of 16 from 16 to 4096";
+        let w = self.words.expect(what)?;
+        let size = self.words.decimal_of(&w, what, u64::MAX)?;
+        let size = check_size(size).map_err(|e| {
+            self.words
+                .error_at(&w, format!("{e}: expected the pattern size"))
         })?;
-        let ncolors = self.decimal(
+        let ncolors = self.words.decimal(
             &format!("the number of colours, 0 to {MAX_COLORS}"),
             MAX_COLORS as u64,
         )? as usize;
@@ -528,8 +428,10 @@ impl<'a> Parser<'a> {
             let n = k + 1;
             let mut rgb = [0u8; 3];
             for (ch, name) in rgb.iter_mut().zip(["red", "green", "blue"]) {
-                *ch =
-                    self.decimal(&format!("the {name} value of colour {n}, 0 to 255"), 255)? as u8;
+                *ch = self
+                    .words
+                    .decimal(&format!("the {name} value of colour {n}, 0 to 255"), 255)?
+                    as u8;
             }
             palette.push(Rgb8(rgb));
             for row in 0..s {
@@ -541,9 +443,7 @@ impl<'a> Parser<'a> {
                             words_per_row
                         )
                     };
-                    let line_before = self.line;
-                    let index_before = self.words + 1;
-                    let word = self.hex_word(&what)?;
+                    let (word, w) = self.hex_word(&what)?;
                     let base = row * s + j * WORD_BITS as usize;
                     for m in 0..WORD_BITS as usize {
                         if word & (0x8000 >> m) == 0 {
@@ -551,24 +451,22 @@ impl<'a> Parser<'a> {
                         }
                         let t = &mut texels[base + m];
                         if *t != TRANSPARENT {
-                            return Err(ParseError {
-                                file: self.name.to_string(),
-                                line: Some(self.line.max(line_before)),
-                                word: Some((index_before, format!("{word:04x}"))),
-                                message: format!(
+                            return Err(self.words.error_at(
+                                &w,
+                                format!(
                                     "pixel (column {}, row {row}) is set by colour {} and again by colour {n}: each pixel may be set by one colour only",
                                     j * WORD_BITS as usize + m,
                                     *t + 1
                                 ),
-                            });
+                            ));
                         }
                         *t = k as u16;
                     }
                 }
             }
         }
-        if let Some(w) = self.next_word()? {
-            return Err(self.error_at(
+        if let Some(w) = self.words.next()? {
+            return Err(self.words.error_at(
                 &w,
                 format!(
                     "trailing garbage: expected end of file after {ncolors} colour block{}",
@@ -661,7 +559,7 @@ mod tests {
     fn empty_file_is_rejected() {
         assert_eq!(
             err(""),
-            "t.pat: empty file: expected `SIZE NCOLORS` and colour blocks"
+            "t.pat: empty file: expected `SIZE NCOLORS` and colour blocks of hex words"
         );
         assert!(err(" \n\t\n").contains("empty file"));
     }
@@ -758,7 +656,7 @@ mod tests {
         let e = Pattern::parse(&bytes, "x.pat").unwrap_err().to_string();
         assert_eq!(
             e,
-            "x.pat:3: byte 0x89 is not text: expected a .pat file of decimal and hex words"
+            "x.pat:3: byte 0x89 is not text: expected `SIZE NCOLORS` and colour blocks of hex words"
         );
         let e = Pattern::parse(b"\x00\x01", "x.pat")
             .unwrap_err()

@@ -39,9 +39,9 @@
 //! reference (SPEC §4) implies; the fade is a deliberate departure from it, so
 //! benchmarks report both.
 
-use super::text::Words;
 use crate::color::{linear_to_srgb_f64, srgb_to_linear_f64};
 use crate::pat::ParseError;
+use crate::text::Words;
 use std::fmt;
 use std::io::{self, Write};
 use std::path::Path;

@@ -38,7 +38,6 @@ pub mod map;
 pub mod mapping;
 pub mod record;
 pub mod tables;
-mod text;
 pub mod vector;
 
 pub use lod::{Lod, LodMode};

@@ -19,9 +19,9 @@
 //!   indicates ... which of the three color components to modulate": here a
 //!   string of the letters `r`, `g`, `b` (`"rgb"`, `"g"`, `"rb"`, ...).
 
-use super::text::Words;
 use crate::color::Rgb8;
 use crate::pat::ParseError;
+use crate::text::Words;
 use std::fmt;
 
 /// Entries of a translation map and of a colour-code table.
