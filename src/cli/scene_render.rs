@@ -30,6 +30,10 @@ Examples:
   scene-render --reference scene.json -o reference.png
   scene-render --aa exact scene.json --compare reference.png --diff diff.png
   scene-render --image llvmpipe.png --compare reference.png --json
+  scene-render --frames 36 -o frame-%04d.png spin.json
+      An animation: instance transforms with {\"start\": a, \"step\": s} numbers.
+  scene-render --frames 36 --frame 7 -o frame-%04d.png spin.json
+      Frame 7 alone, as one job of a make -j, GNU parallel or Slurm batch.
 
 Without a camera the view is ortho2(0, W, 0, H) for a WxH image: 2D records
 (rect, circle, arc) and [x,y] polygons map one world unit to one pixel, origin

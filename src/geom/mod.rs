@@ -11,6 +11,7 @@ pub mod cull;
 pub mod merge;
 pub mod partition;
 pub mod plane;
+pub mod quadric;
 
 pub use partition::{CellSink, Grid, Partitioner, Placement};
 pub use plane::{map_to_plane, Frame, PlaneError, PlanePolygon};

@@ -1,0 +1,331 @@
+//! GLU quadrics (seed 002, ch. 7: `gluSphere`, `gluCylinder`, `gluDisk` with
+//! `gluQuadricTexture`) as triangles with texture coordinates.
+//!
+//! The GLU conventions, kept here (GLU 1.3, `GLU_OUTSIDE`, so every triangle
+//! runs counter-clockwise seen from outside, SPEC §2):
+//!
+//! - **Sphere** of radius r about the z axis: `t` runs from 0 at z = -r to 1
+//!   at z = r, linearly along the meridians; `s` runs from 0 at the +y axis,
+//!   0.25 at +x, 0.5 at -y, 0.75 at -x, back to 1 at +y. A point is
+//!   `(r sin(πt) sin(2πs), r sin(πt) cos(2πs), -r cos(πt))`.
+//! - **Cylinder** (`base` radius at z = 0, `top` at z = height; a cone when
+//!   top is 0): `t` from 0 at z = 0 to 1 at z = height, `s` as the sphere's.
+//! - **Disk** (inner and outer radius in the z = 0 plane, facing +z):
+//!   `(s, t) = (0.5 + x/(2 outer), 0.5 + y/(2 outer))`.
+//!
+//! The seam: the last slice ends at s = 1, not back at 0. Its vertices
+//! duplicate the first slice's positions with their own texture coordinate,
+//! so no triangle's s wraps from 0.97 back to 0 across the whole texture (the
+//! artefact seed 002's cylinder mapping corrects with its atan2 test).
+
+use glam::DVec3;
+use std::f64::consts::PI;
+
+/// Fewest slices around the axis: fewer than 3 encloses no area.
+pub const MIN_SLICES: u32 = 3;
+/// Fewest stacks of a sphere: one stack would be two poles and no belt.
+pub const MIN_SPHERE_STACKS: u32 = 2;
+/// Most slices or stacks: 2^14 keeps a sphere under 2^29 triangles and its
+/// chord error already below 1e-8 of its radius.
+pub const MAX_SEGMENTS: u32 = 1 << 14;
+
+/// A quadric in its own coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Quadric {
+    Sphere { radius: f64 },
+    Cylinder { base: f64, top: f64, height: f64 },
+    Disk { inner: f64, outer: f64 },
+}
+
+/// One triangle: positions and GLU texture coordinates (s, t) in 0..=1.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangle {
+    pub v: [DVec3; 3],
+    pub st: [[f64; 2]; 3],
+}
+
+impl Quadric {
+    /// Checks the radii and height: every one positive (an inner disk radius
+    /// or a cone's top may be 0).
+    pub fn check(&self) -> Result<(), String> {
+        let pos = |name: &str, x: f64| {
+            if x.is_finite() && x > 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{name} {x} is not a positive number"))
+            }
+        };
+        let nonneg = |name: &str, x: f64| {
+            if x.is_finite() && x >= 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{name} {x} is not a number >= 0"))
+            }
+        };
+        match *self {
+            Quadric::Sphere { radius } => pos("sphere.radius", radius),
+            Quadric::Cylinder { base, top, height } => {
+                nonneg("cylinder.base", base)?;
+                nonneg("cylinder.top", top)?;
+                pos("cylinder.height", height)?;
+                if base == 0.0 && top == 0.0 {
+                    return Err("cylinder: base and top radius are both 0".into());
+                }
+                Ok(())
+            }
+            Quadric::Disk { inner, outer } => {
+                nonneg("disk.inner", inner)?;
+                pos("disk.outer", outer)?;
+                if inner >= outer {
+                    return Err(format!(
+                        "disk: inner radius {inner} is not below outer radius {outer}"
+                    ));
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// The largest radius of the quadric: what its chord error scales with.
+    pub fn max_radius(&self) -> f64 {
+        match *self {
+            Quadric::Sphere { radius } => radius,
+            Quadric::Cylinder { base, top, .. } => base.max(top),
+            Quadric::Disk { outer, .. } => outer,
+        }
+    }
+
+    /// Slices and stacks (loops for a disk) so that no chord strays more than
+    /// `tolerance` (same units as the radius) from the true surface: the
+    /// sagitta `r (1 - cos(θ/2))` of a segment spanning angle θ. Slices span
+    /// 2π/n; a sphere's stacks span π/n of a meridian; a cylinder's and a
+    /// disk's other direction is straight, so one stack or loop is exact.
+    pub fn segments_for(&self, tolerance: f64) -> (u32, u32) {
+        let r = self.max_radius();
+        let n_for = |span: f64| -> u32 {
+            let ratio = (1.0 - tolerance / r).clamp(-1.0, 1.0);
+            let half = ratio.acos();
+            if half <= 0.0 || !half.is_finite() {
+                return MAX_SEGMENTS;
+            }
+            ((span / (2.0 * half)).ceil() as u32).clamp(1, MAX_SEGMENTS)
+        };
+        let slices = n_for(2.0 * PI).max(MIN_SLICES);
+        let stacks = match self {
+            Quadric::Sphere { .. } => n_for(PI).max(MIN_SPHERE_STACKS),
+            _ => 1,
+        };
+        (slices, stacks)
+    }
+
+    /// The quadric as triangles, counter-clockwise seen from outside, with
+    /// GLU texture coordinates. Triangles that collapse at a pole or a cone's
+    /// apex are left out.
+    pub fn tessellate(&self, slices: u32, stacks: u32) -> Result<Vec<Triangle>, String> {
+        self.check()?;
+        let min_stacks = match self {
+            Quadric::Sphere { .. } => MIN_SPHERE_STACKS,
+            _ => 1,
+        };
+        if !(MIN_SLICES..=MAX_SEGMENTS).contains(&slices) {
+            return Err(format!(
+                "slices {slices}: expected {MIN_SLICES} to {MAX_SEGMENTS}"
+            ));
+        }
+        if !(min_stacks..=MAX_SEGMENTS).contains(&stacks) {
+            return Err(format!(
+                "stacks {stacks}: expected {min_stacks} to {MAX_SEGMENTS}"
+            ));
+        }
+        // Angle from +y towards +x, so s = 0.25 lands on +x (GLU).
+        let around = |s: f64| {
+            let a = 2.0 * PI * s;
+            // Exact at the quarter turns, so the seam column matches column 0.
+            let (sin, cos) = if s == 1.0 { (0.0, 1.0) } else { a.sin_cos() };
+            (sin, cos)
+        };
+        let point = |s: f64, t: f64| -> DVec3 {
+            let (sin, cos) = around(s);
+            match *self {
+                Quadric::Sphere { radius } => {
+                    let ring = if t == 0.0 || t == 1.0 {
+                        0.0
+                    } else {
+                        radius * (PI * t).sin()
+                    };
+                    DVec3::new(ring * sin, ring * cos, -radius * (PI * t).cos())
+                }
+                Quadric::Cylinder { base, top, height } => {
+                    let r = base + (top - base) * t;
+                    DVec3::new(r * sin, r * cos, height * t)
+                }
+                Quadric::Disk { inner, outer } => {
+                    let r = inner + (outer - inner) * t;
+                    DVec3::new(r * sin, r * cos, 0.0)
+                }
+            }
+        };
+        let st_of = |s: f64, t: f64, p: DVec3| -> [f64; 2] {
+            match *self {
+                Quadric::Disk { outer, .. } => {
+                    [0.5 + p.x / (2.0 * outer), 0.5 + p.y / (2.0 * outer)]
+                }
+                _ => [s, t],
+            }
+        };
+        let mut out = Vec::with_capacity(2 * (slices * stacks) as usize);
+        for j in 0..stacks {
+            let (t0, t1) = (j as f64 / stacks as f64, (j + 1) as f64 / stacks as f64);
+            for i in 0..slices {
+                let (s0, s1) = (i as f64 / slices as f64, (i + 1) as f64 / slices as f64);
+                let q = [(s0, t0), (s0, t1), (s1, t1), (s1, t0)];
+                let mut quad = q.map(|(s, t)| {
+                    let p = point(s, t);
+                    (p, st_of(s, t, p))
+                });
+                // A disk faces +z: with its radius as t the listed order
+                // would face -z, so it runs the other way round.
+                if matches!(self, Quadric::Disk { .. }) {
+                    quad.reverse();
+                }
+                for tri in [[0, 1, 2], [0, 2, 3]] {
+                    let [a, b, c] = tri.map(|k| quad[k]);
+                    if a.0 == b.0 || b.0 == c.0 || a.0 == c.0 {
+                        continue;
+                    }
+                    out.push(Triangle {
+                        v: [a.0, b.0, c.0],
+                        st: [a.1, b.1, c.1],
+                    });
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn normal(t: &Triangle) -> DVec3 {
+        (t.v[1] - t.v[0]).cross(t.v[2] - t.v[0])
+    }
+
+    #[test]
+    fn glu_texture_coordinates_and_the_seam() {
+        let tris = Quadric::Sphere { radius: 2.0 }.tessellate(4, 2).unwrap();
+        // 4 slices x 2 stacks, each stack's pole triangle collapsed: 8 triangles.
+        assert_eq!(tris.len(), 8);
+        for t in &tris {
+            for (p, st) in t.v.iter().zip(&t.st) {
+                // s = 0.25 is +x, s = 0 is +y; t = 0 is z = -r.
+                if (st[0] - 0.25).abs() < 1e-12 && (st[1] - 0.5).abs() < 1e-12 {
+                    assert!((*p - DVec3::new(2.0, 0.0, 0.0)).length() < 1e-12);
+                }
+                if st[1] == 0.0 {
+                    assert_eq!(p.z, -2.0);
+                }
+            }
+            // No triangle's s spans more than one slice: nothing wraps.
+            let (lo, hi) =
+                t.st.iter()
+                    .fold((2.0f64, -1.0f64), |(a, b), x| (a.min(x[0]), b.max(x[0])));
+            assert!(hi - lo <= 0.25 + 1e-12, "{t:?}");
+            // Counter-clockwise seen from outside: the normal points away from the centre.
+            let c = (t.v[0] + t.v[1] + t.v[2]) / 3.0;
+            assert!(normal(t).dot(c) > 0.0, "{t:?}");
+        }
+        // The seam column (s = 1) sits exactly on column 0 (s = 0).
+        let seam: Vec<DVec3> = tris
+            .iter()
+            .flat_map(|t| {
+                t.v.iter()
+                    .zip(&t.st)
+                    .filter(|(_, st)| st[0] == 1.0)
+                    .map(|(p, _)| *p)
+            })
+            .collect();
+        assert!(!seam.is_empty());
+        assert!(seam.iter().all(|p| p.x == 0.0 && p.y >= 0.0));
+    }
+
+    #[test]
+    fn cylinder_cone_and_disk_face_outwards() {
+        for q in [
+            Quadric::Cylinder {
+                base: 1.0,
+                top: 1.0,
+                height: 3.0,
+            },
+            Quadric::Cylinder {
+                base: 2.0,
+                top: 0.0,
+                height: 1.0,
+            },
+        ] {
+            for t in q.tessellate(16, 3).unwrap() {
+                let c = (t.v[0] + t.v[1] + t.v[2]) / 3.0;
+                let radial = DVec3::new(c.x, c.y, 0.0);
+                assert!(normal(&t).dot(radial) > 0.0, "{q:?} {t:?}");
+            }
+        }
+        let disk = Quadric::Disk {
+            inner: 0.5,
+            outer: 2.0,
+        }
+        .tessellate(8, 2)
+        .unwrap();
+        for t in &disk {
+            assert!(normal(t).z > 0.0);
+            for (p, st) in t.v.iter().zip(&t.st) {
+                assert!((st[0] - (0.5 + p.x / 4.0)).abs() < 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn chord_error_stays_below_the_tolerance() {
+        let q = Quadric::Sphere { radius: 40.0 };
+        for tol in [1.0, 0.1, 1.0 / 256.0] {
+            let (slices, stacks) = q.segments_for(tol);
+            // The sagitta of one slice and one stack.
+            let sag = |span: f64| 40.0 * (1.0 - (span / 2.0).cos());
+            assert!(sag(2.0 * PI / slices as f64) <= tol);
+            assert!(sag(PI / stacks as f64) <= tol);
+            // And not wastefully fine: one slice fewer would exceed it.
+            assert!(sag(2.0 * PI / (slices - 1) as f64) > tol || slices == MIN_SLICES);
+        }
+    }
+
+    #[test]
+    fn bad_quadrics_are_errors() {
+        let e = |q: Quadric, sl, st| q.tessellate(sl, st).unwrap_err();
+        assert!(
+            e(Quadric::Sphere { radius: 0.0 }, 8, 8).contains("sphere.radius 0 is not a positive")
+        );
+        assert!(e(Quadric::Sphere { radius: -1.0 }, 8, 8).contains("not a positive"));
+        assert!(e(Quadric::Sphere { radius: 1.0 }, 2, 8).contains("slices 2: expected 3"));
+        assert!(e(Quadric::Sphere { radius: 1.0 }, 8, 1).contains("stacks 1: expected 2"));
+        assert!(e(
+            Quadric::Cylinder {
+                base: 0.0,
+                top: 0.0,
+                height: 1.0
+            },
+            8,
+            1
+        )
+        .contains("both 0"));
+        assert!(e(
+            Quadric::Disk {
+                inner: 2.0,
+                outer: 1.0
+            },
+            8,
+            1
+        )
+        .contains("not below outer"));
+        assert!(e(Quadric::Sphere { radius: f64::NAN }, 8, 8).contains("not a positive"));
+    }
+}
