@@ -57,8 +57,12 @@ echo "read back, encode, write the PNG; the stream's parsing in Python is left o
 echo "'Render only' is scene-render's projection-to-pixels time (--timings: without reading the JSON"
 echo "and writing the PNG) and llvmpipe's upload, draw, MSAA resolve and read back: the comparable pair."
 echo "Errors are against \`scene-render --reference\`, in 8-bit sRGB units over RGB."
+echo "The '-cull' scenes drop back faces in both renderers (--cull back; GL_CULL_FACE), as demo 2's"
+echo "Makefile does; the others draw every face and let the depth test hide the back ones."
 echo
 "$VENV/bin/python" bench/scene_render_bench.py "$SR" "$WORK" \
     "demo2-incr2=$WORK/demo2-incr2.ndjson:demo2" \
     "demo2-incr1=$WORK/demo2-incr1.ndjson:demo2" \
+    "demo2-incr2-cull=$WORK/demo2-incr2.ndjson:demo2cull" \
+    "demo2-incr1-cull=$WORK/demo2-incr1.ndjson:demo2cull" \
     "triangles-1M=$tris:tris"

@@ -86,7 +86,7 @@ in vec3 col; out vec4 frag;
 void main() { frag = vec4(col, 1.0); }"""
 
 
-def llvmpipe(ctx, tris, mvp, samples, out_png):
+def llvmpipe(ctx, tris, mvp, samples, out_png, cull=False):
     """Draws linear colours into a float multisample buffer (so the MSAA resolve
     averages in linear light, as SPEC §4 asks), reads back, encodes sRGB.
     Returns the GL time (upload, draw, resolve, read back) in seconds."""
@@ -107,6 +107,12 @@ def llvmpipe(ctx, tris, mvp, samples, out_png):
     ctx.clear(bg[0], bg[1], bg[2], 1.0, depth=1.0)
     ctx.enable(moderngl.DEPTH_TEST)
     ctx.depth_func = "<"
+    if cull:
+        # Counter-clockwise is the front (SPEC §2), as GL's default.
+        ctx.enable(moderngl.CULL_FACE)
+        ctx.cull_face = "back"
+    else:
+        ctx.disable(moderngl.CULL_FACE)
     vao.render(moderngl.TRIANGLES)
     ctx.copy_framebuffer(res, fbo)
     data = np.frombuffer(res.read(components=3, dtype="f4"), dtype="f4").reshape(H, W, 3)
@@ -184,15 +190,18 @@ def main():
         path, kind = rest.split(":")
         n_polys = sum(1 for _ in open(path))
         bg = ",".join(map(str, BACKGROUND))
-        if kind == "demo2":
+        cull = kind == "demo2cull"
+        if kind in ("demo2", "demo2cull"):
             cam = ["--perspective", ",".join(map(str, PERSPECTIVE)), "--lookat", ",".join(map(str, LOOKAT))]
+            if cull:
+                cam += ["--cull", "back"]
             mvp = perspective(PERSPECTIVE[0], PERSPECTIVE[1], GL_NEAR, PERSPECTIVE[3]) @ lookat(*LOOKAT)
         else:
             cam = []
             mvp = ortho(0, W, 0, H, -1, 1)
         base = [sr, "--size", f"{W}x{H}", "--background", bg] + cam
         ref = os.path.join(work, f"{name}-reference.png")
-        with_ref = kind == "demo2"
+        with_ref = kind in ("demo2", "demo2cull")
         if with_ref:
             t0 = time.perf_counter()
             r = subprocess.run(base + ["--reference", "--json", path, "-o", ref], check=True,
@@ -217,7 +226,7 @@ def main():
             times = []
             for _ in range(RUNS):
                 t0 = time.perf_counter()
-                gl = llvmpipe(ctx, tris, mvp, samples, img)
+                gl = llvmpipe(ctx, tris, mvp, samples, img, cull)
                 times.append((time.perf_counter() - t0, gl))
             t_all = min(t[0] for t in times)
             t_gl = min(t[1] for t in times)

@@ -105,10 +105,16 @@ fn field_err(index: usize, msg: impl Into<String>) -> (usize, String) {
 }
 
 fn as_finite(v: &Value, what: &str) -> Result<f64, String> {
+    finite(v, || what.to_string())
+}
+
+/// A finite number, naming the field only on error: the label is built lazily
+/// because this runs for every coordinate of every record.
+fn finite(v: &Value, what: impl FnOnce() -> String) -> Result<f64, String> {
     match v.as_f64() {
         Some(x) if x.is_finite() => Ok(x),
-        Some(_) => Err(format!("{what} is not finite")),
-        None => Err(format!("{what}: expected a number, found {}", short(v))),
+        Some(_) => Err(format!("{} is not finite", what())),
+        None => Err(format!("{}: expected a number, found {}", what(), short(v))),
     }
 }
 
@@ -137,7 +143,7 @@ fn number_array<const N: usize>(v: &Value, what: &str) -> Result<[f64; N], Strin
     }
     let mut out = [0.0; N];
     for (i, (o, x)) in out.iter_mut().zip(arr).enumerate() {
-        *o = as_finite(x, &format!("{what}[{i}]"))?;
+        *o = finite(x, || format!("{what}[{i}]"))?;
     }
     Ok(out)
 }
@@ -187,7 +193,7 @@ fn parse_vertices(v: &Value) -> Result<Vec<DVec3>, String> {
                         short(p)
                     )
                 })?;
-            let c = |k: usize| as_finite(&xs[k], &format!("vertices[{i}][{k}]"));
+            let c = |k: usize| finite(&xs[k], || format!("vertices[{i}][{k}]"));
             Ok(DVec3::new(
                 c(0)?,
                 c(1)?,
@@ -417,6 +423,25 @@ pub struct Instance {
     pub fields: Map<String, Value>,
 }
 
+impl ObjectDef {
+    /// What [`Objects::define`] needs to check a definition (its name, index
+    /// and the instances inside it), without its records: for tools that
+    /// keep the records in their own form.
+    pub fn skeleton(&self) -> ObjectDef {
+        ObjectDef {
+            index: self.index,
+            name: self.name.clone(),
+            items: self
+                .items
+                .iter()
+                .filter(|it| !matches!(it, Item::Record(_)))
+                .cloned()
+                .collect(),
+            fields: Map::new(),
+        }
+    }
+}
+
 impl Item {
     /// Builds the typed view of one JSON stream element.
     pub fn from_value(index: usize, value: Value) -> Result<Item, (usize, String)> {
@@ -543,6 +568,21 @@ impl Objects {
         Ok(())
     }
 
+    /// Checks that a top-level instance names an object defined before it.
+    pub fn check_instance(&self, inst: &Instance) -> Result<(), StreamError> {
+        if self.defs.contains_key(&inst.object) {
+            return Ok(());
+        }
+        Err(StreamError {
+            source: String::new(),
+            record: Some(inst.index),
+            message: format!(
+                "instance of unknown object `{}` (define it first)",
+                inst.object
+            ),
+        })
+    }
+
     pub fn get(&self, name: &str) -> Option<&ObjectDef> {
         self.defs.get(name).map(|d| &**d)
     }
@@ -558,18 +598,8 @@ impl Objects {
             Item::Record(r) => each(r),
             Item::Object(def) => Ok(self.define(def)?),
             Item::Instance(inst) => {
-                let def = self
-                    .defs
-                    .get(&inst.object)
-                    .cloned()
-                    .ok_or_else(|| StreamError {
-                        source: String::new(),
-                        record: Some(inst.index),
-                        message: format!(
-                            "instance of unknown object `{}` (define it first)",
-                            inst.object
-                        ),
-                    })?;
+                self.check_instance(&inst)?;
+                let def = self.defs[&inst.object].clone();
                 self.place(&def, inst.transform, inst.index, each)
             }
         }

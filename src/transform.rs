@@ -18,6 +18,12 @@
 //! last column must be `0 0 0 1` (affine).
 //!
 //! Internally a transform is a glam column-vector matrix (`M_col = M_rowᵀ`).
+//!
+//! For animation (`scene-render --frames`), any number of a step may be
+//! `{"start": a, "step": s}`: at frame k it is `a + s*k`. The thesis's demo 2
+//! turns its pyramid this way, `rot` growing 10 degrees a frame (App. C):
+//! `{"rotate": {"start": 0, "step": 10}, "axis": "y"}`. Read without a frame,
+//! such a transform is its frame 0.
 
 use glam::{DMat3, DMat4, DVec3};
 use serde_json::Value;
@@ -170,6 +176,23 @@ impl Transform {
 
     /// Parses a JSON transform: a list of steps applied in order (or one step).
     pub fn from_json(v: &Value) -> Result<Transform, TransformError> {
+        Transform::from_json_at(v, 0)
+    }
+
+    /// Whether a JSON transform has numbers that vary per frame.
+    pub fn is_animated(v: &Value) -> bool {
+        match v {
+            Value::Object(m) => {
+                (m.contains_key("start") && m.contains_key("step"))
+                    || m.values().any(Transform::is_animated)
+            }
+            Value::Array(a) => a.iter().any(Transform::is_animated),
+            _ => false,
+        }
+    }
+
+    /// Parses a JSON transform at animation frame `frame`.
+    pub fn from_json_at(v: &Value, frame: u64) -> Result<Transform, TransformError> {
         let steps: Vec<&Value> = match v {
             Value::Array(a) => a.iter().collect(),
             Value::Object(_) => vec![v],
@@ -181,36 +204,55 @@ impl Transform {
         };
         let mut t = Transform::IDENTITY;
         for (i, step) in steps.iter().enumerate() {
-            let s =
-                parse_step(step).map_err(|e| TransformError(format!("transform step {i}: {e}")))?;
+            let s = parse_step(step, frame)
+                .map_err(|e| TransformError(format!("transform step {i}: {e}")))?;
             t = t.then(s);
         }
         Ok(t)
     }
 }
 
-fn vec3(v: &Value, what: &str) -> Result<DVec3, String> {
+fn vec3(v: &Value, what: &str, frame: u64) -> Result<DVec3, String> {
     let a = v
         .as_array()
         .filter(|a| a.len() == 3)
         .ok_or_else(|| format!("{what}: expected [x, y, z], found {v}"))?;
     let mut out = [0.0; 3];
     for (o, x) in out.iter_mut().zip(a) {
-        *o = x
-            .as_f64()
-            .filter(|f| f.is_finite())
-            .ok_or_else(|| format!("{what}: expected finite numbers, found {v}"))?;
+        *o = number(x, what, frame)
+            .map_err(|_| format!("{what}: expected finite numbers, found {v}"))?;
     }
     Ok(DVec3::from_array(out))
 }
 
-fn number(v: &Value, what: &str) -> Result<f64, String> {
-    v.as_f64()
-        .filter(|f| f.is_finite())
-        .ok_or_else(|| format!("{what}: expected a finite number, found {v}"))
+/// A number, or `{"start": a, "step": s}` evaluated at `frame` as `a + s*frame`.
+fn number(v: &Value, what: &str, frame: u64) -> Result<f64, String> {
+    let bad =
+        || format!("{what}: expected a finite number or {{\"start\": a, \"step\": s}}, found {v}");
+    let x = match v {
+        Value::Object(m) => {
+            if m.len() != 2 {
+                return Err(bad());
+            }
+            let (a, s) = (
+                m.get("start").and_then(Value::as_f64),
+                m.get("step").and_then(Value::as_f64),
+            );
+            let (Some(a), Some(s)) = (a, s) else {
+                return Err(bad());
+            };
+            a + s * frame as f64
+        }
+        _ => v.as_f64().ok_or_else(bad)?,
+    };
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(format!("{what}: {x} at frame {frame} is not finite"))
+    }
 }
 
-fn parse_step(v: &Value) -> Result<Transform, String> {
+fn parse_step(v: &Value, frame: u64) -> Result<Transform, String> {
     let obj = v.as_object().ok_or_else(|| {
         format!("expected an object such as {{\"translate\": [x,y,z]}}, found {v}")
     })?;
@@ -231,17 +273,17 @@ fn parse_step(v: &Value) -> Result<Transform, String> {
         return Err(format!("unexpected key \"{k}\" beside \"{}\"", allowed[0]));
     }
     if let Some(t) = obj.get("translate") {
-        return Ok(Transform::translate(vec3(t, "translate")?));
+        return Ok(Transform::translate(vec3(t, "translate", frame)?));
     }
     if let Some(s) = obj.get("scale") {
         let factors = match s {
-            Value::Array(_) => vec3(s, "scale")?,
-            _ => DVec3::splat(number(s, "scale")?),
+            Value::Array(_) => vec3(s, "scale", frame)?,
+            _ => DVec3::splat(number(s, "scale", frame)?),
         };
         let scale = Transform::scale(factors).map_err(|e| format!("scale: {e}"))?;
         return Ok(match obj.get("about") {
             Some(p) => {
-                let p = vec3(p, "about")?;
+                let p = vec3(p, "about", frame)?;
                 Transform::translate(-p)
                     .then(scale)
                     .then(Transform::translate(p))
@@ -250,7 +292,7 @@ fn parse_step(v: &Value) -> Result<Transform, String> {
         });
     }
     if let Some(r) = obj.get("rotate") {
-        let degrees = number(r, "rotate")?;
+        let degrees = number(r, "rotate", frame)?;
         let axis = match obj.get("axis") {
             None => return Err("rotate: needs \"axis\": \"x\", \"y\", \"z\" or [x, y, z]".into()),
             Some(Value::String(s)) => match s.to_ascii_lowercase().as_str() {
@@ -259,9 +301,12 @@ fn parse_step(v: &Value) -> Result<Transform, String> {
                 "z" => DVec3::Z,
                 other => return Err(format!("axis: `{other}` is not x, y, z or [x, y, z]")),
             },
-            Some(a) => vec3(a, "axis")?,
+            Some(a) => vec3(a, "axis", frame)?,
         };
-        let point = obj.get("point").map(|p| vec3(p, "point")).transpose()?;
+        let point = obj
+            .get("point")
+            .map(|p| vec3(p, "point", frame))
+            .transpose()?;
         let r = match point {
             Some(p) => Transform::rotate_about(p, axis, degrees),
             None => Transform::rotate_axis(axis, degrees),
@@ -280,7 +325,7 @@ fn parse_step(v: &Value) -> Result<Transform, String> {
             .filter(|r| r.len() == 4)
             .ok_or_else(|| format!("matrix row {i}: expected 4 numbers, found {row}"))?;
         for (j, x) in r.iter().enumerate() {
-            out[i][j] = number(x, &format!("matrix[{i}][{j}]"))?;
+            out[i][j] = number(x, &format!("matrix[{i}][{j}]"), frame)?;
         }
     }
     Transform::from_row_matrix(out).map_err(|e| e.to_string())
@@ -364,6 +409,36 @@ mod tests {
         assert_eq!(squash.similarity_scale(), None);
         let mirror = Transform::from_json(&json!({"scale": [-1, 1, 1]})).unwrap();
         assert!(mirror.mirrors());
+    }
+
+    #[test]
+    fn numbers_may_grow_by_a_step_per_frame() {
+        let v =
+            json!([{"rotate": {"start": 0, "step": 10}, "axis": "y"}, {"translate": [0, 0, -500]}]);
+        assert!(Transform::is_animated(&v));
+        assert!(!Transform::is_animated(&json!({"rotate": 10, "axis": "y"})));
+        // Frame 9 turns 90 degrees: (100,0,0) to (0,0,-100), then to z = -600.
+        let t = Transform::from_json_at(&v, 9).unwrap();
+        assert!(close(
+            t.apply(DVec3::new(100.0, 0.0, 0.0)),
+            DVec3::new(0.0, 0.0, -600.0)
+        ));
+        assert_eq!(
+            Transform::from_json(&v).unwrap(),
+            Transform::from_json_at(&v, 0).unwrap()
+        );
+        // A scale that passes through zero is singular at that frame only.
+        let s = json!({"scale": {"start": 2, "step": -1}});
+        assert!(Transform::from_json_at(&s, 1).is_ok());
+        assert!(Transform::from_json_at(&s, 2)
+            .unwrap_err()
+            .to_string()
+            .contains("singular"));
+        let e = Transform::from_json(&json!({"rotate": {"start": 0}, "axis": "y"}));
+        assert!(e
+            .unwrap_err()
+            .to_string()
+            .contains("expected a finite number or"));
     }
 
     #[test]

@@ -8,7 +8,7 @@ use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::geom::{map_to_plane, outline, CellSink, Grid, Partitioner, Placement};
 use crate::io::{display_name, Output, STDIO};
 use crate::pat::Pattern;
-use crate::stream::{self, PatternMode, Record, Shape};
+use crate::stream::{self, Instance, Item, ObjectDef, Objects, PatternMode, Record, Shape};
 use crate::usage_bail;
 use anyhow::{anyhow, Context, Result};
 use clap::{Parser, ValueEnum};
@@ -51,6 +51,10 @@ thesis's polcolorf3. Each output record keeps the input's other fields, with \
 \"vertices\" (always [x,y,z]), \"color\" (the texel's colour) and \"texel\": \
 [column, row]. Records without a pattern, and patterns in \"screen\" or \"uv\" \
 mode, pass through unchanged.\n\n\
+Objects and instances (docs/objects.md) stay intact: an object definition is \
+written back with its records partitioned, once however many instances place \
+it (the thesis's Fig. 5.1), and instances pass through unchanged. --cull does \
+not apply inside objects.\n\n\
 Placement (SPEC §2): plane x along the edge vertex0->vertex1 rotated by \
 \"rotate\" degrees counter-clockwise, y 90 degrees counter-clockwise from it \
 seen from the front; texel column floor((x - xmin)/incr - horz) mod SIZE, row \
@@ -58,7 +62,7 @@ floor((y - ymin)/incr - vert) mod SIZE. Concave polygons are supported; a \
 cell whose piece of a concave polygon falls apart gives one polygon per part. \
 Only pieces with positive area are written, and neighbouring cells share \
 their vertices bit for bit.\n\n\
---json prints a summary (records, polygons, seconds) to standard error.",
+--json prints a summary (records, polygons, objects, instances, seconds) to standard error.",
     after_help = EXAMPLES
 )]
 pub struct Args {
@@ -125,6 +129,8 @@ struct Summary {
     partitioned: u64,
     culled: u64,
     polygons: u64,
+    objects: u64,
+    instances: u64,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -182,10 +188,27 @@ pub fn run(args: Args) -> Result<()> {
         summary: Summary::default(),
         warned_mode: false,
     };
-    stream::for_each_record(reader, &source, |rec| {
-        let index = rec.index;
-        job.record(rec)
-            .with_context(|| format!("{source}: record {index}"))
+    // Objects and instances are kept as they are (Fig. 5.1: a face is
+    // partitioned once and placed four times), not expanded into copies.
+    let mut objects = Objects::default();
+    let named = |mut e: stream::StreamError| {
+        e.source = source.clone();
+        e
+    };
+    stream::for_each_item(reader, &source, |item| match item {
+        Item::Record(rec) => {
+            let index = rec.index;
+            job.record(rec)
+                .with_context(|| format!("{source}: record {index}"))
+        }
+        Item::Object(def) => {
+            objects.define(def.skeleton()).map_err(named)?;
+            job.object(def, &source)
+        }
+        Item::Instance(inst) => {
+            objects.check_instance(&inst).map_err(named)?;
+            job.instance(&inst)
+        }
     })?;
     job.writer.into_inner()?.commit()?;
     if args.json {
@@ -200,6 +223,8 @@ pub fn run(args: Args) -> Result<()> {
                 "partitioned": s.partitioned,
                 "culled": s.culled,
                 "polygons": s.polygons,
+                "objects": s.objects,
+                "instances": s.instances,
                 "seconds": start.elapsed().as_secs_f64(),
             })
         );
@@ -235,6 +260,68 @@ impl Job<'_> {
         let p = Rc::new(Pattern::read_file(&path).map_err(|e| anyhow!("pattern: {e}"))?);
         self.patterns.insert(path, p.clone());
         Ok(p)
+    }
+
+    /// Writes an object definition back as an object whose `"records"` are
+    /// its records partitioned (once, however many instances it gets), and
+    /// its instances unchanged; the definition's other fields keep their
+    /// order. `--cull` does not apply inside objects: where an instance puts
+    /// them is not known here.
+    fn object(&mut self, def: ObjectDef, source: &str) -> Result<()> {
+        self.summary.objects += 1;
+        self.writer.capture()?;
+        let volume = self.volume.take();
+        let result = self.object_items(&def, source);
+        self.volume = volume;
+        let body = self.writer.end_capture();
+        result?;
+        let mut line = Vec::with_capacity(body.len() + 64);
+        line.push(b'{');
+        for (i, (k, v)) in def.fields.iter().enumerate() {
+            if i > 0 {
+                line.push(b',');
+            }
+            serde_json::to_writer(&mut line, k)?;
+            line.push(b':');
+            if k == "records" {
+                line.push(b'[');
+                let mut first = true;
+                for rec in body.split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
+                    if !first {
+                        line.push(b',');
+                    }
+                    first = false;
+                    line.extend_from_slice(rec);
+                }
+                line.push(b']');
+            } else {
+                serde_json::to_writer(&mut line, v)?;
+            }
+        }
+        line.extend_from_slice(b"}\n");
+        self.writer.pass_raw(&line)
+    }
+
+    fn object_items(&mut self, def: &ObjectDef, source: &str) -> Result<()> {
+        for (i, item) in def.items.iter().enumerate() {
+            match item {
+                Item::Record(rec) => self.record(rec.clone()).with_context(|| {
+                    format!(
+                        "{source}: record {}: object `{}` records[{i}]",
+                        def.index, def.name
+                    )
+                })?,
+                Item::Instance(inst) => self.instance(inst)?,
+                Item::Object(_) => unreachable!("Objects::define rejects nested definitions"),
+            }
+        }
+        Ok(())
+    }
+
+    /// An instance passes through unchanged: its object is partitioned once.
+    fn instance(&mut self, inst: &Instance) -> Result<()> {
+        self.summary.instances += 1;
+        self.writer.pass(&inst.fields)
     }
 
     fn record(&mut self, rec: Record) -> Result<()> {
@@ -352,6 +439,9 @@ pub struct CellWriter<W: Write> {
     budget: u64,
     error: Option<std::io::Error>,
     float: zmij::Buffer,
+    /// While set, output stays in `buf` (an object's records, gathered to be
+    /// written inside its definition).
+    capturing: bool,
 }
 
 /// Fields an output record does not carry over: the geometry, the colour and
@@ -376,6 +466,7 @@ impl<W: Write> CellWriter<W> {
             budget: 0,
             error: None,
             float: zmij::Buffer::new(),
+            capturing: false,
         }
     }
 
@@ -386,6 +477,29 @@ impl<W: Write> CellWriter<W> {
             self.drain()?;
         }
         Ok(())
+    }
+
+    /// Writes already serialized NDJSON (one or more whole lines).
+    pub fn pass_raw(&mut self, line: &[u8]) -> Result<()> {
+        self.buf.extend_from_slice(line);
+        if self.buf.len() >= FLUSH_BYTES {
+            self.drain()?;
+        }
+        Ok(())
+    }
+
+    /// From now on keeps every record written in memory instead of sending it
+    /// to the output, until [`CellWriter::end_capture`].
+    pub fn capture(&mut self) -> Result<()> {
+        self.drain()?;
+        self.capturing = true;
+        Ok(())
+    }
+
+    /// The NDJSON lines written since [`CellWriter::capture`].
+    pub fn end_capture(&mut self) -> Vec<u8> {
+        self.capturing = false;
+        std::mem::replace(&mut self.buf, Vec::with_capacity(2 * FLUSH_BYTES))
     }
 
     /// Writes what is buffered and returns the output.
@@ -493,6 +607,9 @@ impl<W: Write> CellWriter<W> {
     }
 
     fn drain(&mut self) -> std::io::Result<()> {
+        if self.capturing {
+            return Ok(());
+        }
         self.out.write_all(&self.buf)?;
         self.buf.clear();
         Ok(())

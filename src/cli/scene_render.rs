@@ -9,7 +9,8 @@ use crate::pat::Pattern;
 use crate::raster::{
     self, compare, reference, Aa, Background, Cull, ScreenPattern, ScreenPoly, View,
 };
-use crate::stream::{for_each_record, PatternMode, Shape};
+use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, Record, Shape};
+use crate::transform::Transform;
 use crate::usage_bail;
 use anyhow::{Context, Result};
 use clap::Parser;
@@ -118,6 +119,19 @@ pub struct Args {
     #[arg(long)]
     pub timings: bool,
 
+    /// Render an animation of N frames (docs/objects.md): numbers of instance
+    /// transforms written `{"start": a, "step": s}` are `a + s*k` in frame k
+    /// (0-based). -o must then be a pattern such as frame-%04d.png.
+    #[arg(long, value_name = "N", default_value_t = 1,
+          value_parser = clap::value_parser!(u64).range(1..=MAX_FRAMES),
+          conflicts_with_all = ["reference", "compare", "image"])]
+    pub frames: u64,
+
+    /// Render only frame K of the --frames (0-based): one job of a batch run
+    /// by make -j, GNU parallel or a Slurm job array.
+    #[arg(long, value_name = "K", conflicts_with_all = ["reference", "compare", "image"])]
+    pub frame: Option<u64>,
+
     /// Worker threads (default: all cores). The output is identical for any N.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
@@ -133,7 +147,32 @@ pub fn run(args: Args) -> Result<()> {
     pool.install(|| run_in_pool(args))
 }
 
+/// The most frames one run renders: a day of film at 24 frames a second,
+/// far more than a batch needs, and a bound that catches a mistyped count.
+pub const MAX_FRAMES: u64 = 24 * 60 * 60 * 24;
+
 fn run_in_pool(args: Args) -> Result<()> {
+    if let Some(k) = args.frame {
+        if k >= args.frames {
+            usage_bail!(
+                "--frame {k}: expected a frame below --frames {}",
+                args.frames
+            );
+        }
+    }
+    let animation = args.frames > 1 || args.frame.is_some();
+    if animation {
+        match &args.output {
+            None => usage_bail!("--frames: give -o, a pattern such as frame-%04d.png"),
+            Some(o) if frame_name(o, 0).is_none() && (args.frame.is_none() && args.frames > 1) => {
+                usage_bail!("-o {o}: with --frames {} expected a pattern with %d or %0Nd, such as frame-%04d.png", args.frames)
+            }
+            Some(o) if o == crate::io::STDIO && args.frames > 1 && args.frame.is_none() => {
+                usage_bail!("--frames: several frames cannot go to standard output")
+            }
+            _ => {}
+        }
+    }
     if args.json && args.compare.is_none() && !args.reference {
         usage_bail!("--json is for the --compare and --reference reports");
     }
@@ -168,15 +207,27 @@ fn run_in_pool(args: Args) -> Result<()> {
         width,
         height,
     };
-    let bg = Background {
-        color: args.background,
-        pattern: match &args.background_pattern {
-            Some(p) => Some(Pattern::read_file(std::path::Path::new(p))?),
-            None => None,
-        },
+    let bg_pattern = match &args.background_pattern {
+        Some(p) => Some(Pattern::read_file(std::path::Path::new(p))?),
+        None => None,
     };
+    let bg = Background::new(args.background, bg_pattern.as_ref());
     let t_read = std::time::Instant::now();
-    let polys = read_scene(&args.input, &view, args.cull, &args.texture)?;
+    let scene = read_scene(&args.input)?;
+    if animation {
+        let format = format.expect("animations have an output");
+        return render_frames(&args, &scene, &view, &bg, format);
+    }
+    let mut polys = Vec::new();
+    project_parts(
+        &scene.parts,
+        &view,
+        None,
+        None,
+        &Drawing::new(&args, 0),
+        &mut polys,
+    )
+    .with_context(|| display_name(&args.input).to_string())?;
     let t_render = std::time::Instant::now();
     let (img, residual) = if args.reference {
         let r = reference::render(&polys, &bg, width, height, args.reference_samples);
@@ -276,16 +327,13 @@ fn load_image(name: &str) -> Result<Image> {
     })
 }
 
-/// Reads the stream and projects every record. Patterns are drawn directly:
-/// screen mode (the IRIS hardware patterns of the thesis's demo 1) per pixel,
-/// object and uv placement through their screen → texel map
-/// (`scene_texture`), integrated exactly over texel cells by `--aa exact`.
-fn read_scene(
-    input: &str,
-    view: &View,
-    cull: Cull,
-    texture: &super::scene_texture::TextureArgs,
-) -> Result<Vec<ScreenPoly>> {
+/// Reads the stream, keeping objects and instances. Patterns are drawn
+/// directly: screen mode (the IRIS hardware patterns of the thesis's demo 1)
+/// per pixel, object and uv placement through their screen → texel map
+/// (`scene_texture`), computed when each record is projected (in the object's
+/// own coordinates for an instance, so the pattern stays fixed to the object as
+/// in the thesis's Fig. 5.1), integrated exactly over texel cells by `--aa exact`.
+fn read_scene(input: &str) -> Result<Scene> {
     let name = display_name(input).to_string();
     let base = crate::stream::base_dir(input);
     let mut patterns: HashMap<std::path::PathBuf, Arc<ScreenPattern>> = HashMap::new();
@@ -301,8 +349,7 @@ fn read_scene(
             std::fs::File::open(path).with_context(|| input.to_string())?,
         ))
     };
-    let mut polys = Vec::new();
-    for_each_record(reader, &name, |rec| {
+    let scene = read_items(reader, &name, |rec| {
         let mut screen = None;
         // "object" and "uv" patterns: placed after projection (below).
         let mut placed = None;
@@ -332,36 +379,286 @@ fn read_scene(
                 PatternMode::Object | PatternMode::Uv => placed = Some((pref, mode, p)),
             }
         }
-        let color = rec.color.unwrap_or(Rgb8::BLACK);
-        let tol = curve_tolerance(&rec.shape, view);
-        let outline = crate::geom::outline(&rec.shape, tol);
-        let order = u32::try_from(rec.index).context("more than 2^32 records")?;
-        if let Some(mut p) = raster::project(view, &outline, color, order, cull) {
-            p.screen = screen;
-            if let Some((pref, mode, texels)) = placed {
-                let tex = super::scene_texture::place(
-                    texture,
-                    color,
-                    view,
-                    &outline,
-                    pref,
-                    mode,
-                    rec.uv.as_deref(),
-                    texels,
-                )
-                .with_context(|| format!("{name}: record {}", rec.index))?;
-                match tex {
-                    Some(t) => p.texture = Some(Arc::new(t)),
-                    // Visible by the projection but not by the fit: rounding
-                    // at a sliver; nothing to draw.
-                    None => return Ok(()),
+        Ok(Drawable {
+            index: rec.index,
+            shape: rec.shape,
+            color: rec.color.unwrap_or(Rgb8::BLACK),
+            screen,
+            placed: placed.map(|(pref, mode, p)| (pref.clone(), mode, p)),
+            uv: rec.uv,
+        })
+    })?;
+    Ok(scene)
+}
+
+/// `%d` or `%0Nd` in an output name replaced by the frame number; `None`
+/// when the name has no such pattern.
+pub fn frame_name(pattern: &str, k: u64) -> Option<String> {
+    let start = pattern.find('%')?;
+    let rest = &pattern[start + 1..];
+    let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
+    if rest.as_bytes().get(digits) != Some(&b'd') {
+        return None;
+    }
+    let width: usize = if digits == 0 {
+        0
+    } else {
+        rest[..digits].parse().ok()?
+    };
+    let zero = rest.starts_with('0');
+    let num = if zero {
+        format!("{k:0width$}")
+    } else {
+        format!("{k:width$}")
+    };
+    Some(format!("{}{num}{}", &pattern[..start], &rest[digits + 1..]))
+}
+
+/// Renders the frames of an animation from one reading of the scene: the
+/// objects are read (and their patterns loaded) once, and each frame only
+/// projects and resolves. With --frame K only frame K is drawn.
+fn render_frames(
+    args: &Args,
+    scene: &Scene,
+    view: &View,
+    bg: &raster::Background,
+    format: ImageFormat,
+) -> Result<()> {
+    let pattern = args.output.as_deref().expect("checked by run_in_pool");
+    let frames: Vec<u64> = match args.frame {
+        Some(k) => vec![k],
+        None => (0..args.frames).collect(),
+    };
+    for k in frames {
+        let name = frame_name(pattern, k).unwrap_or_else(|| pattern.to_string());
+        let t0 = std::time::Instant::now();
+        let mut polys = Vec::new();
+        project_parts(
+            &scene.parts,
+            view,
+            None,
+            None,
+            &Drawing::new(args, k),
+            &mut polys,
+        )
+        .with_context(|| display_name(&args.input).to_string())?;
+        let t1 = std::time::Instant::now();
+        let img = raster::render(&polys, bg, view.width, view.height, args.aa).to_image();
+        let t2 = std::time::Instant::now();
+        img.save_with(&name, format, PngOptions::GENERAL)?;
+        if args.timings {
+            eprintln!(
+                "{TOOL}: timings: frame {k}: project {:.4} s, render {:.4} s, write {:.4} s ({} polygons)",
+                (t1 - t0).as_secs_f64(),
+                (t2 - t1).as_secs_f64(),
+                t2.elapsed().as_secs_f64(),
+                polys.len()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// What every record of one frame is drawn with.
+#[derive(Clone, Copy)]
+struct Drawing<'a> {
+    cull: Cull,
+    texture: &'a super::scene_texture::TextureArgs,
+    /// The frame number, for transforms that vary per frame.
+    frame: u64,
+}
+
+impl<'a> Drawing<'a> {
+    fn new(args: &'a Args, frame: u64) -> Drawing<'a> {
+        Drawing {
+            cull: args.cull,
+            texture: &args.texture,
+            frame,
+        }
+    }
+}
+
+/// One record ready to draw, in its own coordinates (world coordinates at the
+/// top level, the object's inside a definition). Only the geometry is kept,
+/// not the record's JSON.
+struct Drawable {
+    index: usize,
+    shape: Shape,
+    color: Rgb8,
+    screen: Option<Arc<ScreenPattern>>,
+    /// An object- or uv-mode pattern, placed when the record is projected.
+    placed: Option<(crate::stream::PatternRef, PatternMode, Arc<ScreenPattern>)>,
+    uv: Option<Vec<[f64; 2]>>,
+}
+
+/// A stream element as the renderer keeps it.
+enum Part {
+    Draw(Drawable),
+    /// An instance (the thesis's `callobj`): the object's parts are shared,
+    /// never copied; they are projected through the instance's transform.
+    Place {
+        index: usize,
+        name: String,
+        object: std::rc::Rc<Vec<Part>>,
+        transform: Transform,
+        /// The transform's JSON when its numbers vary per frame.
+        animated: Option<serde_json::Value>,
+    },
+}
+
+/// The stream read into parts, objects defined once.
+#[derive(Default)]
+struct Scene {
+    parts: Vec<Part>,
+}
+
+/// Reads the stream, keeping objects and instances (the thesis's
+/// `makeobj`/`callobj`, Fig. 5.1): every record, inside an object or not, goes
+/// through `each` once; an instance refers to its object's parts.
+fn read_items(
+    reader: Box<dyn BufRead>,
+    name: &str,
+    mut each: impl FnMut(Record) -> Result<Drawable>,
+) -> Result<Scene> {
+    let mut checks = Objects::default();
+    let mut objects: HashMap<String, std::rc::Rc<Vec<Part>>> = HashMap::new();
+    let mut scene = Scene::default();
+    let named = |mut e: crate::stream::StreamError| {
+        e.source = name.to_string();
+        e
+    };
+    let place = |inst: Instance, objects: &HashMap<String, std::rc::Rc<Vec<Part>>>| Part::Place {
+        index: inst.index,
+        object: objects[&inst.object].clone(),
+        transform: inst.transform,
+        animated: inst
+            .fields
+            .get("transform")
+            .filter(|t| Transform::is_animated(t))
+            .cloned(),
+        name: inst.object,
+    };
+    for_each_item(reader, name, |item| {
+        match item {
+            Item::Record(rec) => scene.parts.push(Part::Draw(each(rec)?)),
+            Item::Object(def) => {
+                checks.define(def.skeleton()).map_err(named)?;
+                let mut parts = Vec::with_capacity(def.items.len());
+                for it in def.items {
+                    parts.push(match it {
+                        Item::Record(rec) => Part::Draw(each(rec)?),
+                        Item::Instance(inst) => place(inst, &objects),
+                        Item::Object(_) => {
+                            unreachable!("Objects::define rejects nested definitions")
+                        }
+                    });
                 }
+                objects.insert(def.name, std::rc::Rc::new(parts));
             }
-            polys.push(p);
+            Item::Instance(inst) => {
+                checks.check_instance(&inst).map_err(named)?;
+                scene.parts.push(place(inst, &objects));
+            }
         }
         Ok(())
     })?;
-    Ok(polys)
+    Ok(scene)
+}
+
+/// Clips and projects parts into screen polygons. `placed` is the transform
+/// of the instance being drawn (object to world) and `order` its position in
+/// the stream: every polygon of an instance draws at the instance's place, as
+/// when the instance is expanded. An instance's polygons are never copied:
+/// the view's matrix is multiplied by the instance's, so the clip-space
+/// vertices the clipper makes anyway are the only transformed buffer.
+fn project_parts(
+    parts: &[Part],
+    base: &View,
+    placed: Option<Transform>,
+    order: Option<u32>,
+    how: &Drawing,
+    out: &mut Vec<ScreenPoly>,
+) -> Result<()> {
+    let Drawing {
+        cull,
+        texture,
+        frame,
+    } = *how;
+    let moved;
+    let view = match placed {
+        Some(t) => {
+            moved = View {
+                world_to_clip: base.world_to_clip * t.matrix(),
+                ..base.clone()
+            };
+            &moved
+        }
+        None => base,
+    };
+    for part in parts {
+        match part {
+            Part::Draw(d) => {
+                let order = match order {
+                    Some(o) => o,
+                    None => u32::try_from(d.index).context("more than 2^32 records")?,
+                };
+                let outline = match &d.shape {
+                    Shape::Polygon(v) => std::borrow::Cow::Borrowed(v.as_slice()),
+                    other => std::borrow::Cow::Owned(crate::geom::outline(
+                        other,
+                        curve_tolerance(other, view),
+                    )),
+                };
+                if let Some(mut p) = raster::project(view, &outline, d.color, order, cull) {
+                    p.screen = d.screen.clone();
+                    if let Some((pref, mode, texels)) = &d.placed {
+                        let tex = super::scene_texture::place(
+                            texture,
+                            d.color,
+                            view,
+                            &outline,
+                            pref,
+                            *mode,
+                            d.uv.as_deref(),
+                            texels.clone(),
+                        )
+                        .with_context(|| format!("record {}", d.index))?;
+                        match tex {
+                            Some(t) => p.texture = Some(Arc::new(t)),
+                            // Visible by the projection but not by the fit:
+                            // rounding at a sliver; nothing to draw.
+                            None => continue,
+                        }
+                    }
+                    out.push(p);
+                }
+            }
+            Part::Place {
+                index,
+                name,
+                object,
+                transform,
+                animated,
+            } => {
+                let transform = match animated {
+                    Some(v) => &Transform::from_json_at(v, frame).with_context(|| {
+                        format!("record {index}: instance of `{name}` at frame {frame}")
+                    })?,
+                    None => transform,
+                };
+                let order = match order {
+                    Some(o) => o,
+                    None => u32::try_from(*index).context("more than 2^32 records")?,
+                };
+                let total = match placed {
+                    Some(outer) => transform.then(outer),
+                    None => *transform,
+                };
+                project_parts(object, base, Some(total), Some(order), how, out)?;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// World-space chord tolerance for a curved record, from the view's scale at

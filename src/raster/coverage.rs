@@ -40,6 +40,13 @@ pub const AREA_EPS: f64 = 1e-12;
 /// the result by at most this length times the pixel, far below 8 bits.
 pub const EDGE_EPS: f64 = 1e-9;
 
+/// Two fragments that share an edge meet along it only up to rounding (their
+/// vertices there come from separate clips): a vertex within this distance
+/// (pixels) of a separating line counts as on it. Treating an overlap this thin
+/// as none changes an area by at most 1e-9 pixel, and it spares the convex
+/// subtraction for every pair of neighbours, the common case on textured faces.
+pub const SEPARATION_EPS: f64 = 1e-9;
+
 /// One polygon's part of one pixel.
 #[derive(Clone, Copy, Debug)]
 struct Frag {
@@ -440,15 +447,17 @@ fn resolve_pixel(
 
 /// Whether two convex counter-clockwise polygons have no interior in common:
 /// some edge of one has the whole other on its outer side (separating axis;
-/// touching along an edge counts as disjoint).
+/// touching along an edge, within [`SEPARATION_EPS`], counts as disjoint).
 fn disjoint(a: &[DVec2], b: &[DVec2]) -> bool {
     let separated = |p: &[DVec2], q: &[DVec2]| {
         let n = p.len();
         (0..n).any(|i| {
             let (s, e) = (p[i], p[(i + 1) % n]);
             let dir = e - s;
-            dir.length_squared() > EDGE_EPS * EDGE_EPS
-                && q.iter().all(|&v| dir.perp_dot(v - s) <= 0.0)
+            let len = dir.length();
+            len > EDGE_EPS
+                && q.iter()
+                    .all(|&v| dir.perp_dot(v - s) <= SEPARATION_EPS * len)
         })
     };
     separated(a, b) || separated(b, a)

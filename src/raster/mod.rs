@@ -489,26 +489,32 @@ impl ScreenPattern {
 /// (x mod SIZE, y mod SIZE); transparent texels show the colour).
 #[derive(Clone, Debug)]
 pub struct Background {
-    pub color: Rgb8,
-    pub pattern: Option<Pattern>,
+    /// Linear light of the colour, decoded once (it is read for every pixel
+    /// not fully covered).
+    color: [f64; 3],
+    pattern: Option<ScreenPattern>,
 }
 
 impl Background {
     pub fn color(color: Rgb8) -> Background {
+        Background::new(color, None)
+    }
+
+    /// A colour, with a pattern tiled over it in screen mode.
+    pub fn new(color: Rgb8, pattern: Option<&Pattern>) -> Background {
         Background {
-            color,
-            pattern: None,
+            color: color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0)),
+            pattern: pattern.map(ScreenPattern::new),
         }
     }
 
     /// Linear-light colour of pixel (x, y), y counted from the bottom.
     #[inline]
     pub fn at(&self, x: u32, y: u32) -> [f64; 3] {
-        let c = match &self.pattern {
-            Some(p) => p.color_wrapped(x as i64, y as i64).unwrap_or(self.color),
+        match &self.pattern {
+            Some(p) => p.at(x, y).unwrap_or(self.color),
             None => self.color,
-        };
-        c.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0))
+        }
     }
 }
 

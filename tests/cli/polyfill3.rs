@@ -154,7 +154,7 @@ fn demo2(dir: &Path) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/scenes");
     std::fs::create_dir_all(dir.join("scenes")).unwrap();
     std::fs::create_dir_all(dir.join("patterns")).unwrap();
-    for f in ["demo2-faces.json", "demo2-plain.json"] {
+    for f in ["demo2-faces.json", "demo2-plain.json", "demo2-fig51.json"] {
         std::fs::copy(root.join(f), dir.join("scenes").join(f)).unwrap();
     }
     write_pat(&dir.join("patterns/pyr.pat"), 64, |_, _| false);
@@ -368,3 +368,117 @@ fn json_summary_rotation_and_compat_shifts() {
         .code(1);
     assert!(String::from_utf8_lossy(&out.get_output().stderr).contains("must be integers"));
 }
+
+/// Vertex coordinates of cells placed by an instance and of cells cut from the
+/// already placed face differ by rounding only (a rotation by 90 degrees is
+/// exact in cos/sin only up to 1e-16): far below anything 8-bit output shows.
+const INSTANCE_VERTEX_TOL: f64 = 1e-9;
+
+clitest!(
+    objects_are_partitioned_once_and_instances_pass_through,
+    |dir| {
+        demo2(dir.path());
+        let out = dir
+            .cmd("polyfill3")
+            .args(["scenes/demo2-fig51.json", "--json"])
+            .assert()
+            .success();
+        let text = String::from_utf8(out.get_output().stdout.clone()).unwrap();
+        let summary: Value = serde_json::from_slice(&out.get_output().stderr).unwrap();
+        assert_eq!(summary["objects"], 1);
+        assert_eq!(summary["instances"], 4);
+        let input = std::fs::read_to_string(dir.path().join("scenes/demo2-fig51.json")).unwrap();
+        let in_lines: Vec<&str> = input.lines().collect();
+        let out_lines: Vec<&str> = text.lines().collect();
+        // One object, four instances byte for byte, then the plain's 1,280 cells.
+        assert_eq!(out_lines.len(), 1 + 4 + 1280);
+        assert_eq!(&out_lines[1..5], &in_lines[1..5]);
+        let object: Value = serde_json::from_str(out_lines[0]).unwrap();
+        assert_eq!(object["object"], "face");
+        // The object's records are exactly face 1 of the four-face scene cut on
+        // its own: 17,928 / 4 cells, written once.
+        let faces = dir
+            .cmd("polyfill3")
+            .arg("scenes/demo2-faces.json")
+            .assert()
+            .success();
+        let face_cells = lines(&faces.get_output().stdout);
+        let records = object["records"].as_array().unwrap();
+        assert_eq!(records.len(), 17928 / 4);
+        assert_eq!(records.as_slice(), &face_cells[..records.len()]);
+        // Expanding the instances (the copying path) gives the cells of the
+        // four faces, the same texels in the same places.
+        let mut expanded = Vec::new();
+        patkit::stream::for_each_record(text.as_bytes(), "out", |r| {
+            expanded.push(r);
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(expanded.len(), 17928 + 1280);
+        // The instances are listed as faces 1, 2, 4, 3; demo2-faces.json has the
+        // pyramid at the origin, the instances move it to z = -500.
+        let shift = glam::DVec3::new(0.0, 0.0, -500.0);
+        let per_face = records.len();
+        for (k, face) in [0usize, 1, 3, 2].into_iter().enumerate() {
+            for i in 0..per_face {
+                let got = &expanded[k * per_face + i];
+                let want = &face_cells[face * per_face + i];
+                assert_eq!(got.fields["texel"], want["texel"]);
+                let w: Vec<[f64; 3]> = serde_json::from_value(want["vertices"].clone()).unwrap();
+                let patkit::stream::Shape::Polygon(g) = &got.shape else {
+                    panic!("cells are polygons")
+                };
+                assert_eq!(g.len(), w.len());
+                for (a, b) in g.iter().zip(&w) {
+                    let d = (*a - glam::DVec3::from_array(*b) - shift).length();
+                    assert!(
+                        d < INSTANCE_VERTEX_TOL,
+                        "face {face} cell {i}: {a} vs {b:?}"
+                    );
+                }
+            }
+        }
+    }
+);
+
+clitest!(
+    bad_objects_and_instances_name_the_record_and_write_nothing,
+    |dir| {
+        write_pat(&dir.path().join("p.pat"), 16, |_, _| false);
+        let face = r#"{"vertices":[[0,0],[1,0],[0,1]],"pattern":{"file":"p.pat"}}"#;
+        let cases = [
+        (
+            format!("{face}\n{{\"instance\":\"ghost\"}}"),
+            "s.json: record 1: instance of unknown object `ghost`",
+        ),
+        (
+            r#"{"object":"a","records":[{"instance":"a"}]}"#.to_string(),
+            "s.json: record 0: object `a` places an instance of itself: a cycle",
+        ),
+        (
+            format!("{{\"object\":\"a\",\"records\":[{face}]}}\n{{\"object\":\"a\",\"records\":[]}}"),
+            "s.json: record 1: object `a` is defined twice",
+        ),
+        (
+            r#"{"object":"a","records":[]}
+{"instance":"a","transform":{"scale":[1,0,1]}}"#
+                .to_string(),
+            "s.json: record 1: instance of `a`: transform step 0: scale: singular",
+        ),
+        (
+            r#"{"object":"a","records":[{"vertices":[[0,0],[1,0],[2,0]],"pattern":{"file":"p.pat"}}]}"#
+                .to_string(),
+            "s.json: record 0: object `a` records[0]",
+        ),
+    ];
+        for (text, want) in cases {
+            dir.write("s.json", &text);
+            dir.cmd("polyfill3")
+                .args(["s.json", "-o", "out.json"])
+                .assert()
+                .code(1)
+                .stderr(predicates::str::contains(want));
+            assert!(!dir.path().join("out.json").exists(), "{want}");
+        }
+    }
+);

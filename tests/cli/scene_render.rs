@@ -354,3 +354,304 @@ clitest!(
         assert_matches_golden(&out.get_output().stdout, "examples/golden/demo2.png");
     }
 );
+
+// The thesis's demo 2 view described by the IRIS model and by the textbook's
+// view system (VRP at the eye, VPN towards the look-at point, a window of
+// tan(27.5°) at view distance 1, front 0, back 1000): the images are identical.
+clitest!(
+    the_same_view_described_both_ways_renders_identically,
+    |dir| {
+        dir.write(
+            "scene.json",
+            r#"[{"vertices":[[-500,0,0],[500,0,0],[500,0,-800],[-500,0,-800]],"color":[40,120,40]},
+            {"vertices":[[100,0,-400],[100,0,-600],[0,142.2,-500]],"color":[200,160,90]},
+            {"vertices":[[-100,0,-400],[100,0,-400],[0,142.2,-500]],"color":[180,140,80]},
+            {"vertices":[[-100,0,-600],[-100,0,-400],[0,142.2,-500]],"color":[160,120,70]}]"#,
+        );
+        dir.write(
+            "iris.json",
+            r#"{"lookat":{"eye":[0,100,-5],"center":[0,0,-900],"twist":0},
+            "perspective":{"fovy":55,"aspect":1.0,"near":0,"far":1000}}"#,
+        );
+        let t = 27.5f64.to_radians().tan();
+        dir.write(
+            "textbook.json",
+            format!(
+                r#"{{"view":{{"vrp":[0,100,-5],"vpn":[0,-100,-895],"view_up":[0,1,0],
+                "view_distance":1,"window":[{m},{t},{m},{t}],"cop":[0,100,-5],
+                "front":0,"back":1000}}}}"#,
+                m = -t
+            ),
+        );
+        for cam in ["iris", "textbook"] {
+            dir.cmd("scene-render")
+                .args(["--size", "256x192", "--camera", &format!("{cam}.json")])
+                .args(["scene.json", "-o", &format!("{cam}.png")])
+                .assert()
+                .success();
+        }
+        let (a, b) = (
+            decode(&dir.read("iris.png")),
+            decode(&dir.read("textbook.png")),
+        );
+        // Not a blank frame: the pyramid and the plain are both in view.
+        assert!(a.pixels().any(|p| p.0 == [40, 120, 40, 255]));
+        assert!(a.pixels().any(|p| p.0[0] > 150));
+        assert_eq!(a, b);
+    }
+);
+
+clitest!(
+    fig51_one_face_placed_four_times_renders_like_the_four_faces,
+    |dir| {
+        // Fig. 5.1: the face is partitioned once and drawn by four instances
+        // rotated 0, 90, 180 and -90 degrees about y; the image is demo 2's
+        // (the four partitioned faces) within the golden tolerance.
+        let scene = crate::util::repo("fixtures/scenes/demo2-fig51.json");
+        let cells = dir
+            .cmd("polyfill3")
+            .arg(&scene)
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone();
+        assert_eq!(
+            cells.iter().filter(|&&b| b == b'\n').count(),
+            1 + 4 + 1280,
+            "one object line, four instances, the plain's cells"
+        );
+        dir.write("fig51.ndjson", &cells);
+        let bkgrnd = crate::util::repo("fixtures/patterns/bkgrnd.pat");
+        let out = dir
+            .cmd("scene-render")
+            .args([
+                "--perspective",
+                "55,1,0,1000",
+                "--lookat",
+                "0,100,-5,0,0,-900",
+            ])
+            .args(["--cull", "back", "--background-pattern"])
+            .arg(&bkgrnd)
+            .arg("fig51.ndjson")
+            .assert()
+            .success();
+        assert_matches_golden(&out.get_output().stdout, "examples/golden/demo2.png");
+    }
+);
+
+clitest!(instances_nest_and_bad_ones_name_the_record, |dir| {
+    // A unit square as an object, placed by a nested instance: the same
+    // pixels as the square written out where the instances put it.
+    let square = r#"{"vertices":[[0,0],[1,0],[1,1],[0,1]],"color":[255,255,255]}"#;
+    dir.write(
+        "objects.json",
+        format!(
+            "{{\"object\":\"sq\",\"records\":[{square}]}}\n\
+             {{\"object\":\"two\",\"records\":[{{\"instance\":\"sq\",\"transform\":{{\"scale\":2}}}},\
+             {{\"instance\":\"sq\",\"transform\":[{{\"scale\":2}},{{\"translate\":[3,0,0]}}]}}]}}\n\
+             {{\"instance\":\"two\",\"transform\":{{\"translate\":[1,1,0]}}}}\n"
+        ),
+    );
+    dir.write(
+        "copies.json",
+        "{\"vertices\":[[1,1],[3,1],[3,3],[1,3]],\"color\":[255,255,255]}\n\
+         {\"vertices\":[[4,1],[6,1],[6,3],[4,3]],\"color\":[255,255,255]}\n",
+    );
+    for f in ["objects", "copies"] {
+        dir.cmd("scene-render")
+            .args([
+                "--size",
+                "8x4",
+                &format!("{f}.json"),
+                "-o",
+                &format!("{f}.png"),
+            ])
+            .assert()
+            .success();
+    }
+    assert_eq!(
+        decode(&dir.read("objects.png")),
+        decode(&dir.read("copies.png"))
+    );
+    assert_eq!(decode(&dir.read("objects.png")).get_pixel(1, 1).0, [255; 4]);
+    for (text, want) in [
+        (
+            r#"{"instance":"ghost"}"#,
+            "s.json: record 0: instance of unknown object `ghost`",
+        ),
+        (
+            r#"{"object":"a","records":[{"instance":"a"}]}"#,
+            "s.json: record 0: object `a` places an instance of itself: a cycle",
+        ),
+        (
+            r#"{"object":"a","records":[]} {"instance":"a","transform":{"matrix":[[1,0,0,0],[0,1,0,0],[0,0,0,0],[0,0,0,1]]}}"#,
+            "s.json: record 1: instance of `a`: transform step 0: singular",
+        ),
+    ] {
+        dir.write("s.json", text);
+        dir.cmd("scene-render")
+            .args(["--size", "8x4", "s.json", "-o", "bad.png"])
+            .assert()
+            .code(1)
+            .stderr(predicate::str::contains(want));
+        assert!(!dir.path().join("bad.png").exists());
+    }
+});
+
+/// The turning pyramid of demo 2 (App. C) at a small size: the camera of the
+/// thesis, `rot` growing 10 degrees a frame.
+const SPIN_ARGS: [&str; 8] = [
+    "--perspective",
+    "55,1,0,1000",
+    "--lookat",
+    "0,100,-5,0,0,-900",
+    "--cull",
+    "back",
+    "--size",
+    "256x192",
+];
+
+fn spin_cells(dir: &crate::util::Dir) {
+    let scene = crate::util::repo("fixtures/scenes/demo2-spin.json");
+    dir.cmd("polyfill3")
+        .arg(&scene)
+        .args(["-o", "spin.ndjson"])
+        .assert()
+        .success();
+}
+
+clitest!(
+    frames_turn_the_pyramid_one_process_or_one_per_frame,
+    |dir| {
+        spin_cells(&dir);
+        dir.cmd("scene-render")
+            .args(SPIN_ARGS)
+            .args(["--frames", "36", "spin.ndjson", "-o", "frame-%04d.png"])
+            .assert()
+            .success();
+        let names: Vec<String> = (0..36).map(|k| format!("frame-{k:04}.png")).collect();
+        for n in &names {
+            assert!(dir.path().join(n).exists(), "{n}");
+        }
+        // One process per frame (what make -j and parallel run) gives the same bytes.
+        for k in [0u64, 1, 9, 35] {
+            dir.cmd("scene-render")
+                .args(SPIN_ARGS)
+                .args(["--frames", "36", "--frame", &k.to_string(), "spin.ndjson"])
+                .args(["-o", "single-%d.png"])
+                .assert()
+                .success();
+            assert_eq!(
+                dir.read(&format!("single-{k}.png")),
+                dir.read(&names[k as usize])
+            );
+        }
+        // The four faces are alike, so a quarter turn (frame 9) looks like frame 0
+        // and frame 1 (10 degrees) does not.
+        let img = |n: &str| {
+            let rgba = decode(&dir.read(n));
+            let (width, height) = rgba.dimensions();
+            patkit::io::Image {
+                width,
+                height,
+                channels: 4,
+                data: rgba.into_raw(),
+            }
+        };
+        let quarter = patkit::raster::compare::compare(&img(&names[9]), &img(&names[0])).unwrap();
+        assert!(
+            quarter.max_error <= GOLDEN_MAX_ERROR && quarter.rmse <= GOLDEN_RMSE,
+            "{quarter:?}"
+        );
+        let tenth = patkit::raster::compare::compare(&img(&names[1]), &img(&names[0])).unwrap();
+        assert!(tenth.rmse > 1.0, "frame 1 should have turned: {tenth:?}");
+    }
+);
+
+clitest!(frame_options_are_checked_before_anything_is_drawn, |dir| {
+    spin_cells(&dir);
+    for (args, want) in [
+        (
+            vec!["--frames", "3", "-o", "x.png"],
+            "expected a pattern with %d or %0Nd",
+        ),
+        (vec!["--frames", "3"], "give -o, a pattern"),
+        (
+            vec!["--frames", "3", "--frame", "3", "-o", "f%d.png"],
+            "--frame 3: expected a frame below --frames 3",
+        ),
+    ] {
+        dir.cmd("scene-render")
+            .args(&args)
+            .arg("spin.ndjson")
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(want));
+    }
+    // A scale that reaches zero is singular at that frame, named.
+    dir.write(
+        "shrink.json",
+        r#"{"object":"a","records":[{"rect":[0,0,1,1],"color":[1,2,3]}]}
+{"instance":"a","transform":{"scale":{"start":2,"step":-1}}}"#,
+    );
+    dir.cmd("scene-render")
+        .args([
+            "--frames",
+            "3",
+            "shrink.json",
+            "-o",
+            "s%d.png",
+            "--size",
+            "4x4",
+        ])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "shrink.json: record 1: instance of `a` at frame 2: transform step 0: scale: singular",
+        ));
+});
+
+clitest!(a_frame_batch_runs_through_gnu_parallel, |dir| {
+    // The README's batch (one job per frame, as across machines with
+    // `parallel -S host1,host2`), run locally.
+    let found = std::process::Command::new("sh")
+        .args(["-c", "command -v parallel"])
+        .output()
+        .unwrap();
+    assert!(
+        found.status.success(),
+        "GNU parallel is not on PATH: install it (apt-get install parallel) to run this test"
+    );
+    spin_cells(&dir);
+    let bin = assert_cmd::cargo::cargo_bin("scene-render");
+    let status = std::process::Command::new("parallel")
+        .current_dir(dir.path())
+        .args(["--will-cite", "--halt", "now,fail=1", "-j", "2"])
+        .arg(bin)
+        .args(SPIN_ARGS)
+        .args([
+            "--frames",
+            "36",
+            "--frame",
+            "{}",
+            "-o",
+            "frame-%04d.png",
+            "spin.ndjson",
+        ])
+        .args([":::", "0", "1", "2", "3"])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    dir.cmd("scene-render")
+        .args(SPIN_ARGS)
+        .args(["--frames", "4", "spin.ndjson", "-o", "all-%04d.png"])
+        .assert()
+        .success();
+    for k in 0..4 {
+        assert_eq!(
+            dir.read(&format!("frame-{k:04}.png")),
+            dir.read(&format!("all-{k:04}.png"))
+        );
+    }
+});
