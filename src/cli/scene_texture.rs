@@ -9,6 +9,7 @@ use crate::geom::Placement;
 use crate::raster::{ScreenPattern, View};
 use crate::stream::{PatternMode, PatternRef};
 use crate::texture::boundary::{Boundary, Bounds};
+use crate::texture::compose::Compose;
 use crate::texture::map::{object_uv, TexMap};
 use crate::texture::PolyTexture;
 use anyhow::Result;
@@ -38,6 +39,24 @@ pub struct TextureArgs {
     /// The constant colour of --boundary clamp (`r,g,b` or `#rrggbb`).
     #[arg(long, value_name = "COLOR", default_value = "0,0,0")]
     pub boundary_color: Rgb8,
+
+    /// How texels combine with the polygon's "color" (XGL's composition
+    /// methods, in linear light): replace, modulate (texel x color), blend
+    /// (between --compose-color1 and --compose-color2 by the texel),
+    /// blend-intrinsic (between color and --compose-color1), decal and
+    /// decal-intrinsic (transparent texels show --compose-color1 or color;
+    /// XGL allows decal only for maps with alpha: patterns with transparent
+    /// texels).
+    #[arg(long, value_enum, value_name = "METHOD", default_value_t = Compose::Replace)]
+    pub compose: Compose,
+
+    /// First constant colour of --compose blend, blend-intrinsic and decal.
+    #[arg(long, value_name = "COLOR", default_value = "0,0,0")]
+    pub compose_color1: Rgb8,
+
+    /// Second constant colour of --compose blend.
+    #[arg(long, value_name = "COLOR", default_value = "255,255,255")]
+    pub compose_color2: Rgb8,
 
     /// Interpolate texture coordinates linearly on the screen instead of
     /// perspective-correctly (XGL's PERSP_NONE): faster hardware once, wrong
@@ -101,6 +120,9 @@ pub fn place(
             )?
         }
     };
+    args.compose
+        .check(texels.has_transparency())
+        .map_err(anyhow::Error::msg)?;
     if coords.len() != outline.len() {
         anyhow::bail!(
             "{} texture coordinates for {} vertices",
@@ -116,6 +138,8 @@ pub fn place(
                 bounds: args.bounds(),
                 intrinsic: linear(color),
                 constant: linear(args.boundary_color),
+                compose: args.compose,
+                compose_colors: [linear(args.compose_color1), linear(args.compose_color2)],
             }
         }),
     )

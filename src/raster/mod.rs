@@ -477,6 +477,11 @@ impl ScreenPattern {
     pub fn size(&self) -> u32 {
         self.size
     }
+
+    /// Whether any texel is transparent (the pattern has an alpha channel).
+    pub fn has_transparency(&self) -> bool {
+        self.texels.iter().any(|t| t.is_none())
+    }
 }
 
 /// What lies behind every polygon: a colour, or the thesis's `colorclear`

@@ -7,9 +7,11 @@
 //!   "uv" placement (the screen → texel projective map).
 //! - [`cells`]: the exact box filter, a fragment cut into its texel cells.
 //! - [`boundary`]: XGL's boundary conditions outside the pattern's bounds.
+//! - [`compose`]: XGL's composition of texel and polygon colour.
 
 pub mod boundary;
 pub mod cells;
+pub mod compose;
 pub mod map;
 
 use crate::color::Rgb8;
@@ -31,6 +33,10 @@ pub struct PolyTexture {
     pub intrinsic: [f64; 3],
     /// The constant colour of [`boundary::Boundary::Clamp`], linear.
     pub constant: [f64; 3],
+    /// How texels combine with `intrinsic` (default: replace).
+    pub compose: compose::Compose,
+    /// The composition's constant colours (XGL's `op` colours), linear.
+    pub compose_colors: [[f64; 3]; 2],
 }
 
 impl PolyTexture {
@@ -39,7 +45,12 @@ impl PolyTexture {
     #[inline]
     pub fn texel(&self, k: i64, j: i64) -> Option<[f64; 3]> {
         match self.bounds.lookup(k, j, self.texels.size()) {
-            boundary::Lookup::Texel(c, r) => self.texels.at(c, r),
+            boundary::Lookup::Texel(c, r) => self.compose.apply(
+                self.texels.at(c, r),
+                self.intrinsic,
+                self.compose_colors[0],
+                self.compose_colors[1],
+            ),
             boundary::Lookup::Intrinsic => Some(self.intrinsic),
             boundary::Lookup::Constant => Some(self.constant),
         }

@@ -316,3 +316,88 @@ clitest!(
         assert_eq!(linear, 16);
     }
 );
+
+/// A 64x64 quad over one 16x16 pattern, 4 pixels per texel, `--compose`
+/// flags given; the pattern: columns 0..8 white, 8..16 black, texel (0, 0)
+/// transparent.
+fn composed(dir: &Dir, flags: &[&str]) -> std::process::Output {
+    dir.write(
+        "w.pat",
+        pattern_from(
+            |c, r| match (c, r) {
+                (0, 0) => None,
+                (c, _) if c < 8 => Some(0),
+                _ => Some(1),
+            },
+            &[[255, 255, 255], [0, 0, 0]],
+        ),
+    );
+    dir.write(
+        "s.json",
+        r#"{"vertices":[[0,0],[64,0],[64,64],[0,64]],"uv":[[0,0],[16,0],[16,16],[0,16]],"color":[255,128,0],"pattern":{"file":"w.pat"}}"#,
+    );
+    dir.cmd("scene-render")
+        .args(["--size", "64x64", "--background", "0,255,0"])
+        .args(flags)
+        .args(["s.json", "-o", "o.ppm"])
+        .output()
+        .unwrap()
+}
+
+clitest!(xgl_composition_methods, |dir| {
+    let at = |flags: &[&str]| {
+        assert!(composed(&dir, flags).status.success(), "{flags:?}");
+        let img = dir.read("o.ppm");
+        // White texel, black texel, transparent texel.
+        [(10, 30), (50, 30), (1, 1)].map(|(x, y)| pixel(&img, 64, 64, x, y))
+    };
+    let (w, k, g, c) = ([255, 255, 255], [0, 0, 0], [0, 255, 0], [255, 128, 0]);
+    assert_eq!(at(&[]), [w, k, g]);
+    // Modulate: white x colour = colour; black stays black.
+    assert_eq!(at(&["--compose", "modulate"]), [c, k, g]);
+    // XGL's example: blend between red and blue.
+    assert_eq!(
+        at(&[
+            "--compose",
+            "blend",
+            "--compose-color1",
+            "255,0,0",
+            "--compose-color2",
+            "0,0,255"
+        ]),
+        [[0, 0, 255], [255, 0, 0], g]
+    );
+    assert_eq!(
+        at(&[
+            "--compose",
+            "blend-intrinsic",
+            "--compose-color1",
+            "0,0,255"
+        ]),
+        [[0, 0, 255], c, g]
+    );
+    assert_eq!(
+        at(&["--compose", "decal", "--compose-color1", "9,9,9"]),
+        [w, k, [9, 9, 9]]
+    );
+    assert_eq!(at(&["--compose", "decal-intrinsic"]), [w, k, c]);
+});
+
+clitest!(decal_on_a_pattern_without_alpha_is_an_error, |dir| {
+    dir.write("q.pat", quadrant_pattern());
+    dir.write("s.json", quad(2.0));
+    dir.cmd("scene-render")
+        .args([
+            "--size",
+            "40x30",
+            "--compose",
+            "decal",
+            "s.json",
+            "-o",
+            "o.png",
+        ])
+        .assert()
+        .code(1)
+        .stderr(predicates::str::contains("four-channel"));
+    assert_eq!(dir.files(), vec!["q.pat", "s.json"]);
+});

@@ -1,0 +1,112 @@
+//! How a texel's colour combines with the polygon's own (intrinsic) colour:
+//! XGL's composition methods (`Xgl_texture_op`, XGL Programmer's Guide,
+//! texture chapter, "Composition Method"). Computed in linear light.
+//!
+//! A `.pat` texel is an RGB colour or transparent: a four-channel map whose
+//! alpha is 0 or 1. XGL makes the decal methods "only available when a
+//! four-channel texture map is used"; a pattern without transparent texels
+//! carries no alpha, so decal with it is an error.
+
+/// The composition method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Compose {
+    /// `XGL_TEXTURE_OP_REPLACE`: the texel replaces the polygon's colour
+    /// (SPEC §2; transparent texels show what is behind).
+    #[default]
+    Replace,
+    /// `XGL_TEXTURE_OP_MODULATE`: texel times the polygon's colour.
+    Modulate,
+    /// `XGL_TEXTURE_OP_BLEND`: two constants blended by the texel,
+    /// `c1 (1 - t) + c2 t` per channel.
+    Blend,
+    /// `XGL_TEXTURE_OP_BLEND_INTRINSIC`: the polygon's colour and a
+    /// constant blended by the texel, `color (1 - t) + c1 t`.
+    BlendIntrinsic,
+    /// `XGL_TEXTURE_OP_DECAL`: the texel where opaque, the constant `c1`
+    /// where transparent.
+    Decal,
+    /// `XGL_TEXTURE_OP_DECAL_INTRINSIC`: the texel where opaque, the
+    /// polygon's colour where transparent.
+    DecalIntrinsic,
+}
+
+impl Compose {
+    /// XGL's restriction: decal needs a map with alpha (a pattern with
+    /// transparent texels). The error names the method.
+    pub fn check(self, has_alpha: bool) -> Result<(), String> {
+        match self {
+            Compose::Decal | Compose::DecalIntrinsic if !has_alpha => Err(format!(
+                "--compose {}: XGL's decal methods need a four-channel map, and this \
+                 pattern has no transparent texels (no alpha)",
+                match self {
+                    Compose::Decal => "decal",
+                    _ => "decal-intrinsic",
+                }
+            )),
+            _ => Ok(()),
+        }
+    }
+
+    /// The composed colour of a texel (`None` = transparent), with the
+    /// polygon's colour `intrinsic` and the constants `c1`, `c2`, all linear.
+    #[inline]
+    pub fn apply(
+        self,
+        texel: Option<[f64; 3]>,
+        intrinsic: [f64; 3],
+        c1: [f64; 3],
+        c2: [f64; 3],
+    ) -> Option<[f64; 3]> {
+        let mix = |a: [f64; 3], b: [f64; 3], t: [f64; 3]| {
+            [0, 1, 2].map(|i| a[i] * (1.0 - t[i]) + b[i] * t[i])
+        };
+        match (self, texel) {
+            (Compose::Decal, None) => Some(c1),
+            (Compose::DecalIntrinsic, None) => Some(intrinsic),
+            (_, None) => None,
+            (Compose::Replace | Compose::Decal | Compose::DecalIntrinsic, t) => t,
+            (Compose::Modulate, Some(t)) => Some([0, 1, 2].map(|i| t[i] * intrinsic[i])),
+            (Compose::Blend, Some(t)) => Some(mix(c1, c2, t)),
+            (Compose::BlendIntrinsic, Some(t)) => Some(mix(intrinsic, c1, t)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const I: [f64; 3] = [0.5, 0.25, 1.0];
+    const C1: [f64; 3] = [1.0, 0.0, 0.0];
+    const C2: [f64; 3] = [0.0, 0.0, 1.0];
+
+    #[test]
+    fn each_method_combines_as_xgl_describes() {
+        let t = Some([1.0, 0.5, 0.0]);
+        assert_eq!(Compose::Replace.apply(t, I, C1, C2), t);
+        assert_eq!(
+            Compose::Modulate.apply(t, I, C1, C2),
+            Some([0.5, 0.125, 0.0])
+        );
+        // XGL's example: blend between red and blue, per channel:
+        // r = 1 (1 - 0.25) + 0, b = 0 + 1 * 0.5.
+        let tb = Some([0.25, 0.5, 0.5]);
+        assert_eq!(Compose::Blend.apply(tb, I, C1, C2), Some([0.75, 0.0, 0.5]));
+        assert_eq!(
+            Compose::BlendIntrinsic.apply(t, I, C1, C2),
+            Some([1.0, 0.125, 1.0])
+        );
+        assert_eq!(Compose::Decal.apply(t, I, C1, C2), t);
+        assert_eq!(Compose::Decal.apply(None, I, C1, C2), Some(C1));
+        assert_eq!(Compose::DecalIntrinsic.apply(None, I, C1, C2), Some(I));
+        assert_eq!(Compose::Modulate.apply(None, I, C1, C2), None);
+    }
+
+    #[test]
+    fn decal_without_alpha_is_refused() {
+        assert!(Compose::Decal.check(false).unwrap_err().contains("decal"));
+        assert!(Compose::DecalIntrinsic.check(false).is_err());
+        assert!(Compose::Decal.check(true).is_ok());
+        assert!(Compose::Modulate.check(false).is_ok());
+    }
+}
