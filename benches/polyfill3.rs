@@ -20,20 +20,7 @@ use std::hint::black_box;
 use std::rc::Rc;
 use std::time::{Duration, Instant};
 
-const FACES: [[[f64; 3]; 3]; 4] = [
-    [[100.0, 0.0, 100.0], [100.0, 0.0, -100.0], [0.0, 142.2, 0.0]],
-    [
-        [100.0, 0.0, -100.0],
-        [-100.0, 0.0, -100.0],
-        [0.0, 142.2, 0.0],
-    ],
-    [[-100.0, 0.0, 100.0], [100.0, 0.0, 100.0], [0.0, 142.2, 0.0]],
-    [
-        [-100.0, 0.0, -100.0],
-        [-100.0, 0.0, 100.0],
-        [0.0, 142.2, 0.0],
-    ],
-];
+use patkit::geom::partition::APP_C_PYRAMID as FACES;
 
 /// Fastest of at least `reps` runs, repeated until `BUDGET` has been spent:
 /// the machine is shared, and the fastest run is the least disturbed one.

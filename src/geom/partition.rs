@@ -112,26 +112,35 @@ impl Grid {
 
     /// The column k with `gx(k) <= x < gx(k+1)`.
     pub fn col_of(&self, x: f64) -> i64 {
-        let mut k = ((x - self.xmin) / self.place.incr - self.place.horz).floor() as i64;
-        while self.gx(k) > x {
-            k -= 1;
-        }
-        while self.gx(k + 1) <= x {
-            k += 1;
-        }
-        k
+        Self::line_at(
+            x,
+            (x - self.xmin) / self.place.incr - self.place.horz,
+            |k| self.gx(k),
+        )
     }
 
     /// The row j with `gy(j) <= y < gy(j+1)`.
     pub fn row_of(&self, y: f64) -> i64 {
-        let mut j = ((y - self.ymin) / self.place.incr - self.place.vert).floor() as i64;
-        while self.gy(j) > y {
-            j -= 1;
+        Self::line_at(
+            y,
+            (y - self.ymin) / self.place.incr - self.place.vert,
+            |j| self.gy(j),
+        )
+    }
+
+    /// The index k with `line(k) <= t < line(k+1)`: the floor of the estimate
+    /// `guess`, corrected by the grid lines themselves, so that a coordinate
+    /// lying exactly on a line (as computed by `line`) is always in the cell
+    /// above it, whatever the division rounded to.
+    fn line_at(t: f64, guess: f64, line: impl Fn(i64) -> f64) -> i64 {
+        let mut k = guess.floor() as i64;
+        while line(k) > t {
+            k -= 1;
         }
-        while self.gy(j + 1) <= y {
-            j += 1;
+        while line(k + 1) <= t {
+            k += 1;
         }
-        j
+        k
     }
 
     /// Number of cells of the bounding box.
@@ -524,6 +533,25 @@ pub fn thesis_partition(
     }
 }
 
+/// The four faces of the thesis's App. C pyramid (demo2.c), counter-clockwise
+/// seen from outside: the geometry of Table 5.1, shared by the tests that check
+/// its counts and the benchmark that times it (`fixtures/scenes/demo2-faces.json`
+/// holds the same faces for the command-line tools).
+pub const APP_C_PYRAMID: [[[f64; 3]; 3]; 4] = [
+    [[100.0, 0.0, 100.0], [100.0, 0.0, -100.0], [0.0, 142.2, 0.0]],
+    [
+        [100.0, 0.0, -100.0],
+        [-100.0, 0.0, -100.0],
+        [0.0, 142.2, 0.0],
+    ],
+    [[-100.0, 0.0, 100.0], [100.0, 0.0, 100.0], [0.0, 142.2, 0.0]],
+    [
+        [-100.0, 0.0, -100.0],
+        [-100.0, 0.0, 100.0],
+        [0.0, 142.2, 0.0],
+    ],
+];
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -651,20 +679,7 @@ mod table51 {
         }
     }
 
-    const FACES: [[[f64; 3]; 3]; 4] = [
-        [[100.0, 0.0, 100.0], [100.0, 0.0, -100.0], [0.0, 142.2, 0.0]],
-        [
-            [100.0, 0.0, -100.0],
-            [-100.0, 0.0, -100.0],
-            [0.0, 142.2, 0.0],
-        ],
-        [[-100.0, 0.0, 100.0], [100.0, 0.0, 100.0], [0.0, 142.2, 0.0]],
-        [
-            [-100.0, 0.0, -100.0],
-            [-100.0, 0.0, 100.0],
-            [0.0, 142.2, 0.0],
-        ],
-    ];
+    use super::APP_C_PYRAMID as FACES;
     const THESIS: [usize; 10] = [70632, 17936, 8092, 4616, 3008, 2116, 1572, 1224, 984, 808];
     /// What the thesis loop gives here in double precision (see the bench notes:
     /// one cell per face that only touches the triangle at a point comes and

@@ -90,19 +90,7 @@ fn push_frag(
 ) {
     use crate::texture::cells::{split, Split};
     let Some(tex) = &p.texture else {
-        let (start, len) = if verts.is_empty() {
-            (0, 0)
-        } else {
-            arena.extend_from_slice(verts);
-            ((arena.len() - verts.len()) as u32, verts.len() as u32)
-        };
-        frags.push(Frag {
-            pixel,
-            poly: pi,
-            start,
-            len,
-            color: POLY_COLOR,
-        });
+        push_piece(frags, arena, pixel, pi, verts, POLY_COLOR);
         return;
     };
     let (x, y) = (px as f64, py as f64);
@@ -128,36 +116,41 @@ fn push_frag(
         Split::Whole(Some(c)) => {
             t.colors.push(c);
             let color = (t.colors.len() - 1) as u32;
-            let (start, len) = if verts.is_empty() {
-                (0, 0)
-            } else {
-                arena.extend_from_slice(verts);
-                ((arena.len() - verts.len()) as u32, verts.len() as u32)
-            };
-            frags.push(Frag {
-                pixel,
-                poly: pi,
-                start,
-                len,
-                color,
-            });
+            push_piece(frags, arena, pixel, pi, verts, color);
         }
         Split::Pieces => {
             for piece in &t.pieces {
                 t.colors.push(piece.color);
-                frags.push(Frag {
-                    pixel,
-                    poly: pi,
-                    start: arena.len() as u32,
-                    len: piece.len,
-                    color: (t.colors.len() - 1) as u32,
-                });
-                arena.extend_from_slice(
-                    &t.verts[piece.start as usize..(piece.start + piece.len) as usize],
-                );
+                let verts = &t.verts[piece.start as usize..(piece.start + piece.len) as usize];
+                push_piece(frags, arena, pixel, pi, verts, (t.colors.len() - 1) as u32);
             }
         }
     }
+}
+
+/// Stores one fragment: its vertices copied into the tile's arena (none for
+/// the full pixel square, which `verts` being empty stands for).
+fn push_piece(
+    frags: &mut Vec<Frag>,
+    arena: &mut Vec<DVec2>,
+    pixel: u32,
+    poly: u32,
+    verts: &[DVec2],
+    color: u32,
+) {
+    let start = if verts.is_empty() {
+        0
+    } else {
+        arena.len() as u32
+    };
+    arena.extend_from_slice(verts);
+    frags.push(Frag {
+        pixel,
+        poly,
+        start,
+        len: verts.len() as u32,
+        color,
+    });
 }
 
 /// Renders one tile with exact coverage.
