@@ -10,10 +10,15 @@ Prints the wall-clock seconds of the whole sequence (context setup excluded).
 """
 import json
 import math
+import os
 import sys
 import time
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+# The sRGB codecs, GL matrices and PNG writer of the scene-render benchmark.
+from scene_render_bench import linear_to_srgb8, lookat, perspective, save_png, srgb_to_linear  # noqa: E402
 
 W, H = 1024, 768
 SAMPLES = 4
@@ -21,36 +26,6 @@ SAMPLES = 4
 FOVY, ASPECT, NEAR, FAR = 55.0, 1.0, 1.0, 1000.0
 EYE, CENTER = (0.0, 100.0, -5.0), (0.0, 0.0, -900.0)
 STEP_DEG = 10.0
-
-
-def srgb_to_linear(c):
-    c = np.asarray(c, dtype=np.float64) / 255.0
-    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
-
-
-def linear_to_srgb8(lin):
-    lin = np.clip(lin, 0.0, 1.0)
-    s = np.where(lin <= 0.0031308, lin * 12.92, 1.055 * np.power(lin, 1.0 / 2.4) - 0.055)
-    return np.round(s * 255.0).astype(np.uint8)
-
-
-def perspective():
-    f = 1.0 / math.tan(math.radians(FOVY) / 2.0)
-    return np.array([[f / ASPECT, 0, 0, 0], [0, f, 0, 0],
-                     [0, 0, (FAR + NEAR) / (NEAR - FAR), 2 * FAR * NEAR / (NEAR - FAR)],
-                     [0, 0, -1, 0]])
-
-
-def lookat():
-    e, c, u = np.array(EYE), np.array(CENTER), np.array([0.0, 1.0, 0.0])
-    f = (c - e) / np.linalg.norm(c - e)
-    s = np.cross(f, u)
-    s /= np.linalg.norm(s)
-    u2 = np.cross(s, f)
-    m = np.identity(4)
-    m[0, :3], m[1, :3], m[2, :3] = s, u2, -f
-    m[:3, 3] = -m[:3, :3] @ e
-    return m
 
 
 def rot_y(deg):
@@ -75,19 +50,6 @@ def triangles(records):
                 pos.append(p)
                 col.append(c)
     return np.hstack([np.array(pos, "f4"), np.array(col, "f4")]).astype("f4").tobytes(), len(pos)
-
-
-def save_png(img, path):
-    import struct
-    import zlib
-    h, w, _ = img.shape
-    raw = b"".join(b"\x00" + img[y].tobytes() for y in range(h))
-
-    def chunk(tag, data):
-        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xffffffff)
-    png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
-    png += chunk(b"IDAT", zlib.compress(raw, 1)) + chunk(b"IEND", b"")
-    open(path, "wb").write(png)
 
 
 VS = """#version 330
@@ -118,7 +80,7 @@ def main():
     ms = ctx.framebuffer(color_attachments=[ctx.renderbuffer((W, H), components=4, samples=SAMPLES, dtype="f4")],
                          depth_attachment=ctx.depth_renderbuffer((W, H), samples=SAMPLES))
     res = ctx.framebuffer(color_attachments=[ctx.renderbuffer((W, H), components=4, dtype="f4")])
-    vp = perspective() @ lookat()
+    vp = perspective(FOVY, ASPECT, NEAR, FAR) @ lookat(*EYE, *CENTER)
     ctx.enable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
     for k in range(frames):
         ms.use()
@@ -135,4 +97,5 @@ def main():
     print(f"{time.perf_counter() - t0:.4f}")
 
 
-main()
+if __name__ == "__main__":
+    main()
