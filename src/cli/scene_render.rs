@@ -88,6 +88,15 @@ pub struct Args {
     #[arg(long, value_name = "none|ssN|exact", default_value = "exact")]
     pub aa: Aa,
 
+    /// Instead of one --aa for the whole frame, use the cheapest methods
+    /// expected to keep the frame's RMSE (8-bit sRGB units, as --compare
+    /// measures it) within E, chosen per region (empty, flat, textured tiles)
+    /// from a pilot sample rendered every way; prints the choice and its
+    /// estimate to standard error (or in --json).
+    #[arg(long, value_name = "E", conflicts_with_all = ["aa", "reference"],
+          value_parser = parse_max_error, allow_negative_numbers = true)]
+    pub max_error: Option<f64>,
+
     /// Render the SPEC §4 reference image instead (an independent, slower
     /// method: exact along lines, exact between events along y); its own error
     /// estimate is reported on standard error.
@@ -114,7 +123,7 @@ pub struct Args {
     #[arg(long, value_name = "FILE", requires = "compare")]
     pub diff: Option<String>,
 
-    /// Print the --compare and --reference reports as JSON.
+    /// Print the --compare, --reference and --max-error reports as JSON.
     #[arg(long)]
     pub json: bool,
 
@@ -139,6 +148,37 @@ pub struct Args {
     /// Worker threads (default: all cores). The output is identical for any N.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
+}
+
+/// `--max-error E`: a finite RMSE budget, not negative.
+fn parse_max_error(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(e) if e.is_finite() && e >= 0.0 => Ok(e),
+        _ => Err(format!(
+            "`{s}` is not an error budget: expected a finite RMSE of 0 or more (8-bit units)"
+        )),
+    }
+}
+
+/// Renders one frame's polygons the way the arguments ask: one --aa for
+/// all, or the --max-error plan (which it also returns).
+fn render_polys(
+    args: &Args,
+    polys: &[raster::ScreenPoly],
+    bg: &raster::Background,
+    width: u32,
+    height: u32,
+) -> (Image, Option<raster::budget::Plan>) {
+    match args.max_error {
+        Some(e) => {
+            let (frame, plan) = raster::budget::render_within(polys, bg, width, height, e);
+            (frame.to_image(), Some(plan))
+        }
+        None => (
+            raster::render(polys, bg, width, height, args.aa).to_image(),
+            None,
+        ),
+    }
 }
 
 /// Runs `scene-render`.
@@ -177,8 +217,8 @@ fn run_in_pool(args: Args) -> Result<()> {
             _ => {}
         }
     }
-    if args.json && args.compare.is_none() && !args.reference {
-        usage_bail!("--json is for the --compare and --reference reports");
+    if args.json && args.compare.is_none() && !args.reference && args.max_error.is_none() {
+        usage_bail!("--json is for the --compare, --reference and --max-error reports");
     }
     // Everything that can fail is checked before anything is written.
     let reference_img = match &args.compare {
@@ -187,7 +227,16 @@ fn run_in_pool(args: Args) -> Result<()> {
     };
     if let Some(img_name) = &args.image {
         let img = load_image(img_name)?;
-        return finish(&args, None, img, reference_img, None);
+        return finish(
+            &args,
+            None,
+            img,
+            reference_img,
+            Reports {
+                residual: None,
+                plan: None,
+            },
+        );
     }
     let output = match (&args.output, &args.compare) {
         (Some(o), _) => Some(o.clone()),
@@ -233,18 +282,17 @@ fn run_in_pool(args: Args) -> Result<()> {
     )
     .with_context(|| display_name(&args.input).to_string())?;
     let t_render = std::time::Instant::now();
-    let (img, residual) = if args.reference {
+    let (img, residual, plan) = if args.reference {
         let r = reference::render(&polys, &bg, width, height, args.reference_samples);
         let res = r.residual(args.reference_samples);
-        (r.frame.to_image(), Some(res))
+        (r.frame.to_image(), Some(res), None)
     } else {
-        (
-            raster::render(&polys, &bg, width, height, args.aa).to_image(),
-            None,
-        )
+        let (img, plan) = render_polys(&args, &polys, &bg, width, height);
+        (img, None, plan)
     };
     let t_write = std::time::Instant::now();
-    finish(&args, output.zip(format), img, reference_img, residual)?;
+    let reports = Reports { residual, plan };
+    finish(&args, output.zip(format), img, reference_img, reports)?;
     if args.timings {
         eprintln!(
             "{TOOL}: timings: read {:.4} s, render {:.4} s, write {:.4} s ({} polygons)",
@@ -257,14 +305,23 @@ fn run_in_pool(args: Args) -> Result<()> {
     Ok(())
 }
 
+/// What a render has to say beside the image.
+struct Reports {
+    /// `--reference`'s own error estimate.
+    residual: Option<reference::Residual>,
+    /// `--max-error`'s choice.
+    plan: Option<raster::budget::Plan>,
+}
+
 /// Writes the image and the reports, in that order, once everything is computed.
 fn finish(
     args: &Args,
     output: Option<(String, ImageFormat)>,
     img: Image,
     reference_img: Option<Image>,
-    residual: Option<reference::Residual>,
+    reports: Reports,
 ) -> Result<()> {
+    let Reports { residual, plan } = reports;
     let metrics = match &reference_img {
         Some(r) => Some(compare::compare(&img, r).with_context(|| {
             format!("comparing with {}", args.compare.as_deref().unwrap_or(""))
@@ -293,10 +350,16 @@ fn finish(
         if let Some(r) = &residual {
             obj.insert("reference".into(), serde_json::to_value(r)?);
         }
+        if let Some(p) = &plan {
+            obj.insert("max_error".into(), serde_json::to_value(p)?);
+        }
         text = serde_json::to_string_pretty(&obj)? + "\n";
     } else {
         if let Some(m) = &metrics {
             text.push_str(&m.report());
+        }
+        if let Some(p) = &plan {
+            eprintln!("{TOOL}: {}", p.report());
         }
         if let Some(r) = &residual {
             // Without --json the reference note is diagnostic: standard error.
@@ -447,7 +510,10 @@ fn render_frames(
         )
         .with_context(|| display_name(&args.input).to_string())?;
         let t1 = std::time::Instant::now();
-        let img = raster::render(&polys, bg, view.width, view.height, args.aa).to_image();
+        let (img, plan) = render_polys(args, &polys, bg, view.width, view.height);
+        if let Some(p) = plan {
+            eprintln!("{TOOL}: frame {k}: {}", p.report());
+        }
         let t2 = std::time::Instant::now();
         img.save_with(&name, format, PngOptions::GENERAL)?;
         if args.timings {
