@@ -18,7 +18,8 @@
 //! so no triangle's s wraps from 0.97 back to 0 across the whole texture (the
 //! artefact seed 002's cylinder mapping corrects with its atan2 test).
 
-use glam::DVec3;
+use crate::transform::Transform;
+use glam::{DMat4, DVec3};
 use std::f64::consts::PI;
 
 /// Fewest slices around the axis: fewer than 3 encloses no area.
@@ -28,6 +29,19 @@ pub const MIN_SPHERE_STACKS: u32 = 2;
 /// Most slices or stacks: 2^14 keeps a sphere under 2^29 triangles and its
 /// chord error already below 1e-8 of its radius.
 pub const MAX_SEGMENTS: u32 = 1 << 14;
+
+/// Default chord tolerance, in pixels, of a quadric drawn without explicit
+/// slices and stacks (`scene-render --quadric-tolerance`): a quarter pixel
+/// keeps the silhouette within the anti-aliasing's own quarter-pixel steps
+/// (one 8-bit code is 1/255 of a pixel's coverage, so this is visible only as
+/// a faint edge wobble) while an 80-pixel sphere needs about 40 slices.
+pub const DEFAULT_TOLERANCE_PX: f64 = 0.25;
+
+/// Relative chord tolerance used when the pixel scale cannot be measured
+/// (the bounding sphere reaches the eye plane of a perspective view, or the
+/// view matrix squashes it): 1e-3 of the radius is under a pixel for any
+/// quadric less than 2000 pixels across.
+pub const FALLBACK_RELATIVE_TOLERANCE: f64 = 1e-3;
 
 /// A quadric in its own coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,6 +97,19 @@ impl Quadric {
                 }
                 Ok(())
             }
+        }
+    }
+
+    /// A sphere enclosing the quadric, centre and radius, in its own
+    /// coordinates: what [`tolerance_at`] projects.
+    pub fn bounding_sphere(&self) -> (DVec3, f64) {
+        match *self {
+            Quadric::Sphere { radius } => (DVec3::ZERO, radius),
+            Quadric::Cylinder { base, top, height } => (
+                DVec3::new(0.0, 0.0, height / 2.0),
+                base.max(top).hypot(height / 2.0),
+            ),
+            Quadric::Disk { outer, .. } => (DVec3::ZERO, outer),
         }
     }
 
@@ -199,6 +226,109 @@ impl Quadric {
                     });
                 }
             }
+        }
+        Ok(out)
+    }
+}
+
+/// The chord tolerance, in the quadric's own units, that keeps chords within
+/// `tolerance_px` pixels when `own_to_clip` (the view's world-to-clip matrix
+/// times the quadric's placement) draws it on a `width` x `height` image.
+///
+/// The bounding sphere (centre c, radius r) is projected at its nearest
+/// depth: one own unit covers at most `max(W/2 |∇x_clip|, H/2 |∇y_clip|) / w`
+/// pixels, where the gradients are the clip matrix's first two rows (their
+/// length also carries any scaling of the placement) and `w` the clip w. For
+/// a perspective view `w` grows with the distance from the eye, so the
+/// nearest point of the sphere, `w(c) - r |∇w|`, is where the pixels per unit
+/// peak; for a parallel view `w` is 1 everywhere. When that nearest `w` is not
+/// positive (the sphere reaches the eye plane) or the scale is not finite,
+/// [`FALLBACK_RELATIVE_TOLERANCE`] of the radius is used.
+pub fn tolerance_at(
+    q: &Quadric,
+    own_to_clip: DMat4,
+    width: u32,
+    height: u32,
+    tolerance_px: f64,
+) -> f64 {
+    let (c, r) = q.bounding_sphere();
+    let rows = own_to_clip.transpose();
+    let (rx, ry, rw) = (rows.x_axis, rows.y_axis, rows.w_axis);
+    let w_center = rw.truncate().dot(c) + rw.w;
+    let w_near = w_center - r * rw.truncate().length();
+    let grad = (width as f64 / 2.0 * rx.truncate().length())
+        .max(height as f64 / 2.0 * ry.truncate().length());
+    let px_per_unit = grad / w_near;
+    let tol = tolerance_px / px_per_unit;
+    if w_near > 0.0 && tol.is_finite() && tol > 0.0 {
+        tol
+    } else {
+        r * FALLBACK_RELATIVE_TOLERANCE
+    }
+}
+
+/// A quadric record of the polygon stream (docs/objects.md): the quadric,
+/// its slices and stacks when the record gives them, how many copies of the
+/// pattern wrap it, and its placement.
+#[derive(Clone, Debug, PartialEq)]
+pub struct QuadricShape {
+    pub quadric: Quadric,
+    /// The record's key (`sphere`, `cylinder`, `cone`, `disk`), for messages.
+    pub kind: &'static str,
+    /// Segments around the axis. Default value: chosen from the tolerance.
+    pub slices: Option<u32>,
+    /// Segments along the axis (a disk's `loops`). Default value: chosen from
+    /// the tolerance.
+    pub stacks: Option<u32>,
+    /// Copies of the pattern along s and t. Default value: `[1, 1]`, one copy
+    /// wrapping the whole quadric as GLU's 0..1 texture coordinates do.
+    pub repeat: [f64; 2],
+    /// The record's `"transform"`, own coordinates to the record's space.
+    /// Default value: the identity.
+    pub transform: Transform,
+}
+
+/// One triangle ready to draw: positions in the record's space (the
+/// placement applied) and texture coordinates in texels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TexelTriangle {
+    pub v: [DVec3; 3],
+    pub uv: [[f64; 2]; 3],
+}
+
+impl QuadricShape {
+    /// Slices and stacks: the record's own, or else the fewest within
+    /// `tolerance` (own units), each direction independently.
+    pub fn segments(&self, tolerance: f64) -> (u32, u32) {
+        let (sl, st) = self.quadric.segments_for(tolerance);
+        (self.slices.unwrap_or(sl), self.stacks.unwrap_or(st))
+    }
+
+    /// The triangles of the quadric at `tolerance` (own units, used only for
+    /// the segment counts the record leaves out), moved by the record's
+    /// transform, with GLU's (s, t) scaled to texels of a `size`-texel
+    /// pattern: `u = s * size * repeat[0]`, `v = t * size * repeat[1]`, so
+    /// t = 0 (GLU's first texture row, the sphere's -z pole) is the pattern's
+    /// bottom row 0.
+    pub fn texel_triangles(&self, tolerance: f64, size: u32) -> Result<Vec<TexelTriangle>, String> {
+        let (slices, stacks) = self.segments(tolerance);
+        let (su, sv) = (size as f64 * self.repeat[0], size as f64 * self.repeat[1]);
+        let tris = self
+            .quadric
+            .tessellate(slices, stacks)
+            .map_err(|e| format!("{}: {e}", self.kind))?;
+        let out: Vec<TexelTriangle> = tris
+            .iter()
+            .map(|t| TexelTriangle {
+                v: t.v.map(|p| self.transform.apply(p)),
+                uv: t.st.map(|[s, t]| [s * su, t * sv]),
+            })
+            .collect();
+        if out.iter().any(|t| t.v.iter().any(|p| !p.is_finite())) {
+            return Err(format!(
+                "{}: the transform moves a vertex out of the finite numbers",
+                self.kind
+            ));
         }
         Ok(out)
     }
