@@ -129,7 +129,7 @@ fn parse_quadric(
     let transform = transform
         .map(Transform::from_json)
         .transpose()
-        .map_err(|e| format!("transform: {e}"))?
+        .map_err(|e| e.to_string())?
         .unwrap_or_default();
     Ok(QuadricShape {
         quadric,

@@ -31,10 +31,11 @@ pub const MIN_SPHERE_STACKS: u32 = 2;
 pub const MAX_SEGMENTS: u32 = 1 << 14;
 
 /// Default chord tolerance, in pixels, of a quadric drawn without explicit
-/// slices and stacks (`scene-render --quadric-tolerance`): a quarter pixel
-/// keeps the silhouette within the anti-aliasing's own quarter-pixel steps
-/// (one 8-bit code is 1/255 of a pixel's coverage, so this is visible only as
-/// a faint edge wobble) while an 80-pixel sphere needs about 40 slices.
+/// slices and stacks (`scene-render --quadric-tolerance`). The faceted
+/// silhouette then lies within a quarter pixel of the true outline, so an
+/// edge pixel's coverage is off by less than a quarter (a faint wobble of the
+/// anti-aliased edge, not a visible corner), while a sphere 80 pixels across
+/// needs only 40 slices and 20 stacks (1 600 triangles).
 pub const DEFAULT_TOLERANCE_PX: f64 = 0.25;
 
 /// Relative chord tolerance used when the pixel scale cannot be measured
@@ -122,13 +123,22 @@ impl Quadric {
         }
     }
 
-    /// Slices and stacks (loops for a disk) so that no chord strays more than
-    /// `tolerance` (same units as the radius) from the true surface: the
-    /// sagitta `r (1 - cos(θ/2))` of a segment spanning angle θ. Slices span
-    /// 2π/n; a sphere's stacks span π/n of a meridian; a cylinder's and a
-    /// disk's other direction is straight, so one stack or loop is exact.
+    /// Slices and stacks (loops for a disk) so that no point of the faces
+    /// strays more than `tolerance` (same units as the radius) from the true
+    /// surface. A chord spanning angle θ strays by its sagitta `r (1 -
+    /// cos(θ/2))`; slices span 2π/n. A sphere's face is curved both ways, and
+    /// its centre sits inside by about the sum of the two sagittas (seen
+    /// pole-on, the silhouette is the ring nearest the equator, already a
+    /// stack's sagitta in, cut by the slices' chords), so the sphere gives
+    /// each direction half the tolerance; its stacks span π/n of a meridian.
+    /// A cylinder's and a disk's other direction is straight, so one stack or
+    /// loop is exact and the slices get the whole tolerance.
     pub fn segments_for(&self, tolerance: f64) -> (u32, u32) {
         let r = self.max_radius();
+        let tolerance = match self {
+            Quadric::Sphere { .. } => tolerance / 2.0,
+            _ => tolerance,
+        };
         let n_for = |span: f64| -> u32 {
             let ratio = (1.0 - tolerance / r).clamp(-1.0, 1.0);
             let half = ratio.acos();
@@ -419,6 +429,8 @@ mod tests {
         let q = Quadric::Sphere { radius: 40.0 };
         for tol in [1.0, 0.1, 1.0 / 256.0] {
             let (slices, stacks) = q.segments_for(tol);
+            // Each direction of a sphere gets half the tolerance.
+            let tol = tol / 2.0;
             // The sagitta of one slice and one stack.
             let sag = |span: f64| 40.0 * (1.0 - (span / 2.0).cos());
             assert!(sag(2.0 * PI / slices as f64) <= tol);
