@@ -1248,4 +1248,107 @@ mod tests {
             "{\"z\":1,\"rect\":[0,0,1,1],\"color\":[0,0,0],\"a\":{\"b\":[1]}}\n"
         );
     }
+
+    #[test]
+    fn quadric_records_parse_with_glu_names_and_defaults() {
+        use crate::geom::quadric::Quadric;
+        let recs = read_all(
+            r#"{"sphere": {"radius": 2, "slices": 8}, "color": [1,2,3], "transform": {"translate": [1, 0, 0]}}
+               {"cone": {"base": 3, "height": 4}, "pattern": {"file": "p.pat"}}
+               {"disk": {"outer": 5, "loops": 2, "repeat": [2, 1]}, "color": [0,0,0]}"#,
+        )
+        .unwrap();
+        let q = |r: &Record| match &r.shape {
+            Shape::Quadric(q) => (**q).clone(),
+            other => panic!("{other:?}"),
+        };
+        let sphere = q(&recs[0]);
+        assert_eq!(sphere.quadric, Quadric::Sphere { radius: 2.0 });
+        assert_eq!((sphere.slices, sphere.stacks), (Some(8), None));
+        assert_eq!(sphere.transform.apply(DVec3::ZERO), DVec3::X);
+        let cone = q(&recs[1]);
+        assert_eq!(
+            cone.quadric,
+            Quadric::Cylinder {
+                base: 3.0,
+                top: 0.0,
+                height: 4.0
+            }
+        );
+        assert_eq!(cone.kind, "cone");
+        let disk = q(&recs[2]);
+        assert_eq!(
+            disk.quadric,
+            Quadric::Disk {
+                inner: 0.0,
+                outer: 5.0
+            }
+        );
+        assert_eq!((disk.stacks, disk.repeat), (Some(2), [2.0, 1.0]));
+        assert!(
+            err(r#"{"sphere": {"radius": 1}, "color": [0,0,0], "uv": [[0,0]]}"#)
+                .contains("uv: only polygons carry texture coordinates")
+        );
+        assert!(
+            err(r#"{"sphere": {"radius": 1}, "rect": [0,0,1,1], "color": [0,0,0]}"#)
+                .contains("several geometries (rect, sphere)")
+        );
+        assert!(err(r#"{"sphere": {}, "color": [0,0,0]}"#).contains("sphere.radius is missing"));
+        assert!(
+            err(r#"{"sphere": {"radius": 1, "repeat": [0, 1]}, "color": [0,0,0]}"#)
+                .contains("sphere.repeat [0, 1]: expected two positive numbers")
+        );
+        assert!(
+            err(r#"{"sphere": {"radius": 1, "slices": 4.5}, "color": [0,0,0]}"#)
+                .contains("sphere.slices 4.5: expected a whole number")
+        );
+    }
+
+    #[test]
+    fn an_instance_moves_a_quadric_by_composing_transforms() {
+        let recs = read_all(
+            r#"{"object": "o", "records": [{"sphere": {"radius": 1}, "transform": {"scale": 2}, "color": [0,0,0], "id": "s"}]}
+               {"instance": "o", "transform": {"translate": [5, 0, 0]}}"#,
+        )
+        .unwrap();
+        let Shape::Quadric(q) = &recs[0].shape else {
+            panic!("{:?}", recs[0].shape)
+        };
+        // Scale first, then the instance's translation.
+        assert_eq!(q.transform.apply(DVec3::X), DVec3::new(7.0, 0.0, 0.0));
+        assert_eq!(recs[0].fields["id"], "s");
+        assert!(recs[0].fields["transform"].get("matrix").is_some());
+        // The written matrix reads back as the same transform.
+        let again = Record::from_value(0, Value::Object(recs[0].fields.clone())).unwrap();
+        assert_eq!(again.shape, recs[0].shape);
+    }
+
+    #[test]
+    fn quadric_triangles_become_uv_records_keeping_other_fields() {
+        let recs = read_all(
+            r#"{"sphere": {"radius": 1, "slices": 4, "stacks": 2}, "pattern": {"file": "p.pat"}, "id": 7, "transform": {"translate": [0, 0, 3]}}
+               {"rect": [0,0,1,1], "color": [0,0,0]}"#,
+        )
+        .unwrap();
+        let tris = quadric_triangles(&recs[0], 0.1, Some(16)).unwrap().unwrap();
+        assert_eq!(tris.len(), 8);
+        for t in &tris {
+            assert_eq!(t["id"], 7);
+            assert_eq!(t["pattern"]["mode"], "uv");
+            assert!(t.get("sphere").is_none() && t.get("transform").is_none());
+            let back = Record::from_value(0, Value::Object(t.clone())).unwrap();
+            let Shape::Polygon(v) = &back.shape else {
+                panic!()
+            };
+            assert!(v
+                .iter()
+                .all(|p| ((*p - DVec3::new(0.0, 0.0, 3.0)).length() - 1.0).abs() < 1e-12));
+            assert!(back
+                .uv
+                .unwrap()
+                .iter()
+                .all(|c| (0.0..=16.0).contains(&c[0])));
+        }
+        assert!(quadric_triangles(&recs[1], 0.1, None).is_none());
+    }
 }

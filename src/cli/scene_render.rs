@@ -34,6 +34,10 @@ Examples:
       An animation: instance transforms with {\"start\": a, \"step\": s} numbers.
   scene-render --frames 36 --frame 7 -o frame-%04d.png spin.json
       Frame 7 alone, as one job of a make -j, GNU parallel or Slurm batch.
+  scene-render --frames 36 --animate --fps 12 -o turn.png spin.json
+      The same animation as one animated PNG.
+  scene-render --ortho -80,80,-60,60,0,100 --size 800x600 two-spheres.json -o two.png
+      Seed 002's textured spheres: quadric records (sphere, cylinder, cone, disk).
 
 Without a camera the view is ortho2(0, W, 0, H) for a WxH image: 2D records
 (rect, circle, arc) and [x,y] polygons map one world unit to one pixel, origin
@@ -125,7 +129,9 @@ pub struct Args {
 
     /// Render an animation of N frames (docs/objects.md): numbers of instance
     /// transforms written `{"start": a, "step": s}` are `a + s*k` in frame k
-    /// (0-based). -o must then be a pattern such as frame-%04d.png.
+    /// (0-based), and so are those of quadric records' "transform". -o must
+    /// then be a pattern such as frame-%04d.png, or a plain name with
+    /// --animate.
     #[arg(long, value_name = "N", default_value_t = 1,
           value_parser = clap::value_parser!(u64).range(1..=MAX_FRAMES),
           conflicts_with_all = ["reference", "compare", "image"])]

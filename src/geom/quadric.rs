@@ -470,4 +470,99 @@ mod tests {
         .contains("not below outer"));
         assert!(e(Quadric::Sphere { radius: f64::NAN }, 8, 8).contains("not a positive"));
     }
+
+    #[test]
+    fn the_pixel_tolerance_becomes_own_units_at_the_nearest_depth() {
+        let q = Quadric::Sphere { radius: 10.0 };
+        // glOrtho(0, 200, 0, 200, ...) on 200x200: one unit is one pixel.
+        let ortho = DMat4::orthographic_rh_gl(0.0, 200.0, 0.0, 200.0, -100.0, 100.0);
+        assert!((tolerance_at(&q, ortho, 200, 200, 0.25) - 0.25).abs() < 1e-12);
+        // Placed at twice the size, a pixel is half an own unit.
+        let scaled = ortho * DMat4::from_scale(DVec3::splat(2.0));
+        assert!((tolerance_at(&q, scaled, 200, 200, 0.25) - 0.125).abs() < 1e-12);
+        // Perspective: pixels per unit are (H/2) f / w at the nearest point,
+        // w = d - r for a sphere d in front of the eye.
+        let fovy = 60f64.to_radians();
+        let persp = DMat4::perspective_rh_gl(fovy, 1.0, 1.0, 1000.0);
+        let f = 1.0 / (fovy / 2.0).tan();
+        for d in [50.0, 200.0] {
+            let at = persp * DMat4::from_translation(DVec3::new(0.0, 0.0, -d));
+            let want = 0.25 / (100.0 * f / (d - 10.0));
+            assert!((tolerance_at(&q, at, 200, 200, 0.25) - want).abs() < 1e-12 * want.max(1.0));
+        }
+        // A sphere around the eye: the relative fallback.
+        let around = persp * DMat4::from_translation(DVec3::new(0.0, 0.0, -5.0));
+        assert_eq!(
+            tolerance_at(&q, around, 200, 200, 0.25),
+            10.0 * FALLBACK_RELATIVE_TOLERANCE
+        );
+    }
+
+    #[test]
+    fn texel_triangles_scale_repeat_and_move() {
+        let shape = QuadricShape {
+            quadric: Quadric::Cylinder {
+                base: 1.0,
+                top: 1.0,
+                height: 2.0,
+            },
+            kind: "cylinder",
+            slices: Some(4),
+            stacks: Some(1),
+            repeat: [2.0, 3.0],
+            transform: Transform::translate(DVec3::new(10.0, 0.0, 0.0)),
+        };
+        let tris = shape.texel_triangles(1.0, 16).unwrap();
+        assert_eq!(tris.len(), 8);
+        let (mut umax, mut vmax) = (0.0f64, 0.0f64);
+        for t in &tris {
+            for (p, uv) in t.v.iter().zip(&t.uv) {
+                assert!((DVec3::new(p.x - 10.0, p.y, 0.0).length() - 1.0).abs() < 1e-12);
+                umax = umax.max(uv[0]);
+                vmax = vmax.max(uv[1]);
+            }
+        }
+        // s and t reach 1: 16 texels x 2 copies around, x 3 along.
+        assert_eq!((umax, vmax), (32.0, 48.0));
+        // Explicit counts win over the tolerance; missing ones follow it.
+        let fine = QuadricShape {
+            slices: None,
+            ..shape
+        };
+        assert_eq!(
+            fine.segments(1e-3).0,
+            Quadric::Cylinder {
+                base: 1.0,
+                top: 1.0,
+                height: 2.0
+            }
+            .segments_for(1e-3)
+            .0
+        );
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn sphere_vertices_lie_on_it_and_no_triangle_wraps(
+            radius in 0.01f64..1e4,
+            slices in 3u32..64,
+            stacks in 2u32..64,
+        ) {
+            let tris = Quadric::Sphere { radius }.tessellate(slices, stacks).unwrap();
+            // Every quad but the pole triangles' collapsed halves.
+            proptest::prop_assert_eq!(tris.len() as u32, 2 * slices * stacks - 2 * slices);
+            for t in &tris {
+                for p in &t.v {
+                    proptest::prop_assert!((p.length() - radius).abs() <= 1e-12 * radius);
+                }
+                let s: Vec<f64> = t.st.iter().map(|x| x[0]).collect();
+                let span = s.iter().cloned().fold(f64::MIN, f64::max) - s.iter().cloned().fold(f64::MAX, f64::min);
+                // One slice at most: nothing wraps from s near 1 back to 0.
+                proptest::prop_assert!(span <= 1.0 / slices as f64 + 1e-12);
+                for st in &t.st {
+                    proptest::prop_assert!((0.0..=1.0).contains(&st[0]) && (0.0..=1.0).contains(&st[1]));
+                }
+            }
+        }
+    }
 }
