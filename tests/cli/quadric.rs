@@ -249,6 +249,20 @@ clitest!(
             render("s.json") == render("cells.ndjson"),
             "direct and expanded renders differ"
         );
+        // An animated quadric passes through unchanged; --max-polygons counts triangles.
+        let spin = r#"{"sphere":{"radius":1},"transform":{"rotate":{"start":0,"step":5},"axis":"z"},"color":[1,2,3]}"#;
+        dir.write("spin.json", spin);
+        let out = dir.cmd("polyfill3").arg("spin.json").assert().success();
+        let back: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).unwrap();
+        assert_eq!(
+            back,
+            serde_json::from_str::<serde_json::Value>(spin).unwrap()
+        );
+        dir.cmd("polyfill3")
+            .args(["--max-polygons", "60", "s.json"])
+            .assert()
+            .failure()
+            .stderr(predicate::str::contains("48 triangles of the quadric would take the output past --max-polygons 60 (48 written so far)"));
     }
 );
 
