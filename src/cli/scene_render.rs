@@ -34,6 +34,10 @@ Examples:
       An animation: instance transforms with {\"start\": a, \"step\": s} numbers.
   scene-render --frames 36 --frame 7 -o frame-%04d.png spin.json
       Frame 7 alone, as one job of a make -j, GNU parallel or Slurm batch.
+  scene-render --frames 36 --animate --fps 12 -o turn.png spin.json
+      The same animation as one animated PNG.
+  scene-render --ortho -80,80,-60,60,0,100 --size 800x600 two-spheres.json -o two.png
+      Seed 002's textured spheres: quadric records (sphere, cylinder, cone, disk).
 
 Without a camera the view is ortho2(0, W, 0, H) for a WxH image: 2D records
 (rect, circle, arc) and [x,y] polygons map one world unit to one pixel, origin
@@ -134,11 +138,32 @@ pub struct Args {
 
     /// Render an animation of N frames (docs/objects.md): numbers of instance
     /// transforms written `{"start": a, "step": s}` are `a + s*k` in frame k
-    /// (0-based). -o must then be a pattern such as frame-%04d.png.
+    /// (0-based), and so are those of quadric records' "transform". -o must
+    /// then be a pattern such as frame-%04d.png, or a plain name with
+    /// --animate.
     #[arg(long, value_name = "N", default_value_t = 1,
           value_parser = clap::value_parser!(u64).range(1..=MAX_FRAMES),
           conflicts_with_all = ["reference", "compare", "image"])]
     pub frames: u64,
+
+    /// With --frames: write one animated PNG (APNG) to -o, a plain name such
+    /// as turn.png, instead of one file per frame. It loops forever; every
+    /// frame is whole, and frame 0 is also the still image shown by viewers
+    /// without APNG support.
+    #[arg(long, requires = "frames", conflicts_with = "frame")]
+    pub animate: bool,
+
+    /// With --animate: frames per second (each frame shows for 1/FPS s).
+    #[arg(long, value_name = "FPS", default_value_t = DEFAULT_FPS,
+          value_parser = clap::value_parser!(u16).range(1..), requires = "animate")]
+    pub fps: u16,
+
+    /// Largest distance, in pixels, of a quadric's chords from its true
+    /// surface, for quadric records that leave out slices or stacks
+    /// (docs/objects.md): measured at the nearest point of the quadric's
+    /// bounding sphere as drawn by this camera.
+    #[arg(long, value_name = "PX", default_value_t = crate::geom::quadric::DEFAULT_TOLERANCE_PX)]
+    pub quadric_tolerance: f64,
 
     /// Render only frame K of the --frames (0-based): one job of a batch run
     /// by make -j, GNU parallel or a Slurm job array.
@@ -195,6 +220,10 @@ pub fn run(args: Args) -> Result<()> {
 /// far more than a batch needs, and a bound that catches a mistyped count.
 pub const MAX_FRAMES: u64 = 24 * 60 * 60 * 24;
 
+/// Frames per second of an --animate APNG: the thesis's demo 2 turned its
+/// pyramid at about this rate on the IRIS.
+pub const DEFAULT_FPS: u16 = 10;
+
 fn run_in_pool(args: Args) -> Result<()> {
     if let Some(k) = args.frame {
         if k >= args.frames {
@@ -204,8 +233,35 @@ fn run_in_pool(args: Args) -> Result<()> {
             );
         }
     }
+    if !(args.quadric_tolerance > 0.0 && args.quadric_tolerance.is_finite()) {
+        usage_bail!(
+            "--quadric-tolerance {}: expected a positive number of pixels",
+            args.quadric_tolerance
+        );
+    }
     let animation = args.frames > 1 || args.frame.is_some();
-    if animation {
+    if args.animate {
+        match &args.output {
+            None => usage_bail!("--animate: give -o, the animated PNG to write"),
+            Some(o) if frame_name(o, 0).is_some() => {
+                usage_bail!(
+                    "-o {o}: --animate writes one file: expected a plain name such as turn.png"
+                )
+            }
+            _ => {}
+        }
+        if matches!(args.format, Some(f) if f != ImageFormat::Png) {
+            usage_bail!("--animate writes an animated PNG: --format must be png");
+        }
+        let o = args.output.as_deref().unwrap_or_default();
+        let ext = std::path::Path::new(o)
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        if o != crate::io::STDIO && !matches!(ext.as_deref(), Some("png" | "apng")) {
+            usage_bail!("-o {o}: --animate writes an animated PNG: expected a .png or .apng name");
+        }
+    } else if animation {
         match &args.output {
             None => usage_bail!("--frames: give -o, a pattern such as frame-%04d.png"),
             Some(o) if frame_name(o, 0).is_none() && (args.frame.is_none() && args.frames > 1) => {
@@ -243,10 +299,14 @@ fn run_in_pool(args: Args) -> Result<()> {
         (None, Some(_)) => None,
         (None, None) => Some(crate::io::STDIO.to_string()),
     };
-    let format = output
-        .as_deref()
-        .map(|o| ImageFormat::choose(args.format, o))
-        .transpose()?;
+    let format = if args.animate {
+        Some(ImageFormat::Png)
+    } else {
+        output
+            .as_deref()
+            .map(|o| ImageFormat::choose(args.format, o))
+            .transpose()?
+    };
     let Size { width, height } = args.size;
     let camera = match args.camera.resolve()? {
         Some(c) => c,
@@ -267,7 +327,7 @@ fn run_in_pool(args: Args) -> Result<()> {
     let bg = Background::new(args.background, bg_pattern.as_ref());
     let t_read = std::time::Instant::now();
     let scene = read_scene(&args.input)?;
-    if animation {
+    if animation || args.animate {
         let format = format.expect("animations have an output");
         return render_frames(&args, &scene, &view, &bg, format);
     }
@@ -421,7 +481,8 @@ fn read_scene(input: &str) -> Result<Scene> {
         // "object" and "uv" patterns: placed after projection (below).
         let mut placed = None;
         if let Some(pref) = &rec.pattern {
-            let mode = pref.mode.unwrap_or(if rec.uv.is_some() {
+            let quadric = matches!(rec.shape, Shape::Quadric(_));
+            let mode = pref.mode.unwrap_or(if rec.uv.is_some() || quadric {
                 PatternMode::Uv
             } else {
                 PatternMode::Object
@@ -446,7 +507,16 @@ fn read_scene(input: &str) -> Result<Scene> {
                 PatternMode::Object | PatternMode::Uv => placed = Some((pref, mode, p)),
             }
         }
+        let animated = match rec.shape {
+            Shape::Quadric(_) => rec
+                .fields
+                .get("transform")
+                .filter(|t| Transform::is_animated(t))
+                .cloned(),
+            _ => None,
+        };
         Ok(Drawable {
+            animated,
             index: rec.index,
             shape: rec.shape,
             color: rec.color.unwrap_or(Rgb8::BLACK),
@@ -496,6 +566,7 @@ fn render_frames(
         Some(k) => vec![k],
         None => (0..args.frames).collect(),
     };
+    let mut apng = None;
     for k in frames {
         let name = frame_name(pattern, k).unwrap_or_else(|| pattern.to_string());
         let t0 = std::time::Instant::now();
@@ -515,7 +586,22 @@ fn render_frames(
             eprintln!("{TOOL}: frame {k}: {}", p.report());
         }
         let t2 = std::time::Instant::now();
-        img.save_with(&name, format, PngOptions::GENERAL)?;
+        if args.animate {
+            if apng.is_none() {
+                let frames = u32::try_from(args.frames).context("too many frames for an APNG")?;
+                apng = Some(crate::io::ApngWriter::create(
+                    pattern,
+                    img.width,
+                    img.height,
+                    img.channels,
+                    frames,
+                    args.fps,
+                )?);
+            }
+            apng.as_mut().expect("created above").push(&img)?;
+        } else {
+            img.save_with(&name, format, PngOptions::GENERAL)?;
+        }
         if args.timings {
             eprintln!(
                 "{TOOL}: timings: frame {k}: project {:.4} s, render {:.4} s, write {:.4} s ({} polygons)",
@@ -525,6 +611,9 @@ fn render_frames(
                 polys.len()
             );
         }
+    }
+    if let Some(a) = apng {
+        a.finish()?;
     }
     Ok(())
 }
@@ -536,6 +625,8 @@ struct Drawing<'a> {
     texture: &'a super::scene_texture::TextureArgs,
     /// The frame number, for transforms that vary per frame.
     frame: u64,
+    /// `--quadric-tolerance`, pixels.
+    quadric_tolerance: f64,
 }
 
 impl<'a> Drawing<'a> {
@@ -544,6 +635,7 @@ impl<'a> Drawing<'a> {
             cull: args.cull,
             texture: &args.texture,
             frame,
+            quadric_tolerance: args.quadric_tolerance,
         }
     }
 }
@@ -559,6 +651,8 @@ struct Drawable {
     /// An object- or uv-mode pattern, placed when the record is projected.
     placed: Option<(crate::stream::PatternRef, PatternMode, Arc<ScreenPattern>)>,
     uv: Option<Vec<[f64; 2]>>,
+    /// A quadric's "transform" when its numbers vary per frame.
+    animated: Option<serde_json::Value>,
 }
 
 /// A stream element as the renderer keeps it.
@@ -649,11 +743,7 @@ fn project_parts(
     how: &Drawing,
     out: &mut Vec<ScreenPoly>,
 ) -> Result<()> {
-    let Drawing {
-        cull,
-        texture,
-        frame,
-    } = *how;
+    let frame = how.frame;
     let moved;
     let view = match placed {
         Some(t) => {
@@ -672,6 +762,11 @@ fn project_parts(
                     Some(o) => o,
                     None => u32::try_from(d.index).context("more than 2^32 records")?,
                 };
+                if let Shape::Quadric(q) = &d.shape {
+                    project_quadric(d, q, view, order, how, out)
+                        .with_context(|| format!("record {}", d.index))?;
+                    continue;
+                }
                 let outline = match &d.shape {
                     Shape::Polygon(v) => std::borrow::Cow::Borrowed(v.as_slice()),
                     other => std::borrow::Cow::Owned(crate::geom::outline(
@@ -679,29 +774,8 @@ fn project_parts(
                         curve_tolerance(other, view),
                     )),
                 };
-                if let Some(mut p) = raster::project(view, &outline, d.color, order, cull) {
-                    p.screen = d.screen.clone();
-                    if let Some((pref, mode, texels)) = &d.placed {
-                        let tex = super::scene_texture::place(
-                            texture,
-                            d.color,
-                            view,
-                            &outline,
-                            pref,
-                            *mode,
-                            d.uv.as_deref(),
-                            texels.clone(),
-                        )
-                        .with_context(|| format!("record {}", d.index))?;
-                        match tex {
-                            Some(t) => p.texture = Some(Arc::new(t)),
-                            // Visible by the projection but not by the fit:
-                            // rounding at a sliver; nothing to draw.
-                            None => continue,
-                        }
-                    }
-                    out.push(p);
-                }
+                draw_polygon(d, view, &outline, d.uv.as_deref(), order, how, out)
+                    .with_context(|| format!("record {}", d.index))?;
             }
             Part::Place {
                 index,
@@ -727,6 +801,84 @@ fn project_parts(
                 project_parts(object, base, Some(total), Some(order), how, out)?;
             }
         }
+    }
+    Ok(())
+}
+
+/// Projects one polygon of a record and places its pattern: `outline` in the
+/// record's coordinates, `uv` its texture coordinates in texels (uv mode).
+fn draw_polygon(
+    d: &Drawable,
+    view: &View,
+    outline: &[DVec3],
+    uv: Option<&[[f64; 2]]>,
+    order: u32,
+    how: &Drawing,
+    out: &mut Vec<ScreenPoly>,
+) -> Result<()> {
+    let Some(mut p) = raster::project(view, outline, d.color, order, how.cull) else {
+        return Ok(());
+    };
+    p.screen = d.screen.clone();
+    if let Some((pref, mode, texels)) = &d.placed {
+        let tex = super::scene_texture::place(
+            how.texture,
+            d.color,
+            view,
+            outline,
+            pref,
+            *mode,
+            uv,
+            texels.clone(),
+        )?;
+        match tex {
+            Some(t) => p.texture = Some(Arc::new(t)),
+            // Visible by the projection but not by the fit: rounding at a
+            // sliver; nothing to draw.
+            None => return Ok(()),
+        }
+    }
+    out.push(p);
+    Ok(())
+}
+
+/// Tessellates a quadric record for this view (`geom::quadric`: the slices
+/// and stacks it leaves out come from `--quadric-tolerance` at this camera
+/// and this instance's placement, so every instance and frame is as fine as
+/// it needs) and draws its triangles with their texel coordinates.
+fn project_quadric(
+    d: &Drawable,
+    q: &crate::geom::quadric::QuadricShape,
+    view: &View,
+    order: u32,
+    how: &Drawing,
+    out: &mut Vec<ScreenPoly>,
+) -> Result<()> {
+    let moved;
+    let q = match &d.animated {
+        Some(v) => {
+            let mut m = q.clone();
+            m.transform = Transform::from_json_at(v, how.frame)
+                .with_context(|| format!("{}: transform at frame {}", q.kind, how.frame))?;
+            moved = m;
+            &moved
+        }
+        None => q,
+    };
+    let own_to_clip = view.world_to_clip * q.transform.matrix();
+    let tolerance = crate::geom::quadric::tolerance_at(
+        &q.quadric,
+        own_to_clip,
+        view.width,
+        view.height,
+        how.quadric_tolerance,
+    );
+    let size = d.placed.as_ref().map_or(1, |(_, _, p)| p.size());
+    let tris = q
+        .texel_triangles(tolerance, size)
+        .map_err(anyhow::Error::msg)?;
+    for t in &tris {
+        draw_polygon(d, view, &t.v, Some(&t.uv), order, how, out)?;
     }
     Ok(())
 }

@@ -309,7 +309,7 @@ fn closed_pipe_ends_quietly() {
 const GOLDEN_MAX_ERROR: u8 = 1;
 const GOLDEN_RMSE: f64 = 0.01;
 
-fn assert_matches_golden(rendered: &[u8], golden: &str) {
+pub(crate) fn assert_matches_golden(rendered: &[u8], golden: &str) {
     let load = |bytes: &[u8], name: &str| {
         let rgba = patkit::io::decode_image(bytes, name).unwrap();
         let (width, height) = rgba.dimensions();
