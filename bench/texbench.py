@@ -457,8 +457,15 @@ def plot(rows, front, png):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
     names = list(dict.fromkeys(r[0] for r in rows))
-    fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 4.8), sharey=True)
+    cols = 3
+    nrows = (len(names) + 1 + cols - 1) // cols  # one cell left for the legend
+    fig, grid = plt.subplots(nrows, cols, figsize=(5.2 * cols, 4.4 * nrows), squeeze=False)
+    cells = list(grid.flat)
+    axes, legend_ax = cells[:len(names)], cells[-1]
+    for ax in cells[len(names):]:
+        ax.axis("off")
     style = {"direct": ("o", "tab:blue"), "--filter": ("D", "tab:cyan"), "polyfill3": ("s", "tab:green"),
              "llvmpipe": ("^", "tab:red"), "reference": ("*", "black"), "other": ("x", "tab:purple")}
     for ax, name in zip(axes, names):
@@ -487,15 +494,19 @@ def plot(rows, front, png):
         ax.set_yscale("log")
         ax.set_title(name)
         ax.set_xlabel("whole process, s (median)")
+        ax.set_ylabel("RMSE vs reference (8-bit sRGB)")
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.set_ylim(RMSE_FLOOR / 3, 300)
         ax.grid(True, which="both", lw=0.3, alpha=0.5)
-    axes[0].set_ylabel(f"RMSE vs reference, 8-bit sRGB (0 drawn at {RMSE_FLOOR:g}, hollow)")
     handles = [plt.Line2D([], [], marker=m, color=c, ls="", label=k) for k, (m, c) in style.items()
                if k != "other"]
     handles.append(plt.Line2D([], [], color="gray", ls="--", label="Pareto front"))
-    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8)
+    legend_ax.legend(handles=handles, loc="center", fontsize=9,
+                     title=f"RMSE 0 drawn hollow at {RMSE_FLOOR:g}\n* = default mode; gl = llvmpipe;\n"
+                           "p3 xF = polyfill3, incr x F | exact;\nms4 = MSAA 4x")
     fig.suptitle(f"patkit trade-off: time against error ({time.strftime('%Y-%m-%d', time.gmtime())}, "
                  f"{os.cpu_count()} cores, shared machine)", fontsize=10)
-    fig.tight_layout(rect=(0, 0.06, 1, 0.95))
+    fig.tight_layout(rect=(0, 0, 1, 0.96))
     fig.savefig(png, dpi=110)
 
 
