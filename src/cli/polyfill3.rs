@@ -9,6 +9,7 @@ use crate::geom::{map_to_plane, outline, CellSink, Grid, Partitioner, Placement}
 use crate::io::{display_name, Output, STDIO};
 use crate::pat::Pattern;
 use crate::stream::{self, Instance, Item, ObjectDef, Objects, PatternMode, Record, Shape};
+use crate::texture::map::object_uv;
 use crate::usage_bail;
 use anyhow::{anyhow, Context, Result};
 use clap::{Parser, ValueEnum};
@@ -29,7 +30,10 @@ Examples:
   polyfill3 --merge scene.json | scene-render -o out.png -
       Join runs of equal whole cells into fewer polygons.
   polyfill3 --compat thesis --incr 25 plain.json | wc -l
-      The thesis's own loop, degenerate polygons included (Table 5.1).";
+      The thesis's own loop, degenerate polygons included (Table 5.1).
+  polyfill3 --uv scene.json | scene-render -o out.png -
+      Keep each polygon whole, with its \"object\" placement as \"uv\"
+      coordinates (for renderers that take texture coordinates).";
 
 /// Which algorithm partitions the polygons.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -62,6 +66,11 @@ floor((y - ymin)/incr - vert) mod SIZE. Concave polygons are supported; a \
 cell whose piece of a concave polygon falls apart gives one polygon per part. \
 Only pieces with positive area are written, and neighbouring cells share \
 their vertices bit for bit.\n\n\
+--uv does not partition: each \"object\" polygon (rect, circle and arc \
+flattened first) is written whole, with \"uv\" (its placement's texel \
+coordinates at each vertex) and \"pattern\": {\"file\": absolute path, \"mode\": \"uv\"}, \
+so that a renderer with per-vertex texture coordinates (OpenGL) draws the \
+same texture.\n\n\
 --json prints a summary (records, polygons, objects, instances, seconds) to standard error.",
     after_help = EXAMPLES
 )]
@@ -116,6 +125,12 @@ pub struct Args {
     /// its view volume before they are written.
     #[arg(long, requires = "camera")]
     pub cull: bool,
+    /// Do not partition: write each "object"-mode polygon whole (curves
+    /// flattened) with its placement as per-vertex "uv" texel coordinates and
+    /// "pattern": {"file": ABSOLUTE PATH, "mode": "uv"}, for renderers that
+    /// take texture coordinates. --cull drops whole polygons.
+    #[arg(long, conflicts_with_all = ["merge", "compat"])]
+    pub uv: bool,
     /// Print a JSON summary to standard error.
     #[arg(long)]
     pub json: bool,
@@ -244,16 +259,20 @@ struct Job<'a> {
 }
 
 impl Job<'_> {
+    /// Where a record's pattern file is: its "file" resolved against the
+    /// stream's directory, else --pattern.
+    fn pattern_path(&self, file: Option<&str>) -> Result<PathBuf> {
+        match (file, &self.args.pattern) {
+            (Some(f), _) => Ok(stream::resolve(&self.base, f)),
+            (None, Some(p)) => Ok(p.clone()),
+            (None, None) => Err(anyhow!(
+                "pattern: no \"file\" in the record and no --pattern given"
+            )),
+        }
+    }
+
     fn pattern(&mut self, file: Option<&str>) -> Result<Rc<Pattern>> {
-        let path = match (file, &self.args.pattern) {
-            (Some(f), _) => stream::resolve(&self.base, f),
-            (None, Some(p)) => p.clone(),
-            (None, None) => {
-                return Err(anyhow!(
-                    "pattern: no \"file\" in the record and no --pattern given"
-                ))
-            }
-        };
+        let path = self.pattern_path(file)?;
         if let Some(p) = self.patterns.get(&path) {
             return Ok(p.clone());
         }
@@ -363,6 +382,93 @@ impl Job<'_> {
         Ok(())
     }
 
+    /// `--uv`: writes the record whole, its SPEC §2 object placement turned
+    /// into per-vertex texel coordinates by the same [`object_uv`] that
+    /// `scene-render` uses for direct texturing, so both draw the same texture
+    /// (texture coordinates are affine over a planar polygon, so the vertex
+    /// values determine the whole map). The pattern "file" becomes an
+    /// absolute path: the output may be read from another directory than the
+    /// input's, against which a relative "file" resolved.
+    fn forward_uv(
+        &mut self,
+        rec: &Record,
+        pref: &stream::PatternRef,
+        vertices: &[DVec3],
+        place: Placement,
+        rotate: f64,
+    ) -> Result<()> {
+        // Loaded (once) only to report a missing or bad pattern here rather
+        // than in the renderer.
+        self.pattern(pref.file.as_deref())?;
+        let uv = object_uv(vertices, place, rotate, self.args.planarity_tol)?;
+        let uv = serde_json::json!(uv.iter().map(|t| [t.x, t.y]).collect::<Vec<_>>());
+        let fields = self.whole(rec, vertices, Some(uv))?;
+        self.summary.partitioned += 1;
+        self.summary.polygons += 1;
+        self.writer.pass(&fields)
+    }
+
+    /// A record that is not partitioned: unchanged, except under `--uv`,
+    /// where every record comes out as a polygon (rect, circle and arc
+    /// flattened within --tolerance) with an absolute pattern path, so that a
+    /// renderer that only draws polygons can take the stream anywhere.
+    fn pass_record(&mut self, rec: &Record) -> Result<()> {
+        if !self.args.uv {
+            return self.writer.pass(&rec.fields);
+        }
+        let vertices = outline(&rec.shape, self.args.tolerance);
+        let fields = self.whole(rec, &vertices, None)?;
+        self.writer.pass(&fields)
+    }
+
+    /// `rec`'s fields for `--uv` output: "vertices" set to `vertices` (curves
+    /// dropped), the pattern "file" made absolute, and with `uv` given, the
+    /// "uv" field set and the pattern put in "uv" mode (its object placement
+    /// fields dropped: they no longer apply). Other fields, in the pattern
+    /// too, are kept (SPEC §2).
+    fn whole(
+        &self,
+        rec: &Record,
+        vertices: &[DVec3],
+        uv: Option<Value>,
+    ) -> Result<serde_json::Map<String, Value>> {
+        let mut fields = serde_json::Map::with_capacity(rec.fields.len() + 2);
+        for (k, v) in &rec.fields {
+            match k.as_str() {
+                "rect" | "circle" | "arc" | "vertices" => {}
+                "uv" if uv.is_some() => {}
+                "pattern" => {
+                    let mut p = v.as_object().cloned().unwrap_or_default();
+                    let file = p.get("file").and_then(Value::as_str);
+                    if file.is_some() || self.args.pattern.is_some() {
+                        let path = self.pattern_path(file)?;
+                        let path = std::path::absolute(&path)
+                            .with_context(|| format!("pattern: {}", path.display()))?;
+                        p.insert("file".into(), Value::String(path.display().to_string()));
+                    }
+                    if uv.is_some() {
+                        for key in ["incr", "rotate", "horz", "vert"] {
+                            p.remove(key);
+                        }
+                        p.insert("mode".into(), Value::String("uv".into()));
+                    }
+                    fields.insert(k.clone(), Value::Object(p));
+                }
+                _ => {
+                    fields.insert(k.clone(), v.clone());
+                }
+            }
+        }
+        fields.insert(
+            "vertices".into(),
+            serde_json::json!(vertices.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>()),
+        );
+        if let Some(uv) = uv {
+            fields.insert("uv".into(), uv);
+        }
+        Ok(fields)
+    }
+
     /// An instance passes through unchanged: its object is partitioned once.
     fn instance(&mut self, inst: &Instance) -> Result<()> {
         self.summary.instances += 1;
@@ -376,7 +482,7 @@ impl Job<'_> {
         }
         let Some(pref) = rec.pattern.clone() else {
             self.summary.passed += 1;
-            return self.writer.pass(&rec.fields);
+            return self.pass_record(&rec);
         };
         let mode = pref.mode.unwrap_or(if rec.uv.is_some() {
             PatternMode::Uv
@@ -384,7 +490,8 @@ impl Job<'_> {
             PatternMode::Object
         });
         if mode != PatternMode::Object || rec.uv.is_some() {
-            if !self.warned_mode {
+            // Under --uv nothing is partitioned: no surprise to warn about.
+            if !self.warned_mode && !self.args.uv {
                 crate::cli::warn(
                     "polyfill3",
                     format!(
@@ -396,7 +503,7 @@ impl Job<'_> {
                 self.warned_mode = true;
             }
             self.summary.passed += 1;
-            return self.writer.pass(&rec.fields);
+            return self.pass_record(&rec);
         }
         let pattern = self.pattern(pref.file.as_deref())?;
         let a = self.args;
@@ -416,6 +523,9 @@ impl Job<'_> {
                 self.summary.culled += 1;
                 return Ok(());
             }
+        }
+        if a.uv {
+            return self.forward_uv(&rec, &pref, &vertices, place, rotate);
         }
         let grid = Grid::new(&poly.points, place);
         let estimate = (poly.area / (place.incr * place.incr)).min(estimate_cells(

@@ -401,3 +401,120 @@ clitest!(decal_on_a_pattern_without_alpha_is_an_error, |dir| {
         .stderr(predicates::str::contains("four-channel"));
     assert_eq!(dir.files(), vec!["q.pat", "s.json"]);
 });
+
+/// Largest channel difference (8-bit codes) between `polyfill3 --uv |
+/// scene-render` and `scene-render` on the same "object" scene: both fit the
+/// texture map from `object_uv`'s vertex coordinates, and the "uv" numbers
+/// travel through JSON as shortest round-trip decimals (exact), so the images
+/// should be the same; one code leaves room for a different summation order
+/// of the Newell fit through a rebuilt vertex list.
+const UV_MAX_CODES: u64 = 1;
+
+clitest!(polyfill3_uv_renders_as_the_object_scene, |dir| {
+    dir.write("p.pat", pattern3());
+    // SCENE's two placed polygons and plain one, a patterned rect, and an
+    // object placed twice (its uv must be computed in object space, as
+    // polyfill3 partitions objects).
+    let extra = r#"{"rect":[-1,-1,1,1],"color":[9,9,9],"pattern":{"file":"p.pat","incr":0.3,"horz":0.25}}
+{"object":"tri","records":[{"vertices":[[0,0,0],[1,0,0],[0,1,0]],"pattern":{"file":"p.pat","incr":0.13,"rotate":-20}}]}
+{"instance":"tri","transform":[{"rotate":30,"axis":"y"},{"translate":[1,-0.5,-3]}]}
+{"instance":"tri","transform":[{"translate":[-2,0,-6]}]}
+"#;
+    dir.write("s.json", format!("{SCENE}{extra}"));
+    let uv = dir
+        .cmd("polyfill3")
+        .args(["--uv", "s.json"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    dir.write("uv.json", &uv);
+    for (input, out) in [("s.json", "direct.png"), ("uv.json", "uv.png")] {
+        dir.cmd("scene-render")
+            .args(["--size", "96x72"])
+            .args(CAMERA)
+            .args([input, "-o", out])
+            .assert()
+            .success();
+    }
+    let err = max_error(&dir, "uv.png", "direct.png");
+    assert!(err <= UV_MAX_CODES, "polyfill3 --uv vs direct: {err}");
+    // The scene is textured at all: the plain render of uv.json without its
+    // patterns differs.
+    let plain: String = std::str::from_utf8(&uv)
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let mut v: serde_json::Value = serde_json::from_str(l).unwrap();
+            if let Some(o) = v.as_object_mut() {
+                o.remove("pattern");
+            }
+            v.to_string() + "\n"
+        })
+        .collect();
+    dir.write("plain.json", plain);
+    dir.cmd("scene-render")
+        .args(["--size", "96x72"])
+        .args(CAMERA)
+        .args(["plain.json", "-o", "plain.png"])
+        .assert()
+        .success();
+    assert!(max_error(&dir, "plain.png", "direct.png") > 64);
+});
+
+clitest!(polyfill3_uv_records, |dir| {
+    dir.write("p.pat", pattern3());
+    dir.write(
+        "s.json",
+        r#"{"id":1,"vertices":[[1,1],[5,1],[5,3]],"color":[1,2,3],"pattern":{"file":"p.pat","incr":0.5,"horz":1,"vert":-2,"tag":"t"}}
+{"id":2,"circle":{"center":[0,0],"radius":2},"pattern":{"file":"p.pat","mode":"screen"}}
+{"id":3,"vertices":[[0,0],[1,0],[0,1]],"color":[4,5,6]}
+"#,
+    );
+    let out = dir
+        .cmd("polyfill3")
+        .args(["--uv", "--tolerance", "0.1", "s.json"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let recs: Vec<serde_json::Value> = std::str::from_utf8(&out)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(recs.len(), 3);
+    let abs = dir.path().join("p.pat").display().to_string();
+    // Object placement as texel coordinates: u = (x - 1)/0.5 - 1,
+    // v = (y - 1)/0.5 + 2; unknown pattern fields kept, placement dropped.
+    assert_eq!(
+        recs[0]["uv"],
+        serde_json::json!([[-1.0, 2.0], [7.0, 2.0], [7.0, 6.0]])
+    );
+    assert_eq!(
+        recs[0]["pattern"],
+        serde_json::json!({"file": abs, "mode": "uv", "tag": "t"})
+    );
+    assert_eq!(recs[0]["color"], serde_json::json!([1, 2, 3]));
+    assert_eq!(recs[0]["id"], 1);
+    // A screen-mode circle: flattened, still screen mode, path absolute.
+    let v = recs[1]["vertices"].as_array().unwrap();
+    assert!(v.len() >= 8, "{} vertices", v.len());
+    assert!(recs[1].get("circle").is_none() && recs[1].get("uv").is_none());
+    assert_eq!(
+        recs[1]["pattern"],
+        serde_json::json!({"file": abs, "mode": "screen"})
+    );
+    // No pattern: unchanged but for the vertices written as [x, y, z].
+    assert_eq!(
+        recs[2],
+        serde_json::json!({"id":3,"vertices":[[0.0,0.0,0.0],[1.0,0.0,0.0],[0.0,1.0,0.0]],"color":[4,5,6]})
+    );
+    // Partitioning options do not combine with --uv.
+    dir.cmd("polyfill3")
+        .args(["--uv", "--merge", "s.json"])
+        .assert()
+        .code(2);
+});
