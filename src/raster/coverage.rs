@@ -459,7 +459,9 @@ fn disjoint(a: &[DVec2], b: &[DVec2]) -> bool {
 /// Appends the convex pieces of `p \ o` (both convex, counter-clockwise) to
 /// `out`: for each edge of `o`, the part of `p` to its right is outside `o` and
 /// kept; the rest goes on to the next edge, and what is left at the end lies in
-/// `o` and is dropped.
+/// `o` and is dropped. An `o` with fewer than three edges longer than
+/// [`EDGE_EPS`] has no interior and removes nothing (without this check, all
+/// of `p` would be "left at the end" and dropped).
 fn subtract(
     p: &[DVec2],
     o: &[DVec2],
@@ -467,9 +469,16 @@ fn subtract(
     cur: &mut Vec<DVec2>,
     tmp: &mut Vec<DVec2>,
 ) {
+    let n = o.len();
+    let edges = (0..n)
+        .filter(|&i| (o[(i + 1) % n] - o[i]).length_squared() > EDGE_EPS * EDGE_EPS)
+        .count();
+    if edges < 3 {
+        out.push(p.to_vec());
+        return;
+    }
     cur.clear();
     cur.extend_from_slice(p);
-    let n = o.len();
     for i in 0..n {
         if cur.len() < 3 {
             return;
@@ -502,6 +511,35 @@ mod tests {
 
     fn render_exact(polys: &[ScreenPoly], w: u32, h: u32) -> crate::io::Image {
         render(polys, &Background::color(Rgb8::BLACK), w, h, Aa::Exact).to_image()
+    }
+
+    /// Regression: the occluder of `tests/cli/texture.rs`'s
+    /// `a_sliver_of_a_near_textured_polygon_hides_nothing_behind_it`, a
+    /// clipping sliver with 1e-12-pixel edges far from the origin: it has no
+    /// area and subtracting it leaves the piece whole.
+    #[test]
+    fn a_sliver_occluder_far_from_the_origin_hides_nothing() {
+        let sliver = [
+            DVec2::new(423.8080517040671, 256.9861491440843),
+            DVec2::new(423.80805170407166, 256.98614914408506),
+            DVec2::new(423.80805170407154, 256.9861491440851),
+        ];
+        assert!(area2(&sliver).abs() <= 2.0 * AREA_EPS);
+        let piece = vec![
+            DVec2::new(424.0, 256.73198427959096),
+            DVec2::new(424.0, 257.0),
+            DVec2::new(423.0, 257.0),
+            DVec2::new(423.0, 256.6012019151243),
+            DVec2::new(423.2278482750052, 256.4861575572889),
+        ];
+        let (mut out, mut a, mut b) = (Vec::new(), Vec::new(), Vec::new());
+        subtract(&piece, &sliver, &mut out, &mut a, &mut b);
+        let left: f64 = out.iter().map(|p| area2(p)).sum();
+        assert!(
+            (left - area2(&piece)).abs() < 1e-12,
+            "{left} of {}",
+            area2(&piece)
+        );
     }
 
     #[test]

@@ -224,12 +224,21 @@ impl ScreenPoly {
 }
 
 /// Twice the signed area (shoelace), positive counter-clockwise with y up.
+///
+/// Taken about the first vertex, so the rounding error follows the polygon's
+/// own size, not its distance from the origin: the plain shoelace on screen
+/// coordinates near (1000, 1000) rounds with an absolute error of ~1e-10
+/// (|x|·|y|·ε per term), which made a clipping sliver with 1e-12-pixel edges
+/// count as an area above [`coverage::AREA_EPS`] and, as an occluder, erase a
+/// whole texel piece behind it (regression test
+/// `coverage::tests::a_sliver_occluder_far_from_the_origin_hides_nothing`).
 pub fn area2(v: &[DVec2]) -> f64 {
-    let n = v.len();
+    let Some(&o) = v.first() else {
+        return 0.0;
+    };
     let mut s = 0.0;
-    for i in 0..n {
-        let (a, b) = (v[i], v[(i + 1) % n]);
-        s += a.x * b.y - b.x * a.y;
+    for w in v.windows(2).skip(1) {
+        s += (w[0] - o).perp_dot(w[1] - o);
     }
     s
 }

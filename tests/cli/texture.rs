@@ -518,3 +518,39 @@ clitest!(polyfill3_uv_records, |dir| {
         .assert()
         .code(2);
 });
+
+// Regression (found by `bench/tradeoff.sh`'s tiles scene, shrunk to two
+// records): a clipping sliver of the near tile, with 1e-12-pixel edges at
+// screen position (423, 256), counted as an occluder and erased the far
+// tile's texel piece behind it: one pixel 18 codes off the reference.
+clitest!(
+    a_sliver_of_a_near_textured_polygon_hides_nothing_behind_it,
+    |dir| {
+        let checker = pattern_from(|c, r| Some((c + r) % 2), &[[230, 230, 230], [20, 20, 120]]);
+        dir.write("checker.pat", checker);
+        dir.write(
+            "two.json",
+            r#"{"vertices":[[4.108396,-0.08379,-19.600469],[4.897864,0.045591,-19.600469],[4.891604,0.08379,-20.399531],[4.102136,-0.045591,-20.399531]],"color":[128,128,128],"pattern":{"file":"checker.pat","incr":0.1,"rotate":5.53946361142043,"horz":4.168}}
+{"vertices":[[5.134618,-0.177706,-21.606405],[5.904278,0.040523,-21.606405],[5.865382,0.177706,-22.393595],[5.095722,-0.040523,-22.393595]],"color":[128,128,128],"pattern":{"file":"checker.pat","incr":0.1,"rotate":6.38166442426916,"horz":8.592}}
+"#,
+        );
+        let cam = [
+            "--size",
+            "640x480",
+            "--perspective",
+            "60,1.333,0.1,100",
+            "--lookat",
+            "0,1.2,0,0,0,-12",
+            "two.json",
+        ];
+        for (flags, out) in [(&["--reference"][..], "ref.png"), (&[][..], "exact.png")] {
+            dir.cmd("scene-render")
+                .args(cam)
+                .args(flags)
+                .args(["-o", out])
+                .assert()
+                .success();
+        }
+        assert!(max_error(&dir, "exact.png", "ref.png") <= EXACT_MAX_CODES);
+    }
+);
