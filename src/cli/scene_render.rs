@@ -77,6 +77,9 @@ pub struct Args {
     #[command(flatten)]
     pub texture: super::scene_texture::TextureArgs,
 
+    #[command(flatten)]
+    pub stripe: super::scene_stripe::StripeArgs,
+
     /// Which faces to drop; the front is the side from which the vertices run
     /// counter-clockwise.
     #[arg(long, value_enum, default_value_t = Cull::None)]
@@ -341,6 +344,7 @@ fn read_scene(input: &str) -> Result<Scene> {
     let name = display_name(input).to_string();
     let base = crate::stream::base_dir(input);
     let mut patterns: HashMap<std::path::PathBuf, Arc<ScreenPattern>> = HashMap::new();
+    let mut stripes = crate::stripe::record::StripeLoader::new(&base);
     let reader: Box<dyn BufRead> = if input == crate::io::STDIO {
         Box::new(std::io::stdin().lock())
     } else {
@@ -354,6 +358,14 @@ fn read_scene(input: &str) -> Result<Scene> {
         ))
     };
     let scene = read_items(reader, &name, |rec| {
+        let stripe = super::scene_stripe::read(&mut stripes, &rec.fields, rec.color)
+            .with_context(|| format!("{name}: record {}", rec.index))?;
+        if stripe.is_some() && rec.pattern.is_some() {
+            anyhow::bail!(
+                "{name}: record {}: has both \"pattern\" and \"stripe\": a face takes one texture",
+                rec.index
+            );
+        }
         let mut screen = None;
         // "object" and "uv" patterns: placed after projection (below).
         let mut placed = None;
@@ -386,7 +398,11 @@ fn read_scene(input: &str) -> Result<Scene> {
         Ok(Drawable {
             index: rec.index,
             shape: rec.shape,
-            color: rec.color.unwrap_or(Rgb8::BLACK),
+            color: match &stripe {
+                Some(st) => st.face,
+                None => rec.color.unwrap_or(Rgb8::BLACK),
+            },
+            stripe,
             screen,
             placed: placed.map(|(pref, mode, p)| (pref.clone(), mode, p)),
             uv: rec.uv,
@@ -468,6 +484,7 @@ fn render_frames(
 struct Drawing<'a> {
     cull: Cull,
     texture: &'a super::scene_texture::TextureArgs,
+    stripe: crate::stripe::LodMode,
     /// The frame number, for transforms that vary per frame.
     frame: u64,
 }
@@ -477,6 +494,7 @@ impl<'a> Drawing<'a> {
         Drawing {
             cull: args.cull,
             texture: &args.texture,
+            stripe: args.stripe.mode(),
             frame,
         }
     }
@@ -493,6 +511,9 @@ struct Drawable {
     /// An object- or uv-mode pattern, placed when the record is projected.
     placed: Option<(crate::stream::PatternRef, PatternMode, Arc<ScreenPattern>)>,
     uv: Option<Vec<[f64; 2]>>,
+    /// A stripe texture (seed 001), given its screen mapping when the record
+    /// is projected.
+    stripe: Option<super::scene_stripe::RecordStripe>,
 }
 
 /// A stream element as the renderer keeps it.
@@ -586,6 +607,7 @@ fn project_parts(
     let Drawing {
         cull,
         texture,
+        stripe,
         frame,
     } = *how;
     let moved;
@@ -615,6 +637,15 @@ fn project_parts(
                 };
                 if let Some(mut p) = raster::project(view, &outline, d.color, order, cull) {
                     p.screen = d.screen.clone();
+                    if let Some(st) = &d.stripe {
+                        match super::scene_stripe::shader(st, view, &outline, stripe)
+                            .with_context(|| format!("record {}", d.index))?
+                        {
+                            Some(t) => p.stripe = Some(Arc::new(t)),
+                            // Edge-on: a sliver of rounding; nothing to draw.
+                            None => continue,
+                        }
+                    }
                     if let Some((pref, mode, texels)) = &d.placed {
                         let tex = super::scene_texture::place(
                             texture,

@@ -225,7 +225,8 @@ fn pixel(
     for &ci in cands {
         let f = &polys[ci as usize];
         // A textured polygon's colour varies over the square (and may be
-        // transparent): always integrated.
+        // transparent): always integrated. A stripe's is integrated exactly
+        // over the square below.
         if f.texture.is_some() || !covers_square(&f.verts, x, y) {
             continue;
         }
@@ -236,7 +237,16 @@ fn pixel(
                     .all(|&(cx, cy)| !in_front(&polys[gi as usize], f, cx, cy))
         });
         if hides_all {
-            let c = f.color_at(px, py).expect("candidates are opaque here");
+            let c = match &f.stripe {
+                // The stripe's exact box integral over the square (its own
+                // error is f64 rounding); where it declines (too many
+                // stripes), the pixel is integrated below like any other.
+                Some(st) => match st.reference_linear(px, py) {
+                    Ok(c) => c,
+                    Err(_) => break,
+                },
+                None => f.color_at(px, py).expect("candidates are opaque here"),
+            };
             return (c.map(|c| c as f32), 0.0);
         }
     }
@@ -391,6 +401,9 @@ fn events(
         if let Some(t) = &polys[ci as usize].texture {
             texel_lines(&t.map, x, y, centre, prims);
         }
+        if let Some(st) = &polys[ci as usize].stripe {
+            stripe_lines(st, x, y, centre, prims);
+        }
     }
     for i in 0..prims.len() {
         for j in i + 1..prims.len() {
@@ -473,6 +486,55 @@ fn texel_lines(
                 bounded: false,
             });
         }
+    }
+}
+
+/// Unbounded prims along the boundaries between map samples of a stripe
+/// texture (the iso-lines `P N = k`, all through the stripes' vanishing
+/// point) that cross the pixel at (x, y): the crisp stripe function is
+/// constant between them, so, like texel edges, they are events. At most
+/// [`MAX_TEXEL_LINES`], with the same reasoning.
+fn stripe_lines(
+    st: &crate::stripe::StripeTexture,
+    x: f64,
+    y: f64,
+    centre: glam::DVec2,
+    prims: &mut Vec<Prim>,
+) {
+    use glam::DVec2;
+    let m = &st.mapping;
+    let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
+    let d: Vec<f64> = corners
+        .iter()
+        .map(|&(cx, cy)| m.denominator(cx, cy))
+        .collect();
+    if !(d.iter().all(|&v| v > 0.0) || d.iter().all(|&v| v < 0.0)) {
+        // The plane's horizon crosses the pixel (see `texel_lines`).
+        return;
+    }
+    let n = st.modulation.len() as f64;
+    let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+    for &(cx, cy) in &corners {
+        let k = m.p(cx, cy) * n;
+        lo = lo.min(k);
+        hi = hi.max(k);
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return;
+    }
+    let (k0, k1) = (lo.floor() as i64 + 1, hi.ceil() as i64 - 1);
+    for k in k0..=k1.min(k0.saturating_add(MAX_TEXEL_LINES - 1)) {
+        let [a, b, c] = m.iso_line(k as f64 / n);
+        let nn = a * a + b * b;
+        if nn == 0.0 {
+            continue;
+        }
+        let t = (a * centre.x + b * centre.y + c) / nn;
+        prims.push(Prim {
+            p: centre - DVec2::new(a, b) * t,
+            d: DVec2::new(-b, a),
+            bounded: false,
+        });
     }
 }
 
@@ -579,6 +641,12 @@ fn line_colour(
             texel_breaks(t.map.u, t.map.d, a, b, y, &mut s.breaks);
             texel_breaks(t.map.v, t.map.d, a, b, y, &mut s.breaks);
         }
+        if let Some(st) = &polys[cands[ci] as usize].stripe {
+            // Map-sample boundaries: P N crosses an integer.
+            let (c, n) = (st.mapping.c, st.modulation.len() as f64);
+            let num = [c[0] * n, c[1] * n, c[2] * n];
+            texel_breaks(num, [c[3], c[4], c[5]], a, b, y, &mut s.breaks);
+        }
     }
     s.breaks.sort_by(f64::total_cmp);
     let mut acc = [0.0f64; 3];
@@ -596,7 +664,12 @@ fn line_colour(
                 continue;
             }
             let p = &polys[cands[ci] as usize];
-            let Some(c) = p.color_at_point(x as u32, y as u32, mid, y) else {
+            let colour = match &p.stripe {
+                // The crisp stripe function, constant between the breaks.
+                Some(st) => Some(st.crisp_linear(mid, y)),
+                None => p.color_at_point(x as u32, y as u32, mid, y),
+            };
+            let Some(c) = colour else {
                 continue;
             };
             best = match best {

@@ -180,7 +180,7 @@ pub const MAX_REFERENCE_CROSSINGS: u64 = 1 << 20;
 
 /// A stripe-textured face as the renderer sees it: the shared pyramid, the
 /// face's screen mapping, the colour select and the face colour.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct StripeTexture {
     pub modulation: Arc<Modulation>,
     pub mapping: ScreenMapping,
@@ -234,6 +234,41 @@ impl StripeTexture {
     #[inline]
     pub fn shade_linear(&self, px: u32, py: u32) -> [f32; 3] {
         self.colour(self.modulation_at(px as f64 + 0.5, py as f64 + 0.5))
+    }
+
+    /// The colour at the screen point `(x, y)` (y up), linear light: the
+    /// LOD-filtered modulation there. `scene-render --aa none` and `ssN` call
+    /// this at each sample point.
+    #[inline]
+    pub fn linear_at(&self, x: f64, y: f64) -> [f32; 3] {
+        self.colour(self.modulation_at(x, y))
+    }
+
+    /// The colour of a fragment of pixel `(px, py)` (`py` from the bottom),
+    /// linear light, for `scene-render --aa exact`: the LOD-filtered
+    /// modulation at the fragment's centroid, `verts` being the fragment
+    /// (convex, any orientation) or empty for the whole pixel square (centroid
+    /// = pixel centre). The LOD filter already stands for the box over the
+    /// pixel's footprint; the centroid centres it on the part of the pixel the
+    /// face actually covers, so an edge pixel takes the stripe under its
+    /// covered part rather than the one under the (possibly uncovered) centre.
+    pub fn fragment_linear(&self, px: u32, py: u32, verts: &[DVec2]) -> [f32; 3] {
+        let (x, y) = centroid(verts).unwrap_or((px as f64 + 0.5, py as f64 + 0.5));
+        self.linear_at(x, y)
+    }
+
+    /// The crisp stripe colour at the screen point `(x, y)` (level 0, no LOD),
+    /// linear light, f64: the function the reference integrates.
+    #[inline]
+    pub fn crisp_linear(&self, x: f64, y: f64) -> [f64; 3] {
+        let m = self.modulation.crisp(self.mapping.p(x, y));
+        let mut c = self.face.map(|v| v as f64);
+        for (ch, on) in c.iter_mut().zip(self.select.0) {
+            if on {
+                *ch *= m;
+            }
+        }
+        c
     }
 
     /// [`StripeTexture::shade_linear`] encoded to 8-bit sRGB.
@@ -318,6 +353,28 @@ impl StripeTexture {
         let c = self.reference_linear(px, py)?;
         Ok(Rgb8::from_linear(c.map(|v| v as f32)))
     }
+}
+
+/// The area centroid of a polygon; `None` for fewer than three vertices or
+/// no area (a sliver whose centroid is not defined: the caller uses the pixel
+/// centre, which a fragment of no area cannot make visibly wrong).
+fn centroid(poly: &[DVec2]) -> Option<(f64, f64)> {
+    if poly.len() < 3 {
+        return None;
+    }
+    // Relative to the first vertex: pixel coordinates near 1000 would
+    // otherwise cancel in the cross products.
+    let o = poly[0];
+    let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for i in 0..poly.len() {
+        let (p, q) = (poly[i] - o, poly[(i + 1) % poly.len()] - o);
+        let cross = p.x * q.y - q.x * p.y;
+        a2 += cross;
+        cx += (p.x + q.x) * cross;
+        cy += (p.y + q.y) * cross;
+    }
+    let (x, y) = (o.x + cx / (3.0 * a2), o.y + cy / (3.0 * a2));
+    (a2 != 0.0 && x.is_finite() && y.is_finite()).then_some((x, y))
 }
 
 /// Unsigned area of a simple polygon (shoelace).
