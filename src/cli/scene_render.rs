@@ -485,6 +485,9 @@ struct Drawing<'a> {
     cull: Cull,
     texture: &'a super::scene_texture::TextureArgs,
     stripe: crate::stripe::LodMode,
+    /// Pixels per stripe evaluation ([`crate::stripe::StripeTexture::footprint`]):
+    /// `1/k` for `--aa ss<k²>`, else 1.
+    stripe_footprint: f64,
     /// The frame number, for transforms that vary per frame.
     frame: u64,
 }
@@ -495,6 +498,10 @@ impl<'a> Drawing<'a> {
             cull: args.cull,
             texture: &args.texture,
             stripe: args.stripe.mode(),
+            stripe_footprint: match args.aa {
+                raster::Aa::Ss(k) => 1.0 / k as f64,
+                raster::Aa::None | raster::Aa::Exact => 1.0,
+            },
             frame,
         }
     }
@@ -608,6 +615,7 @@ fn project_parts(
         cull,
         texture,
         stripe,
+        stripe_footprint,
         frame,
     } = *how;
     let moved;
@@ -641,7 +649,9 @@ fn project_parts(
                         match super::scene_stripe::shader(st, view, &outline, stripe)
                             .with_context(|| format!("record {}", d.index))?
                         {
-                            Some(t) => p.stripe = Some(Arc::new(t)),
+                            Some(t) => {
+                                p.stripe = Some(Arc::new(t.with_footprint(stripe_footprint)))
+                            }
                             // Edge-on: a sliver of rounding; nothing to draw.
                             None => continue,
                         }
