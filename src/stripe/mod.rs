@@ -317,11 +317,13 @@ impl StripeTexture {
             pmax = pmax.max(p);
         }
         let (jmin, jmax) = ((pmin * n).floor(), (pmax * n).floor());
-        if !(jmax - jmin <= FEW_CROSSINGS as f64) {
+        // NaN (a vertex at infinity) fails both tests: no exact answer.
+        let crossings = jmax - jmin;
+        if crossings.is_nan() || crossings > FEW_CROSSINGS as f64 {
             return None;
         }
         let area = polygon_area(poly);
-        if !(area > 0.0) {
+        if area.is_nan() || area <= 0.0 {
             return None;
         }
         let (jmin, jmax) = (jmin as i64, jmax as i64);
