@@ -330,3 +330,30 @@ fn footprint_scales_the_level_of_detail() {
     assert!(full.level as f32 + full.a - (finer.level as f32 + finer.a) > 0.99);
     assert_eq!(half.modulation_at(x, y), m.lookup(t.mapping.p(x, y), finer));
 }
+
+proptest::proptest! {
+    #[test]
+    fn floor_i64_is_floor(x in -1e15f64..1e15, frac in proptest::sample::select(vec![0.0, 0.5, -0.5, 1e-9, -1e-9])) {
+        let v = x.trunc() + frac;
+        proptest::prop_assert_eq!(floor_i64(v), v.floor() as i64);
+        proptest::prop_assert_eq!(floor_i64(x), x.floor() as i64);
+    }
+}
+
+#[test]
+fn floor_i64_edges() {
+    for v in [
+        0.0,
+        -0.0,
+        -1.0,
+        -1.5,
+        2.0,
+        1e300,
+        -1e300,
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    ] {
+        assert_eq!(floor_i64(v), v.floor() as i64, "{v}");
+    }
+}
