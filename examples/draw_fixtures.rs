@@ -207,6 +207,69 @@ fn marble() -> RgbaImage {
     })
 }
 
+/// An earth-like map for seed 002's textured globe (`gluSphere` with
+/// `gluQuadricTexture`): equirectangular, x the longitude (GLU's s) and y the
+/// latitude from the south pole (t), so one copy wraps the sphere. Continents
+/// are periodic value noise above a threshold (the map tiles left to right,
+/// so the sphere's seam is invisible); ice caps past 70 degrees; five flat
+/// colours so the conversion to a .pat is exact.
+fn earth() -> RgbaImage {
+    const SIDE: u32 = 64;
+    draw(SIDE, |x, y| {
+        let lat = (y as f64 + 0.5) / SIDE as f64 * 180.0 - 90.0;
+        if lat.abs() > 70.0 {
+            return Some([236, 242, 248]);
+        }
+        let (fx, fy) = (x as f64 / SIDE as f64, y as f64 / SIDE as f64);
+        let h = value_noise(fx * 4.0, fy * 4.0, 4, 2) * 0.7
+            + value_noise(fx * 8.0, fy * 8.0, 8, 3) * 0.3;
+        Some(if h > 0.68 {
+            [150, 120, 70] // highlands
+        } else if h > 0.56 {
+            [60, 140, 60] // lowlands
+        } else if h > 0.5 {
+            [40, 110, 190] // shallow sea
+        } else {
+            [20, 50, 130] // ocean
+        })
+    })
+}
+
+/// A moon-like map for the second sphere: grey highlands, darker maria from
+/// value noise, and a few round craters with bright rims placed by hash.
+fn moon() -> RgbaImage {
+    const SIDE: u32 = 32;
+    let craters: Vec<(f64, f64, f64)> = (0..6)
+        .map(|k| {
+            let h = hash(k, 17);
+            (
+                (h % 32) as f64,
+                ((h >> 8) % 20 + 6) as f64,
+                ((h >> 16) % 3 + 2) as f64,
+            )
+        })
+        .collect();
+    draw(SIDE, |x, y| {
+        let (fx, fy) = (x as f64 / SIDE as f64, y as f64 / SIDE as f64);
+        for &(cx, cy, r) in &craters {
+            // Distance across the left-right wrap, so craters tile too.
+            let dx = (x as f64 - cx).abs();
+            let d = dx.min(SIDE as f64 - dx).hypot(y as f64 - cy);
+            if d < r - 1.0 {
+                return Some([95, 95, 100]);
+            }
+            if d < r {
+                return Some([215, 215, 210]);
+            }
+        }
+        Some(if value_noise(fx * 4.0, fy * 4.0, 4, 5) > 0.55 {
+            [120, 120, 125] // maria
+        } else {
+            [175, 175, 170] // highlands
+        })
+    })
+}
+
 fn main() {
     let out = std::env::args()
         .nth(1)
@@ -221,6 +284,8 @@ fn main() {
         ("bkgrnd", bkgrnd()),
         ("pyr", pyr()),
         ("chex", chex()),
+        ("earth", earth()),
+        ("moon", moon()),
     ];
     let pictures = patterns.into_iter().chain([("marble", marble())]);
     for (name, img) in pictures {

@@ -342,6 +342,102 @@ impl Image {
     }
 }
 
+/// An animated PNG (APNG) written one frame at a time, so an animation never
+/// holds more than one frame in memory. Every frame fills the whole canvas
+/// (the default `fcTL` region, dispose none, blend source) and the first frame
+/// is also the default image, so a viewer without APNG support shows frame 0.
+pub struct ApngWriter {
+    writer: Option<png::Writer<SharedOutput>>,
+    /// The file, shared with `writer`: `png::Writer::finish` consumes the
+    /// writer without giving its stream back, and the output must still be
+    /// committed (moved into place) after the last chunk.
+    out: std::rc::Rc<std::cell::RefCell<Output>>,
+    name: String,
+    width: u32,
+    height: u32,
+    channels: u8,
+}
+
+impl ApngWriter {
+    /// Starts `name` (`-` = standard output) for `frames` frames of
+    /// `width` x `height` with `channels` (3 or 4), each shown for 1/`fps`
+    /// seconds, looping forever (`num_plays` 0).
+    pub fn create(
+        name: &str,
+        width: u32,
+        height: u32,
+        channels: u8,
+        frames: u32,
+        fps: u16,
+    ) -> Result<ApngWriter> {
+        let out = std::rc::Rc::new(std::cell::RefCell::new(Output::create(name, true)?));
+        let ctx = || format!("writing {}", display_out(name));
+        let mut enc = png::Encoder::new(SharedOutput(out.clone()), width, height);
+        enc.set_color(if channels == 4 {
+            png::ColorType::Rgba
+        } else {
+            png::ColorType::Rgb
+        });
+        enc.set_depth(png::BitDepth::Eight);
+        enc.set_animated(frames, 0).with_context(ctx)?;
+        enc.set_frame_delay(1, fps).with_context(ctx)?;
+        let writer = enc.write_header().with_context(ctx)?;
+        Ok(ApngWriter {
+            writer: Some(writer),
+            out,
+            name: name.to_string(),
+            width,
+            height,
+            channels,
+        })
+    }
+
+    /// Appends the next frame; it must have the size and channels given to
+    /// [`ApngWriter::create`].
+    pub fn push(&mut self, img: &Image) -> Result<()> {
+        if (img.width, img.height, img.channels) != (self.width, self.height, self.channels) {
+            bail!(
+                "{}: frame of {}x{} with {} channels in an animation of {}x{} with {}",
+                display_out(&self.name),
+                img.width,
+                img.height,
+                img.channels,
+                self.width,
+                self.height,
+                self.channels
+            );
+        }
+        let w = self.writer.as_mut().expect("not finished");
+        w.write_image_data(&img.data)
+            .with_context(|| format!("writing {}", display_out(&self.name)))
+    }
+
+    /// Ends the file (all frames must have been pushed) and moves it into place.
+    pub fn finish(mut self) -> Result<()> {
+        let w = self.writer.take().expect("not finished");
+        let ctx = || format!("writing {}", display_out(&self.name));
+        w.finish().with_context(ctx)?;
+        let out = std::rc::Rc::try_unwrap(self.out)
+            .map_err(|_| {
+                anyhow::anyhow!("{}: the output is still in use", display_out(&self.name))
+            })?
+            .into_inner();
+        out.commit()
+    }
+}
+
+/// [`Output`] behind a shared handle, for [`ApngWriter`].
+struct SharedOutput(std::rc::Rc<std::cell::RefCell<Output>>);
+
+impl Write for SharedOutput {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.0.borrow_mut().write(buf)
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        self.0.borrow_mut().flush()
+    }
+}
+
 /// Decodes any image the `image` crate reads (PNG, JPEG, GIF, BMP, TIFF, WebP,
 /// PNM/PAM) into RGBA8.
 pub fn decode_image(bytes: &[u8], name: &str) -> Result<image::RgbaImage> {

@@ -31,6 +31,114 @@ pub enum Shape {
         start: f64,
         end: f64,
     },
+    /// `{"sphere": {...}}`, `"cylinder"`, `"cone"` or `"disk"` with an
+    /// optional record `"transform"` (docs/objects.md, Quadrics): drawn as
+    /// triangles with GLU texture coordinates (`crate::geom::quadric`).
+    Quadric(Box<crate::geom::quadric::QuadricShape>),
+}
+
+/// The record keys of the quadrics, GLU's names (`cone` is a cylinder with
+/// top radius 0).
+pub const QUADRIC_KEYS: [&str; 4] = ["sphere", "cylinder", "cone", "disk"];
+
+/// Parses a quadric record's geometry: `kind` is its key, `v` its object,
+/// `transform` the record's `"transform"` (frame 0 of an animated one).
+/// GLU's parameter names: sphere `radius, slices, stacks`; cylinder `base,
+/// top, height, slices, stacks`; cone `base, height, slices, stacks`; disk
+/// `inner, outer, slices, loops`; any of them may add `"repeat": [ns, nt]`.
+fn parse_quadric(
+    kind: &'static str,
+    v: &Value,
+    transform: Option<&Value>,
+) -> Result<crate::geom::quadric::QuadricShape, String> {
+    use crate::geom::quadric::{
+        Quadric, QuadricShape, MAX_SEGMENTS, MIN_SLICES, MIN_SPHERE_STACKS,
+    };
+    let obj = v
+        .as_object()
+        .ok_or_else(|| format!("{kind}: expected an object, found {}", short(v)))?;
+    let (params, stack_key, min_stacks): (&[&str], &str, u32) = match kind {
+        "sphere" => (&["radius"], "stacks", MIN_SPHERE_STACKS),
+        "cylinder" => (&["base", "top", "height"], "stacks", 1),
+        "cone" => (&["base", "height"], "stacks", 1),
+        _ => (&["inner", "outer"], "loops", 1),
+    };
+    for k in obj.keys() {
+        let known =
+            params.contains(&k.as_str()) || ["slices", stack_key, "repeat"].contains(&k.as_str());
+        if !known {
+            return Err(format!(
+                "{kind}.{k}: not a {kind} parameter: expected {}, slices, {stack_key}, repeat",
+                params.join(", ")
+            ));
+        }
+    }
+    let num = |k: &str| -> Result<f64, String> {
+        let x = obj.get(k).ok_or_else(|| format!("{kind}.{k} is missing"))?;
+        as_finite(x, &format!("{kind}.{k}"))
+    };
+    let count = |k: &str, min: u32| -> Result<Option<u32>, String> {
+        let Some(x) = obj.get(k) else { return Ok(None) };
+        match x.as_u64() {
+            Some(n) if (min as u64..=MAX_SEGMENTS as u64).contains(&n) => Ok(Some(n as u32)),
+            _ => Err(format!(
+                "{kind}.{k} {}: expected a whole number from {min} to {MAX_SEGMENTS}",
+                short(x)
+            )),
+        }
+    };
+    let quadric = match kind {
+        "sphere" => Quadric::Sphere {
+            radius: num("radius")?,
+        },
+        "cylinder" => Quadric::Cylinder {
+            base: num("base")?,
+            top: num("top")?,
+            height: num("height")?,
+        },
+        "cone" => Quadric::Cylinder {
+            base: num("base")?,
+            top: 0.0,
+            height: num("height")?,
+        },
+        _ => Quadric::Disk {
+            inner: obj.get("inner").map_or(Ok(0.0), |_| num("inner"))?,
+            outer: num("outer")?,
+        },
+    };
+    quadric.check().map_err(|e| {
+        // The check names a cone's radii as the cylinder's it is.
+        if kind == "cone" {
+            e.replace("cylinder", "cone")
+        } else {
+            e
+        }
+    })?;
+    let repeat = match obj.get("repeat") {
+        None => [1.0, 1.0],
+        Some(r) => {
+            let [a, b] = number_array::<2>(r, &format!("{kind}.repeat"))?;
+            if !(a > 0.0 && b > 0.0) {
+                return Err(format!(
+                    "{kind}.repeat [{a}, {b}]: expected two positive numbers"
+                ));
+            }
+            [a, b]
+        }
+    };
+    let transform = transform
+        .map(Transform::from_json)
+        .transpose()
+        .map_err(|e| e.to_string())?
+        .unwrap_or_default();
+    Ok(QuadricShape {
+        quadric,
+        kind,
+        slices: count("slices", MIN_SLICES)?,
+        stacks: count(stack_key, min_stacks)?,
+        repeat,
+        transform,
+    })
 }
 
 /// How a pattern is fixed to a polygon (SPEC §2).
@@ -267,7 +375,9 @@ impl Record {
             ));
         };
         let e = |m: String| field_err(index, m);
-        let keys = ["vertices", "rect", "circle", "arc"];
+        let keys = [
+            "vertices", "rect", "circle", "arc", "sphere", "cylinder", "cone", "disk",
+        ];
         let present: Vec<&str> = keys
             .iter()
             .copied()
@@ -309,10 +419,16 @@ impl Record {
                     end: as_finite(get("end"), "arc.end").map_err(e)?,
                 }
             }
+            [k] if QUADRIC_KEYS.contains(k) => {
+                let kind = QUADRIC_KEYS.into_iter().find(|q| q == k).expect("checked");
+                Shape::Quadric(Box::new(
+                    parse_quadric(kind, &fields[kind], fields.get("transform")).map_err(e)?,
+                ))
+            }
             [] => {
                 return Err(field_err(
                     index,
-                    "no geometry: expected one of \"vertices\", \"rect\", \"circle\", \"arc\"",
+                    "no geometry: expected one of \"vertices\", \"rect\", \"circle\", \"arc\", \"sphere\", \"cylinder\", \"cone\", \"disk\"",
                 ))
             }
             many => {
@@ -366,6 +482,17 @@ impl Record {
                 )
             }
         };
+        if let (Shape::Quadric(q), Some(p)) = (&shape, &pattern) {
+            if p.mode == Some(PatternMode::Object) {
+                return Err(field_err(
+                    index,
+                    format!(
+                        "{}: pattern.mode \"object\": a quadric's pattern is placed by its texture coordinates: expected \"uv\" (the default for quadrics) or \"screen\"",
+                        q.kind
+                    ),
+                ));
+            }
+        }
         // A stripe texture (crate::stripe::record) may carry its own colour
         // code, so it counts as colouring the record.
         if color.is_none() && pattern.is_none() && !fields.contains_key("stripe") {
@@ -640,6 +767,23 @@ impl Objects {
 /// be a similarity. Windings are kept as listed, so a mirroring transform turns
 /// the record's front face away (as in GL).
 pub fn transform_record(r: &Record, t: &Transform, index: usize) -> Result<Record, String> {
+    if let Shape::Quadric(q) = &r.shape {
+        // A quadric stays a quadric: its own placement is followed by `t`,
+        // and its JSON "transform" becomes the combined matrix.
+        let mut moved = (**q).clone();
+        moved.transform = q.transform.then(*t);
+        let mut fields = r.fields.clone();
+        fields.insert(
+            "transform".into(),
+            serde_json::json!({"matrix": moved.transform.row_matrix()}),
+        );
+        return Ok(Record {
+            index,
+            shape: Shape::Quadric(Box::new(moved)),
+            fields,
+            ..r.clone()
+        });
+    }
     let tol = match r.shape {
         Shape::Circle { radius, .. } | Shape::Arc { radius, .. } => {
             radius * INSTANCE_CURVE_TOLERANCE
@@ -692,6 +836,67 @@ pub fn transform_record(r: &Record, t: &Transform, index: usize) -> Result<Recor
         uv: r.uv.clone(),
         fields,
     })
+}
+
+/// A quadric record as plain triangle records, for tools that forward
+/// polygons (`polyfill3`): each triangle keeps the record's other fields,
+/// gets `"vertices"` (the record's transform applied) and, when the record
+/// has a pattern, `"uv"` in texels of a `pattern_size` pattern with the
+/// pattern's mode set to `"uv"` (see [`crate::geom::quadric::QuadricShape::texel_triangles`]).
+/// `tolerance` is the chord tolerance in the record's space, for the slices
+/// and stacks it leaves out. Not a quadric: `None`.
+pub fn quadric_triangles(
+    r: &Record,
+    tolerance: f64,
+    pattern_size: Option<u32>,
+) -> Option<Result<Vec<Map<String, Value>>, String>> {
+    let Shape::Quadric(q) = &r.shape else {
+        return None;
+    };
+    // Chords in the quadric's own units: the transform stretches them by at
+    // most its largest column length (an upper bound on its largest
+    // singular value within sqrt(3)).
+    let m = q.transform.matrix();
+    let stretch = [m.x_axis, m.y_axis, m.z_axis]
+        .iter()
+        .map(|c| c.truncate().length())
+        .fold(0.0, f64::max);
+    let tris = match q.texel_triangles(tolerance / stretch, pattern_size.unwrap_or(1)) {
+        Ok(t) => t,
+        Err(e) => return Some(Err(e)),
+    };
+    let mut base = r.fields.clone();
+    base.remove(q.kind);
+    base.remove("transform");
+    let screen = matches!(
+        r.pattern.as_ref().and_then(|p| p.mode),
+        Some(PatternMode::Screen)
+    );
+    let uv = pattern_size.is_some() && !screen;
+    if let (true, Some(Value::Object(p))) = (uv, base.get_mut("pattern")) {
+        p.insert("mode".into(), Value::from("uv"));
+    }
+    Some(Ok(tris
+        .iter()
+        .map(|t| {
+            let mut f = base.clone();
+            f.insert(
+                "vertices".into(),
+                Value::Array(
+                    t.v.iter()
+                        .map(|p| serde_json::json!([p.x, p.y, p.z]))
+                        .collect(),
+                ),
+            );
+            if uv {
+                f.insert(
+                    "uv".into(),
+                    Value::Array(t.uv.iter().map(|c| serde_json::json!(c)).collect()),
+                );
+            }
+            f
+        })
+        .collect()))
 }
 
 /// Where relative pattern paths resolve (SPEC §2): the stream file's directory,
@@ -1042,5 +1247,108 @@ mod tests {
             String::from_utf8(out).unwrap(),
             "{\"z\":1,\"rect\":[0,0,1,1],\"color\":[0,0,0],\"a\":{\"b\":[1]}}\n"
         );
+    }
+
+    #[test]
+    fn quadric_records_parse_with_glu_names_and_defaults() {
+        use crate::geom::quadric::Quadric;
+        let recs = read_all(
+            r#"{"sphere": {"radius": 2, "slices": 8}, "color": [1,2,3], "transform": {"translate": [1, 0, 0]}}
+               {"cone": {"base": 3, "height": 4}, "pattern": {"file": "p.pat"}}
+               {"disk": {"outer": 5, "loops": 2, "repeat": [2, 1]}, "color": [0,0,0]}"#,
+        )
+        .unwrap();
+        let q = |r: &Record| match &r.shape {
+            Shape::Quadric(q) => (**q).clone(),
+            other => panic!("{other:?}"),
+        };
+        let sphere = q(&recs[0]);
+        assert_eq!(sphere.quadric, Quadric::Sphere { radius: 2.0 });
+        assert_eq!((sphere.slices, sphere.stacks), (Some(8), None));
+        assert_eq!(sphere.transform.apply(DVec3::ZERO), DVec3::X);
+        let cone = q(&recs[1]);
+        assert_eq!(
+            cone.quadric,
+            Quadric::Cylinder {
+                base: 3.0,
+                top: 0.0,
+                height: 4.0
+            }
+        );
+        assert_eq!(cone.kind, "cone");
+        let disk = q(&recs[2]);
+        assert_eq!(
+            disk.quadric,
+            Quadric::Disk {
+                inner: 0.0,
+                outer: 5.0
+            }
+        );
+        assert_eq!((disk.stacks, disk.repeat), (Some(2), [2.0, 1.0]));
+        assert!(
+            err(r#"{"sphere": {"radius": 1}, "color": [0,0,0], "uv": [[0,0]]}"#)
+                .contains("uv: only polygons carry texture coordinates")
+        );
+        assert!(
+            err(r#"{"sphere": {"radius": 1}, "rect": [0,0,1,1], "color": [0,0,0]}"#)
+                .contains("several geometries (rect, sphere)")
+        );
+        assert!(err(r#"{"sphere": {}, "color": [0,0,0]}"#).contains("sphere.radius is missing"));
+        assert!(
+            err(r#"{"sphere": {"radius": 1, "repeat": [0, 1]}, "color": [0,0,0]}"#)
+                .contains("sphere.repeat [0, 1]: expected two positive numbers")
+        );
+        assert!(
+            err(r#"{"sphere": {"radius": 1, "slices": 4.5}, "color": [0,0,0]}"#)
+                .contains("sphere.slices 4.5: expected a whole number")
+        );
+    }
+
+    #[test]
+    fn an_instance_moves_a_quadric_by_composing_transforms() {
+        let recs = read_all(
+            r#"{"object": "o", "records": [{"sphere": {"radius": 1}, "transform": {"scale": 2}, "color": [0,0,0], "id": "s"}]}
+               {"instance": "o", "transform": {"translate": [5, 0, 0]}}"#,
+        )
+        .unwrap();
+        let Shape::Quadric(q) = &recs[0].shape else {
+            panic!("{:?}", recs[0].shape)
+        };
+        // Scale first, then the instance's translation.
+        assert_eq!(q.transform.apply(DVec3::X), DVec3::new(7.0, 0.0, 0.0));
+        assert_eq!(recs[0].fields["id"], "s");
+        assert!(recs[0].fields["transform"].get("matrix").is_some());
+        // The written matrix reads back as the same transform.
+        let again = Record::from_value(0, Value::Object(recs[0].fields.clone())).unwrap();
+        assert_eq!(again.shape, recs[0].shape);
+    }
+
+    #[test]
+    fn quadric_triangles_become_uv_records_keeping_other_fields() {
+        let recs = read_all(
+            r#"{"sphere": {"radius": 1, "slices": 4, "stacks": 2}, "pattern": {"file": "p.pat"}, "id": 7, "transform": {"translate": [0, 0, 3]}}
+               {"rect": [0,0,1,1], "color": [0,0,0]}"#,
+        )
+        .unwrap();
+        let tris = quadric_triangles(&recs[0], 0.1, Some(16)).unwrap().unwrap();
+        assert_eq!(tris.len(), 8);
+        for t in &tris {
+            assert_eq!(t["id"], 7);
+            assert_eq!(t["pattern"]["mode"], "uv");
+            assert!(t.get("sphere").is_none() && t.get("transform").is_none());
+            let back = Record::from_value(0, Value::Object(t.clone())).unwrap();
+            let Shape::Polygon(v) = &back.shape else {
+                panic!()
+            };
+            assert!(v
+                .iter()
+                .all(|p| ((*p - DVec3::new(0.0, 0.0, 3.0)).length() - 1.0).abs() < 1e-12));
+            assert!(back
+                .uv
+                .unwrap()
+                .iter()
+                .all(|c| (0.0..=16.0).contains(&c[0])));
+        }
+        assert!(quadric_triangles(&recs[1], 0.1, None).is_none());
     }
 }

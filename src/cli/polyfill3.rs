@@ -318,6 +318,51 @@ impl Job<'_> {
         Ok(())
     }
 
+    /// A quadric record becomes its triangles, each a uv-mode record (texture
+    /// coordinates in texels of its pattern) that passes through like any
+    /// uv record: the texture is placed by coordinates, not cut into texel
+    /// polygons. Slices and stacks the record leaves out come from
+    /// --tolerance (world units; there is no camera). The triangles count
+    /// towards --max-polygons; --cull does not apply. A quadric whose
+    /// transform varies per frame passes through unchanged.
+    fn quadric(&mut self, rec: &Record) -> Result<()> {
+        // A transform that varies per frame is scene-render's to evaluate:
+        // expanding frame 0 here would freeze the animation, so the record
+        // passes through unchanged (scene-render draws quadrics directly).
+        if rec
+            .fields
+            .get("transform")
+            .is_some_and(crate::transform::Transform::is_animated)
+        {
+            self.summary.passed += 1;
+            return self.writer.pass(&rec.fields);
+        }
+        let size = match &rec.pattern {
+            Some(p) if p.mode != Some(PatternMode::Screen) => {
+                Some(self.pattern(p.file.as_deref())?.size())
+            }
+            _ => None,
+        };
+        let tris = stream::quadric_triangles(rec, self.args.tolerance, size)
+            .expect("a quadric record")
+            .map_err(|e| anyhow!(e))?;
+        let total = self.summary.polygons + tris.len() as u64;
+        if total > self.args.max_polygons {
+            return Err(anyhow!(
+                "{} triangles of the quadric would take the output past --max-polygons {} ({} written so far)",
+                tris.len(),
+                self.args.max_polygons,
+                self.summary.polygons
+            ));
+        }
+        for t in &tris {
+            self.writer.pass(t)?;
+        }
+        self.summary.polygons = total;
+        self.summary.passed += 1;
+        Ok(())
+    }
+
     /// An instance passes through unchanged: its object is partitioned once.
     fn instance(&mut self, inst: &Instance) -> Result<()> {
         self.summary.instances += 1;
@@ -326,6 +371,9 @@ impl Job<'_> {
 
     fn record(&mut self, rec: Record) -> Result<()> {
         self.summary.records += 1;
+        if let Shape::Quadric(_) = rec.shape {
+            return self.quadric(&rec);
+        }
         let Some(pref) = rec.pattern.clone() else {
             self.summary.passed += 1;
             return self.writer.pass(&rec.fields);

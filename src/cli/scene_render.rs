@@ -34,6 +34,10 @@ Examples:
       An animation: instance transforms with {\"start\": a, \"step\": s} numbers.
   scene-render --frames 36 --frame 7 -o frame-%04d.png spin.json
       Frame 7 alone, as one job of a make -j, GNU parallel or Slurm batch.
+  scene-render --frames 36 --animate --fps 12 -o turn.png spin.json
+      The same animation as one animated PNG.
+  scene-render --ortho -80,80,-60,60,0,100 --size 800x600 two-spheres.json -o two.png
+      Seed 002's textured spheres: quadric records (sphere, cylinder, cone, disk).
 
 Without a camera the view is ortho2(0, W, 0, H) for a WxH image: 2D records
 (rect, circle, arc) and [x,y] polygons map one world unit to one pixel, origin
@@ -91,6 +95,15 @@ pub struct Args {
     #[arg(long, value_name = "none|ssN|exact", default_value = "exact")]
     pub aa: Aa,
 
+    /// Instead of one --aa for the whole frame, use the cheapest methods
+    /// expected to keep the frame's RMSE (8-bit sRGB units, as --compare
+    /// measures it) within E, chosen per region (empty, flat, textured tiles)
+    /// from a pilot sample rendered every way; prints the choice and its
+    /// estimate to standard error (or in --json).
+    #[arg(long, value_name = "E", conflicts_with_all = ["aa", "reference"],
+          value_parser = parse_max_error, allow_negative_numbers = true)]
+    pub max_error: Option<f64>,
+
     /// Render the SPEC §4 reference image instead (an independent, slower
     /// method: exact along lines, exact between events along y); its own error
     /// estimate is reported on standard error.
@@ -117,7 +130,7 @@ pub struct Args {
     #[arg(long, value_name = "FILE", requires = "compare")]
     pub diff: Option<String>,
 
-    /// Print the --compare and --reference reports as JSON.
+    /// Print the --compare, --reference and --max-error reports as JSON.
     #[arg(long)]
     pub json: bool,
 
@@ -128,11 +141,32 @@ pub struct Args {
 
     /// Render an animation of N frames (docs/objects.md): numbers of instance
     /// transforms written `{"start": a, "step": s}` are `a + s*k` in frame k
-    /// (0-based). -o must then be a pattern such as frame-%04d.png.
+    /// (0-based), and so are those of quadric records' "transform". -o must
+    /// then be a pattern such as frame-%04d.png, or a plain name with
+    /// --animate.
     #[arg(long, value_name = "N", default_value_t = 1,
           value_parser = clap::value_parser!(u64).range(1..=MAX_FRAMES),
           conflicts_with_all = ["reference", "compare", "image"])]
     pub frames: u64,
+
+    /// With --frames: write one animated PNG (APNG) to -o, a plain name such
+    /// as turn.png, instead of one file per frame. It loops forever; every
+    /// frame is whole, and frame 0 is also the still image shown by viewers
+    /// without APNG support.
+    #[arg(long, requires = "frames", conflicts_with = "frame")]
+    pub animate: bool,
+
+    /// With --animate: frames per second (each frame shows for 1/FPS s).
+    #[arg(long, value_name = "FPS", default_value_t = DEFAULT_FPS,
+          value_parser = clap::value_parser!(u16).range(1..), requires = "animate")]
+    pub fps: u16,
+
+    /// Largest distance, in pixels, of a quadric's chords from its true
+    /// surface, for quadric records that leave out slices or stacks
+    /// (docs/objects.md): measured at the nearest point of the quadric's
+    /// bounding sphere as drawn by this camera.
+    #[arg(long, value_name = "PX", default_value_t = crate::geom::quadric::DEFAULT_TOLERANCE_PX)]
+    pub quadric_tolerance: f64,
 
     /// Render only frame K of the --frames (0-based): one job of a batch run
     /// by make -j, GNU parallel or a Slurm job array.
@@ -142,6 +176,37 @@ pub struct Args {
     /// Worker threads (default: all cores). The output is identical for any N.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
+}
+
+/// `--max-error E`: a finite RMSE budget, not negative.
+fn parse_max_error(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(e) if e.is_finite() && e >= 0.0 => Ok(e),
+        _ => Err(format!(
+            "`{s}` is not an error budget: expected a finite RMSE of 0 or more (8-bit units)"
+        )),
+    }
+}
+
+/// Renders one frame's polygons the way the arguments ask: one --aa for
+/// all, or the --max-error plan (which it also returns).
+fn render_polys(
+    args: &Args,
+    polys: &[raster::ScreenPoly],
+    bg: &raster::Background,
+    width: u32,
+    height: u32,
+) -> (Image, Option<raster::budget::Plan>) {
+    match args.max_error {
+        Some(e) => {
+            let (frame, plan) = raster::budget::render_within(polys, bg, width, height, e);
+            (frame.to_image(), Some(plan))
+        }
+        None => (
+            raster::render(polys, bg, width, height, args.aa).to_image(),
+            None,
+        ),
+    }
 }
 
 /// Runs `scene-render`.
@@ -158,6 +223,10 @@ pub fn run(args: Args) -> Result<()> {
 /// far more than a batch needs, and a bound that catches a mistyped count.
 pub const MAX_FRAMES: u64 = 24 * 60 * 60 * 24;
 
+/// Frames per second of an --animate APNG: the thesis's demo 2 turned its
+/// pyramid at about this rate on the IRIS.
+pub const DEFAULT_FPS: u16 = 10;
+
 fn run_in_pool(args: Args) -> Result<()> {
     if let Some(k) = args.frame {
         if k >= args.frames {
@@ -167,8 +236,35 @@ fn run_in_pool(args: Args) -> Result<()> {
             );
         }
     }
+    if !(args.quadric_tolerance > 0.0 && args.quadric_tolerance.is_finite()) {
+        usage_bail!(
+            "--quadric-tolerance {}: expected a positive number of pixels",
+            args.quadric_tolerance
+        );
+    }
     let animation = args.frames > 1 || args.frame.is_some();
-    if animation {
+    if args.animate {
+        match &args.output {
+            None => usage_bail!("--animate: give -o, the animated PNG to write"),
+            Some(o) if frame_name(o, 0).is_some() => {
+                usage_bail!(
+                    "-o {o}: --animate writes one file: expected a plain name such as turn.png"
+                )
+            }
+            _ => {}
+        }
+        if matches!(args.format, Some(f) if f != ImageFormat::Png) {
+            usage_bail!("--animate writes an animated PNG: --format must be png");
+        }
+        let o = args.output.as_deref().unwrap_or_default();
+        let ext = std::path::Path::new(o)
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        if o != crate::io::STDIO && !matches!(ext.as_deref(), Some("png" | "apng")) {
+            usage_bail!("-o {o}: --animate writes an animated PNG: expected a .png or .apng name");
+        }
+    } else if animation {
         match &args.output {
             None => usage_bail!("--frames: give -o, a pattern such as frame-%04d.png"),
             Some(o) if frame_name(o, 0).is_none() && (args.frame.is_none() && args.frames > 1) => {
@@ -180,8 +276,8 @@ fn run_in_pool(args: Args) -> Result<()> {
             _ => {}
         }
     }
-    if args.json && args.compare.is_none() && !args.reference {
-        usage_bail!("--json is for the --compare and --reference reports");
+    if args.json && args.compare.is_none() && !args.reference && args.max_error.is_none() {
+        usage_bail!("--json is for the --compare, --reference and --max-error reports");
     }
     // Everything that can fail is checked before anything is written.
     let reference_img = match &args.compare {
@@ -190,17 +286,30 @@ fn run_in_pool(args: Args) -> Result<()> {
     };
     if let Some(img_name) = &args.image {
         let img = load_image(img_name)?;
-        return finish(&args, None, img, reference_img, None);
+        return finish(
+            &args,
+            None,
+            img,
+            reference_img,
+            Reports {
+                residual: None,
+                plan: None,
+            },
+        );
     }
     let output = match (&args.output, &args.compare) {
         (Some(o), _) => Some(o.clone()),
         (None, Some(_)) => None,
         (None, None) => Some(crate::io::STDIO.to_string()),
     };
-    let format = output
-        .as_deref()
-        .map(|o| ImageFormat::choose(args.format, o))
-        .transpose()?;
+    let format = if args.animate {
+        Some(ImageFormat::Png)
+    } else {
+        output
+            .as_deref()
+            .map(|o| ImageFormat::choose(args.format, o))
+            .transpose()?
+    };
     let Size { width, height } = args.size;
     let camera = match args.camera.resolve()? {
         Some(c) => c,
@@ -221,7 +330,7 @@ fn run_in_pool(args: Args) -> Result<()> {
     let bg = Background::new(args.background, bg_pattern.as_ref());
     let t_read = std::time::Instant::now();
     let scene = read_scene(&args.input)?;
-    if animation {
+    if animation || args.animate {
         let format = format.expect("animations have an output");
         return render_frames(&args, &scene, &view, &bg, format);
     }
@@ -236,18 +345,17 @@ fn run_in_pool(args: Args) -> Result<()> {
     )
     .with_context(|| display_name(&args.input).to_string())?;
     let t_render = std::time::Instant::now();
-    let (img, residual) = if args.reference {
+    let (img, residual, plan) = if args.reference {
         let r = reference::render(&polys, &bg, width, height, args.reference_samples);
         let res = r.residual(args.reference_samples);
-        (r.frame.to_image(), Some(res))
+        (r.frame.to_image(), Some(res), None)
     } else {
-        (
-            raster::render(&polys, &bg, width, height, args.aa).to_image(),
-            None,
-        )
+        let (img, plan) = render_polys(&args, &polys, &bg, width, height);
+        (img, None, plan)
     };
     let t_write = std::time::Instant::now();
-    finish(&args, output.zip(format), img, reference_img, residual)?;
+    let reports = Reports { residual, plan };
+    finish(&args, output.zip(format), img, reference_img, reports)?;
     if args.timings {
         eprintln!(
             "{TOOL}: timings: read {:.4} s, render {:.4} s, write {:.4} s ({} polygons)",
@@ -260,14 +368,23 @@ fn run_in_pool(args: Args) -> Result<()> {
     Ok(())
 }
 
+/// What a render has to say beside the image.
+struct Reports {
+    /// `--reference`'s own error estimate.
+    residual: Option<reference::Residual>,
+    /// `--max-error`'s choice.
+    plan: Option<raster::budget::Plan>,
+}
+
 /// Writes the image and the reports, in that order, once everything is computed.
 fn finish(
     args: &Args,
     output: Option<(String, ImageFormat)>,
     img: Image,
     reference_img: Option<Image>,
-    residual: Option<reference::Residual>,
+    reports: Reports,
 ) -> Result<()> {
+    let Reports { residual, plan } = reports;
     let metrics = match &reference_img {
         Some(r) => Some(compare::compare(&img, r).with_context(|| {
             format!("comparing with {}", args.compare.as_deref().unwrap_or(""))
@@ -296,10 +413,16 @@ fn finish(
         if let Some(r) = &residual {
             obj.insert("reference".into(), serde_json::to_value(r)?);
         }
+        if let Some(p) = &plan {
+            obj.insert("max_error".into(), serde_json::to_value(p)?);
+        }
         text = serde_json::to_string_pretty(&obj)? + "\n";
     } else {
         if let Some(m) = &metrics {
             text.push_str(&m.report());
+        }
+        if let Some(p) = &plan {
+            eprintln!("{TOOL}: {}", p.report());
         }
         if let Some(r) = &residual {
             // Without --json the reference note is diagnostic: standard error.
@@ -370,7 +493,8 @@ fn read_scene(input: &str) -> Result<Scene> {
         // "object" and "uv" patterns: placed after projection (below).
         let mut placed = None;
         if let Some(pref) = &rec.pattern {
-            let mode = pref.mode.unwrap_or(if rec.uv.is_some() {
+            let quadric = matches!(rec.shape, Shape::Quadric(_));
+            let mode = pref.mode.unwrap_or(if rec.uv.is_some() || quadric {
                 PatternMode::Uv
             } else {
                 PatternMode::Object
@@ -395,7 +519,16 @@ fn read_scene(input: &str) -> Result<Scene> {
                 PatternMode::Object | PatternMode::Uv => placed = Some((pref, mode, p)),
             }
         }
+        let animated = match rec.shape {
+            Shape::Quadric(_) => rec
+                .fields
+                .get("transform")
+                .filter(|t| Transform::is_animated(t))
+                .cloned(),
+            _ => None,
+        };
         Ok(Drawable {
+            animated,
             index: rec.index,
             shape: rec.shape,
             color: match &stripe {
@@ -449,6 +582,7 @@ fn render_frames(
         Some(k) => vec![k],
         None => (0..args.frames).collect(),
     };
+    let mut apng = None;
     for k in frames {
         let name = frame_name(pattern, k).unwrap_or_else(|| pattern.to_string());
         let t0 = std::time::Instant::now();
@@ -463,9 +597,27 @@ fn render_frames(
         )
         .with_context(|| display_name(&args.input).to_string())?;
         let t1 = std::time::Instant::now();
-        let img = raster::render(&polys, bg, view.width, view.height, args.aa).to_image();
+        let (img, plan) = render_polys(args, &polys, bg, view.width, view.height);
+        if let Some(p) = plan {
+            eprintln!("{TOOL}: frame {k}: {}", p.report());
+        }
         let t2 = std::time::Instant::now();
-        img.save_with(&name, format, PngOptions::GENERAL)?;
+        if args.animate {
+            if apng.is_none() {
+                let frames = u32::try_from(args.frames).context("too many frames for an APNG")?;
+                apng = Some(crate::io::ApngWriter::create(
+                    pattern,
+                    img.width,
+                    img.height,
+                    img.channels,
+                    frames,
+                    args.fps,
+                )?);
+            }
+            apng.as_mut().expect("created above").push(&img)?;
+        } else {
+            img.save_with(&name, format, PngOptions::GENERAL)?;
+        }
         if args.timings {
             eprintln!(
                 "{TOOL}: timings: frame {k}: project {:.4} s, render {:.4} s, write {:.4} s ({} polygons)",
@@ -475,6 +627,9 @@ fn render_frames(
                 polys.len()
             );
         }
+    }
+    if let Some(a) = apng {
+        a.finish()?;
     }
     Ok(())
 }
@@ -490,6 +645,8 @@ struct Drawing<'a> {
     stripe_footprint: f64,
     /// The frame number, for transforms that vary per frame.
     frame: u64,
+    /// `--quadric-tolerance`, pixels.
+    quadric_tolerance: f64,
 }
 
 impl<'a> Drawing<'a> {
@@ -503,6 +660,7 @@ impl<'a> Drawing<'a> {
                 raster::Aa::None | raster::Aa::Exact => 1.0,
             },
             frame,
+            quadric_tolerance: args.quadric_tolerance,
         }
     }
 }
@@ -521,6 +679,8 @@ struct Drawable {
     /// A stripe texture (seed 001), given its screen mapping when the record
     /// is projected.
     stripe: Option<super::scene_stripe::RecordStripe>,
+    /// A quadric's "transform" when its numbers vary per frame.
+    animated: Option<serde_json::Value>,
 }
 
 /// A stream element as the renderer keeps it.
@@ -611,13 +771,7 @@ fn project_parts(
     how: &Drawing,
     out: &mut Vec<ScreenPoly>,
 ) -> Result<()> {
-    let Drawing {
-        cull,
-        texture,
-        stripe,
-        stripe_footprint,
-        frame,
-    } = *how;
+    let frame = how.frame;
     let moved;
     let view = match placed {
         Some(t) => {
@@ -636,6 +790,11 @@ fn project_parts(
                     Some(o) => o,
                     None => u32::try_from(d.index).context("more than 2^32 records")?,
                 };
+                if let Shape::Quadric(q) = &d.shape {
+                    project_quadric(d, q, view, order, how, out)
+                        .with_context(|| format!("record {}", d.index))?;
+                    continue;
+                }
                 let outline = match &d.shape {
                     Shape::Polygon(v) => std::borrow::Cow::Borrowed(v.as_slice()),
                     other => std::borrow::Cow::Owned(crate::geom::outline(
@@ -643,40 +802,8 @@ fn project_parts(
                         curve_tolerance(other, view),
                     )),
                 };
-                if let Some(mut p) = raster::project(view, &outline, d.color, order, cull) {
-                    p.screen = d.screen.clone();
-                    if let Some(st) = &d.stripe {
-                        match super::scene_stripe::shader(st, view, &outline, stripe)
-                            .with_context(|| format!("record {}", d.index))?
-                        {
-                            Some(t) => {
-                                p.stripe = Some(Arc::new(t.with_footprint(stripe_footprint)))
-                            }
-                            // Edge-on: a sliver of rounding; nothing to draw.
-                            None => continue,
-                        }
-                    }
-                    if let Some((pref, mode, texels)) = &d.placed {
-                        let tex = super::scene_texture::place(
-                            texture,
-                            d.color,
-                            view,
-                            &outline,
-                            pref,
-                            *mode,
-                            d.uv.as_deref(),
-                            texels.clone(),
-                        )
-                        .with_context(|| format!("record {}", d.index))?;
-                        match tex {
-                            Some(t) => p.texture = Some(Arc::new(t)),
-                            // Visible by the projection but not by the fit:
-                            // rounding at a sliver; nothing to draw.
-                            None => continue,
-                        }
-                    }
-                    out.push(p);
-                }
+                draw_polygon(d, view, &outline, d.uv.as_deref(), order, how, out)
+                    .with_context(|| format!("record {}", d.index))?;
             }
             Part::Place {
                 index,
@@ -702,6 +829,91 @@ fn project_parts(
                 project_parts(object, base, Some(total), Some(order), how, out)?;
             }
         }
+    }
+    Ok(())
+}
+
+/// Projects one polygon of a record and places its pattern: `outline` in the
+/// record's coordinates, `uv` its texture coordinates in texels (uv mode).
+fn draw_polygon(
+    d: &Drawable,
+    view: &View,
+    outline: &[DVec3],
+    uv: Option<&[[f64; 2]]>,
+    order: u32,
+    how: &Drawing,
+    out: &mut Vec<ScreenPoly>,
+) -> Result<()> {
+    let Some(mut p) = raster::project(view, outline, d.color, order, how.cull) else {
+        return Ok(());
+    };
+    p.screen = d.screen.clone();
+    if let Some(st) = &d.stripe {
+        match super::scene_stripe::shader(st, view, outline, how.stripe)? {
+            Some(t) => p.stripe = Some(Arc::new(t.with_footprint(how.stripe_footprint))),
+            // Edge-on: a sliver of rounding; nothing to draw.
+            None => return Ok(()),
+        }
+    }
+    if let Some((pref, mode, texels)) = &d.placed {
+        let tex = super::scene_texture::place(
+            how.texture,
+            d.color,
+            view,
+            outline,
+            pref,
+            *mode,
+            uv,
+            texels.clone(),
+        )?;
+        match tex {
+            Some(t) => p.texture = Some(Arc::new(t)),
+            // Visible by the projection but not by the fit: rounding at a
+            // sliver; nothing to draw.
+            None => return Ok(()),
+        }
+    }
+    out.push(p);
+    Ok(())
+}
+
+/// Tessellates a quadric record for this view (`geom::quadric`: the slices
+/// and stacks it leaves out come from `--quadric-tolerance` at this camera
+/// and this instance's placement, so every instance and frame is as fine as
+/// it needs) and draws its triangles with their texel coordinates.
+fn project_quadric(
+    d: &Drawable,
+    q: &crate::geom::quadric::QuadricShape,
+    view: &View,
+    order: u32,
+    how: &Drawing,
+    out: &mut Vec<ScreenPoly>,
+) -> Result<()> {
+    let moved;
+    let q = match &d.animated {
+        Some(v) => {
+            let mut m = q.clone();
+            m.transform = Transform::from_json_at(v, how.frame)
+                .with_context(|| format!("{}: transform at frame {}", q.kind, how.frame))?;
+            moved = m;
+            &moved
+        }
+        None => q,
+    };
+    let own_to_clip = view.world_to_clip * q.transform.matrix();
+    let tolerance = crate::geom::quadric::tolerance_at(
+        &q.quadric,
+        own_to_clip,
+        view.width,
+        view.height,
+        how.quadric_tolerance,
+    );
+    let size = d.placed.as_ref().map_or(1, |(_, _, p)| p.size());
+    let tris = q
+        .texel_triangles(tolerance, size)
+        .map_err(anyhow::Error::msg)?;
+    for t in &tris {
+        draw_polygon(d, view, &t.v, Some(&t.uv), order, how, out)?;
     }
     Ok(())
 }

@@ -42,8 +42,12 @@ pub fn circle_segments(radius: f64, tolerance: f64) -> usize {
 /// An arc is the sector from `start` to `end` degrees counter-clockwise (IRIS
 /// `arcf`): the sweep is `(end - start) mod 360`, and a sweep of 0 with
 /// `end != start` (e.g. 0 to 360) is the full disc.
+///
+/// A quadric is no single polygon: its outline is empty, and its consumers
+/// tessellate it instead ([`quadric::QuadricShape::texel_triangles`]).
 pub fn outline(shape: &Shape, tolerance: f64) -> Vec<DVec3> {
     match *shape {
+        Shape::Quadric(_) => Vec::new(),
         Shape::Polygon(ref v) => v.clone(),
         Shape::Rect([x1, y1, x2, y2]) => {
             let (x0, x1) = (x1.min(x2), x1.max(x2));

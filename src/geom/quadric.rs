@@ -18,7 +18,8 @@
 //! so no triangle's s wraps from 0.97 back to 0 across the whole texture (the
 //! artefact seed 002's cylinder mapping corrects with its atan2 test).
 
-use glam::DVec3;
+use crate::transform::Transform;
+use glam::{DMat4, DVec3};
 use std::f64::consts::PI;
 
 /// Fewest slices around the axis: fewer than 3 encloses no area.
@@ -28,6 +29,20 @@ pub const MIN_SPHERE_STACKS: u32 = 2;
 /// Most slices or stacks: 2^14 keeps a sphere under 2^29 triangles and its
 /// chord error already below 1e-8 of its radius.
 pub const MAX_SEGMENTS: u32 = 1 << 14;
+
+/// Default chord tolerance, in pixels, of a quadric drawn without explicit
+/// slices and stacks (`scene-render --quadric-tolerance`). The faceted
+/// silhouette then lies within a quarter pixel of the true outline, so an
+/// edge pixel's coverage is off by less than a quarter (a faint wobble of the
+/// anti-aliased edge, not a visible corner), while a sphere 80 pixels across
+/// needs only 40 slices and 20 stacks (1 600 triangles).
+pub const DEFAULT_TOLERANCE_PX: f64 = 0.25;
+
+/// Relative chord tolerance used when the pixel scale cannot be measured
+/// (the bounding sphere reaches the eye plane of a perspective view, or the
+/// view matrix squashes it): 1e-3 of the radius is under a pixel for any
+/// quadric less than 2000 pixels across.
+pub const FALLBACK_RELATIVE_TOLERANCE: f64 = 1e-3;
 
 /// A quadric in its own coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -86,6 +101,19 @@ impl Quadric {
         }
     }
 
+    /// A sphere enclosing the quadric, centre and radius, in its own
+    /// coordinates: what [`tolerance_at`] projects.
+    pub fn bounding_sphere(&self) -> (DVec3, f64) {
+        match *self {
+            Quadric::Sphere { radius } => (DVec3::ZERO, radius),
+            Quadric::Cylinder { base, top, height } => (
+                DVec3::new(0.0, 0.0, height / 2.0),
+                base.max(top).hypot(height / 2.0),
+            ),
+            Quadric::Disk { outer, .. } => (DVec3::ZERO, outer),
+        }
+    }
+
     /// The largest radius of the quadric: what its chord error scales with.
     pub fn max_radius(&self) -> f64 {
         match *self {
@@ -95,13 +123,22 @@ impl Quadric {
         }
     }
 
-    /// Slices and stacks (loops for a disk) so that no chord strays more than
-    /// `tolerance` (same units as the radius) from the true surface: the
-    /// sagitta `r (1 - cos(θ/2))` of a segment spanning angle θ. Slices span
-    /// 2π/n; a sphere's stacks span π/n of a meridian; a cylinder's and a
-    /// disk's other direction is straight, so one stack or loop is exact.
+    /// Slices and stacks (loops for a disk) so that no point of the faces
+    /// strays more than `tolerance` (same units as the radius) from the true
+    /// surface. A chord spanning angle θ strays by its sagitta `r (1 -
+    /// cos(θ/2))`; slices span 2π/n. A sphere's face is curved both ways, and
+    /// its centre sits inside by about the sum of the two sagittas (seen
+    /// pole-on, the silhouette is the ring nearest the equator, already a
+    /// stack's sagitta in, cut by the slices' chords), so the sphere gives
+    /// each direction half the tolerance; its stacks span π/n of a meridian.
+    /// A cylinder's and a disk's other direction is straight, so one stack or
+    /// loop is exact and the slices get the whole tolerance.
     pub fn segments_for(&self, tolerance: f64) -> (u32, u32) {
         let r = self.max_radius();
+        let tolerance = match self {
+            Quadric::Sphere { .. } => tolerance / 2.0,
+            _ => tolerance,
+        };
         let n_for = |span: f64| -> u32 {
             let ratio = (1.0 - tolerance / r).clamp(-1.0, 1.0);
             let half = ratio.acos();
@@ -204,6 +241,109 @@ impl Quadric {
     }
 }
 
+/// The chord tolerance, in the quadric's own units, that keeps chords within
+/// `tolerance_px` pixels when `own_to_clip` (the view's world-to-clip matrix
+/// times the quadric's placement) draws it on a `width` x `height` image.
+///
+/// The bounding sphere (centre c, radius r) is projected at its nearest
+/// depth: one own unit covers at most `max(W/2 |∇x_clip|, H/2 |∇y_clip|) / w`
+/// pixels, where the gradients are the clip matrix's first two rows (their
+/// length also carries any scaling of the placement) and `w` the clip w. For
+/// a perspective view `w` grows with the distance from the eye, so the
+/// nearest point of the sphere, `w(c) - r |∇w|`, is where the pixels per unit
+/// peak; for a parallel view `w` is 1 everywhere. When that nearest `w` is not
+/// positive (the sphere reaches the eye plane) or the scale is not finite,
+/// [`FALLBACK_RELATIVE_TOLERANCE`] of the radius is used.
+pub fn tolerance_at(
+    q: &Quadric,
+    own_to_clip: DMat4,
+    width: u32,
+    height: u32,
+    tolerance_px: f64,
+) -> f64 {
+    let (c, r) = q.bounding_sphere();
+    let rows = own_to_clip.transpose();
+    let (rx, ry, rw) = (rows.x_axis, rows.y_axis, rows.w_axis);
+    let w_center = rw.truncate().dot(c) + rw.w;
+    let w_near = w_center - r * rw.truncate().length();
+    let grad = (width as f64 / 2.0 * rx.truncate().length())
+        .max(height as f64 / 2.0 * ry.truncate().length());
+    let px_per_unit = grad / w_near;
+    let tol = tolerance_px / px_per_unit;
+    if w_near > 0.0 && tol.is_finite() && tol > 0.0 {
+        tol
+    } else {
+        r * FALLBACK_RELATIVE_TOLERANCE
+    }
+}
+
+/// A quadric record of the polygon stream (docs/objects.md): the quadric,
+/// its slices and stacks when the record gives them, how many copies of the
+/// pattern wrap it, and its placement.
+#[derive(Clone, Debug, PartialEq)]
+pub struct QuadricShape {
+    pub quadric: Quadric,
+    /// The record's key (`sphere`, `cylinder`, `cone`, `disk`), for messages.
+    pub kind: &'static str,
+    /// Segments around the axis. Default value: chosen from the tolerance.
+    pub slices: Option<u32>,
+    /// Segments along the axis (a disk's `loops`). Default value: chosen from
+    /// the tolerance.
+    pub stacks: Option<u32>,
+    /// Copies of the pattern along s and t. Default value: `[1, 1]`, one copy
+    /// wrapping the whole quadric as GLU's 0..1 texture coordinates do.
+    pub repeat: [f64; 2],
+    /// The record's `"transform"`, own coordinates to the record's space.
+    /// Default value: the identity.
+    pub transform: Transform,
+}
+
+/// One triangle ready to draw: positions in the record's space (the
+/// placement applied) and texture coordinates in texels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TexelTriangle {
+    pub v: [DVec3; 3],
+    pub uv: [[f64; 2]; 3],
+}
+
+impl QuadricShape {
+    /// Slices and stacks: the record's own, or else the fewest within
+    /// `tolerance` (own units), each direction independently.
+    pub fn segments(&self, tolerance: f64) -> (u32, u32) {
+        let (sl, st) = self.quadric.segments_for(tolerance);
+        (self.slices.unwrap_or(sl), self.stacks.unwrap_or(st))
+    }
+
+    /// The triangles of the quadric at `tolerance` (own units, used only for
+    /// the segment counts the record leaves out), moved by the record's
+    /// transform, with GLU's (s, t) scaled to texels of a `size`-texel
+    /// pattern: `u = s * size * repeat[0]`, `v = t * size * repeat[1]`, so
+    /// t = 0 (GLU's first texture row, the sphere's -z pole) is the pattern's
+    /// bottom row 0.
+    pub fn texel_triangles(&self, tolerance: f64, size: u32) -> Result<Vec<TexelTriangle>, String> {
+        let (slices, stacks) = self.segments(tolerance);
+        let (su, sv) = (size as f64 * self.repeat[0], size as f64 * self.repeat[1]);
+        let tris = self
+            .quadric
+            .tessellate(slices, stacks)
+            .map_err(|e| format!("{}: {e}", self.kind))?;
+        let out: Vec<TexelTriangle> = tris
+            .iter()
+            .map(|t| TexelTriangle {
+                v: t.v.map(|p| self.transform.apply(p)),
+                uv: t.st.map(|[s, t]| [s * su, t * sv]),
+            })
+            .collect();
+        if out.iter().any(|t| t.v.iter().any(|p| !p.is_finite())) {
+            return Err(format!(
+                "{}: the transform moves a vertex out of the finite numbers",
+                self.kind
+            ));
+        }
+        Ok(out)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -289,6 +429,8 @@ mod tests {
         let q = Quadric::Sphere { radius: 40.0 };
         for tol in [1.0, 0.1, 1.0 / 256.0] {
             let (slices, stacks) = q.segments_for(tol);
+            // Each direction of a sphere gets half the tolerance.
+            let tol = tol / 2.0;
             // The sagitta of one slice and one stack.
             let sag = |span: f64| 40.0 * (1.0 - (span / 2.0).cos());
             assert!(sag(2.0 * PI / slices as f64) <= tol);
@@ -327,5 +469,100 @@ mod tests {
         )
         .contains("not below outer"));
         assert!(e(Quadric::Sphere { radius: f64::NAN }, 8, 8).contains("not a positive"));
+    }
+
+    #[test]
+    fn the_pixel_tolerance_becomes_own_units_at_the_nearest_depth() {
+        let q = Quadric::Sphere { radius: 10.0 };
+        // glOrtho(0, 200, 0, 200, ...) on 200x200: one unit is one pixel.
+        let ortho = DMat4::orthographic_rh_gl(0.0, 200.0, 0.0, 200.0, -100.0, 100.0);
+        assert!((tolerance_at(&q, ortho, 200, 200, 0.25) - 0.25).abs() < 1e-12);
+        // Placed at twice the size, a pixel is half an own unit.
+        let scaled = ortho * DMat4::from_scale(DVec3::splat(2.0));
+        assert!((tolerance_at(&q, scaled, 200, 200, 0.25) - 0.125).abs() < 1e-12);
+        // Perspective: pixels per unit are (H/2) f / w at the nearest point,
+        // w = d - r for a sphere d in front of the eye.
+        let fovy = 60f64.to_radians();
+        let persp = DMat4::perspective_rh_gl(fovy, 1.0, 1.0, 1000.0);
+        let f = 1.0 / (fovy / 2.0).tan();
+        for d in [50.0, 200.0] {
+            let at = persp * DMat4::from_translation(DVec3::new(0.0, 0.0, -d));
+            let want = 0.25 / (100.0 * f / (d - 10.0));
+            assert!((tolerance_at(&q, at, 200, 200, 0.25) - want).abs() < 1e-12 * want.max(1.0));
+        }
+        // A sphere around the eye: the relative fallback.
+        let around = persp * DMat4::from_translation(DVec3::new(0.0, 0.0, -5.0));
+        assert_eq!(
+            tolerance_at(&q, around, 200, 200, 0.25),
+            10.0 * FALLBACK_RELATIVE_TOLERANCE
+        );
+    }
+
+    #[test]
+    fn texel_triangles_scale_repeat_and_move() {
+        let shape = QuadricShape {
+            quadric: Quadric::Cylinder {
+                base: 1.0,
+                top: 1.0,
+                height: 2.0,
+            },
+            kind: "cylinder",
+            slices: Some(4),
+            stacks: Some(1),
+            repeat: [2.0, 3.0],
+            transform: Transform::translate(DVec3::new(10.0, 0.0, 0.0)),
+        };
+        let tris = shape.texel_triangles(1.0, 16).unwrap();
+        assert_eq!(tris.len(), 8);
+        let (mut umax, mut vmax) = (0.0f64, 0.0f64);
+        for t in &tris {
+            for (p, uv) in t.v.iter().zip(&t.uv) {
+                assert!((DVec3::new(p.x - 10.0, p.y, 0.0).length() - 1.0).abs() < 1e-12);
+                umax = umax.max(uv[0]);
+                vmax = vmax.max(uv[1]);
+            }
+        }
+        // s and t reach 1: 16 texels x 2 copies around, x 3 along.
+        assert_eq!((umax, vmax), (32.0, 48.0));
+        // Explicit counts win over the tolerance; missing ones follow it.
+        let fine = QuadricShape {
+            slices: None,
+            ..shape
+        };
+        assert_eq!(
+            fine.segments(1e-3).0,
+            Quadric::Cylinder {
+                base: 1.0,
+                top: 1.0,
+                height: 2.0
+            }
+            .segments_for(1e-3)
+            .0
+        );
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn sphere_vertices_lie_on_it_and_no_triangle_wraps(
+            radius in 0.01f64..1e4,
+            slices in 3u32..64,
+            stacks in 2u32..64,
+        ) {
+            let tris = Quadric::Sphere { radius }.tessellate(slices, stacks).unwrap();
+            // Every quad but the pole triangles' collapsed halves.
+            proptest::prop_assert_eq!(tris.len() as u32, 2 * slices * stacks - 2 * slices);
+            for t in &tris {
+                for p in &t.v {
+                    proptest::prop_assert!((p.length() - radius).abs() <= 1e-12 * radius);
+                }
+                let s: Vec<f64> = t.st.iter().map(|x| x[0]).collect();
+                let span = s.iter().cloned().fold(f64::MIN, f64::max) - s.iter().cloned().fold(f64::MAX, f64::min);
+                // One slice at most: nothing wraps from s near 1 back to 0.
+                proptest::prop_assert!(span <= 1.0 / slices as f64 + 1e-12);
+                for st in &t.st {
+                    proptest::prop_assert!((0.0..=1.0).contains(&st[0]) && (0.0..=1.0).contains(&st[1]));
+                }
+            }
+        }
     }
 }

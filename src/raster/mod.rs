@@ -30,6 +30,7 @@
 // than zipped iterators.
 #![allow(clippy::needless_range_loop)]
 
+pub mod budget;
 pub mod clip;
 pub mod compare;
 pub mod coverage;
@@ -583,7 +584,7 @@ pub struct Frame {
 impl Frame {
     /// Assembles a frame from per-tile results (each a row-major block of the
     /// tile's pixels, in [`tiles`] order).
-    fn from_tiles(
+    pub(crate) fn from_tiles(
         width: u32,
         height: u32,
         tiles: &[[u32; 4]],

@@ -9,6 +9,7 @@ mod pat_from_image;
 mod pat_info;
 mod pat_tile;
 mod polyfill3;
+mod quadric;
 mod scene_render;
 mod stripe;
 mod texture;
