@@ -458,9 +458,9 @@ impl StripeTexture {
 /// the crisp stripe function exactly instead of reading the LOD pyramid: the
 /// magnified and mildly minified pixels, where the pyramid's filter is least
 /// like the box (one sample boundary in a pixel is a hard edge that no
-/// level reproduces). Each boundary costs one small clip. Measured on the
-/// ground-and-wall scene of `bench/stripe.sh` (RMSE against `--reference`,
-/// 8-bit): 0 → 3.98 (constant pixels only), 1 → 2.86, 2 → 2.74, 4 → 2.61,
+/// level reproduces). Each boundary costs one small clip. Measured on a
+/// ground-and-wall scene at 1024x768 (the geometry of `bench/stripe.sh`, with
+/// `furrow.map` on the wall; RMSE against `--reference`, 8-bit): 0 → 3.98 (constant pixels only), 1 → 2.86, 2 → 2.74, 4 → 2.61,
 /// 8 → 2.54, the render time growing by roughly 5% per step; 2 takes most
 /// of the gain.
 pub const FEW_CROSSINGS: u32 = 2;
