@@ -14,6 +14,7 @@ pub mod pat_info;
 pub mod pat_tile;
 pub mod polyfill3;
 pub mod scene_render;
+pub mod scene_stripe;
 pub mod scene_texture;
 
 /// A usage error found after clap's own parsing (contradictory flags, values out

@@ -81,6 +81,9 @@ pub struct Args {
     #[command(flatten)]
     pub texture: super::scene_texture::TextureArgs,
 
+    #[command(flatten)]
+    pub stripe: super::scene_stripe::StripeArgs,
+
     /// Which faces to drop; the front is the side from which the vertices run
     /// counter-clockwise.
     #[arg(long, value_enum, default_value_t = Cull::None)]
@@ -464,6 +467,7 @@ fn read_scene(input: &str) -> Result<Scene> {
     let name = display_name(input).to_string();
     let base = crate::stream::base_dir(input);
     let mut patterns: HashMap<std::path::PathBuf, Arc<ScreenPattern>> = HashMap::new();
+    let mut stripes = crate::stripe::record::StripeLoader::new(&base);
     let reader: Box<dyn BufRead> = if input == crate::io::STDIO {
         Box::new(std::io::stdin().lock())
     } else {
@@ -477,6 +481,14 @@ fn read_scene(input: &str) -> Result<Scene> {
         ))
     };
     let scene = read_items(reader, &name, |rec| {
+        let stripe = super::scene_stripe::read(&mut stripes, &rec.fields, rec.color)
+            .with_context(|| format!("{name}: record {}", rec.index))?;
+        if stripe.is_some() && rec.pattern.is_some() {
+            anyhow::bail!(
+                "{name}: record {}: has both \"pattern\" and \"stripe\": a face takes one texture",
+                rec.index
+            );
+        }
         let mut screen = None;
         // "object" and "uv" patterns: placed after projection (below).
         let mut placed = None;
@@ -519,7 +531,11 @@ fn read_scene(input: &str) -> Result<Scene> {
             animated,
             index: rec.index,
             shape: rec.shape,
-            color: rec.color.unwrap_or(Rgb8::BLACK),
+            color: match &stripe {
+                Some(st) => st.face,
+                None => rec.color.unwrap_or(Rgb8::BLACK),
+            },
+            stripe,
             screen,
             placed: placed.map(|(pref, mode, p)| (pref.clone(), mode, p)),
             uv: rec.uv,
@@ -623,6 +639,10 @@ fn render_frames(
 struct Drawing<'a> {
     cull: Cull,
     texture: &'a super::scene_texture::TextureArgs,
+    stripe: crate::stripe::LodMode,
+    /// Pixels per stripe evaluation ([`crate::stripe::StripeTexture::footprint`]):
+    /// `1/k` for `--aa ss<k²>`, else 1.
+    stripe_footprint: f64,
     /// The frame number, for transforms that vary per frame.
     frame: u64,
     /// `--quadric-tolerance`, pixels.
@@ -634,6 +654,11 @@ impl<'a> Drawing<'a> {
         Drawing {
             cull: args.cull,
             texture: &args.texture,
+            stripe: args.stripe.mode(),
+            stripe_footprint: match args.aa {
+                raster::Aa::Ss(k) => 1.0 / k as f64,
+                raster::Aa::None | raster::Aa::Exact => 1.0,
+            },
             frame,
             quadric_tolerance: args.quadric_tolerance,
         }
@@ -651,6 +676,9 @@ struct Drawable {
     /// An object- or uv-mode pattern, placed when the record is projected.
     placed: Option<(crate::stream::PatternRef, PatternMode, Arc<ScreenPattern>)>,
     uv: Option<Vec<[f64; 2]>>,
+    /// A stripe texture (seed 001), given its screen mapping when the record
+    /// is projected.
+    stripe: Option<super::scene_stripe::RecordStripe>,
     /// A quadric's "transform" when its numbers vary per frame.
     animated: Option<serde_json::Value>,
 }
@@ -820,6 +848,13 @@ fn draw_polygon(
         return Ok(());
     };
     p.screen = d.screen.clone();
+    if let Some(st) = &d.stripe {
+        match super::scene_stripe::shader(st, view, outline, how.stripe)? {
+            Some(t) => p.stripe = Some(Arc::new(t.with_footprint(how.stripe_footprint))),
+            // Edge-on: a sliver of rounding; nothing to draw.
+            None => return Ok(()),
+        }
+    }
     if let Some((pref, mode, texels)) = &d.placed {
         let tex = super::scene_texture::place(
             how.texture,

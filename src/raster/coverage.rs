@@ -76,7 +76,8 @@ struct TexScratch {
 
 /// Pushes one fragment of polygon `pi` in `pixel` (`verts` empty = the full
 /// pixel square): as is, or, for a textured polygon, cut into its texel cells
-/// (`crate::texture::cells`), each piece with its texel's colour.
+/// (`crate::texture::cells`), each piece with its texel's colour; for a
+/// stripe-textured polygon, whole, with the stripe colour at its centroid.
 #[allow(clippy::too_many_arguments)]
 fn push_frag(
     p: &ScreenPoly,
@@ -89,6 +90,12 @@ fn push_frag(
     t: &mut TexScratch,
 ) {
     use crate::texture::cells::{split, Split};
+    if let Some(stripe) = &p.stripe {
+        t.colors
+            .push(stripe.fragment_linear(px, py, verts).map(f64::from));
+        push_piece(frags, arena, pixel, pi, verts, (t.colors.len() - 1) as u32);
+        return;
+    }
     let Some(tex) = &p.texture else {
         push_piece(frags, arena, pixel, pi, verts, POLY_COLOR);
         return;

@@ -179,6 +179,12 @@ pub struct ScreenPoly {
     /// integrates it exactly over texel cells; transparent texels leave the
     /// polygon absent there.
     pub texture: Option<std::sync::Arc<crate::texture::PolyTexture>>,
+    /// A stripe texture (seed 001, `crate::stripe`), the other per-pixel
+    /// shader: its colour replaces `color` (which then holds the face colour).
+    /// Point samplers evaluate it at each sample, `--aa exact` at each
+    /// fragment's centroid, the reference integrates its crisp function.
+    /// Always opaque.
+    pub stripe: Option<std::sync::Arc<crate::stripe::StripeTexture>>,
     /// Position in the stream: draw order, for visibility ties.
     pub order: u32,
     /// Convex pieces (index triples or the whole polygon) that tile the polygon
@@ -204,9 +210,13 @@ impl ScreenPoly {
 
     /// The polygon's linear colour at the screen point (sx, sy) of pixel
     /// (x, y): the texel there for an "object" or "uv" pattern (point
-    /// sampling, `None` where transparent), else [`ScreenPoly::color_at`].
+    /// sampling, `None` where transparent), the stripe colour there (LOD
+    /// filtered), else [`ScreenPoly::color_at`].
     #[inline]
     pub fn color_at_point(&self, x: u32, y: u32, sx: f64, sy: f64) -> Option<[f64; 3]> {
+        if let Some(s) = &self.stripe {
+            return Some(s.linear_at(sx, sy).map(f64::from));
+        }
         match &self.texture {
             None => self.color_at(x, y),
             Some(t) => {
@@ -332,6 +342,7 @@ pub fn project(
         color: c,
         screen: None,
         texture: None,
+        stripe: None,
         order,
         pieces,
         tie_floor: DEPTH_TIE_REL * view.nearness_scale(),

@@ -112,7 +112,7 @@ impl LodMode {
                 if lambda >= last as f64 {
                     return single(last);
                 }
-                let k = lambda.floor();
+                let k = super::floor_i64(lambda) as f64;
                 Lod {
                     level: k as usize,
                     a: (lambda - k) as f32,

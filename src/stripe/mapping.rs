@@ -73,7 +73,7 @@
 //! pixel's ray, intersect the plane, dot with `K_p N_p`) to 1e-9 relative.
 
 use crate::camera::Camera;
-use glam::{DMat3, DVec3, DVec4};
+use glam::{DMat3, DMat4, DVec3, DVec4};
 use std::fmt;
 
 /// A face whose plane contains the centre of projection (or, for parallel
@@ -124,7 +124,12 @@ fn cross4(a: DVec4, b: DVec4, c: DVec4) -> DVec4 {
 
 /// The rows `s0, s1, s2` of the world → screen matrix (module docs).
 pub fn screen_rows(camera: &Camera, width: u32, height: u32) -> [DVec4; 3] {
-    let m = camera.world_to_clip();
+    screen_rows_of(camera.world_to_clip(), width, height)
+}
+
+/// [`screen_rows`] of a world → clip matrix (a camera's, or a camera's times
+/// an instance's object → world transform).
+pub fn screen_rows_of(m: DMat4, width: u32, height: u32) -> [DVec4; 3] {
     let (w, h) = (width as f64 * 0.5, height as f64 * 0.5);
     [
         (m.row(0) + m.row(3)) * w,
@@ -145,10 +150,34 @@ impl ScreenMapping {
         gradient: DVec3,
         p0: f64,
     ) -> Result<ScreenMapping, EdgeOn> {
+        ScreenMapping::from_matrix(
+            camera.world_to_clip(),
+            width,
+            height,
+            normal,
+            point,
+            gradient,
+            p0,
+        )
+    }
+
+    /// [`ScreenMapping::new`] for a world → clip matrix: `scene-render` passes
+    /// the view's matrix times an instance's transform, so that the plane,
+    /// point and pattern vector are in the object's own coordinates and the
+    /// stripes stay fixed to the object as it moves.
+    pub fn from_matrix(
+        world_to_clip: DMat4,
+        width: u32,
+        height: u32,
+        normal: DVec3,
+        point: DVec3,
+        gradient: DVec3,
+        p0: f64,
+    ) -> Result<ScreenMapping, EdgeOn> {
         // Move the origin to `point`: a row r acting on (X, 1) acts on (Y, 1),
         // Y = X − point, as (r.xyz, r · (point, 1)).
         let shift = |r: DVec4| r.truncate().extend(r.dot(point.extend(1.0)));
-        let [s0, s1, s2] = screen_rows(camera, width, height).map(shift);
+        let [s0, s1, s2] = screen_rows_of(world_to_clip, width, height).map(shift);
         let plane = normal.extend(0.0);
         // The centre of projection (a direction, w = 0, for parallel views) is
         // the null vector of the screen rows; a plane through it is edge-on.

@@ -15,7 +15,7 @@ use crate::camera::Camera;
 use crate::color::Rgb8;
 use crate::stream::{resolve, Record, Shape};
 use anyhow::{Context, Result};
-use glam::DVec3;
+use glam::{DMat4, DVec3};
 use serde_json::{Map, Value};
 use std::path::Path;
 use std::sync::Arc;
@@ -260,15 +260,34 @@ impl LoadedStripe {
         mode: LodMode,
         default_colour: Rgb8,
     ) -> Result<StripeTexture> {
-        let (normal, point) = face_plane(&record.shape).ok_or_else(|| {
-            anyhow::anyhow!(
-                "record {}: the face has no plane (its vertices are collinear)",
-                record.index
-            )
-        })?;
+        self.texture_on(
+            &record.shape,
+            camera.world_to_clip(),
+            width,
+            height,
+            mode,
+            self.face_colour(record.color, default_colour),
+        )
+        .with_context(|| format!("record {}", record.index))
+    }
+
+    /// The per-pixel shader of a face of `shape` seen through `world_to_clip`
+    /// (the shape's coordinates are the matrix's input: world coordinates, or
+    /// an object's own under an instance transform) on a `width` x `height`
+    /// image, with face colour `face`.
+    pub fn texture_on(
+        &self,
+        shape: &Shape,
+        world_to_clip: DMat4,
+        width: u32,
+        height: u32,
+        mode: LodMode,
+        face: Rgb8,
+    ) -> Result<StripeTexture, NoMapping> {
+        let (normal, point) = face_plane(shape).ok_or(NoMapping::NoPlane)?;
         let n = self.map.len();
-        let mapping = ScreenMapping::new(
-            camera,
+        let mapping = ScreenMapping::from_matrix(
+            world_to_clip,
             width,
             height,
             normal,
@@ -276,14 +295,82 @@ impl LoadedStripe {
             self.spec.vector.gradient(n),
             self.spec.vector.p0(n),
         )
-        .with_context(|| format!("record {}", record.index))?;
+        .map_err(|_| NoMapping::EdgeOn)?;
         Ok(StripeTexture::new(
             Arc::clone(&self.modulation),
             mapping,
             self.spec.select,
-            self.face_colour(record.color, default_colour),
+            face,
             mode,
         ))
+    }
+}
+
+/// Why a face has no stripe mapping on the screen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NoMapping {
+    /// The face's vertices are collinear.
+    NoPlane,
+    /// The face is seen edge-on ([`super::mapping::EdgeOn`]): it covers no
+    /// pixels, so a renderer skips it.
+    EdgeOn,
+}
+
+impl std::fmt::Display for NoMapping {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            NoMapping::NoPlane => f.write_str("the face has no plane (its vertices are collinear)"),
+            NoMapping::EdgeOn => super::mapping::EdgeOn.fmt(f),
+        }
+    }
+}
+impl std::error::Error for NoMapping {}
+
+/// Loads the stripe textures of a stream, reading each file once: records
+/// that name the same map and translation share one pyramid (the seed's
+/// texture code: many faces, one map), so a scene of a thousand striped fields
+/// costs one map read and one pyramid.
+#[derive(Debug)]
+pub struct StripeLoader {
+    base: std::path::PathBuf,
+    /// (resolved map path, translation spec as written, resolved colour-table
+    /// path) → files and pyramid. The translation is keyed by its `Debug`
+    /// form because its numbers are f64 (no `Hash`); equal specs print equal.
+    loaded: std::collections::HashMap<
+        (std::path::PathBuf, String, Option<std::path::PathBuf>),
+        LoadedStripe,
+    >,
+}
+
+impl StripeLoader {
+    /// A loader resolving relative paths against `base` (the stream's
+    /// directory, [`crate::stream::base_dir`]).
+    pub fn new(base: &Path) -> StripeLoader {
+        StripeLoader {
+            base: base.to_path_buf(),
+            loaded: Default::default(),
+        }
+    }
+
+    /// `spec` with its files read, from the cache when another record named
+    /// the same files.
+    pub fn load(&mut self, spec: &StripeSpec) -> Result<LoadedStripe> {
+        let key = (
+            resolve(&self.base, &spec.map),
+            format!("{:?}", spec.translation),
+            spec.colours.as_ref().map(|c| resolve(&self.base, c)),
+        );
+        let shared = match self.loaded.get(&key) {
+            Some(l) => l,
+            None => {
+                let l = spec.load(&self.base)?;
+                self.loaded.entry(key).or_insert(l)
+            }
+        };
+        Ok(LoadedStripe {
+            spec: spec.clone(),
+            ..shared.clone()
+        })
     }
 }
 

@@ -218,3 +218,142 @@ fn blended_levels_beat_the_nearest_level_on_a_receding_ground_plane() {
     // the comparison.
     assert!(cig.is_finite());
 }
+
+/// Two exact integrals of the same function differ by f64 rounding only; the
+/// comparison runs through f32 colours, so 1e-6 (a few f32 ulps of values up
+/// to 1) is the budget.
+const EXACT_AGREEMENT: f64 = 1e-6;
+
+proptest::proptest! {
+    /// The fixed-buffer integrator of `--aa exact` is the reference's
+    /// computation: wherever it answers, on any pixel-sized convex fragment,
+    /// it agrees with `reference_modulation`.
+    #[test]
+    fn few_crossing_integral_is_the_reference(
+        px in 0u32..320, py in 0u32..120,
+        cut in 0.0f64..1.0, slope in -3.0f64..3.0, seed in 1u64..1000,
+    ) {
+        let t = ground_texture(&noise_map(64, seed, Fade::None), LodMode::Blend, 320, 240);
+        let (x, y) = (px as f64, py as f64);
+        // The pixel square cut by the line v = cut + slope (u - 0.5): a
+        // convex fragment of 3 to 5 vertices, as coverage.rs makes them.
+        let square = [
+            DVec2::new(x, y),
+            DVec2::new(x + 1.0, y),
+            DVec2::new(x + 1.0, y + 1.0),
+            DVec2::new(x, y + 1.0),
+        ];
+        let f = |v: DVec2| (v.y - y) - (cut + slope * (v.x - x - 0.5));
+        let mut frag = Vec::new();
+        for i in 0..4 {
+            let (p, q) = (square[i], square[(i + 1) % 4]);
+            if f(p) <= 0.0 {
+                frag.push(p);
+            }
+            if (f(p) < 0.0) != (f(q) < 0.0) && f(p) != 0.0 && f(q) != 0.0 {
+                frag.push(p + (q - p) * (f(p) / (f(p) - f(q))));
+            }
+        }
+        for shape in [&square[..], &frag[..]] {
+            if let Some(m) = t.box_modulation_few(shape) {
+                let r = t.reference_modulation(shape).unwrap();
+                proptest::prop_assert!((m - r).abs() <= EXACT_AGREEMENT, "{m} vs {r}");
+            }
+        }
+    }
+}
+
+#[test]
+fn fragments_are_exact_where_few_samples_cross_and_filtered_elsewhere() {
+    let (w, h) = (320, 240);
+    let t = ground_texture(&noise_map(64, 7, Fade::None), LodMode::Blend, w, h);
+    let (mut exact, mut filtered) = (0, 0);
+    for py in (0..110).step_by(3) {
+        for px in (0..w).step_by(7) {
+            let Ok(r) = t.reference_linear(px, py) else {
+                continue;
+            };
+            let c = t.fragment_linear(px, py, &[]);
+            let square = [
+                DVec2::new(px as f64, py as f64),
+                DVec2::new(px as f64 + 1.0, py as f64),
+                DVec2::new(px as f64 + 1.0, py as f64 + 1.0),
+                DVec2::new(px as f64, py as f64 + 1.0),
+            ];
+            if t.box_modulation_few(&square).is_some() {
+                exact += 1;
+                for ch in 0..3 {
+                    assert!((c[ch] as f64 - r[ch]).abs() <= EXACT_AGREEMENT, "{px},{py}");
+                }
+            } else {
+                filtered += 1;
+                let centre = t.linear_at(px as f64 + 0.5, py as f64 + 0.5);
+                assert_eq!(
+                    c, centre,
+                    "{px},{py}: the full square's centroid is the centre"
+                );
+            }
+        }
+    }
+    // The near rows are magnified, the far ones minified: both paths ran.
+    assert!(
+        exact > 50 && filtered > 50,
+        "{exact} exact, {filtered} filtered"
+    );
+}
+
+#[test]
+fn fragment_centroid_is_the_area_centroid() {
+    // A right triangle: centroid at the mean of its vertices, even far from
+    // the origin (the computation is relative to the first vertex).
+    let tri = [
+        DVec2::new(1000.0, 700.0),
+        DVec2::new(1001.0, 700.0),
+        DVec2::new(1000.0, 701.0),
+    ];
+    let (x, y) = centroid(&tri).unwrap();
+    assert!((x - 1000.0 - 1.0 / 3.0).abs() < 1e-12 && (y - 700.0 - 1.0 / 3.0).abs() < 1e-12);
+    assert_eq!(centroid(&tri[..2]), None);
+    assert_eq!(centroid(&[tri[0], tri[0], tri[0]]), None);
+}
+
+#[test]
+fn footprint_scales_the_level_of_detail() {
+    let t = ground_texture(&noise_map(64, 3, Fade::None), LodMode::Blend, 320, 240);
+    let half = t.clone().with_footprint(0.5);
+    // At a minified pixel, halving the footprint reads one level finer.
+    let (x, y) = (100.5, 110.5);
+    let (_, gx, gy) = t.mapping.p_and_gradient(x, y);
+    let m = &t.modulation;
+    let full = LodMode::Blend.select(gx, gy, m.len(), m.levels());
+    let finer = LodMode::Blend.select(gx * 0.5, gy * 0.5, m.len(), m.levels());
+    assert!(full.level as f32 + full.a - (finer.level as f32 + finer.a) > 0.99);
+    assert_eq!(half.modulation_at(x, y), m.lookup(t.mapping.p(x, y), finer));
+}
+
+proptest::proptest! {
+    #[test]
+    fn floor_i64_is_floor(x in -1e15f64..1e15, frac in proptest::sample::select(vec![0.0, 0.5, -0.5, 1e-9, -1e-9])) {
+        let v = x.trunc() + frac;
+        proptest::prop_assert_eq!(floor_i64(v), v.floor() as i64);
+        proptest::prop_assert_eq!(floor_i64(x), x.floor() as i64);
+    }
+}
+
+#[test]
+fn floor_i64_edges() {
+    for v in [
+        0.0,
+        -0.0,
+        -1.0,
+        -1.5,
+        2.0,
+        1e300,
+        -1e300,
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    ] {
+        assert_eq!(floor_i64(v), v.floor() as i64, "{v}");
+    }
+}

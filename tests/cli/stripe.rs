@@ -295,3 +295,321 @@ clitest!(pat_info_previews_a_map_one_line_per_level, |dir| {
     assert_eq!(strips[3].matches("\x1b[48;2;").count(), 1);
     assert!(strips[0].starts_with("\x1b[48;2;0;0;0m "), "{text}");
 });
+
+// ---------------------------------------------------------------------------
+// scene-render with stripe records.
+
+/// Decodes an 8-bit image to linear-light RGB per pixel (SPEC §4 sRGB).
+fn linear_pixels(png: &[u8]) -> Vec<[f64; 3]> {
+    let img = image::load_from_memory(png).unwrap().to_rgb8();
+    img.pixels()
+        .map(|p| {
+            p.0.map(|c| patkit::color::srgb_to_linear_f64(c as f64 / 255.0))
+        })
+        .collect()
+}
+
+/// RMSE in 8-bit codes over RGB between two images of the same size.
+fn rmse_codes(a: &[u8], b: &[u8]) -> f64 {
+    let (a, b) = (
+        image::load_from_memory(a).unwrap().to_rgb8(),
+        image::load_from_memory(b).unwrap().to_rgb8(),
+    );
+    assert_eq!(a.dimensions(), b.dimensions());
+    let sum: f64 = a
+        .as_raw()
+        .iter()
+        .zip(b.as_raw())
+        .map(|(&x, &y)| (x as f64 - y as f64).powi(2))
+        .sum();
+    (sum / a.as_raw().len() as f64).sqrt()
+}
+
+/// A facing wall over the whole 999 x 8 image (ortho2: one world unit per
+/// pixel): stripes along x, 2.96 pixels per period of MAP8 (spacing 0.37, so
+/// 2.7 samples per pixel, minified), 337.5 periods across, so the pixel
+/// centres fall at every phase of the period.
+const FLAT_WALL: &str = r#"{"vertices": [[0,0],[999,0],[999,8],[0,8]], "stripe": {"map": "m.map", "spacing": 0.37, "yaw": 0}}"#;
+
+/// How far the image's mean may be from the map's mean, linear light. Every
+/// filter (pyramid levels, their fade toward the mean, the exact box)
+/// preserves the mean over whole periods; what is left is the half period
+/// over (1/675 of the contrast), the aliasing of point samples against the
+/// filtered map (largest for --cig-compat, which reads one entry per level:
+/// measured 0.0029 with --aa none, at most 0.0008 otherwise), and 8-bit
+/// rounding, which averages out.
+const FLAT_MEAN_TOLERANCE: f64 = 0.005;
+
+clitest!(a_flat_stripe_wall_has_the_maps_mean, |dir| {
+    dir.write("m.map", MAP8);
+    dir.write("wall.json", FLAT_WALL);
+    let values = [0, 32, 64, 96, 128, 160, 192, 255];
+    let want: f64 = values
+        .iter()
+        .map(|&v| patkit::color::srgb_to_linear_f64(v as f64 / 255.0))
+        .sum::<f64>()
+        / 8.0;
+    for aa in ["none", "ss4", "exact"] {
+        for lod in [
+            &["--stripe-lod", "blended"][..],
+            &["--stripe-lod", "nearest"],
+            &["--cig-compat"],
+        ] {
+            let out = dir
+                .cmd("scene-render")
+                .args(["--size", "999x8", "--aa", aa])
+                .args(lod)
+                .args(["wall.json", "-o", "-"])
+                .assert()
+                .success();
+            let px = linear_pixels(&out.get_output().stdout);
+            let mean = px.iter().map(|p| p[0]).sum::<f64>() / px.len() as f64;
+            assert!(
+                (mean - want).abs() <= FLAT_MEAN_TOLERANCE,
+                "--aa {aa} {lod:?}: mean {mean}, map mean {want}"
+            );
+            // Grey: a white face, all channels modulated alike.
+            assert!(px.iter().all(|p| p[0] == p[1] && p[1] == p[2]));
+            // Stripes, not a flat mean: the columns differ.
+            let (lo, hi) = px
+                .iter()
+                .fold((1.0f64, 0.0f64), |(l, h), p| (l.min(p[0]), h.max(p[0])));
+            assert!(hi - lo > 0.05, "--aa {aa} {lod:?}: {lo}..{hi}");
+        }
+    }
+    // The reference too, exactly: the box over whole periods is the mean.
+    let out = dir
+        .cmd("scene-render")
+        .args(["--size", "999x8", "--reference", "wall.json", "-o", "-"])
+        .assert()
+        .success();
+    let px = linear_pixels(&out.get_output().stdout);
+    let mean = px.iter().map(|p| p[0]).sum::<f64>() / px.len() as f64;
+    assert!(
+        (mean - want).abs() <= FLAT_MEAN_TOLERANCE,
+        "reference mean {mean} vs {want}"
+    );
+});
+
+/// A receding ground plane (stripes across the view direction, runway bars)
+/// and a wall facing the camera (diagonal stripes with a colour code and a
+/// select), as in `bench/stripe.sh`, at 160 x 120.
+fn perspective_scene(dir: &crate::util::Dir) -> [&'static str; 6] {
+    dir.write("m.map", MAP8);
+    dir.write(
+        "scene.json",
+        concat!(
+            r#"{"vertices": [[-200,0,0],[200,0,0],[200,0,-2000],[-200,0,-2000]], "color": [180,170,150], "stripe": {"map": "runway.map", "spacing": 0.05, "yaw": 90}}"#,
+            "\n",
+            r#"{"vertices": [[-20,0,-60],[20,0,-60],[20,25,-60],[-20,25,-60]], "stripe": {"map": "m.map", "spacing": 0.5, "yaw": 30, "pitch": 20, "code": 172, "select": "rg"}}"#,
+            "\n"
+        ),
+    );
+    std::fs::copy(
+        repo("fixtures/stripes/runway.map"),
+        dir.path().join("runway.map"),
+    )
+    .unwrap();
+    [
+        "--size",
+        "160x120",
+        "--perspective",
+        "50,1.333,1,3000",
+        "--lookat",
+        "0,8,10,0,4,-100",
+    ]
+}
+
+/// `--aa exact` against `--reference` on the perspective scene, RMSE in 8-bit
+/// codes: measured 6.06, nearly all on the minified ground rows where a
+/// pixel spans part of a runway bar period and the LOD pyramid's filter is
+/// least like the box (the wall and the near ground are integrated exactly);
+/// at 1024x768 `bench/stripe.sh` measures 2.71. Point-sampled centres give 12.7,
+/// 16x16 supersampling 2.4.
+const EXACT_VS_REFERENCE_RMSE: f64 = 7.0;
+
+clitest!(
+    stripe_scene_exact_is_near_the_reference_and_threads_agree,
+    |dir| {
+        let view = perspective_scene(&dir);
+        let run = |extra: &[&str]| -> Vec<u8> {
+            dir.cmd("scene-render")
+                .args(view)
+                .args(extra)
+                .args(["scene.json", "-o", "-"])
+                .assert()
+                .success()
+                .get_output()
+                .stdout
+                .clone()
+        };
+        let exact = run(&[]);
+        let reference = run(&["--reference"]);
+        let e = rmse_codes(&exact, &reference);
+        assert!(e <= EXACT_VS_REFERENCE_RMSE, "exact vs reference: RMSE {e}");
+        let none = run(&["--aa", "none"]);
+        let n = rmse_codes(&none, &reference);
+        assert!(
+            n > e,
+            "point sampling ({n}) should be farther from the reference than exact ({e})"
+        );
+        for extra in [
+            &["--aa", "exact"][..],
+            &["--aa", "ss4"],
+            &["--reference"],
+            &["--cig-compat", "--aa", "none"],
+        ] {
+            let one = run(&[extra, &["--threads", "1"][..]].concat());
+            let three = run(&[extra, &["--threads", "3"][..]].concat());
+            assert!(one == three, "{extra:?}: --threads 1 and 3 differ");
+        }
+        // The wall's colour code 172 = 36*4 + 6*4 + 4: (204, 204, 204); select
+        // rg leaves blue at the face's 204 everywhere on the wall.
+        let img = image::load_from_memory(&exact).unwrap().to_rgb8();
+        let centre = img.get_pixel(80, 45).0;
+        assert_eq!(centre[2], 204, "{centre:?}");
+        assert!(centre[0] < 204 && centre[0] == centre[1], "{centre:?}");
+    }
+);
+
+/// `--cig-compat` against the default (blended) on the perspective scene:
+/// the seed's rule reads one entry per level, aligned to blocks, and
+/// under-estimates diagonal footprints, so it differs visibly (measured RMSE
+/// 10.2, mostly on the minified ground) but stays a filter of the same map
+/// (an unrelated image is 40 and more away).
+const CIG_VS_BLENDED_RMSE: (f64, f64) = (0.5, 15.0);
+
+clitest!(cig_compat_differs_from_blended_within_a_bound, |dir| {
+    let view = perspective_scene(&dir);
+    let run = |extra: &[&str]| -> Vec<u8> {
+        dir.cmd("scene-render")
+            .args(view)
+            .args(extra)
+            .args(["scene.json", "-o", "-"])
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone()
+    };
+    let blended = run(&[]);
+    let cig = run(&["--cig-compat"]);
+    let nearest = run(&["--stripe-lod", "nearest"]);
+    let d = rmse_codes(&blended, &cig);
+    assert!(
+        d > CIG_VS_BLENDED_RMSE.0 && d < CIG_VS_BLENDED_RMSE.1,
+        "--cig-compat vs blended: RMSE {d}"
+    );
+    assert!(rmse_codes(&blended, &nearest) > 0.0);
+    dir.cmd("scene-render")
+        .args(["--cig-compat", "--stripe-lod", "nearest", "scene.json"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--cig-compat"));
+    dir.cmd("scene-render")
+        .args(["--stripe-lod", "trilinear", "scene.json"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("trilinear"));
+});
+
+clitest!(scene_render_stripe_errors_name_the_record, |dir| {
+    perspective_scene(&dir);
+    let bad = |stripe: &str, needle: &str| {
+        dir.write(
+            "bad.json",
+            format!(
+                "{{\"vertices\": [[0,0],[9,0],[9,9]], \"color\": [1,2,3]}}\n{{\"vertices\": [[0,0],[9,0],[9,9]], \"stripe\": {stripe}}}\n"
+            ),
+        );
+        dir.cmd("scene-render")
+            .args(["--size", "10x10", "bad.json", "-o", "out.png"])
+            .assert()
+            .code(1)
+            .stderr(predicate::str::contains(needle.to_string()));
+        assert!(!dir.path().join("out.png").exists(), "{stripe}");
+    };
+    bad(
+        r#"{"map": "m.map", "spacing": 0, "yaw": 0}"#,
+        "scene-render: error: bad.json: record 1: stripe.spacing: 0 is not positive",
+    );
+    bad(
+        r#"{"map": "m.map", "spacing": -0.5, "yaw": 0}"#,
+        "bad.json: record 1: stripe.spacing: -0.5 is not positive",
+    );
+    bad(
+        r#"{"map": "m.map", "spacing": 1, "yaw": 400}"#,
+        "bad.json: record 1: stripe.yaw: 400 is out of range: expected 0 to 360 degrees",
+    );
+    bad(
+        r#"{"map": "m.map", "spacing": 1, "yaw": 0, "pitch": -95}"#,
+        "record 1: stripe.pitch: -95 is out of range",
+    );
+    bad(
+        r#"{"map": "m.map", "spacing": 1, "yaw": 0, "select": "rq"}"#,
+        "record 1: stripe.select: `rq`",
+    );
+    bad(
+        r#"{"map": "m.map", "spaceing": 1, "yaw": 0}"#,
+        "record 1: stripe.spaceing: unknown key",
+    );
+    bad(
+        r#"{"map": "missing.map", "spacing": 1, "yaw": 0}"#,
+        "bad.json: record 1: ",
+    );
+    bad(
+        r#"{"map": "missing.map", "spacing": 1, "yaw": 0}"#,
+        "missing.map",
+    );
+    dir.write("odd.map", "STRIPE 6\n1 2 3 4 5 6\n");
+    bad(
+        r#"{"map": "odd.map", "spacing": 1, "yaw": 0}"#,
+        "odd.map:1: word 2 `6`: map length 6 is not a power of two",
+    );
+    dir.write("short.tm", "TRANSLATE\n1 2 3\n");
+    bad(
+        r#"{"map": "m.map", "spacing": 1, "yaw": 0, "translation": "short.tm"}"#,
+        "short.tm:2: unexpected end of file: expected entry 4 of 256",
+    );
+    // One texture per face.
+    dir.write("c.pat", crate::util::checker16());
+    dir.write(
+        "both.json",
+        r#"{"vertices": [[0,0],[9,0],[9,9]], "pattern": {"file": "c.pat"}, "stripe": {"map": "m.map", "spacing": 1, "yaw": 0}}"#,
+    );
+    dir.cmd("scene-render")
+        .args(["--size", "10x10", "both.json", "-o", "out.png"])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "both.json: record 0: has both \"pattern\" and \"stripe\"",
+        ));
+});
+
+clitest!(stripes_stay_on_an_instanced_object, |dir| {
+    // Stripes along x (yaw 0) on an object moved along y: the stripes are
+    // fixed to the object, and a move across them leaves them where a
+    // record drawn at the moved place has them: the same image.
+    dir.write("m.map", MAP8);
+    let stripe = r#""stripe": {"map": "m.map", "spacing": 0.7, "yaw": 0, "phase": 1.5}"#;
+    dir.write(
+        "inst.json",
+        format!(
+            "{{\"object\": \"w\", \"records\": [{{\"vertices\": [[3,2],[50,2],[50,20],[3,20]], {stripe}}}]}}\n{{\"instance\": \"w\", \"transform\": [{{\"translate\": [0, 11, 0]}}]}}\n"
+        ),
+    );
+    dir.write(
+        "flat.json",
+        format!("{{\"vertices\": [[3,13],[50,13],[50,31],[3,31]], {stripe}}}\n"),
+    );
+    let run = |f: &str| {
+        dir.cmd("scene-render")
+            .args(["--size", "60x40", f, "-o", "-"])
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone()
+    };
+    assert!(run("inst.json") == run("flat.json"));
+});
