@@ -19,6 +19,12 @@
 //!    estimated RMSE over the whole frame is within [`BUDGET_SHARE`] of `E`
 //!    renders the remaining tiles. The pilot tiles keep their exact pixels.
 //!
+//! The estimate is against `--aa exact`. That equals the reference for flat
+//! and pattern-textured polygons, not for stripe textures, whose exact
+//! resolver filters by level of detail where many stripes cross a pixel
+//! (`bench/RESULTS-stripe.md`: RMSE 2.7 on the ground plane); their error
+//! floor is not part of the estimate.
+//!
 //! The choice depends only on the scene, never on timings or on the number of
 //! threads, so the output stays byte-identical for any `--threads`.
 
@@ -60,7 +66,7 @@ pub enum Region {
     /// Flat-coloured polygons only.
     Flat,
     /// At least one polygon with an "object" or "uv" pattern, sampled through
-    /// its texel map. (Screen-mode patterns count as flat: one texel per
+    /// its texel map, or a stripe texture (`crate::stripe`). (Screen-mode patterns count as flat: one texel per
     /// pixel, so only polygon edges make sampling error there.)
     Textured,
 }
@@ -119,7 +125,10 @@ pub fn aa_name(aa: Aa) -> String {
 fn region_of(polys: &[ScreenPoly], bin: &[u32]) -> Region {
     if bin.is_empty() {
         Region::Empty
-    } else if bin.iter().any(|&i| polys[i as usize].texture.is_some()) {
+    } else if bin.iter().any(|&i| {
+        let p = &polys[i as usize];
+        p.texture.is_some() || p.stripe.is_some()
+    }) {
         Region::Textured
     } else {
         Region::Flat
