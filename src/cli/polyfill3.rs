@@ -369,7 +369,7 @@ impl Job<'_> {
                 return Ok(());
             }
         }
-        let grid = Grid::new(&poly.points, place);
+        let grid = Grid::new(&poly.points, place)?;
         let estimate = (poly.area / (place.incr * place.incr)).min(estimate_cells(
             grid.xmax - grid.xmin,
             grid.ymax - grid.ymin,

@@ -613,7 +613,9 @@ fn project_parts(
                         curve_tolerance(other, view),
                     )),
                 };
-                if let Some(mut p) = raster::project(view, &outline, d.color, order, cull) {
+                if let Some(mut p) = raster::try_project(view, &outline, d.color, order, cull)
+                    .with_context(|| format!("record {}", d.index))?
+                {
                     p.screen = d.screen.clone();
                     if let Some((pref, mode, texels)) = &d.placed {
                         let tex = super::scene_texture::place(
