@@ -10,5 +10,6 @@ mod pat_info;
 mod pat_tile;
 mod polyfill3;
 mod scene_render;
+mod stress;
 mod stripe;
 mod texture;
