@@ -124,13 +124,14 @@ impl Grid {
             hi = hi.max(q);
         }
         for (name, shift) in [("horz", place.horz), ("vert", place.vert)] {
-            // `!(<=)` also refuses NaN.
-            if !(shift.abs() <= MAX_SHIFT_TEXELS) {
+            if shift.is_nan() || shift.abs() > MAX_SHIFT_TEXELS {
                 return Err(GridError::ShiftTooLarge { name, shift });
             }
         }
         let extent = lo.abs().max(hi.abs()).max_element();
-        if !(place.incr >= MIN_INCR_REL * extent) || !(place.incr > 0.0) {
+        // Written so that a NaN incr fails both comparisons and is refused.
+        let indexable = place.incr > 0.0 && place.incr >= MIN_INCR_REL * extent;
+        if !indexable {
             return Err(GridError::TooFine {
                 incr: place.incr,
                 extent,

@@ -130,7 +130,7 @@ proptest! {
             DVec3::new(x[3] - 4.0, -below, z_front),
         ];
         for aa in [Aa::Exact, Aa::None, Aa::Ss(4)] {
-            let img = draw(&v, &[floor.clone()], aa);
+            let img = draw(&v, std::slice::from_ref(&floor), aa);
             prop_assert!(lit_rows(&img).iter().all(|&y| y < H / 2), "{aa:?}");
         }
     }
