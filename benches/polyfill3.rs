@@ -147,7 +147,8 @@ fn prepared(faces: &[Vec<DVec3>], incr: f64, horz: f64) -> Vec<(PlanePolygon, Gr
                     horz,
                     vert: 0.0,
                 },
-            );
+            )
+            .unwrap();
             (p, g)
         })
         .collect()

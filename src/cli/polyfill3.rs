@@ -527,7 +527,7 @@ impl Job<'_> {
         if a.uv {
             return self.forward_uv(&rec, &pref, &vertices, place, rotate);
         }
-        let grid = Grid::new(&poly.points, place);
+        let grid = Grid::new(&poly.points, place)?;
         let estimate = (poly.area / (place.incr * place.incr)).min(estimate_cells(
             grid.xmax - grid.xmin,
             grid.ymax - grid.ymin,

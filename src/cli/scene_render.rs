@@ -844,7 +844,7 @@ fn draw_polygon(
     how: &Drawing,
     out: &mut Vec<ScreenPoly>,
 ) -> Result<()> {
-    let Some(mut p) = raster::project(view, outline, d.color, order, how.cull) else {
+    let Some(mut p) = raster::try_project(view, outline, d.color, order, how.cull)? else {
         return Ok(());
     };
     p.screen = d.screen.clone();

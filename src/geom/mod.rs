@@ -13,7 +13,7 @@ pub mod partition;
 pub mod plane;
 pub mod quadric;
 
-pub use partition::{CellSink, Grid, Partitioner, Placement};
+pub use partition::{CellSink, Grid, GridError, Partitioner, Placement};
 pub use plane::{map_to_plane, Frame, PlaneError, PlanePolygon};
 
 use crate::stream::Shape;

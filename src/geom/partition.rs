@@ -64,14 +64,78 @@ pub struct Grid {
     pub j1: i64,
 }
 
+/// The finest texel side, relative to the largest plane coordinate of the
+/// polygon (bounding-box corner): 2^-36, about 1.5e-11. A grid line is
+/// `xmin + (k + horz)*incr`; when `incr` approaches the spacing of f64 near
+/// the coordinates (2^-52 of them), consecutive lines round to the same
+/// value, [`Grid::col_of`] walks ~2^52 steps (a hang) and the index
+/// `floor(extent/incr)` overflows i64 (a panic). At 2^-36 every cell still
+/// spans 2^16 ulps of its coordinates and an axis has at most 2^37 cells.
+/// The stress suite asks for incr down to 1e-6 of a polygon's size, 5 orders
+/// of magnitude above this floor (`--max-polygons` refuses such jobs anyway).
+pub const MIN_INCR_REL: f64 = 1.0 / (1u64 << 36) as f64;
+
+/// The largest pattern shift `horz`/`vert`, in texels: 2^31. Lines are
+/// `(k + horz)*incr`, so a shift must leave `k + horz` exact to a small
+/// fraction of a texel (2^-21 here); at 1e17 texels whole columns merged and
+/// at 1e19 the column index overflowed i64. Shifts that matter are below the
+/// pattern's size (at most 4096): the placement repeats every SIZE texels.
+pub const MAX_SHIFT_TEXELS: f64 = (1u64 << 31) as f64;
+
+/// A placement that cannot be laid over a polygon as a grid of cells.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum GridError {
+    /// `incr` is below [`MIN_INCR_REL`] of the polygon's coordinates.
+    TooFine { incr: f64, extent: f64 },
+    /// `horz` or `vert` exceeds [`MAX_SHIFT_TEXELS`] in magnitude.
+    ShiftTooLarge { name: &'static str, shift: f64 },
+}
+
+impl std::fmt::Display for GridError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            GridError::TooFine { incr, extent } => write!(
+                f,
+                "pattern incr {incr:e} is too fine for a polygon with plane coordinates \
+                 up to {extent:e}: it must be at least {:e} ({MIN_INCR_REL:e} of them)",
+                MIN_INCR_REL * extent
+            ),
+            GridError::ShiftTooLarge { name, shift } => write!(
+                f,
+                "pattern {name} {shift:e} is too large: shifts are limited to \
+                 {MAX_SHIFT_TEXELS} texels (the pattern repeats every SIZE texels; \
+                 reduce it modulo the pattern's size)"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for GridError {}
+
 impl Grid {
     /// The grid over plane points `p` (bounding box = the thesis's texture
-    /// pattern limits).
-    pub fn new(p: &[DVec2], place: Placement) -> Grid {
+    /// pattern limits). Fails, instead of hanging or overflowing, when the
+    /// placement is finer or shifted further than f64 can index (see
+    /// [`MIN_INCR_REL`] and [`MAX_SHIFT_TEXELS`]).
+    pub fn new(p: &[DVec2], place: Placement) -> Result<Grid, GridError> {
         let (mut lo, mut hi) = (p[0], p[0]);
         for &q in p {
             lo = lo.min(q);
             hi = hi.max(q);
+        }
+        for (name, shift) in [("horz", place.horz), ("vert", place.vert)] {
+            if shift.is_nan() || shift.abs() > MAX_SHIFT_TEXELS {
+                return Err(GridError::ShiftTooLarge { name, shift });
+            }
+        }
+        let extent = lo.abs().max(hi.abs()).max_element();
+        // Written so that a NaN incr fails both comparisons and is refused.
+        let indexable = place.incr > 0.0 && place.incr >= MIN_INCR_REL * extent;
+        if !indexable {
+            return Err(GridError::TooFine {
+                incr: place.incr,
+                extent,
+            });
         }
         let mut g = Grid {
             xmin: lo.x,
@@ -94,7 +158,7 @@ impl Grid {
         if g.gy(g.j1) >= g.ymax && g.j1 > g.j0 {
             g.j1 -= 1;
         }
-        g
+        Ok(g)
     }
 
     /// x of column line k: where SPEC §2's u equals k. Computed from the
@@ -573,7 +637,7 @@ mod tests {
 
     fn run(v: &[DVec3], place: Placement) -> (PlanePolygon, Grid, Collect) {
         let poly = map_to_plane(v, 0.0, 1e-9).unwrap();
-        let grid = Grid::new(&poly.points, place);
+        let grid = Grid::new(&poly.points, place).unwrap();
         let mut c = Collect::default();
         Partitioner::new().run(&poly, &grid, &mut c);
         (poly, grid, c)
@@ -701,7 +765,7 @@ mod table51 {
                     horz: -5.0,
                     vert: 0.0,
                 };
-                Partitioner::new().run(&poly, &Grid::new(&poly.points, place), &mut f);
+                Partitioner::new().run(&poly, &Grid::new(&poly.points, place).unwrap(), &mut f);
             }
             assert_eq!(t.0, COMPAT[incr - 1], "incr {incr}");
             assert_eq!(f.0, EXACT[incr - 1], "incr {incr}");

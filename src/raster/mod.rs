@@ -268,22 +268,64 @@ fn snap_grid(v: f64) -> f64 {
     }
 }
 
-/// Clips, projects and orients one world polygon. `None` when nothing of it is
-/// visible, it is culled, or it is edge-on (zero area on screen).
-pub fn project(
+/// The most vertices a concave screen polygon may have. Concave polygons are
+/// split into triangles by [`ear_clip`], whose time grows with the square of
+/// the vertex count (10,000 vertices: about 5 s in a debug build, well under
+/// 1 s optimised); a 1,000,000-vertex concave outline would run for hours.
+/// Convex outlines are drawn whole, in linear time, whatever their size.
+pub const MAX_CONCAVE_VERTICES: usize = 10_000;
+
+/// Why a polygon cannot be drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ProjectError {
+    /// The visible outline is concave with more than [`MAX_CONCAVE_VERTICES`].
+    TooManyConcaveVertices(usize),
+}
+
+impl std::fmt::Display for ProjectError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            ProjectError::TooManyConcaveVertices(n) => write!(
+                f,
+                "the polygon is concave on screen with {n} vertices, more than the \
+                 {MAX_CONCAVE_VERTICES} its triangulation takes (ear clipping, quadratic \
+                 time): split it into smaller polygons"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for ProjectError {}
+
+/// [`try_project`] for polygons known to be small (tests).
+#[cfg(test)]
+pub(crate) fn project(
     view: &View,
     world: &[DVec3],
     color: Rgb8,
     order: u32,
     cull: Cull,
 ) -> Option<ScreenPoly> {
+    try_project(view, world, color, order, cull).expect("a test polygon too complex to draw")
+}
+
+/// Clips, projects and orients one world polygon. `Ok(None)` when nothing of
+/// it is visible, it is culled, or it is edge-on (zero area on screen); an
+/// error when it is too complex to triangulate ([`MAX_CONCAVE_VERTICES`]).
+pub fn try_project(
+    view: &View,
+    world: &[DVec3],
+    color: Rgb8,
+    order: u32,
+    cull: Cull,
+) -> Result<Option<ScreenPoly>, ProjectError> {
     let clip_space: Vec<DVec4> = world.iter().map(|&p| view.to_clip(p)).collect();
     if clip_space.iter().any(|c| !c.is_finite()) {
-        return None;
+        return Ok(None);
     }
     let clipped = clip::clip_polygon(&clip_space, view);
     if clipped.len() < 3 {
-        return None;
+        return Ok(None);
     }
     let mut verts: Vec<DVec2> = Vec::with_capacity(clipped.len());
     let mut qs: Vec<f64> = Vec::with_capacity(clipped.len());
@@ -300,24 +342,28 @@ pub fn project(
         qs.pop();
     }
     if verts.len() < 3 {
-        return None;
+        return Ok(None);
     }
     let a2 = area2(&verts);
     if a2 == 0.0 || !a2.is_finite() {
-        return None;
+        return Ok(None);
     }
     match cull {
-        Cull::Back if a2 < 0.0 => return None,
-        Cull::Front if a2 > 0.0 => return None,
+        Cull::Back if a2 < 0.0 => return Ok(None),
+        Cull::Front if a2 > 0.0 => return Ok(None),
         _ => {}
     }
     if a2 < 0.0 {
         verts.reverse();
         qs.reverse();
     }
-    let plane = newell_plane(&verts, &qs)?;
+    let Some(plane) = newell_plane(&verts, &qs) else {
+        return Ok(None);
+    };
     let pieces = if is_convex(&verts) {
         vec![verts.clone()]
+    } else if verts.len() > MAX_CONCAVE_VERTICES {
+        return Err(ProjectError::TooManyConcaveVertices(verts.len()));
     } else {
         ear_clip(&verts)
     };
@@ -336,7 +382,7 @@ pub fn project(
         (y1.ceil().max(0.0) as u32).min(h),
     ];
     let c = color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0));
-    Some(ScreenPoly {
+    Ok(Some(ScreenPoly {
         verts,
         plane,
         color: c,
@@ -347,7 +393,7 @@ pub fn project(
         pieces,
         tie_floor: DEPTH_TIE_REL * view.nearness_scale(),
         bbox,
-    })
+    }))
 }
 
 /// The affine nearness `q(x, y)` through a planar polygon's screen vertices, by

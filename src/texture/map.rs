@@ -13,7 +13,7 @@
 //! straight screen line `U - k D = 0`: a texel cell seen on the screen is a
 //! convex quadrilateral, and a fragment can be cut along it exactly.
 
-use crate::geom::{map_to_plane, Grid, Placement};
+use crate::geom::{map_to_plane, Grid, GridError, Placement, PlaneError};
 use crate::raster::{clip, View};
 use glam::{DVec2, DVec3, DVec4};
 
@@ -123,6 +123,25 @@ fn side(n: [f64; 3], d: [f64; 3], k: f64, keep_above: bool) -> [f64; 3] {
     }
 }
 
+/// Why [`object_uv`] cannot place a pattern on a polygon: the polygon has no
+/// plane, or the placement no grid.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ObjectUvError {
+    Plane(PlaneError),
+    Grid(GridError),
+}
+
+impl std::fmt::Display for ObjectUvError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ObjectUvError::Plane(e) => e.fmt(f),
+            ObjectUvError::Grid(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for ObjectUvError {}
+
 /// SPEC §2 object placement, computed by `polyfill3`'s own functions: the
 /// plane frame of [`map_to_plane`] and the grid of [`Grid::new`], so that
 /// `u = (x - xmin)/incr - horz`, `v = (y - ymin)/incr - vert` at each vertex.
@@ -133,9 +152,9 @@ pub fn object_uv(
     place: Placement,
     rotate_deg: f64,
     planarity_tol: f64,
-) -> Result<Vec<DVec2>, crate::geom::PlaneError> {
-    let poly = map_to_plane(world, rotate_deg, planarity_tol)?;
-    let grid = Grid::new(&poly.points, place);
+) -> Result<Vec<DVec2>, ObjectUvError> {
+    let poly = map_to_plane(world, rotate_deg, planarity_tol).map_err(ObjectUvError::Plane)?;
+    let grid = Grid::new(&poly.points, place).map_err(ObjectUvError::Grid)?;
     Ok(poly
         .points
         .iter()

@@ -11,5 +11,6 @@ mod pat_tile;
 mod polyfill3;
 mod quadric;
 mod scene_render;
+mod stress;
 mod stripe;
 mod texture;

@@ -186,7 +186,7 @@ fn check(c: &Case) -> Result<(), String> {
         horz: c.horz,
         vert: c.vert,
     };
-    let grid = Grid::new(&poly.points, place);
+    let grid = Grid::new(&poly.points, place).unwrap();
     let mut out = Cells::default();
     Partitioner::new().run(&poly, &grid, &mut out);
     let tol = REL * poly.size;
