@@ -180,6 +180,9 @@ fn run_in_pool(args: Args) -> Result<()> {
     if args.json && args.compare.is_none() && !args.reference {
         usage_bail!("--json is for the --compare and --reference reports");
     }
+    if let Err(e) = args.texture.filters() {
+        usage_bail!("{e}");
+    }
     // Everything that can fail is checked before anything is written.
     let reference_img = match &args.compare {
         Some(r) => Some(load_image(r)?),

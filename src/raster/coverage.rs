@@ -94,6 +94,15 @@ fn push_frag(
         return;
     };
     let (x, y) = (px as f64, py as f64);
+    // A filter other than the box: the fragment is flat, coloured by the
+    // filter at the pixel centre (its coverage stays exact).
+    if let Some((f, fp)) = tex.filter_at(x + 0.5, y + 0.5) {
+        if let Some(c) = crate::texture::filter::unpremultiply(tex.sample(f, &fp)) {
+            t.colors.push(c);
+            push_piece(frags, arena, pixel, pi, verts, (t.colors.len() - 1) as u32);
+        }
+        return;
+    }
     let square = [
         DVec2::new(x, y),
         DVec2::new(x + 1.0, y),
