@@ -65,6 +65,35 @@ struct Frag {
 /// [`Frag::color`] of a fragment coloured by its polygon.
 const POLY_COLOR: u32 = u32::MAX;
 
+/// [`Frag::color`] of an opaque textured fragment whose filtered colour (at
+/// the pixel centre) is computed only once it is known to be visible.
+const FILTER_LATER: u32 = u32::MAX - 1;
+
+/// The colour of a fragment, filtering a [`FILTER_LATER`] texture now.
+#[inline]
+fn frag_color(
+    polys: &[ScreenPoly],
+    f: &Frag,
+    cols: &[[f64; 3]],
+    i: usize,
+    px: u32,
+    py: u32,
+) -> [f64; 3] {
+    if f.color != FILTER_LATER {
+        return cols[i];
+    }
+    let tex = polys[f.poly as usize]
+        .texture
+        .as_ref()
+        .expect("FILTER_LATER fragments are textured");
+    match tex.eval(px as f64 + 0.5, py as f64 + 0.5) {
+        crate::texture::filter::Eval::Color(Some(c)) => c,
+        // Unreachable for a texture that is always opaque and was given a
+        // filter at this centre when the fragment was made.
+        other => unreachable!("a deferred filter gave {other:?}"),
+    }
+}
+
 /// Per-tile buffers for fragments of textured polygons.
 #[derive(Default)]
 struct TexScratch {
@@ -95,9 +124,14 @@ fn push_frag(
     };
     let (x, y) = (px as f64, py as f64);
     // A filter other than the box: the fragment is flat, coloured by the
-    // filter at the pixel centre (its coverage stays exact).
+    // filter at the pixel centre (its coverage stays exact). When no texel
+    // can be transparent the colour does not decide visibility, and it is
+    // left to [`resolve_pixel`], which computes it only if the fragment
+    // shows (hidden pixels are never filtered).
     if let Some((f, fp)) = tex.filter_at(x + 0.5, y + 0.5) {
-        if let Some(c) = crate::texture::filter::unpremultiply(tex.sample(f, &fp)) {
+        if tex.always_opaque() {
+            push_piece(frags, arena, pixel, pi, verts, FILTER_LATER);
+        } else if let Some(c) = crate::texture::filter::unpremultiply(tex.sample(f, &fp)) {
             t.colors.push(c);
             push_piece(frags, arena, pixel, pi, verts, (t.colors.len() - 1) as u32);
         }
@@ -343,10 +377,11 @@ fn resolve_pixel(
     s.cols.clear();
     s.alive.clear();
     for f in frags {
-        let c = if f.color == POLY_COLOR {
-            polys[f.poly as usize].color_at(px, py)
-        } else {
-            Some(colors[f.color as usize])
+        let c = match f.color {
+            POLY_COLOR => polys[f.poly as usize].color_at(px, py),
+            // Opaque; computed below only if it shows.
+            FILTER_LATER => Some([0.0; 3]),
+            i => Some(colors[i as usize]),
         };
         s.alive.push(c.is_some());
         s.cols.push(c.unwrap_or_default());
@@ -384,7 +419,7 @@ fn resolve_pixel(
             }
         }
         if all_hidden {
-            return s.cols[b].map(|c| c as f32);
+            return frag_color(polys, &frags[b], &s.cols, b, px, py).map(|c| c as f32);
         }
     }
     let mut acc = [0.0f64; 3];
@@ -432,8 +467,9 @@ fn resolve_pixel(
         let area: f64 = s.pieces.iter().map(|p| area2(p)).sum::<f64>() * 0.5;
         if area > AREA_EPS {
             covered += area;
+            let c = frag_color(polys, f, &s.cols, i, px, py);
             for ch in 0..3 {
-                acc[ch] += area * s.cols[i][ch];
+                acc[ch] += area * c[ch];
             }
         }
     }

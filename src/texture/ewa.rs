@@ -64,7 +64,8 @@ pub fn sample(t: &PolyTexture, fp: &Footprint) -> [f64; 4] {
         l1 += d;
     }
     // The level: the first whose texels keep the major radius within bounds.
-    let levels = super::mip::level_sizes(t.texels.size()).len();
+    // log2 of the side, rounded down: the number of levels below the base.
+    let levels = (u32::BITS - 1 - t.texels.size().leading_zeros()) as usize;
     let major = CUTOFF * l1.sqrt();
     let mut k = 0;
     while k < levels && major / t.level_scale(k) > MAX_RADIUS {

@@ -36,7 +36,7 @@
 //! shows the un-premultiplied colour where alpha is at least one half, and
 //! what lies behind elsewhere.
 
-use super::mip::{level_sizes, Extend, MipBuild, MipKey};
+use super::mip::{Extend, MipBuild, MipKey};
 use super::PolyTexture;
 use glam::DVec2;
 
@@ -139,16 +139,18 @@ pub enum Eval {
 }
 
 /// Where a footprint of `rho` base texels per pixel lies in the pyramid of a
-/// `s0` pattern: level `k` and the fraction `t` towards level `k + 1`. Level
+/// `s0` pattern ([`super::mip::level_sizes`]): level `k` and the fraction `t` towards level `k + 1`. Level
 /// `k` has scale `s0 / s_k` base texels per texel; the position is linear in
 /// `log2` between neighbouring scales (exactly `lambda` for powers of two).
 pub fn level_position(rho: f64, s0: u32) -> (usize, f64) {
     if !(rho > 1.0) {
         return (0, 0.0);
     }
-    let mut prev = 1.0f64;
-    let mut k = 0;
-    for s in level_sizes(s0) {
+    // The sides of [`level_sizes`], walked without allocating (this runs
+    // per sample).
+    let (mut prev, mut s, mut k) = (1.0f64, s0, 0);
+    while s > 1 {
+        s /= 2;
         let scale = s0 as f64 / s as f64;
         if rho < scale {
             return (k, (rho / prev).log2() / (scale / prev).log2());
