@@ -466,6 +466,9 @@ pub struct ScreenPattern {
     size: u32,
     /// Row 0 at the bottom; `None` is transparent.
     texels: Vec<Option<[f64; 3]>>,
+    /// Whether any texel is transparent, found once (resolvers ask per
+    /// fragment).
+    transparent: bool,
     /// Its MIP pyramids, built on first use, one per [`MipKey`] (18 keys:
     /// 2 builds x 3 x 3 edge extensions), shared by every polygon that
     /// holds this pattern.
@@ -500,6 +503,7 @@ impl ScreenPattern {
         }
         ScreenPattern {
             size,
+            transparent: texels.iter().any(|t| t.is_none()),
             texels,
             pyramids: std::array::from_fn(|_| std::sync::OnceLock::new()),
         }
@@ -547,7 +551,7 @@ impl ScreenPattern {
 
     /// Whether any texel is transparent (the pattern has an alpha channel).
     pub fn has_transparency(&self) -> bool {
-        self.texels.iter().any(|t| t.is_none())
+        self.transparent
     }
 }
 

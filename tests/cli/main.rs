@@ -12,3 +12,4 @@ mod polyfill3;
 mod scene_render;
 mod stripe;
 mod texture;
+mod texture_filters;
