@@ -72,8 +72,17 @@ pub fn sample(t: &PolyTexture, fp: &Footprint) -> [f64; 4] {
         k += 1;
     }
     let sc = t.level_scale(k);
+    // Past the coarsest level (a pixel over more than the whole pattern
+    // many times, towards a horizon) the ellipse is shrunk to MAX_RADIUS
+    // texels of that level, bounding the work; it then already spans the
+    // whole level several times over.
+    let mut f = 1.0 / (sc * sc);
+    let r = major / sc;
+    if r > MAX_RADIUS {
+        f *= (MAX_RADIUS / r) * (MAX_RADIUS / r);
+    }
     let tt = TEXEL_SIGMA * TEXEL_SIGMA;
-    let (a, b, c) = (a / (sc * sc) + tt, b / (sc * sc), c / (sc * sc) + tt);
+    let (a, b, c) = (a * f + tt, b * f, c * f + tt);
     let det = a * c - b * b;
     // Inverse covariance for the Mahalanobis distance.
     let (ia, ib, ic) = (c / det, -b / det, a / det);
@@ -104,6 +113,7 @@ pub fn sample(t: &PolyTexture, fp: &Footprint) -> [f64; 4] {
 
 #[cfg(test)]
 mod tests {
+    use super::super::boundary::{Boundary, Bounds};
     use super::super::filter::tests::{pattern, placed};
     use super::super::filter::{Eval, Filter};
     use super::*;
@@ -171,5 +181,24 @@ mod tests {
             panic!()
         };
         assert!((grey[0] - 0.5).abs() < 0.1, "{grey:?}");
+    }
+
+    #[test]
+    fn a_footprint_far_larger_than_the_pattern_is_bounded() {
+        // 1e12 texels per pixel (a horizon): the coarsest level, a bounded
+        // ellipse; under clamp the constant dominates, under repeat the
+        // pattern's mean.
+        let p = pattern(16, &[Rgb8::BLACK, Rgb8::WHITE], |c, r| ((c + r) % 2) as u16);
+        let mut t = placed(p, 1e12, Filter::Ewa, 0.0);
+        let Eval::Color(Some(c)) = t.eval(0.5, 0.5) else {
+            panic!()
+        };
+        assert!((c[0] - 0.5).abs() < 1e-6, "{c:?}");
+        t.bounds = Bounds::both(Boundary::Clamp);
+        t.constant = [1.0, 0.0, 0.0];
+        let Eval::Color(Some(c)) = t.eval(0.5, 0.5) else {
+            panic!()
+        };
+        assert!(c[0] > 0.9 && c[1] < 0.1, "{c:?}");
     }
 }

@@ -143,7 +143,7 @@ pub enum Eval {
 /// `k` has scale `s0 / s_k` base texels per texel; the position is linear in
 /// `log2` between neighbouring scales (exactly `lambda` for powers of two).
 pub fn level_position(rho: f64, s0: u32) -> (usize, f64) {
-    if !(rho > 1.0) {
+    if rho.is_nan() || rho <= 1.0 {
         return (0, 0.0);
     }
     // The sides of [`level_sizes`], walked without allocating (this runs
@@ -332,7 +332,11 @@ pub(crate) mod tests {
     ];
 
     /// A pattern of side `s` from a texel → palette index function.
-    pub fn pattern(s: u32, colors: &[Rgb8], f: impl Fn(u32, u32) -> u16) -> Arc<ScreenPattern> {
+    pub fn pattern(
+        s: u32,
+        colors: &[Rgb8],
+        mut f: impl FnMut(u32, u32) -> u16,
+    ) -> Arc<ScreenPattern> {
         let t = (0..s * s).map(|i| f(i % s, i / s)).collect();
         Arc::new(ScreenPattern::new(
             &Pattern::new(s, colors.to_vec(), t).unwrap(),
@@ -374,6 +378,41 @@ pub(crate) mod tests {
 
     /// Rounding of sums of a few f64 (and the f32 levels): far below 8 bits.
     const TOL: f64 = 1e-6;
+
+    proptest::proptest! {
+        /// Every filter weighs texels with non-negative weights summing to
+        /// one (the Mitchell build's overshoot is clamped to [0, alpha]), so
+        /// on a black-and-white pattern every channel stays within [0, 1] and
+        /// the three channels stay equal, under any placement, perspective,
+        /// bias, build and boundary.
+        #[test]
+        fn filtered_colours_stay_within_the_texels_range(
+            seed in 0u64..1000,
+            (a, b, c, dd) in (-20.0f64..20.0, -20.0f64..20.0, -20.0f64..20.0, -20.0f64..20.0),
+            persp in (-0.01f64..0.01, -0.01f64..0.01),
+            (x, y) in (0.0f64..64.0, 0.0f64..64.0),
+            fi in 1usize..8,
+            bias in -3.0f64..3.0,
+            mitchell in proptest::bool::ANY,
+            bi in 0usize..5,
+        ) {
+            let mut r = crate::raster::scan::tests::Rng(seed.wrapping_mul(2654435761) + 1);
+            let p = pattern(16, &BW, |_, _| (r.next() < 0.5) as u16);
+            let mut t = placed(p, 1.0, ALL[fi], bias);
+            t.map = TexMap { u: [a, b, 3.0], v: [c, dd, -7.0], d: [persp.0, persp.1, 1.0] };
+            t.filters.build = if mitchell { MipBuild::Mitchell } else { MipBuild::Box };
+            t.bounds = Bounds::both([Boundary::Repeat, Boundary::Mirror, Boundary::Edge,
+                Boundary::Clamp, Boundary::Transparent][bi]);
+            t.intrinsic = [1.0; 3];
+            if let Eval::Color(Some(col)) = t.eval(x, y) {
+                // Rounding of the normalized sums and of the f32 levels.
+                for ch in 0..3 {
+                    proptest::prop_assert!((-TOL..=1.0 + TOL).contains(&col[ch]), "{col:?}");
+                    proptest::prop_assert!((col[ch] - col[0]).abs() < TOL, "{col:?}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn a_constant_texture_gives_its_colour_under_every_filter_and_scale() {

@@ -49,7 +49,7 @@ impl TexMap {
     #[inline]
     pub fn footprint(&self, x: f64, y: f64) -> Option<Footprint> {
         let d = eval(self.d, x, y);
-        if !(d > 0.0) {
+        if d.is_nan() || d <= 0.0 {
             return None;
         }
         let uv = DVec2::new(eval(self.u, x, y) / d, eval(self.v, x, y) / d);
