@@ -137,6 +137,20 @@ fn push_frag(
         }
         return;
     }
+    // The centre of a pixel straddling the plane's horizon can lie beyond
+    // it, where the map has no footprint; the fragment's own vertex centroid
+    // lies inside the polygon. (Falling back to the box filter there would
+    // cut a near-horizon fragment into up to MAX_EXACT_CELLS pieces.)
+    if !tex.filters.is_box() && !verts.is_empty() {
+        let c = verts.iter().fold(DVec2::ZERO, |a, &v| a + v) / verts.len() as f64;
+        if let Some((f, fp)) = tex.filter_at(c.x, c.y) {
+            if let Some(c) = crate::texture::filter::unpremultiply(tex.sample(f, &fp)) {
+                t.colors.push(c);
+                push_piece(frags, arena, pixel, pi, verts, (t.colors.len() - 1) as u32);
+            }
+            return;
+        }
+    }
     let square = [
         DVec2::new(x, y),
         DVec2::new(x + 1.0, y),

@@ -361,3 +361,63 @@ clitest!(min_and_mag_filters_are_chosen_per_pixel, |dir| {
         n(&boxed, &all)
     );
 });
+
+clitest!(
+    mip_filters_work_on_a_non_power_of_two_pattern_under_every_boundary,
+    |dir| {
+        // A 48x48 checker of single texels (levels 24, 12, 6, 3, 1) on the
+        // receding floor, minified to many texels per pixel at the back:
+        // under repeat and mirror the far floor averages to the checker's
+        // linear mean, code 188 for black and white, whichever build; the
+        // other boundaries must simply render.
+        let mut pat = String::from("48 2\n0 0 0\n");
+        let rows = |odd: bool| {
+            (0..48)
+                .map(|r| {
+                    let w = if (r % 2 == 0) ^ odd { "aaaa" } else { "5555" };
+                    format!("{w} {w} {w}\n")
+                })
+                .collect::<String>()
+        };
+        pat += &rows(false);
+        pat += "255 255 255\n";
+        pat += &rows(true);
+        dir.write("c.pat", pat);
+        dir.write(
+            "s.json",
+            r#"{"vertices":[[-400,-1,-1],[400,-1,-1],[400,-1,-801],[-400,-1,-801]],"uv":[[0,0],[4800,0],[4800,4800],[0,4800]],"color":[255,0,0],"pattern":{"file":"c.pat"}}"#,
+        );
+        let runs = [
+            ("repeat", "mitchell", "trilinear"),
+            ("repeat", "box", "ewa"),
+            ("repeat", "box", "mip-point-linear"),
+            ("mirror", "mitchell", "trilinear"),
+            ("edge", "mitchell", "trilinear"),
+            ("clamp", "box", "trilinear"),
+            ("transparent", "mitchell", "ewa"),
+        ];
+        for (boundary, build, filter) in runs {
+            {
+                {
+                    dir.cmd("scene-render")
+                        .args(["--size", "64x48", "--perspective", "60,1.333,0.5,1000"])
+                        .args(["--lookat", "0,0,0,0,-0.05,-1", "--filter", filter])
+                        .args(["--boundary", boundary, "--mip-build", build])
+                        .args(["s.json", "-o", "o.ppm"])
+                        .assert()
+                        .success();
+                    let img = dir.read("o.ppm");
+                    // Row 26 from the bottom: just below the horizon, tens
+                    // of texels per pixel, inside the pattern's 100 copies.
+                    let p = pixel(&img, 64, 48, 32, 22);
+                    if boundary == "repeat" || boundary == "mirror" {
+                        assert!(
+                            p.iter().all(|&c| (c as i32 - 188).abs() <= 3),
+                            "{boundary} {build} {filter}: {p:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+);
