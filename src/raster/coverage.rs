@@ -336,6 +336,8 @@ struct Scratch {
     b: Vec<DVec2>,
     alive: Vec<bool>,
     cols: Vec<[f64; 3]>,
+    /// Runs `[start, end)` of consecutive fragments of one polygon.
+    runs: Vec<(u32, u32)>,
 }
 
 fn frag_verts<'a>(f: &Frag, arena: &'a [DVec2], square: &'a [DVec2; 4]) -> &'a [DVec2] {
@@ -436,6 +438,14 @@ fn resolve_pixel(
             return frag_color(polys, &frags[b], &s.cols, b, px, py).map(|c| c as f32);
         }
     }
+    s.runs.clear();
+    let mut start = 0;
+    for k in 1..=frags.len() {
+        if k == frags.len() || frags[k].poly != frags[start].poly {
+            s.runs.push((start as u32, k as u32));
+            start = k;
+        }
+    }
     let mut acc = [0.0f64; 3];
     let mut covered = 0.0f64;
     for (i, f) in frags.iter().enumerate() {
@@ -445,38 +455,45 @@ fn resolve_pixel(
         let fp = &polys[f.poly as usize];
         s.pieces.clear();
         s.pieces.push(frag_verts(f, arena, &square).to_vec());
-        for (j, g) in frags.iter().enumerate() {
-            // Pieces of one polygon (ear-clipping triangles, texel cells)
-            // never hide each other: `front_of` is then the constant
-            // `-tie` < 0. Skipping them first keeps a pixel over n texel
-            // cells of one polygon O(n), not O(n²) separating-axis tests.
-            if j == i || !s.alive[j] || s.pieces.is_empty() || g.poly == f.poly {
+        // Pieces of one polygon (ear-clipping triangles, texel cells) never
+        // hide each other: `front_of` is then the constant `-tie` < 0. They
+        // come in runs (fragments are made polygon by polygon), and F's own
+        // runs are skipped whole, so a pixel over n texel cells of one
+        // polygon costs O(n), not O(n²) tests or even O(n²) skips.
+        for &(r0, r1) in &s.runs {
+            if frags[r0 as usize].poly == f.poly {
                 continue;
             }
-            let gv = frag_verts(g, arena, &square);
-            if s.pieces.len() == 1 && disjoint(&s.pieces[0], gv) {
-                continue; // Neighbours that only share an edge.
+            for j in r0 as usize..r1 as usize {
+                let g = &frags[j];
+                if !s.alive[j] || s.pieces.is_empty() {
+                    continue;
+                }
+                let gv = frag_verts(g, arena, &square);
+                if s.pieces.len() == 1 && disjoint(&s.pieces[0], gv) {
+                    continue; // Neighbours that only share an edge.
+                }
+                let gp = &polys[g.poly as usize];
+                let d = front_of(gp, fp, centre);
+                let val = |v: &DVec2| d[0] * v.x + d[1] * v.y + d[2];
+                if gv.iter().all(|v| val(v) <= 0.0) {
+                    continue; // G is behind F wherever G is.
+                }
+                s.occ.clear();
+                if gv.iter().all(|v| val(v) >= 0.0) {
+                    s.occ.extend_from_slice(gv);
+                } else {
+                    clip_line(gv, d, &mut s.occ);
+                }
+                if s.occ.len() < 3 || area2(&s.occ) <= 2.0 * AREA_EPS {
+                    continue;
+                }
+                s.next.clear();
+                for piece in s.pieces.drain(..) {
+                    subtract(&piece, &s.occ, &mut s.next, &mut s.a, &mut s.b);
+                }
+                std::mem::swap(&mut s.pieces, &mut s.next);
             }
-            let gp = &polys[g.poly as usize];
-            let d = front_of(gp, fp, centre);
-            let val = |v: &DVec2| d[0] * v.x + d[1] * v.y + d[2];
-            if gv.iter().all(|v| val(v) <= 0.0) {
-                continue; // G is behind F wherever G is.
-            }
-            s.occ.clear();
-            if gv.iter().all(|v| val(v) >= 0.0) {
-                s.occ.extend_from_slice(gv);
-            } else {
-                clip_line(gv, d, &mut s.occ);
-            }
-            if s.occ.len() < 3 || area2(&s.occ) <= 2.0 * AREA_EPS {
-                continue;
-            }
-            s.next.clear();
-            for piece in s.pieces.drain(..) {
-                subtract(&piece, &s.occ, &mut s.next, &mut s.a, &mut s.b);
-            }
-            std::mem::swap(&mut s.pieces, &mut s.next);
         }
         let area: f64 = s.pieces.iter().map(|p| area2(p)).sum::<f64>() * 0.5;
         if area > AREA_EPS {
