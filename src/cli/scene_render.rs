@@ -279,6 +279,9 @@ fn run_in_pool(args: Args) -> Result<()> {
     if args.json && args.compare.is_none() && !args.reference && args.max_error.is_none() {
         usage_bail!("--json is for the --compare, --reference and --max-error reports");
     }
+    if let Err(e) = args.texture.filters() {
+        usage_bail!("{e}");
+    }
     // Everything that can fail is checked before anything is written.
     let reference_img = match &args.compare {
         Some(r) => Some(load_image(r)?),

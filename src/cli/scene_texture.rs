@@ -10,7 +10,9 @@ use crate::raster::{ScreenPattern, View};
 use crate::stream::{PatternMode, PatternRef};
 use crate::texture::boundary::{Boundary, Bounds};
 use crate::texture::compose::Compose;
+use crate::texture::filter::{Filter, Filters};
 use crate::texture::map::{object_uv, TexMap};
+use crate::texture::mip::MipBuild;
 use crate::texture::PolyTexture;
 use anyhow::Result;
 use glam::{DVec2, DVec3};
@@ -63,9 +65,78 @@ pub struct TextureArgs {
     /// under perspective; for reproducing such images.
     #[arg(long)]
     pub no_perspective_correction: bool,
+
+    /// How a textured pixel is computed from the pattern: box (the exact
+    /// area integral of the texels under the pixel, crisp), point, bilinear
+    /// (the base level), mip-point, mip-bilinear (the nearest MIP level),
+    /// mip-point-linear, trilinear (the two nearest levels, mixed: XGL's six
+    /// methods), ewa (elliptical weighted average, anisotropic). Sets both
+    /// --min-filter and --mag-filter; a MIP filter or ewa magnifies with its
+    /// base-level counterpart (point or bilinear).
+    #[arg(long, value_enum, value_name = "FILTER", default_value_t = Filter::Box)]
+    pub filter: Filter,
+
+    /// The filter where the pattern is minified (a pixel spans more than one
+    /// texel after --lod-bias; XGL's filter1): overrides --filter.
+    #[arg(long, value_enum, value_name = "FILTER")]
+    pub min_filter: Option<Filter>,
+
+    /// The filter where the pattern is magnified (XGL's filter2): box, point
+    /// or bilinear (the MIP filters have nothing to do there, as in OpenGL).
+    #[arg(long, value_enum, value_name = "FILTER")]
+    pub mag_filter: Option<Filter>,
+
+    /// Added to the MIP level of detail (log2 of texels per pixel), XGL's
+    /// depth_interp_factor: 1.0 is one level blurrier, -1.0 one level
+    /// sharper (and more aliased).
+    #[arg(
+        long,
+        value_name = "F",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    pub lod_bias: f64,
+
+    /// The filter that builds MIP levels (in linear light, only when some
+    /// pixel minifies under a MIP filter or ewa): mitchell (XGL's choice) or
+    /// box.
+    #[arg(long, value_enum, value_name = "FILTER", default_value_t = MipBuild::Mitchell)]
+    pub mip_build: MipBuild,
 }
 
+/// Largest `--lod-bias` magnitude: 16 levels is beyond the 13 of the largest
+/// pattern (4096), so any larger value means the same and is likely a typo.
+pub const MAX_LOD_BIAS: f64 = 16.0;
+
 impl TextureArgs {
+    /// The filters, checked: the mag filter must work on the base level,
+    /// and the bias must be a finite number of levels.
+    pub fn filters(&self) -> std::result::Result<Filters, String> {
+        if !self.lod_bias.is_finite() || self.lod_bias.abs() > MAX_LOD_BIAS {
+            return Err(format!(
+                "--lod-bias {}: expected a number of MIP levels from -{MAX_LOD_BIAS} to {MAX_LOD_BIAS}",
+                self.lod_bias
+            ));
+        }
+        let mag = match self.mag_filter {
+            Some(m) if !m.magnifies() => {
+                return Err(format!(
+                    "--mag-filter {}: magnification samples the base level only \
+                     (as OpenGL's GL_TEXTURE_MAG_FILTER); use box, point or bilinear",
+                    m.name()
+                ))
+            }
+            Some(m) => m,
+            None => self.filter.mag_counterpart(),
+        };
+        Ok(Filters {
+            min: self.min_filter.unwrap_or(self.filter),
+            mag,
+            lod_bias: self.lod_bias,
+            build: self.mip_build,
+        })
+    }
+
     fn bounds(&self) -> Bounds {
         Bounds {
             u: self.boundary_u.unwrap_or(self.boundary),
@@ -123,6 +194,7 @@ pub fn place(
     args.compose
         .check(texels.has_transparency())
         .map_err(anyhow::Error::msg)?;
+    let filters = args.filters().map_err(anyhow::Error::msg)?;
     if coords.len() != outline.len() {
         anyhow::bail!(
             "{} texture coordinates for {} vertices",
@@ -140,6 +212,7 @@ pub fn place(
                 constant: linear(args.boundary_color),
                 compose: args.compose,
                 compose_colors: [linear(args.compose_color1), linear(args.compose_color2)],
+                filters,
             }
         }),
     )

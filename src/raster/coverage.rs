@@ -65,6 +65,35 @@ struct Frag {
 /// [`Frag::color`] of a fragment coloured by its polygon.
 const POLY_COLOR: u32 = u32::MAX;
 
+/// [`Frag::color`] of an opaque textured fragment whose filtered colour (at
+/// the pixel centre) is computed only once it is known to be visible.
+const FILTER_LATER: u32 = u32::MAX - 1;
+
+/// The colour of a fragment, filtering a [`FILTER_LATER`] texture now.
+#[inline]
+fn frag_color(
+    polys: &[ScreenPoly],
+    f: &Frag,
+    cols: &[[f64; 3]],
+    i: usize,
+    px: u32,
+    py: u32,
+) -> [f64; 3] {
+    if f.color != FILTER_LATER {
+        return cols[i];
+    }
+    let tex = polys[f.poly as usize]
+        .texture
+        .as_ref()
+        .expect("FILTER_LATER fragments are textured");
+    match tex.eval(px as f64 + 0.5, py as f64 + 0.5) {
+        crate::texture::filter::Eval::Color(Some(c)) => c,
+        // Unreachable for a texture that is always opaque and was given a
+        // filter at this centre when the fragment was made.
+        other => unreachable!("a deferred filter gave {other:?}"),
+    }
+}
+
 /// Per-tile buffers for fragments of textured polygons.
 #[derive(Default)]
 struct TexScratch {
@@ -101,6 +130,34 @@ fn push_frag(
         return;
     };
     let (x, y) = (px as f64, py as f64);
+    // A filter other than the box: the fragment is flat, coloured by the
+    // filter at the pixel centre (its coverage stays exact). When no texel
+    // can be transparent the colour does not decide visibility, and it is
+    // left to [`resolve_pixel`], which computes it only if the fragment
+    // shows (hidden pixels are never filtered).
+    if let Some((f, fp)) = tex.filter_at(x + 0.5, y + 0.5) {
+        if tex.always_opaque() {
+            push_piece(frags, arena, pixel, pi, verts, FILTER_LATER);
+        } else if let Some(c) = crate::texture::filter::unpremultiply(tex.sample(f, &fp)) {
+            t.colors.push(c);
+            push_piece(frags, arena, pixel, pi, verts, (t.colors.len() - 1) as u32);
+        }
+        return;
+    }
+    // The centre of a pixel straddling the plane's horizon can lie beyond
+    // it, where the map has no footprint; the fragment's own vertex centroid
+    // lies inside the polygon. (Falling back to the box filter there would
+    // cut a near-horizon fragment into up to MAX_EXACT_CELLS pieces.)
+    if !tex.filters.is_box() && !verts.is_empty() {
+        let c = verts.iter().fold(DVec2::ZERO, |a, &v| a + v) / verts.len() as f64;
+        if let Some((f, fp)) = tex.filter_at(c.x, c.y) {
+            if let Some(c) = crate::texture::filter::unpremultiply(tex.sample(f, &fp)) {
+                t.colors.push(c);
+                push_piece(frags, arena, pixel, pi, verts, (t.colors.len() - 1) as u32);
+            }
+            return;
+        }
+    }
     let square = [
         DVec2::new(x, y),
         DVec2::new(x + 1.0, y),
@@ -286,6 +343,8 @@ struct Scratch {
     b: Vec<DVec2>,
     alive: Vec<bool>,
     cols: Vec<[f64; 3]>,
+    /// Runs `[start, end)` of consecutive fragments of one polygon.
+    runs: Vec<(u32, u32)>,
 }
 
 fn frag_verts<'a>(f: &Frag, arena: &'a [DVec2], square: &'a [DVec2; 4]) -> &'a [DVec2] {
@@ -341,10 +400,11 @@ fn resolve_pixel(
     s.cols.clear();
     s.alive.clear();
     for f in frags {
-        let c = if f.color == POLY_COLOR {
-            polys[f.poly as usize].color_at(px, py)
-        } else {
-            Some(colors[f.color as usize])
+        let c = match f.color {
+            POLY_COLOR => polys[f.poly as usize].color_at(px, py),
+            // Opaque; computed below only if it shows.
+            FILTER_LATER => Some([0.0; 3]),
+            i => Some(colors[i as usize]),
         };
         s.alive.push(c.is_some());
         s.cols.push(c.unwrap_or_default());
@@ -382,7 +442,15 @@ fn resolve_pixel(
             }
         }
         if all_hidden {
-            return s.cols[b].map(|c| c as f32);
+            return frag_color(polys, &frags[b], &s.cols, b, px, py).map(|c| c as f32);
+        }
+    }
+    s.runs.clear();
+    let mut start = 0;
+    for k in 1..=frags.len() {
+        if k == frags.len() || frags[k].poly != frags[start].poly {
+            s.runs.push((start as u32, k as u32));
+            start = k;
         }
     }
     let mut acc = [0.0f64; 3];
@@ -394,44 +462,52 @@ fn resolve_pixel(
         let fp = &polys[f.poly as usize];
         s.pieces.clear();
         s.pieces.push(frag_verts(f, arena, &square).to_vec());
-        for (j, g) in frags.iter().enumerate() {
-            // Pieces of one polygon (ear-clipping triangles, texel cells)
-            // never hide each other: `front_of` is then the constant
-            // `-tie` < 0. Skipping them first keeps a pixel over n texel
-            // cells of one polygon O(n), not O(n²) separating-axis tests.
-            if j == i || !s.alive[j] || s.pieces.is_empty() || g.poly == f.poly {
+        // Pieces of one polygon (ear-clipping triangles, texel cells) never
+        // hide each other: `front_of` is then the constant `-tie` < 0. They
+        // come in runs (fragments are made polygon by polygon), and F's own
+        // runs are skipped whole, so a pixel over n texel cells of one
+        // polygon costs O(n), not O(n²) tests or even O(n²) skips.
+        for &(r0, r1) in &s.runs {
+            if frags[r0 as usize].poly == f.poly {
                 continue;
             }
-            let gv = frag_verts(g, arena, &square);
-            if s.pieces.len() == 1 && disjoint(&s.pieces[0], gv) {
-                continue; // Neighbours that only share an edge.
+            for j in r0 as usize..r1 as usize {
+                let g = &frags[j];
+                if !s.alive[j] || s.pieces.is_empty() {
+                    continue;
+                }
+                let gv = frag_verts(g, arena, &square);
+                if s.pieces.len() == 1 && disjoint(&s.pieces[0], gv) {
+                    continue; // Neighbours that only share an edge.
+                }
+                let gp = &polys[g.poly as usize];
+                let d = front_of(gp, fp, centre);
+                let val = |v: &DVec2| d[0] * v.x + d[1] * v.y + d[2];
+                if gv.iter().all(|v| val(v) <= 0.0) {
+                    continue; // G is behind F wherever G is.
+                }
+                s.occ.clear();
+                if gv.iter().all(|v| val(v) >= 0.0) {
+                    s.occ.extend_from_slice(gv);
+                } else {
+                    clip_line(gv, d, &mut s.occ);
+                }
+                if s.occ.len() < 3 || area2(&s.occ) <= 2.0 * AREA_EPS {
+                    continue;
+                }
+                s.next.clear();
+                for piece in s.pieces.drain(..) {
+                    subtract(&piece, &s.occ, &mut s.next, &mut s.a, &mut s.b);
+                }
+                std::mem::swap(&mut s.pieces, &mut s.next);
             }
-            let gp = &polys[g.poly as usize];
-            let d = front_of(gp, fp, centre);
-            let val = |v: &DVec2| d[0] * v.x + d[1] * v.y + d[2];
-            if gv.iter().all(|v| val(v) <= 0.0) {
-                continue; // G is behind F wherever G is.
-            }
-            s.occ.clear();
-            if gv.iter().all(|v| val(v) >= 0.0) {
-                s.occ.extend_from_slice(gv);
-            } else {
-                clip_line(gv, d, &mut s.occ);
-            }
-            if s.occ.len() < 3 || area2(&s.occ) <= 2.0 * AREA_EPS {
-                continue;
-            }
-            s.next.clear();
-            for piece in s.pieces.drain(..) {
-                subtract(&piece, &s.occ, &mut s.next, &mut s.a, &mut s.b);
-            }
-            std::mem::swap(&mut s.pieces, &mut s.next);
         }
         let area: f64 = s.pieces.iter().map(|p| area2(p)).sum::<f64>() * 0.5;
         if area > AREA_EPS {
             covered += area;
+            let c = frag_color(polys, f, &s.cols, i, px, py);
             for ch in 0..3 {
-                acc[ch] += area * s.cols[i][ch];
+                acc[ch] += area * c[ch];
             }
         }
     }

@@ -226,6 +226,31 @@ impl ScreenPoly {
         }
     }
 
+    /// The colour the point-sampling resolver shows at the sample (sx, sy)
+    /// of pixel (x, y): [`ScreenPoly::color_at_point`] under the exact box
+    /// filter (a sample's share of the pixel's integral), else the texture's
+    /// filter evaluated there with a pixel's footprint.
+    #[inline]
+    pub fn sample_color(&self, x: u32, y: u32, sx: f64, sy: f64) -> Option<[f64; 3]> {
+        use crate::texture::filter::Eval;
+        match &self.texture {
+            Some(t) => match t.eval(sx, sy) {
+                Eval::Box => self.color_at_point(x, y, sx, sy),
+                Eval::Color(c) => c,
+            },
+            // Stripes and flat colours.
+            None => self.color_at_point(x, y, sx, sy),
+        }
+    }
+
+    /// Whether the colour can be absent somewhere (a screen-mode pattern, or
+    /// a texture whose transparent texels can show): only then must a
+    /// resolver look at the colour to decide visibility.
+    #[inline]
+    pub fn may_be_transparent(&self) -> bool {
+        self.screen.is_some() || self.texture.as_ref().is_some_and(|t| !t.always_opaque())
+    }
+
     /// Nearness at a screen point.
     #[inline]
     pub fn q(&self, x: f64, y: f64) -> f64 {
@@ -509,6 +534,27 @@ pub struct ScreenPattern {
     size: u32,
     /// Row 0 at the bottom; `None` is transparent.
     texels: Vec<Option<[f64; 3]>>,
+    /// Whether any texel is transparent, found once (resolvers ask per
+    /// fragment).
+    transparent: bool,
+    /// Its MIP pyramids, built on first use, one per [`MipKey`] (18 keys:
+    /// 2 builds x 3 x 3 edge extensions), shared by every polygon that
+    /// holds this pattern.
+    pyramids: [std::sync::OnceLock<crate::texture::mip::Pyramid>; MIP_KEYS],
+}
+
+/// The number of distinct [`MipKey`]s.
+const MIP_KEYS: usize = 18;
+
+use crate::texture::mip::{Extend, MipBuild, MipKey};
+
+fn mip_key_index(k: MipKey) -> usize {
+    let e = |x: Extend| match x {
+        Extend::Repeat => 0,
+        Extend::Mirror => 1,
+        Extend::Edge => 2,
+    };
+    (k.build == MipBuild::Mitchell) as usize * 9 + e(k.u) * 3 + e(k.v)
 }
 
 impl ScreenPattern {
@@ -523,7 +569,33 @@ impl ScreenPattern {
                 );
             }
         }
-        ScreenPattern { size, texels }
+        ScreenPattern {
+            size,
+            transparent: texels.iter().any(|t| t.is_none()),
+            texels,
+            pyramids: std::array::from_fn(|_| std::sync::OnceLock::new()),
+        }
+    }
+
+    /// Texel (c, r), `c, r < SIZE`, as premultiplied linear RGBA.
+    #[inline]
+    pub fn premultiplied(&self, c: u32, r: u32) -> [f64; 4] {
+        match self.texels[(r * self.size + c) as usize] {
+            Some(t) => [t[0], t[1], t[2], 1.0],
+            None => [0.0; 4],
+        }
+    }
+
+    /// The MIP pyramid built with `key`: built by the first caller (others
+    /// wait for it), then shared.
+    pub fn pyramid(&self, key: MipKey) -> &crate::texture::mip::Pyramid {
+        self.pyramids[mip_key_index(key)].get_or_init(|| {
+            let s = self.size;
+            let base: Vec<[f64; 4]> = (0..s * s)
+                .map(|i| self.premultiplied(i % s, i / s))
+                .collect();
+            crate::texture::mip::build(&base, s, key)
+        })
     }
 
     /// Linear colour of pixel (x, y) counted from the lower-left.
@@ -547,7 +619,7 @@ impl ScreenPattern {
 
     /// Whether any texel is transparent (the pattern has an alpha channel).
     pub fn has_transparency(&self) -> bool {
-        self.texels.iter().any(|t| t.is_none())
+        self.transparent
     }
 }
 

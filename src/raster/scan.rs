@@ -169,8 +169,8 @@ pub fn render_tile(
                         let old = depth[idx];
                         // A screen-mode pattern's transparent texel leaves
                         // the sample to whatever is behind.
-                        let opaque = (p.screen.is_none() && p.texture.is_none())
-                            || p.color_at_point(
+                        let opaque = !p.may_be_transparent()
+                            || p.sample_color(
                                 x0 + (m as u32) / k,
                                 py,
                                 x0 as f64 + (m as f64 + 0.5) / kf,
@@ -206,7 +206,7 @@ pub fn render_tile(
                     } else {
                         let (px, py) = (tx0 + tx as u32, ty0 + ty as u32);
                         let c = polys[o as usize]
-                            .color_at_point(
+                            .sample_color(
                                 px,
                                 py,
                                 px as f64 + (i as f64 + 0.5) / kf,

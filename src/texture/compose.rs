@@ -72,6 +72,55 @@ impl Compose {
     }
 }
 
+impl Compose {
+    /// [`Compose::apply`] on a premultiplied linear RGBA texel `p` (alpha
+    /// `p[3]`, for filtered texels whose alpha lies between 0 and 1). Every
+    /// method is affine in (colour, alpha), so composing each texel and then
+    /// filtering equals filtering and then composing; at alpha 0 and 1 it is
+    /// exactly [`Compose::apply`] premultiplied.
+    #[inline]
+    pub fn apply_premultiplied(
+        self,
+        p: [f64; 4],
+        intrinsic: [f64; 3],
+        c1: [f64; 3],
+        c2: [f64; 3],
+    ) -> [f64; 4] {
+        let a = p[3];
+        let rgb = |f: &dyn Fn(usize) -> f64| [f(0), f(1), f(2)];
+        match self {
+            Compose::Replace => p,
+            Compose::Modulate => {
+                let c = rgb(&|i| p[i] * intrinsic[i]);
+                [c[0], c[1], c[2], a]
+            }
+            Compose::Blend => {
+                let c = rgb(&|i| a * c1[i] + (c2[i] - c1[i]) * p[i]);
+                [c[0], c[1], c[2], a]
+            }
+            Compose::BlendIntrinsic => {
+                let c = rgb(&|i| a * intrinsic[i] + (c1[i] - intrinsic[i]) * p[i]);
+                [c[0], c[1], c[2], a]
+            }
+            // The texel over the constant (or the polygon's colour): opaque.
+            Compose::Decal => {
+                let c = rgb(&|i| p[i] + (1.0 - a) * c1[i]);
+                [c[0], c[1], c[2], 1.0]
+            }
+            Compose::DecalIntrinsic => {
+                let c = rgb(&|i| p[i] + (1.0 - a) * intrinsic[i]);
+                [c[0], c[1], c[2], 1.0]
+            }
+        }
+    }
+
+    /// Whether this method shows a colour for transparent texels too (so a
+    /// textured polygon is opaque everywhere).
+    pub fn fills_transparent(self) -> bool {
+        matches!(self, Compose::Decal | Compose::DecalIntrinsic)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -100,6 +149,30 @@ mod tests {
         assert_eq!(Compose::Decal.apply(None, I, C1, C2), Some(C1));
         assert_eq!(Compose::DecalIntrinsic.apply(None, I, C1, C2), Some(I));
         assert_eq!(Compose::Modulate.apply(None, I, C1, C2), None);
+    }
+
+    #[test]
+    fn premultiplied_composition_agrees_with_apply_at_alpha_0_and_1() {
+        let t = [0.25, 0.5, 0.75];
+        for m in [
+            Compose::Replace,
+            Compose::Modulate,
+            Compose::Blend,
+            Compose::BlendIntrinsic,
+            Compose::Decal,
+            Compose::DecalIntrinsic,
+        ] {
+            let opaque = m.apply_premultiplied([t[0], t[1], t[2], 1.0], I, C1, C2);
+            let want = m.apply(Some(t), I, C1, C2).unwrap();
+            for i in 0..3 {
+                assert!((opaque[i] - want[i]).abs() < 1e-15, "{m:?}");
+            }
+            let clear = m.apply_premultiplied([0.0; 4], I, C1, C2);
+            match m.apply(None, I, C1, C2) {
+                None => assert_eq!(clear[3], 0.0, "{m:?}"),
+                Some(c) => assert_eq!(clear, [c[0], c[1], c[2], 1.0], "{m:?}"),
+            }
+        }
     }
 
     #[test]

@@ -41,6 +41,29 @@ impl TexMap {
         DVec2::new(eval(self.u, x, y) / d, eval(self.v, x, y) / d)
     }
 
+    /// Texel coordinates of a screen point and the map's Jacobian there:
+    /// `d(u, v)/dx` and `d(u, v)/dy`, in texels per pixel. With `u = U / D`,
+    /// `du/dx = (U_x - u D_x) / D` (the quotient rule on affine `U`, `D`).
+    /// `None` where `D <= 0` (beyond the polygon's horizon, where the map
+    /// means nothing) or the result is not finite.
+    #[inline]
+    pub fn footprint(&self, x: f64, y: f64) -> Option<Footprint> {
+        let d = eval(self.d, x, y);
+        if d.is_nan() || d <= 0.0 {
+            return None;
+        }
+        let uv = DVec2::new(eval(self.u, x, y) / d, eval(self.v, x, y) / d);
+        let dx = DVec2::new(
+            (self.u[0] - uv.x * self.d[0]) / d,
+            (self.v[0] - uv.y * self.d[0]) / d,
+        );
+        let dy = DVec2::new(
+            (self.u[1] - uv.x * self.d[1]) / d,
+            (self.v[1] - uv.y * self.d[1]) / d,
+        );
+        (uv.is_finite() && dx.is_finite() && dy.is_finite()).then_some(Footprint { uv, dx, dy })
+    }
+
     /// The screen half-plane `u >= k` (`keep_above`) or `u <= k`, as
     /// `[a, b, c]` with `a*x + b*y + c >= 0` inside (valid where `D > 0`).
     #[inline]
@@ -114,6 +137,24 @@ impl TexMap {
     }
 }
 
+/// A pixel's footprint in texel space to first order: the point and the
+/// images of the pixel's x and y steps (the Jacobian's columns).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Footprint {
+    pub uv: DVec2,
+    pub dx: DVec2,
+    pub dy: DVec2,
+}
+
+impl Footprint {
+    /// OpenGL's scale factor rho: texels per pixel along the longer of the
+    /// two mapped pixel steps (GL 1.x spec, 3.8.8, `max(|dx|, |dy|)`).
+    #[inline]
+    pub fn rho(&self) -> f64 {
+        self.dx.length().max(self.dy.length())
+    }
+}
+
 fn side(n: [f64; 3], d: [f64; 3], k: f64, keep_above: bool) -> [f64; 3] {
     let l = [n[0] - k * d[0], n[1] - k * d[1], n[2] - k * d[2]];
     if keep_above {
@@ -170,6 +211,29 @@ pub fn object_uv(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_jacobian_matches_finite_differences() {
+        let view = crate::raster::tests::perspective(70.0, 64, 64, 0.1, 100.0);
+        let world = [
+            DVec3::new(-1.0, -1.0, -1.5),
+            DVec3::new(1.0, -1.0, -1.5),
+            DVec3::new(1.0, -1.0, -6.0),
+        ];
+        let uv = [DVec2::ZERO, DVec2::new(8.0, 0.0), DVec2::new(8.0, 16.0)];
+        let m = TexMap::fit(&view, &world, &uv, true).unwrap();
+        let (x, y) = (36.3, 12.7);
+        let f = m.footprint(x, y).unwrap();
+        // Central differences of step h: error O(h²) times the second
+        // derivative, ~1e-8 here; 1e-6 leaves room.
+        let h = 1e-4;
+        let ddx = (m.uv(x + h, y) - m.uv(x - h, y)) / (2.0 * h);
+        let ddy = (m.uv(x, y + h) - m.uv(x, y - h)) / (2.0 * h);
+        assert!((f.dx - ddx).length() < 1e-6, "{} {}", f.dx, ddx);
+        assert!((f.dy - ddy).length() < 1e-6, "{} {}", f.dy, ddy);
+        assert_eq!(f.uv, m.uv(x, y));
+        assert!(f.rho() >= f.dx.length());
+    }
 
     #[test]
     fn a_parallel_view_maps_texels_affinely() {

@@ -8,11 +8,17 @@
 //! - [`cells`]: the exact box filter, a fragment cut into its texel cells.
 //! - [`boundary`]: XGL's boundary conditions outside the pattern's bounds.
 //! - [`compose`]: XGL's composition of texel and polygon colour.
+//! - [`filter`]: the other filters (point, bilinear, the MIP filters, EWA in
+//!   [`ewa`]) and the choice between minification and magnification; their
+//!   pyramids in [`mip`].
 
 pub mod boundary;
 pub mod cells;
 pub mod compose;
+pub mod ewa;
+pub mod filter;
 pub mod map;
+pub mod mip;
 
 use crate::color::Rgb8;
 use crate::io::Image;
@@ -37,6 +43,8 @@ pub struct PolyTexture {
     pub compose: compose::Compose,
     /// The composition's constant colours (XGL's `op` colours), linear.
     pub compose_colors: [[f64; 3]; 2],
+    /// The filters (default: the exact box filter everywhere).
+    pub filters: filter::Filters,
 }
 
 impl PolyTexture {

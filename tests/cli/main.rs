@@ -14,3 +14,4 @@ mod scene_render;
 mod stress;
 mod stripe;
 mod texture;
+mod texture_filters;

@@ -13,7 +13,7 @@ const EXACT_MAX_CODES: u64 = 1;
 /// A 16x16 pattern whose texel (c, r) has colour `(c + 2r) % 3` (red, blue,
 /// green) and texel (3, 2) transparent: every neighbour differs from the next
 /// in both directions, so a misplaced cell edge shows.
-fn pattern3() -> String {
+pub fn pattern3() -> String {
     pattern_from(
         |c, r| {
             if (c, r) == (3, 2) {
@@ -27,7 +27,7 @@ fn pattern3() -> String {
 }
 
 /// A canonical .pat text (SPEC §1) from a texel → colour-index function.
-fn pattern_from(f: impl Fn(u32, u32) -> Option<u32>, colors: &[[u8; 3]]) -> String {
+pub fn pattern_from(f: impl Fn(u32, u32) -> Option<u32>, colors: &[[u8; 3]]) -> String {
     let mut s = format!("16 {}\n", colors.len());
     for (i, c) in colors.iter().enumerate() {
         s.push_str(&format!("{} {} {}\n", c[0], c[1], c[2]));
@@ -56,7 +56,7 @@ fn max_error(dir: &Dir, img: &str, reference: &str) -> u64 {
     v["compare"]["max_error"].as_u64().unwrap()
 }
 
-const SCENE: &str = r#"{"vertices":[[-3,-1,-2],[3,-1,-2],[3,-1,-12],[-3,-1,-12]],"color":[200,200,200],"pattern":{"file":"p.pat","incr":0.37,"rotate":10,"horz":0.3,"vert":0.6}}
+pub const SCENE: &str = r#"{"vertices":[[-3,-1,-2],[3,-1,-2],[3,-1,-12],[-3,-1,-12]],"color":[200,200,200],"pattern":{"file":"p.pat","incr":0.37,"rotate":10,"horz":0.3,"vert":0.6}}
 {"vertices":[[-1,-0.5,-4],[1,-0.2,-4.5],[0.5,1.5,-5]],"color":[255,255,0],"pattern":{"file":"p.pat","incr":0.21}}
 {"vertices":[[-2,-1,-7],[2,-1,-7],[2,2,-7],[-2,2,-7]],"color":[90,90,90]}
 "#;
@@ -153,20 +153,20 @@ clitest!(pixel_aligned_texels_are_pixel_exact, |dir| {
 /// Seed 002 (OpenGL ch. 7): a 2x2 texture on a 400x300 quad with texture
 /// coordinates 0..1 shows one texel per quadrant (here 16x16 patterns
 /// repeat the 2x2 block; texel units: 0..2).
-fn quad(uv_max: f64) -> String {
+pub fn quad(uv_max: f64) -> String {
     format!(
         r#"{{"vertices":[[0,0],[400,0],[400,300],[0,300]],"uv":[[0,0],[{m},0],[{m},{m}],[0,{m}]],"color":[0,0,0],"pattern":{{"file":"q.pat"}}}}"#,
         m = uv_max
     )
 }
 
-const QUADRANTS: [[u8; 3]; 4] = [[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 255]];
+pub const QUADRANTS: [[u8; 3]; 4] = [[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 255]];
 
-fn quadrant_pattern() -> String {
+pub fn quadrant_pattern() -> String {
     pattern_from(|c, r| Some((c % 2) + 2 * (r % 2)), &QUADRANTS)
 }
 
-fn pixel(img: &[u8], w: usize, h: usize, x: usize, y_up: usize) -> [u8; 3] {
+pub fn pixel(img: &[u8], w: usize, h: usize, x: usize, y_up: usize) -> [u8; 3] {
     let i = img.len() - w * h * 3 + ((h - 1 - y_up) * w + x) * 3;
     [img[i], img[i + 1], img[i + 2]]
 }

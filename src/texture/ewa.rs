@@ -1,0 +1,204 @@
+//! The elliptical weighted average (Heckbert, "Fundamentals of Texture
+//! Mapping and Image Warping", 1989, §3.5.8; Greene & Heckbert 1986): an
+//! anisotropic filter whose footprint is the pixel's ellipse in texel space.
+//!
+//! The pixel filter is a Gaussian of standard deviation [`PIXEL_SIGMA`]
+//! pixels; mapped through the Jacobian `J` it has covariance
+//! `PIXEL_SIGMA² J Jᵀ` in texels. Heckbert adds the reconstruction filter
+//! (here a Gaussian of [`TEXEL_SIGMA`] texels), which keeps the ellipse at
+//! least one texel wide under magnification and along a thin footprint's
+//! minor axis. Texels whose centres lie within [`CUTOFF`] standard
+//! deviations (Mahalanobis distance) are weighted by the Gaussian and the sum
+//! normalized.
+//!
+//! Bounded cost: the ellipse is made no more elongated than
+//! [`MAX_ANISOTROPY`], and when its major radius would cover more than
+//! [`MAX_RADIUS`] texels the average is taken on the first MIP level where it
+//! covers no more, so at most about `(2 MAX_RADIUS + 3)²` texels are read.
+
+use super::map::Footprint;
+use super::PolyTexture;
+
+/// The pixel's Gaussian, in pixels. 0.5 makes the weight fall to e^-2 at one
+/// pixel from the centre: roughly the span of the box filter's unit square,
+/// slightly softer (the box's own standard deviation is 0.29).
+pub const PIXEL_SIGMA: f64 = 0.5;
+
+/// The reconstruction Gaussian, in texels of the level sampled.
+pub const TEXEL_SIGMA: f64 = 0.5;
+
+/// Texels beyond this many standard deviations are left out: the Gaussian
+/// there is e^-4.5 = 1.1% of its peak.
+pub const CUTOFF: f64 = 3.0;
+
+/// The most elongated ellipse averaged: ratio of the major to the minor axis
+/// (16, as GPUs' 16x anisotropic filtering). Beyond it the minor axis is
+/// widened, blurring along it rather than reading ever more texels.
+pub const MAX_ANISOTROPY: f64 = 16.0;
+
+/// The largest major radius (at [`CUTOFF`]) averaged on one level, in texels
+/// of that level; beyond it a coarser MIP level is used.
+pub const MAX_RADIUS: f64 = 8.0;
+
+/// The EWA's premultiplied RGBA at the footprint.
+pub fn sample(t: &PolyTexture, fp: &Footprint) -> [f64; 4] {
+    // Covariance of the pixel's Gaussian in base texels, s2 J Jᵀ, with the
+    // LOD bias scaling the footprint by 2^bias per axis (like a change of
+    // level): s2 = (PIXEL_SIGMA 2^bias)².
+    let s2 = (PIXEL_SIGMA * t.filters.lod_bias.exp2()).powi(2);
+    let (mut a, b, mut c) = (
+        s2 * (fp.dx.x * fp.dx.x + fp.dy.x * fp.dy.x),
+        s2 * (fp.dx.x * fp.dx.y + fp.dy.x * fp.dy.y),
+        s2 * (fp.dx.y * fp.dx.y + fp.dy.y * fp.dy.y),
+    );
+    // Eigenvalues; widen the minor axis to the anisotropy limit by adding
+    // d I, which raises both so that (l1 + d) / (l2 + d) = MAX_ANISOTROPY².
+    let half_tr = 0.5 * (a + c);
+    let disc = (0.25 * (a - c) * (a - c) + b * b).sqrt();
+    let (mut l1, l2) = (half_tr + disc, (half_tr - disc).max(0.0));
+    let m2 = MAX_ANISOTROPY * MAX_ANISOTROPY;
+    if l1 > m2 * l2 {
+        let d = (l1 - m2 * l2) / (m2 - 1.0);
+        a += d;
+        c += d;
+        l1 += d;
+    }
+    // The level: the first whose texels keep the major radius within bounds.
+    // log2 of the side, rounded down: the number of levels below the base.
+    let levels = (u32::BITS - 1 - t.texels.size().leading_zeros()) as usize;
+    let major = CUTOFF * l1.sqrt();
+    let mut k = 0;
+    while k < levels && major / t.level_scale(k) > MAX_RADIUS {
+        k += 1;
+    }
+    let sc = t.level_scale(k);
+    // Past the coarsest level (a pixel over more than the whole pattern
+    // many times, towards a horizon) the ellipse is shrunk to MAX_RADIUS
+    // texels of that level, bounding the work; it then already spans the
+    // whole level several times over.
+    let mut f = 1.0 / (sc * sc);
+    let r = major / sc;
+    if r > MAX_RADIUS {
+        f *= (MAX_RADIUS / r) * (MAX_RADIUS / r);
+    }
+    let tt = TEXEL_SIGMA * TEXEL_SIGMA;
+    let (a, b, c) = (a * f + tt, b * f, c * f + tt);
+    let det = a * c - b * b;
+    // Inverse covariance for the Mahalanobis distance.
+    let (ia, ib, ic) = (c / det, -b / det, a / det);
+    let (u, v) = (fp.uv.x / sc, fp.uv.y / sc);
+    let (ru, rv) = (CUTOFF * a.sqrt(), CUTOFF * c.sqrt());
+    let mut acc = [0.0f64; 4];
+    let mut wsum = 0.0;
+    for j in (v - rv - 0.5).floor() as i64..=(v + rv - 0.5).ceil() as i64 {
+        let dv = j as f64 + 0.5 - v;
+        for i in (u - ru - 0.5).floor() as i64..=(u + ru - 0.5).ceil() as i64 {
+            let du = i as f64 + 0.5 - u;
+            let q = ia * du * du + 2.0 * ib * du * dv + ic * dv * dv;
+            if q > CUTOFF * CUTOFF {
+                continue;
+            }
+            let w = (-0.5 * q).exp();
+            let p = t.fetch(k, i, j);
+            for ch in 0..4 {
+                acc[ch] += w * p[ch];
+            }
+            wsum += w;
+        }
+    }
+    // The centre texel always lies within the cutoff (q <= 0.5 / TEXEL_SIGMA² = 2 < 9 at
+    // half a texel), so wsum > 0.
+    acc.map(|x| x / wsum)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::boundary::{Boundary, Bounds};
+    use super::super::filter::tests::{pattern, placed};
+    use super::super::filter::{Eval, Filter};
+    use super::*;
+    use crate::color::Rgb8;
+
+    /// The exact box filter of a head-on, axis-aligned pixel covering
+    /// `n x n` whole texels: the mean of their linear colours.
+    fn box_mean(t: &PolyTexture, x: u32, y: u32, n: u32) -> f64 {
+        let mut s = 0.0;
+        for j in y * n..(y + 1) * n {
+            for i in x * n..(x + 1) * n {
+                s += t.texels.texel(i as i64, j as i64).unwrap()[0];
+            }
+        }
+        s / (n * n) as f64
+    }
+
+    /// EWA against the box on an axis-aligned footprint: a Gaussian is not a
+    /// box, so they agree only on slowly varying content. A sine of period 32
+    /// texels seen at 4 texels per pixel is attenuated by 0.97 by the box and
+    /// ~0.92 by the Gaussian: with amplitude 0.5 that is a difference of 0.03
+    /// at most; [`EWA_BOX_TOL`] allows it with margin.
+    const EWA_BOX_TOL: f64 = 0.05;
+
+    #[test]
+    fn ewa_on_an_axis_aligned_footprint_approximates_the_box() {
+        // A grey ramp in 16 levels following a sine along u, period 32... on
+        // a 32 pattern (sizes are multiples of 16).
+        let greys: Vec<Rgb8> = (0..16).map(|i| Rgb8([(i * 17) as u8; 3])).collect();
+        let p = pattern(32, &greys, |c, _| {
+            let s = (std::f64::consts::TAU * (c as f64 + 0.5) / 32.0).sin();
+            ((s * 0.5 + 0.5) * 15.0).round() as u16
+        });
+        let t = placed(p, 4.0, Filter::Ewa, 0.0);
+        for x in 0..8 {
+            let Eval::Color(Some(c)) = t.eval(x as f64 + 0.5, 3.5) else {
+                panic!()
+            };
+            let b = box_mean(&t, x, 3, 4);
+            assert!(
+                (c[0] - b).abs() < EWA_BOX_TOL,
+                "pixel {x}: ewa {} box {b}",
+                c[0]
+            );
+        }
+    }
+
+    #[test]
+    fn ewa_is_anisotropic_along_a_thin_footprint() {
+        // Stripes along u (bands of 4 rows, black and white). A footprint
+        // long in u (8 texels) and short in v (1 texel) resolves the
+        // stripes; an isotropic filter of the same rho (level 3, whose
+        // texels span 8 rows) averages them to grey.
+        let p = pattern(16, &[Rgb8::BLACK, Rgb8::WHITE], |_, r| (r / 4 % 2) as u16);
+        let mut t = placed(p, 1.0, Filter::Ewa, 0.0);
+        t.map.u = [8.0, 0.0, 0.0];
+        t.map.v = [0.0, 1.0, 0.0];
+        let Eval::Color(Some(white)) = t.eval(0.5, 6.0) else {
+            panic!()
+        };
+        // v = 6: row 6 is in the white band 4..8 (centre).
+        assert!(white[0] > 0.9, "{white:?}");
+        t.filters.min = Filter::Trilinear;
+        let Eval::Color(Some(grey)) = t.eval(0.5, 6.0) else {
+            panic!()
+        };
+        assert!((grey[0] - 0.5).abs() < 0.1, "{grey:?}");
+    }
+
+    #[test]
+    fn a_footprint_far_larger_than_the_pattern_is_bounded() {
+        // 1e12 texels per pixel (a horizon): the coarsest level, a bounded
+        // ellipse; under clamp the constant dominates, under repeat the
+        // pattern's mean.
+        let p = pattern(16, &[Rgb8::BLACK, Rgb8::WHITE], |c, r| ((c + r) % 2) as u16);
+        let mut t = placed(p, 1e12, Filter::Ewa, 0.0);
+        let Eval::Color(Some(c)) = t.eval(0.5, 0.5) else {
+            panic!()
+        };
+        assert!((c[0] - 0.5).abs() < 1e-6, "{c:?}");
+        t.bounds = Bounds::both(Boundary::Clamp);
+        t.constant = [1.0, 0.0, 0.0];
+        let Eval::Color(Some(c)) = t.eval(0.5, 0.5) else {
+            panic!()
+        };
+        assert!(c[0] > 0.9 && c[1] < 0.1, "{c:?}");
+    }
+}

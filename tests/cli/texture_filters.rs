@@ -1,0 +1,423 @@
+//! `scene-render --filter` and friends: the seeds' worked examples as golden
+//! images (seed 002, OpenGL ch. 7; seed 003, XGL), flag errors, and the
+//! invariants (threads, the reference) that the filters must keep.
+
+use crate::texture::{pattern3, pattern_from, pixel, quad, quadrant_pattern, QUADRANTS, SCENE};
+
+/// sRGB decoding and encoding (IEC 61966-2-1), for expected values.
+fn to_linear(c: u8) -> f64 {
+    let c = c as f64 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+fn to_code(l: f64) -> u8 {
+    let c = if l <= 0.0031308 {
+        l * 12.92
+    } else {
+        1.055 * l.powf(1.0 / 2.4) - 0.055
+    };
+    (c * 255.0).round() as u8
+}
+
+/// The renderer keeps linear light in f32 before encoding: a value within
+/// ~1e-7 of a rounding boundary may encode one code apart from the f64
+/// expectation.
+const F32_CODES: i32 = 1;
+
+fn close(got: [u8; 3], want: [u8; 3]) -> bool {
+    got.iter()
+        .zip(want)
+        .all(|(&g, w)| (g as i32 - w as i32).abs() <= F32_CODES)
+}
+
+clitest!(
+    seed002_linear_filtering_of_the_2x2_texture_mixes_quadrants_in_linear_light,
+    |dir| {
+        // Seed 002's "linear interpolation" example: the 2x2 texture on the
+        // 400x300 quad, GL_LINEAR. Texel centres lie at the quadrant centres
+        // (100, 75), (300, 75), ...; between them the colour is the bilinear
+        // mix, and at the quad's centre the mean of all four.
+        dir.write("q.pat", quadrant_pattern());
+        dir.write("s.json", quad(2.0));
+        dir.cmd("scene-render")
+            .args([
+                "--size", "400x300", "--filter", "bilinear", "s.json", "-o", "o.ppm",
+            ])
+            .assert()
+            .success();
+        let img = dir.read("o.ppm");
+        let expect = |x: usize, y: usize| -> [u8; 3] {
+            // u = (x + 0.5) / 200 texels; centres at k + 0.5; texel k mod 2
+            // (the 16x16 pattern repeats the 2x2 block).
+            let a = (x as f64 + 0.5) / 200.0 - 0.5;
+            let b = (y as f64 + 0.5) / 150.0 - 0.5;
+            let (i, j) = (a.floor(), b.floor());
+            let (fx, fy) = (a - i, b - j);
+            let q = |di: f64, dj: f64| {
+                let c = ((i + di).rem_euclid(2.0) + 2.0 * (j + dj).rem_euclid(2.0)) as usize;
+                QUADRANTS[c].map(to_linear)
+            };
+            let (c00, c10, c01, c11) = (q(0., 0.), q(1., 0.), q(0., 1.), q(1., 1.));
+            std::array::from_fn(|ch| {
+                to_code(
+                    c00[ch] * (1.0 - fx) * (1.0 - fy)
+                        + c10[ch] * fx * (1.0 - fy)
+                        + c01[ch] * (1.0 - fx) * fy
+                        + c11[ch] * fx * fy,
+                )
+            })
+        };
+        for (x, y) in [
+            (100, 75),
+            (300, 225),
+            (0, 0),
+            (399, 299),
+            (150, 100),
+            (250, 40),
+            (199, 149),
+            (200, 150),
+            (37, 263),
+        ] {
+            let got = pixel(&img, 400, 300, x, y);
+            assert!(
+                close(got, expect(x, y)),
+                "({x}, {y}): {got:?} vs {:?}",
+                expect(x, y)
+            );
+        }
+        // A quarter texel-pixel from the red texel's centre (100, 75), the
+        // other texels weigh in: [254, 8, 11], not pure red.
+        assert_eq!(pixel(&img, 400, 300, 100, 75), [254, 8, 11]);
+        // Around the centre: the linear-light mean of red, green, blue and
+        // white is (0.5, 0.5, 0.5), code 188, to within the pixels' quarter
+        // texel offset from it (weights 0.5 +- 0.0025).
+        let mean = to_code(0.5);
+        assert_eq!(mean, 188);
+        for (x, y) in [(199, 149), (200, 149), (199, 150), (200, 150)] {
+            let got = pixel(&img, 400, 300, x, y);
+            assert!(close(got, [mean; 3]), "({x}, {y}): {got:?}");
+        }
+    }
+);
+
+clitest!(
+    seed002_clamp_with_coordinates_0_to_10_stretches_the_edge_texels,
+    |dir| {
+        // Seed 002's GL_CLAMP example: texture coordinates 0..10 over the
+        // 400x300 quad, the 2x2 texture clamped: it shows once in the lower
+        // left tenth (40x30 pixels, texels of 20x15) and its edge texels
+        // fill the rest. Here the 2x2 texture is a 16x16 pattern of 8x8
+        // quadrants (the same image under nearest and box filtering) with
+        // coordinates 0..160 texels, and XGL's edge boundary (GL_CLAMP under
+        // GL_NEAREST is clamp to edge).
+        dir.write(
+            "k.pat",
+            pattern_from(|c, r| Some(c / 8 + 2 * (r / 8)), &QUADRANTS),
+        );
+        dir.write(
+            "s.json",
+            r#"{"vertices":[[0,0],[400,0],[400,300],[0,300]],"uv":[[0,0],[160,0],[160,160],[0,160]],"color":[0,0,0],"pattern":{"file":"k.pat"}}"#,
+        );
+        for filter in ["box", "point"] {
+            dir.cmd("scene-render")
+                .args([
+                    "--size",
+                    "400x300",
+                    "--boundary",
+                    "edge",
+                    "--filter",
+                    filter,
+                ])
+                .args(["s.json", "-o", "o.ppm"])
+                .assert()
+                .success();
+            let img = dir.read("o.ppm");
+            for y in 0..300 {
+                for x in 0..400 {
+                    let q = (x >= 20) as usize + 2 * (y >= 15) as usize;
+                    assert_eq!(
+                        pixel(&img, 400, 300, x, y),
+                        QUADRANTS[q],
+                        "{filter} ({x}, {y})"
+                    );
+                }
+            }
+        }
+    }
+);
+
+clitest!(
+    seed002_one_dimensional_texture_on_a_line_gives_four_equal_runs,
+    |dir| {
+        // Seed 002's 1-D example: texels red, green, blue, cyan; a line of
+        // width 5 from (-40,-30) to (40,30) under gluOrtho2D(-80,80,-60,60)
+        // in an 800x600 window, s from 0 to 1: in pixels from (200,150) to
+        // (600,450), each colour over a quarter, 100 pixel columns. GL widens
+        // an x-major line vertically, so the line is the parallelogram 5
+        // pixels tall around it; the 1-D texture is a pattern of four bands
+        // of four columns, u from 0 to 16.
+        const LINE: [[u8; 3]; 4] = [[255, 0, 0], [0, 255, 0], [0, 0, 255], [0, 255, 255]];
+        dir.write("l.pat", pattern_from(|c, _| Some(c / 4), &LINE));
+        dir.write(
+            "s.json",
+            r#"{"vertices":[[200,147.5],[600,447.5],[600,452.5],[200,152.5]],"uv":[[0,0],[16,0],[16,1],[0,1]],"color":[0,0,0],"pattern":{"file":"l.pat"}}"#,
+        );
+        for filter in ["box", "point"] {
+            dir.cmd("scene-render")
+                .args([
+                    "--size", "800x600", "--filter", filter, "s.json", "-o", "o.ppm",
+                ])
+                .assert()
+                .success();
+            let img = dir.read("o.ppm");
+            let mut runs = [0usize; 4];
+            for x in 200..600 {
+                // The pixel row through the line's centre at this column lies
+                // wholly inside the 5-pixel-tall parallelogram.
+                let y = (150.0 + 0.75 * (x as f64 + 0.5 - 200.0)).floor() as usize;
+                let want = LINE[(x - 200) / 100];
+                let got = pixel(&img, 800, 600, x, y);
+                assert_eq!(got, want, "{filter} ({x}, {y})");
+                runs[(x - 200) / 100] += 1;
+            }
+            assert_eq!(runs, [100; 4]);
+            // Outside the line: the background.
+            assert_eq!(pixel(&img, 800, 600, 400, 200), [0, 0, 0]);
+        }
+    }
+);
+
+clitest!(
+    seed003_quad_under_bilinear_keeps_each_boundary_mode,
+    |dir| {
+        // Seed 003's quad, u and v from -0.5 to 1.5 of the pattern (-8..24
+        // texels of a 16x16 pattern of four 4-column bands), 2 pixels per
+        // texel, now bilinear: away from band edges (pixel x = 5: u = -5.25,
+        // between texel centres -6.5 and -5.5, both in one band's image) the
+        // boundary mode decides as under the box filter.
+        const BANDS: [[u8; 3]; 4] = [[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 0]];
+        dir.write("b.pat", pattern_from(|c, _| Some(c / 4), &BANDS));
+        dir.write(
+            "s.json",
+            r#"{"vertices":[[0,0],[64,0],[64,64],[0,64]],"uv":[[-8,-8],[24,-8],[24,24],[-8,24]],"color":[50,60,70],"pattern":{"file":"b.pat"}}"#,
+        );
+        for (mode, want) in [
+            ("repeat", BANDS[2]),          // -6, -5 mod 16 = 10, 11
+            ("mirror", BANDS[1]),          // 5, 4
+            ("edge", BANDS[0]),            // column 0
+            ("clamp", [9, 8, 7]),          // the constant
+            ("transparent", [50, 60, 70]), // the polygon's own colour
+        ] {
+            dir.cmd("scene-render")
+                .args([
+                    "--size",
+                    "64x64",
+                    "--boundary-color",
+                    "9,8,7",
+                    "--filter",
+                    "bilinear",
+                ])
+                .args(["--boundary", mode, "s.json", "-o", "o.ppm"])
+                .assert()
+                .success();
+            let img = dir.read("o.ppm");
+            assert_eq!(pixel(&img, 64, 64, 5, 32), want, "{mode}");
+            // Inside, between the centres of columns 9 and 10 (band 2).
+            assert_eq!(pixel(&img, 64, 64, 36, 32), BANDS[2], "{mode} inside");
+        }
+    }
+);
+
+clitest!(mip_filters_as_mag_filter_are_refused, |dir| {
+    dir.write("q.pat", quadrant_pattern());
+    dir.write("s.json", quad(2.0));
+    for f in ["mip-point", "trilinear", "ewa"] {
+        dir.cmd("scene-render")
+            .args(["--mag-filter", f, "s.json", "-o", "o.png"])
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains(format!("--mag-filter {f}")))
+            .stderr(predicates::str::contains("base level"));
+    }
+    assert!(!dir.files().contains(&"o.png".to_string()));
+});
+
+clitest!(bad_lod_bias_and_filter_names_are_usage_errors, |dir| {
+    dir.write("q.pat", quadrant_pattern());
+    dir.write("s.json", quad(2.0));
+    for bias in ["nan", "inf", "-17", "1e300"] {
+        dir.cmd("scene-render")
+            .args(["--lod-bias", bias, "s.json", "-o", "o.png"])
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains("--lod-bias"));
+    }
+    dir.cmd("scene-render")
+        .args([
+            "--lod-bias",
+            "-1.5",
+            "--filter",
+            "trilinear",
+            "s.json",
+            "-o",
+            "o.png",
+        ])
+        .assert()
+        .success();
+    for (flag, bad) in [
+        ("--filter", "cubic"),
+        ("--min-filter", "linear"),
+        ("--mip-build", "gauss"),
+    ] {
+        dir.cmd("scene-render")
+            .args([flag, bad, "s.json", "-o", "x.png"])
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains(bad));
+    }
+});
+
+/// The receding scene of `texture.rs` (minified towards the back, with a
+/// transparent texel), rendered with `flags`.
+fn receding(dir: &crate::util::Dir, flags: &[&str], out: &str) -> Vec<u8> {
+    dir.write("p.pat", pattern3());
+    dir.write("s.json", SCENE);
+    dir.cmd("scene-render")
+        .args(["--size", "96x72", "--perspective", "60,1.333,0.1,100"])
+        .args(["--lookat", "0,0.5,1,0,-0.5,-5"])
+        .args(flags)
+        .args(["s.json", "-o", out])
+        .assert()
+        .success();
+    dir.read(out)
+}
+
+clitest!(every_filter_is_byte_identical_for_any_thread_count, |dir| {
+    for filter in [
+        "point",
+        "bilinear",
+        "mip-point",
+        "mip-bilinear",
+        "mip-point-linear",
+        "trilinear",
+        "ewa",
+    ] {
+        for aa in ["exact", "ss4", "none"] {
+            let one = receding(
+                &dir,
+                &["--filter", filter, "--aa", aa, "--threads", "1"],
+                "a.ppm",
+            );
+            let three = receding(
+                &dir,
+                &["--filter", filter, "--aa", aa, "--threads", "3"],
+                "b.ppm",
+            );
+            assert!(one == three, "{filter} --aa {aa}");
+        }
+    }
+});
+
+clitest!(the_reference_ignores_the_filters, |dir| {
+    let plain = receding(&dir, &["--reference"], "a.ppm");
+    let filtered = receding(
+        &dir,
+        &[
+            "--reference",
+            "--filter",
+            "ewa",
+            "--lod-bias",
+            "2",
+            "--mip-build",
+            "box",
+        ],
+        "b.ppm",
+    );
+    assert!(plain == filtered);
+});
+
+clitest!(min_and_mag_filters_are_chosen_per_pixel, |dir| {
+    // The receding scene, minified at the back and magnified at the front:
+    // --min-filter trilinear with the box for magnification equals the box
+    // where texels are larger than pixels, and differs where they are not.
+    let boxed = receding(&dir, &["--aa", "none"], "a.ppm");
+    let mixed = receding(
+        &dir,
+        &["--aa", "none", "--min-filter", "trilinear"],
+        "b.ppm",
+    );
+    let all = receding(&dir, &["--aa", "none", "--filter", "trilinear"], "c.ppm");
+    assert!(boxed != mixed && mixed != all);
+    let n = |a: &[u8], b: &[u8]| a.iter().zip(b).filter(|(x, y)| x != y).count();
+    // Each change touches only its part of the image.
+    assert!(
+        n(&boxed, &mixed) < n(&boxed, &all),
+        "{} {}",
+        n(&boxed, &mixed),
+        n(&boxed, &all)
+    );
+});
+
+clitest!(
+    mip_filters_work_on_a_non_power_of_two_pattern_under_every_boundary,
+    |dir| {
+        // A 48x48 checker of single texels (levels 24, 12, 6, 3, 1) on the
+        // receding floor, minified to many texels per pixel at the back:
+        // under repeat and mirror the far floor averages to the checker's
+        // linear mean, code 188 for black and white, whichever build; the
+        // other boundaries must simply render.
+        let mut pat = String::from("48 2\n0 0 0\n");
+        let rows = |odd: bool| {
+            (0..48)
+                .map(|r| {
+                    let w = if (r % 2 == 0) ^ odd { "aaaa" } else { "5555" };
+                    format!("{w} {w} {w}\n")
+                })
+                .collect::<String>()
+        };
+        pat += &rows(false);
+        pat += "255 255 255\n";
+        pat += &rows(true);
+        dir.write("c.pat", pat);
+        dir.write(
+            "s.json",
+            r#"{"vertices":[[-400,-1,-1],[400,-1,-1],[400,-1,-801],[-400,-1,-801]],"uv":[[0,0],[4800,0],[4800,4800],[0,4800]],"color":[255,0,0],"pattern":{"file":"c.pat"}}"#,
+        );
+        let runs = [
+            ("repeat", "mitchell", "trilinear"),
+            ("repeat", "box", "ewa"),
+            ("repeat", "box", "mip-point-linear"),
+            ("mirror", "mitchell", "trilinear"),
+            ("edge", "mitchell", "trilinear"),
+            ("clamp", "box", "trilinear"),
+            ("transparent", "mitchell", "ewa"),
+        ];
+        for (boundary, build, filter) in runs {
+            {
+                {
+                    dir.cmd("scene-render")
+                        .args(["--size", "64x48", "--perspective", "60,1.333,0.5,1000"])
+                        .args(["--lookat", "0,0,0,0,-0.05,-1", "--filter", filter])
+                        .args(["--boundary", boundary, "--mip-build", build])
+                        .args(["s.json", "-o", "o.ppm"])
+                        .assert()
+                        .success();
+                    let img = dir.read("o.ppm");
+                    // Row 26 from the bottom: just below the horizon, tens
+                    // of texels per pixel, inside the pattern's 100 copies.
+                    let p = pixel(&img, 64, 48, 32, 22);
+                    if boundary == "repeat" || boundary == "mirror" {
+                        assert!(
+                            p.iter().all(|&c| (c as i32 - 188).abs() <= 3),
+                            "{boundary} {build} {filter}: {p:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+);
