@@ -453,6 +453,15 @@ pub fn newell_plane(v: &[DVec2], q: &[f64]) -> Option<[f64; 3]> {
 /// counts as straight (clipping and projection leave such rounding-level kinks).
 const CONVEX_REL: f64 = 1e-12;
 
+/// Absolute tolerance of the convexity test, in pixels: a vertex at most this
+/// far inside the chord of its neighbours still counts as convex. It is the
+/// [`GRID_SNAP_PX`] by which projection may move a vertex, so the snap alone
+/// never makes a convex outline concave: a 10-million-vertex circle of radius
+/// 7 px has 4e-6 px edges, which a 1e-9 px move turns by 2e-4 rad, far above
+/// [`CONVEX_REL`]. Drawing such a polygon whole misplaces at most ~1e-9 px²
+/// per kink, far below 8 bits.
+const CONVEX_ABS_PX: f64 = GRID_SNAP_PX;
+
 /// Whether a counter-clockwise polygon is convex (collinear and repeated
 /// vertices allowed).
 pub fn is_convex(v: &[DVec2]) -> bool {
@@ -465,7 +474,9 @@ pub fn is_convex(v: &[DVec2]) -> bool {
     (0..n).all(|i| {
         let (a, b, c) = (v[i], v[(i + 1) % n], v[(i + 2) % n]);
         let (e, f) = (b - a, c - b);
-        e.perp_dot(f) >= -CONVEX_REL * e.length() * f.length()
+        // perp_dot / |c - a| is b's distance from the chord a-c.
+        e.perp_dot(f)
+            >= -(CONVEX_REL * e.length() * f.length()).max(CONVEX_ABS_PX * (c - a).length())
     })
 }
 
@@ -879,6 +890,27 @@ pub(crate) mod tests {
         assert!(project(&v, &ccw, Rgb8::WHITE, 0, Cull::Front).is_none());
         let p = project(&v, &cw, Rgb8::WHITE, 0, Cull::None).unwrap();
         assert!(area2(&p.verts) > 0.0);
+    }
+
+    #[test]
+    fn snap_sized_kinks_keep_a_fine_circle_convex_but_real_dents_do_not() {
+        let n = 1_000_000;
+        let mut circle: Vec<DVec2> = (0..n)
+            .map(|i| {
+                let a = i as f64 / n as f64 * std::f64::consts::TAU;
+                DVec2::new(8.0 + 7.0 * a.cos(), 8.0 + 7.0 * a.sin())
+            })
+            .collect();
+        // Every third vertex pushed inwards by a grid snap's worth.
+        for (i, v) in circle.iter_mut().enumerate().step_by(3) {
+            let inward = (DVec2::new(8.0, 8.0) - *v).normalize();
+            *v += inward * GRID_SNAP_PX * 0.9 * (i % 2) as f64;
+        }
+        assert!(is_convex(&circle));
+        // A dent of 1e-6 px is geometry, not rounding.
+        let inward = (DVec2::new(8.0, 8.0) - circle[10]).normalize();
+        circle[10] += inward * 1e-6;
+        assert!(!is_convex(&circle));
     }
 
     #[test]
