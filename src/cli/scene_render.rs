@@ -279,9 +279,10 @@ fn run_in_pool(args: Args) -> Result<()> {
     if args.json && args.compare.is_none() && !args.reference && args.max_error.is_none() {
         usage_bail!("--json is for the --compare, --reference and --max-error reports");
     }
-    if let Err(e) = args.texture.filters() {
-        usage_bail!("{e}");
-    }
+    let texture = match args.texture.settings() {
+        Ok(t) => t,
+        Err(e) => usage_bail!("{e}"),
+    };
     // Everything that can fail is checked before anything is written.
     let reference_img = match &args.compare {
         Some(r) => Some(load_image(r)?),
@@ -335,7 +336,7 @@ fn run_in_pool(args: Args) -> Result<()> {
     let scene = read_scene(&args.input)?;
     if animation || args.animate {
         let format = format.expect("animations have an output");
-        return render_frames(&args, &scene, &view, &bg, format);
+        return render_frames(&args, &texture, &scene, &view, &bg, format);
     }
     let mut polys = Vec::new();
     project_parts(
@@ -343,7 +344,7 @@ fn run_in_pool(args: Args) -> Result<()> {
         &view,
         None,
         None,
-        &Drawing::new(&args, 0),
+        &Drawing::new(&args, &texture, 0),
         &mut polys,
     )
     .with_context(|| display_name(&args.input).to_string())?;
@@ -575,6 +576,7 @@ pub fn frame_name(pattern: &str, k: u64) -> Option<String> {
 /// projects and resolves. With --frame K only frame K is drawn.
 fn render_frames(
     args: &Args,
+    texture: &crate::texture::place::TextureSettings,
     scene: &Scene,
     view: &View,
     bg: &raster::Background,
@@ -595,7 +597,7 @@ fn render_frames(
             view,
             None,
             None,
-            &Drawing::new(args, k),
+            &Drawing::new(args, texture, k),
             &mut polys,
         )
         .with_context(|| display_name(&args.input).to_string())?;
@@ -641,7 +643,7 @@ fn render_frames(
 #[derive(Clone, Copy)]
 struct Drawing<'a> {
     cull: Cull,
-    texture: &'a super::scene_texture::TextureArgs,
+    texture: &'a crate::texture::place::TextureSettings,
     stripe: crate::stripe::LodMode,
     /// Pixels per stripe evaluation ([`crate::stripe::StripeTexture::footprint`]):
     /// `1/k` for `--aa ss<k²>`, else 1.
@@ -653,10 +655,14 @@ struct Drawing<'a> {
 }
 
 impl<'a> Drawing<'a> {
-    fn new(args: &'a Args, frame: u64) -> Drawing<'a> {
+    fn new(
+        args: &'a Args,
+        texture: &'a crate::texture::place::TextureSettings,
+        frame: u64,
+    ) -> Drawing<'a> {
         Drawing {
             cull: args.cull,
-            texture: &args.texture,
+            texture,
             stripe: args.stripe.mode(),
             stripe_footprint: match args.aa {
                 raster::Aa::Ss(k) => 1.0 / k as f64,
@@ -859,7 +865,7 @@ fn draw_polygon(
         }
     }
     if let Some((pref, mode, texels)) = &d.placed {
-        let tex = super::scene_texture::place(
+        let tex = crate::texture::place::place(
             how.texture,
             d.color,
             view,

@@ -1,22 +1,12 @@
-//! `scene-render`'s direct texturing: placing a record's "object" or "uv"
-//! pattern (SPEC §2) on its projected polygon, so that it is sampled per
-//! pixel (`crate::texture`) instead of being exploded into texel polygons by
-//! `polyfill3` first.
+//! `scene-render`'s texture flags: how "object" and "uv" patterns are
+//! placed and sampled (`crate::texture::place` does the placing).
 
-use crate::color::{srgb_to_linear_f64, Rgb8};
-use crate::geom::plane::DEFAULT_PLANARITY_TOL;
-use crate::geom::Placement;
-use crate::raster::{ScreenPattern, View};
-use crate::stream::{PatternMode, PatternRef};
+use crate::color::Rgb8;
 use crate::texture::boundary::{Boundary, Bounds};
 use crate::texture::compose::Compose;
 use crate::texture::filter::{Filter, Filters};
-use crate::texture::map::{object_uv, TexMap};
 use crate::texture::mip::MipBuild;
-use crate::texture::PolyTexture;
-use anyhow::Result;
-use glam::{DVec2, DVec3};
-use std::sync::Arc;
+use crate::texture::place::TextureSettings;
 
 /// How "object" and "uv" patterns are applied.
 #[derive(clap::Args, Debug, Clone)]
@@ -137,83 +127,18 @@ impl TextureArgs {
         })
     }
 
-    fn bounds(&self) -> Bounds {
-        Bounds {
-            u: self.boundary_u.unwrap_or(self.boundary),
-            v: self.boundary_v.unwrap_or(self.boundary),
-        }
+    /// The library's settings from the flags, checked (see [`Self::filters`]).
+    pub fn settings(&self) -> std::result::Result<TextureSettings, String> {
+        Ok(TextureSettings {
+            bounds: Bounds {
+                u: self.boundary_u.unwrap_or(self.boundary),
+                v: self.boundary_v.unwrap_or(self.boundary),
+            },
+            boundary_color: self.boundary_color,
+            compose: self.compose,
+            compose_colors: [self.compose_color1, self.compose_color2],
+            filters: self.filters()?,
+            perspective_correction: !self.no_perspective_correction,
+        })
     }
-}
-
-fn linear(c: Rgb8) -> [f64; 3] {
-    c.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0))
-}
-
-/// `polyfill3`'s defaults for a record's missing placement fields (its
-/// `--incr 1 --rotate 0 --horz 0 --vert 0`), so both paths place a pattern
-/// the same way.
-pub const DEFAULT_PLACEMENT: Placement = Placement {
-    incr: 1.0,
-    horz: 0.0,
-    vert: 0.0,
-};
-
-/// The texture of a record placed in `mode` (object or uv) over the world
-/// polygon `outline`; `None` when nothing of it is visible. `uv` are the
-/// record's per-vertex coordinates; `color` the record's own colour.
-#[allow(clippy::too_many_arguments)]
-pub fn place(
-    args: &TextureArgs,
-    color: Rgb8,
-    view: &View,
-    outline: &[DVec3],
-    pref: &PatternRef,
-    mode: PatternMode,
-    uv: Option<&[[f64; 2]]>,
-    texels: Arc<ScreenPattern>,
-) -> Result<Option<PolyTexture>> {
-    let coords: Vec<DVec2> = match (mode, uv) {
-        (PatternMode::Uv, Some(uv)) => uv.iter().map(|t| DVec2::new(t[0], t[1])).collect(),
-        (PatternMode::Uv, None) => {
-            anyhow::bail!("pattern.mode is \"uv\" but the record has no \"uv\" coordinates")
-        }
-        _ => {
-            let place = Placement {
-                incr: pref.incr.unwrap_or(DEFAULT_PLACEMENT.incr),
-                horz: pref.horz.unwrap_or(DEFAULT_PLACEMENT.horz),
-                vert: pref.vert.unwrap_or(DEFAULT_PLACEMENT.vert),
-            };
-            object_uv(
-                outline,
-                place,
-                pref.rotate.unwrap_or(0.0),
-                DEFAULT_PLANARITY_TOL,
-            )?
-        }
-    };
-    args.compose
-        .check(texels.has_transparency())
-        .map_err(anyhow::Error::msg)?;
-    let filters = args.filters().map_err(anyhow::Error::msg)?;
-    if coords.len() != outline.len() {
-        anyhow::bail!(
-            "{} texture coordinates for {} vertices",
-            coords.len(),
-            outline.len()
-        );
-    }
-    Ok(
-        TexMap::fit(view, outline, &coords, !args.no_perspective_correction).map(|map| {
-            PolyTexture {
-                texels,
-                map,
-                bounds: args.bounds(),
-                intrinsic: linear(color),
-                constant: linear(args.boundary_color),
-                compose: args.compose,
-                compose_colors: [linear(args.compose_color1), linear(args.compose_color2)],
-                filters,
-            }
-        }),
-    )
 }

@@ -8,6 +8,7 @@
 //! - [`cells`]: the exact box filter, a fragment cut into its texel cells.
 //! - [`boundary`]: XGL's boundary conditions outside the pattern's bounds.
 //! - [`compose`]: XGL's composition of texel and polygon colour.
+//! - [`place`]: a record's pattern placed on its projected polygon.
 //! - [`filter`]: the other filters (point, bilinear, the MIP filters, EWA in
 //!   [`ewa`]) and the choice between minification and magnification; their
 //!   pyramids in [`mip`].
@@ -19,6 +20,7 @@ pub mod ewa;
 pub mod filter;
 pub mod map;
 pub mod mip;
+pub mod place;
 
 use crate::color::Rgb8;
 use crate::io::Image;

@@ -1,0 +1,160 @@
+//! Placing a record's "object" or "uv" pattern (SPEC §2) on its projected
+//! polygon: the texel coordinates of its vertices, then the screen → texel
+//! map, so that the pattern is sampled per pixel instead of being exploded
+//! into texel polygons by `polyfill3` first.
+
+use super::boundary::{Boundary, Bounds};
+use super::compose::Compose;
+use super::filter::Filters;
+use super::map::{object_uv, ObjectUvError, TexMap};
+use super::PolyTexture;
+use crate::color::{srgb_to_linear_f64, Rgb8};
+use crate::geom::plane::DEFAULT_PLANARITY_TOL;
+use crate::geom::Placement;
+use crate::raster::{ScreenPattern, View};
+use crate::stream::{PatternMode, PatternRef};
+use glam::{DVec2, DVec3};
+use std::sync::Arc;
+
+/// `polyfill3`'s defaults for a record's missing placement fields (its
+/// `--incr 1 --rotate 0 --horz 0 --vert 0`), so both paths place a pattern
+/// the same way.
+pub const DEFAULT_PLACEMENT: Placement = Placement {
+    incr: 1.0,
+    horz: 0.0,
+    vert: 0.0,
+};
+
+/// How placed patterns are applied (`scene-render`'s texture flags).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureSettings {
+    /// XGL's boundary conditions per axis. Default value: repeat (SPEC §2).
+    pub bounds: Bounds,
+    /// The constant colour of [`Boundary::Clamp`]. Default value: black.
+    pub boundary_color: Rgb8,
+    /// How texels combine with the polygon's colour. Default value: replace.
+    pub compose: Compose,
+    /// The composition's two constant colours. Default value: black, white.
+    pub compose_colors: [Rgb8; 2],
+    /// Minification and magnification filters. Default value: the exact box.
+    pub filters: Filters,
+    /// Interpolate texel coordinates perspective-correctly; `false` is XGL's
+    /// `PERSP_NONE`. Default value: true.
+    pub perspective_correction: bool,
+}
+
+impl TextureSettings {
+    pub const DEFAULT: TextureSettings = TextureSettings {
+        bounds: Bounds {
+            u: Boundary::Repeat,
+            v: Boundary::Repeat,
+        },
+        boundary_color: Rgb8([0, 0, 0]),
+        compose: Compose::Replace,
+        compose_colors: [Rgb8([0, 0, 0]), Rgb8([255, 255, 255])],
+        filters: Filters::BOX,
+        perspective_correction: true,
+    };
+}
+
+impl Default for TextureSettings {
+    fn default() -> Self {
+        TextureSettings::DEFAULT
+    }
+}
+
+/// Why a pattern cannot be placed on a record.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PlaceError {
+    /// `pattern.mode` is "uv" but the record has no "uv" field.
+    MissingUv,
+    /// The "uv" field has a different length from the outline.
+    UvCount { uv: usize, vertices: usize },
+    /// Object placement failed (no plane, or no grid).
+    Object(ObjectUvError),
+    /// The composition needs texels with alpha (XGL's decal rules).
+    Compose(String),
+}
+
+impl std::fmt::Display for PlaceError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PlaceError::MissingUv => {
+                write!(
+                    f,
+                    "pattern.mode is \"uv\" but the record has no \"uv\" coordinates"
+                )
+            }
+            PlaceError::UvCount { uv, vertices } => {
+                write!(f, "{uv} texture coordinates for {vertices} vertices")
+            }
+            PlaceError::Object(e) => e.fmt(f),
+            PlaceError::Compose(e) => f.write_str(e),
+        }
+    }
+}
+
+impl std::error::Error for PlaceError {}
+
+fn linear(c: Rgb8) -> [f64; 3] {
+    c.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0))
+}
+
+/// The texture of a record placed in `mode` (object or uv) over the world
+/// polygon `outline`; `None` when nothing of it is visible. `uv` are the
+/// record's per-vertex coordinates; `color` the record's own colour (XGL's
+/// intrinsic colour).
+#[allow(clippy::too_many_arguments)]
+pub fn place(
+    settings: &TextureSettings,
+    color: Rgb8,
+    view: &View,
+    outline: &[DVec3],
+    pref: &PatternRef,
+    mode: PatternMode,
+    uv: Option<&[[f64; 2]]>,
+    texels: Arc<ScreenPattern>,
+) -> Result<Option<PolyTexture>, PlaceError> {
+    let coords: Vec<DVec2> = match (mode, uv) {
+        (PatternMode::Uv, Some(uv)) => uv.iter().map(|t| DVec2::new(t[0], t[1])).collect(),
+        (PatternMode::Uv, None) => return Err(PlaceError::MissingUv),
+        _ => {
+            let place = Placement {
+                incr: pref.incr.unwrap_or(DEFAULT_PLACEMENT.incr),
+                horz: pref.horz.unwrap_or(DEFAULT_PLACEMENT.horz),
+                vert: pref.vert.unwrap_or(DEFAULT_PLACEMENT.vert),
+            };
+            object_uv(
+                outline,
+                place,
+                pref.rotate.unwrap_or(0.0),
+                DEFAULT_PLANARITY_TOL,
+            )
+            .map_err(PlaceError::Object)?
+        }
+    };
+    settings
+        .compose
+        .check(texels.has_transparency())
+        .map_err(PlaceError::Compose)?;
+    if coords.len() != outline.len() {
+        return Err(PlaceError::UvCount {
+            uv: coords.len(),
+            vertices: outline.len(),
+        });
+    }
+    Ok(
+        TexMap::fit(view, outline, &coords, settings.perspective_correction).map(|map| {
+            PolyTexture {
+                texels,
+                map,
+                bounds: settings.bounds,
+                intrinsic: linear(color),
+                constant: linear(settings.boundary_color),
+                compose: settings.compose,
+                compose_colors: settings.compose_colors.map(linear),
+                filters: settings.filters,
+            }
+        }),
+    )
+}
