@@ -377,10 +377,8 @@ fn resolve_pixel(
     // every other fragment over the whole pixel.
     let mut best: Option<usize> = None;
     for (i, f) in frags.iter().enumerate() {
-        if f.len == 0 && s.alive[i] {
-            if best.map_or(true, |b| s.qc[i] > s.qc[b]) {
-                best = Some(i);
-            }
+        if f.len == 0 && s.alive[i] && best.map_or(true, |b| s.qc[i] > s.qc[b]) {
+            best = Some(i);
         }
     }
     if let Some(b) = best {
