@@ -14,6 +14,9 @@ use serde_json::{Map, Value};
 use std::fmt;
 use std::io::{BufRead, Write};
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+mod plain;
 
 /// The geometry of a record.
 #[derive(Clone, Debug, PartialEq)]
@@ -181,7 +184,71 @@ pub struct Record {
     /// Per-vertex texture coordinates in texels, one pair per vertex.
     pub uv: Option<Vec<[f64; 2]>>,
     /// The record exactly as read (including the fields above).
-    pub fields: Map<String, Value>,
+    pub fields: Fields,
+}
+
+/// A record's whole JSON object, as a map (`Deref`). The general reader
+/// builds the map as it reads; the fast path for plain NDJSON polygons
+/// ([`plain`]) keeps the record's line instead and parses it on first use,
+/// so a tool that never looks (scene-render) never pays for the map.
+#[derive(Clone)]
+pub struct Fields {
+    /// The record's JSON text, when the map is still to be made from it.
+    line: Option<Box<[u8]>>,
+    map: OnceLock<Map<String, Value>>,
+}
+
+impl Fields {
+    /// Fields to be parsed from `line` when first asked for. The line must be
+    /// one JSON object that parses as `Value` (the fast path checks that:
+    /// it parses every field it does not read as `Value`, and its numbers
+    /// parse as `Value` numbers by the same code).
+    fn from_line(line: &[u8]) -> Fields {
+        Fields {
+            line: Some(line.into()),
+            map: OnceLock::new(),
+        }
+    }
+}
+
+impl From<Map<String, Value>> for Fields {
+    fn from(map: Map<String, Value>) -> Fields {
+        Fields {
+            line: None,
+            map: OnceLock::from(map),
+        }
+    }
+}
+
+impl std::ops::Deref for Fields {
+    type Target = Map<String, Value>;
+    fn deref(&self) -> &Map<String, Value> {
+        self.map.get_or_init(|| {
+            let line = self.line.as_deref().unwrap_or_default();
+            serde_json::from_slice(line)
+                .expect("the fast path accepts only lines that parse as a JSON object")
+        })
+    }
+}
+
+impl<'a> IntoIterator for &'a Fields {
+    type Item = (&'a String, &'a Value);
+    type IntoIter = serde_json::map::Iter<'a>;
+    fn into_iter(self) -> Self::IntoIter {
+        (**self).iter()
+    }
+}
+
+impl fmt::Debug for Fields {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        (**self).fmt(f)
+    }
+}
+
+impl PartialEq for Fields {
+    fn eq(&self, other: &Fields) -> bool {
+        **self == **other
+    }
 }
 
 /// A stream error, naming the input and the record.
@@ -507,7 +574,7 @@ impl Record {
             color,
             pattern,
             uv,
-            fields,
+            fields: fields.into(),
         })
     }
 }
@@ -772,7 +839,7 @@ pub fn transform_record(r: &Record, t: &Transform, index: usize) -> Result<Recor
         // and its JSON "transform" becomes the combined matrix.
         let mut moved = (**q).clone();
         moved.transform = q.transform.then(*t);
-        let mut fields = r.fields.clone();
+        let mut fields: Map<String, Value> = (*r.fields).clone();
         fields.insert(
             "transform".into(),
             serde_json::json!({"matrix": moved.transform.row_matrix()}),
@@ -780,7 +847,7 @@ pub fn transform_record(r: &Record, t: &Transform, index: usize) -> Result<Recor
         return Ok(Record {
             index,
             shape: Shape::Quadric(Box::new(moved)),
-            fields,
+            fields: fields.into(),
             ..r.clone()
         });
     }
@@ -797,7 +864,7 @@ pub fn transform_record(r: &Record, t: &Transform, index: usize) -> Result<Recor
     if !verts.iter().all(|p| p.is_finite()) {
         return Err("the transform moves a vertex out of the finite numbers".into());
     }
-    let mut fields = r.fields.clone();
+    let mut fields = Map::clone(&r.fields);
     for k in ["rect", "circle", "arc"] {
         fields.remove(k);
     }
@@ -834,7 +901,7 @@ pub fn transform_record(r: &Record, t: &Transform, index: usize) -> Result<Recor
         color: r.color,
         pattern,
         uv: r.uv.clone(),
-        fields,
+        fields: fields.into(),
     })
 }
 
@@ -865,7 +932,7 @@ pub fn quadric_triangles(
         Ok(t) => t,
         Err(e) => return Some(Err(e)),
     };
-    let mut base = r.fields.clone();
+    let mut base: Map<String, Value> = (*r.fields).clone();
     base.remove(q.kind);
     base.remove("transform");
     let screen = matches!(
@@ -981,8 +1048,13 @@ pub fn for_each_item<R: BufRead>(
         }
     };
     let mut index = 0usize;
-    let mut handle = |value: Value, index: &mut usize| -> anyhow::Result<()> {
-        let item = Item::from_value(*index, value).map_err(|(i, m)| stream_err(Some(i), m))?;
+    let mut handle = |value: Parsed, index: &mut usize| -> anyhow::Result<()> {
+        let item = match value {
+            Parsed::Value(value) => {
+                Item::from_value(*index, value).map_err(|(i, m)| stream_err(Some(i), m))?
+            }
+            Parsed::Item(item) => item,
+        };
         *index += 1;
         each(item)
     };
@@ -993,7 +1065,7 @@ pub fn for_each_item<R: BufRead>(
             let mut failure: Option<anyhow::Error> = None;
             let visitor = ArrayVisitor {
                 each: &mut |v: Value| -> bool {
-                    match handle(v, &mut index) {
+                    match handle(Parsed::Value(v), &mut index) {
                         Ok(()) => true,
                         Err(e) => {
                             failure = Some(e);
@@ -1012,14 +1084,70 @@ pub fn for_each_item<R: BufRead>(
             Ok(())
         }
         Some(_) => {
-            let de = serde_json::Deserializer::from_reader(reader).into_iter::<Value>();
-            for v in de {
-                let v = v.map_err(|e| stream_err(Some(index), json_message(&e)))?;
-                handle(v, &mut index)?;
+            // NDJSON is read a line at a time and each line parsed from
+            // memory: serde_json reading an `io::Read` goes byte by byte, and
+            // a plain polygon on a line of its own skips the `Value` tree too
+            // (`plain`). A line that is not one whole JSON value (a value
+            // spread over lines, two on one line, a syntax error) hands the
+            // rest of the input, from the start of that line, to serde_json's
+            // own stream reader, behind as many newlines as were read before
+            // it so that its error positions are those of the whole input.
+            let mut line = Vec::new();
+            let mut newlines = 0u64;
+            loop {
+                line.clear();
+                if let Err(e) = reader.read_until(b'\n', &mut line) {
+                    // serde_json words a read error as the error itself.
+                    return Err(stream_err(Some(index), format!("invalid JSON: {e}")).into());
+                }
+                if line.is_empty() {
+                    return Ok(());
+                }
+                let body = trim_json_whitespace(&line);
+                if !body.is_empty() {
+                    if let Some(rec) = plain::record(body, index) {
+                        handle(Parsed::Item(Item::Record(rec)), &mut index)?;
+                    } else if let Ok(v) = serde_json::from_slice::<Value>(body) {
+                        handle(Parsed::Value(v), &mut index)?;
+                    } else {
+                        use std::io::Read as _;
+                        let rest = std::io::repeat(b'\n')
+                            .take(newlines)
+                            .chain(&line[..])
+                            .chain(reader);
+                        let de = serde_json::Deserializer::from_reader(rest).into_iter::<Value>();
+                        for v in de {
+                            let v = v.map_err(|e| stream_err(Some(index), json_message(&e)))?;
+                            handle(Parsed::Value(v), &mut index)?;
+                        }
+                        return Ok(());
+                    }
+                }
+                if line.last() == Some(&b'\n') {
+                    newlines += 1;
+                }
             }
-            Ok(())
         }
     }
+}
+
+/// A stream element as the readers hand it on: parsed JSON, or an item the
+/// NDJSON fast path has already typed. Moved once per record straight into
+/// the handler, so its size costs nothing, where boxing the item would cost
+/// an allocation per record.
+#[allow(clippy::large_enum_variant)]
+enum Parsed {
+    Value(Value),
+    Item(Item),
+}
+
+/// `s` without JSON's whitespace (space, tab, newline, carriage return; RFC
+/// 8259 §2) at either end.
+fn trim_json_whitespace(s: &[u8]) -> &[u8] {
+    let ws = |b: &u8| matches!(b, b' ' | b'\t' | b'\n' | b'\r');
+    let start = s.iter().position(|b| !ws(b)).unwrap_or(s.len());
+    let end = s.iter().rposition(|b| !ws(b)).map_or(start, |i| i + 1);
+    &s[start..end]
 }
 
 /// serde_json's message with its position, phrased for a user.
@@ -1081,6 +1209,35 @@ mod tests {
         assert_eq!(r[0].fields["id"], "a");
         assert_eq!(r[1].index, 1);
         assert!(matches!(r[0].shape, Shape::Polygon(ref v) if v[2] == DVec3::new(0.0, 1.0, 0.0)));
+    }
+
+    #[test]
+    fn ndjson_syntax_errors_keep_the_positions_of_the_whole_input() {
+        // Plain lines, a blank line, a value spread over lines, then an error
+        // on line 6: the line reader hands over to serde_json's own stream
+        // reader, whose message must name the same line and column as when
+        // it read the whole input itself.
+        let text = "  {\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]}\n\n\
+                    {\"rect\":[0,0,1,1],\n \"color\":[1,2,3]}\n\
+                    {\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]}\n\
+                    {\"vertices\": [[0,0]] x\n";
+        let mut seen = 0;
+        let whole = serde_json::Deserializer::from_str(text.trim_start())
+            .into_iter::<Value>()
+            .find_map(|v| match v {
+                Ok(_) => {
+                    seen += 1;
+                    None
+                }
+                Err(e) => Some(e),
+            })
+            .unwrap();
+        assert_eq!(seen, 3);
+        assert_eq!(whole.line(), 6);
+        assert_eq!(
+            err(text),
+            format!("s.json: record 3: {}", json_message(&whole))
+        );
     }
 
     #[test]
@@ -1319,7 +1476,7 @@ mod tests {
         assert_eq!(recs[0].fields["id"], "s");
         assert!(recs[0].fields["transform"].get("matrix").is_some());
         // The written matrix reads back as the same transform.
-        let again = Record::from_value(0, Value::Object(recs[0].fields.clone())).unwrap();
+        let again = Record::from_value(0, Value::Object((*recs[0].fields).clone())).unwrap();
         assert_eq!(again.shape, recs[0].shape);
     }
 

@@ -309,20 +309,37 @@ pub fn render_tile(
             }
         }
     }
-    // Group by pixel, keeping stream order within a pixel.
-    frags.sort_by_key(|f| f.pixel);
+    // Group by pixel, keeping stream order within a pixel: a counting sort
+    // (stable, like the comparison sort it replaces, and linear in the number
+    // of fragments, which runs to tens of thousands per tile at depth).
+    let mut first = vec![0u32; tw * th + 1];
+    for f in &frags {
+        first[f.pixel as usize + 1] += 1;
+    }
+    for k in 0..tw * th {
+        first[k + 1] += first[k];
+    }
+    let mut grouped = Vec::with_capacity(frags.len());
+    if let Some(&f0) = frags.first() {
+        grouped.resize(frags.len(), f0);
+        let mut next = first.clone();
+        for f in &frags {
+            let slot = &mut next[f.pixel as usize];
+            grouped[*slot as usize] = *f;
+            *slot += 1;
+        }
+    }
     let mut out = Vec::with_capacity(tw * th);
-    let mut fi = 0;
     let mut scratch = Scratch::default();
     for idx in 0..(tw * th) as u32 {
-        let start = fi;
-        while fi < frags.len() && frags[fi].pixel == idx {
-            fi += 1;
-        }
+        let (start, end) = (
+            first[idx as usize] as usize,
+            first[idx as usize + 1] as usize,
+        );
         let (px, py) = (tx0 + idx % tw as u32, ty0 + idx / tw as u32);
         out.push(resolve_pixel(
             polys,
-            &frags[start..fi],
+            &grouped[start..end],
             &arena,
             &tex.colors,
             bg,
@@ -334,10 +351,15 @@ pub fn render_tile(
     out
 }
 
+/// Per-tile buffers of [`resolve_pixel`], reused from pixel to pixel.
 #[derive(Default)]
 struct Scratch {
     pieces: Vec<Vec<DVec2>>,
     next: Vec<Vec<DVec2>>,
+    /// Vertex lists no longer in use, kept for their allocations: the convex
+    /// subtraction makes and drops several small pieces per fragment pair, and
+    /// recycling them keeps the allocator out of the inner loop.
+    pool: Vec<Vec<DVec2>>,
     occ: Vec<DVec2>,
     a: Vec<DVec2>,
     b: Vec<DVec2>,
@@ -345,6 +367,11 @@ struct Scratch {
     cols: Vec<[f64; 3]>,
     /// Runs `[start, end)` of consecutive fragments of one polygon.
     runs: Vec<(u32, u32)>,
+    /// Each fragment's nearness at the pixel centre (the point the tie rule
+    /// is evaluated at), computed once per pixel instead of once per pair.
+    qc: Vec<f64>,
+    /// The fragments still alive after the fast path, in stream order.
+    live: Vec<u32>,
 }
 
 fn frag_verts<'a>(f: &Frag, arena: &'a [DVec2], square: &'a [DVec2; 4]) -> &'a [DVec2] {
@@ -357,13 +384,15 @@ fn frag_verts<'a>(f: &Frag, arena: &'a [DVec2], square: &'a [DVec2; 4]) -> &'a [
 
 /// `q_G - q_F` as an affine function, shifted by the tie rule: positive where G
 /// is in front of F. The later polygon wins within [`tie_tolerance`] (painter's order).
-fn front_of(g: &ScreenPoly, f: &ScreenPoly, at: (f64, f64)) -> [f64; 3] {
+/// `qg` and `qf` are `g.q(at)` and `f.q(at)` at the point the tie is decided
+/// (the pixel centre), passed in because they are the same for every pair.
+fn front_of(g: &ScreenPoly, f: &ScreenPoly, qg: f64, qf: f64) -> [f64; 3] {
     let d = [
         g.plane[0] - f.plane[0],
         g.plane[1] - f.plane[1],
         g.plane[2] - f.plane[2],
     ];
-    let bias = tie_tolerance(g.q(at.0, at.1), f.q(at.0, at.1), g.tie_floor);
+    let bias = tie_tolerance(qg, qf, g.tie_floor);
     let c = if g.order > f.order {
         d[2] + bias
     } else {
@@ -399,7 +428,9 @@ fn resolve_pixel(
     // fragment from this pixel altogether.
     s.cols.clear();
     s.alive.clear();
+    s.qc.clear();
     for f in frags {
+        s.qc.push(polys[f.poly as usize].q(centre.0, centre.1));
         let c = match f.color {
             POLY_COLOR => polys[f.poly as usize].color_at(px, py),
             // Opaque; computed below only if it shows.
@@ -413,13 +444,8 @@ fn resolve_pixel(
     // every other fragment over the whole pixel.
     let mut best: Option<usize> = None;
     for (i, f) in frags.iter().enumerate() {
-        if f.len == 0 && s.alive[i] {
-            let q = polys[f.poly as usize].q(centre.0, centre.1);
-            if best.map_or(true, |b| {
-                q > polys[frags[b].poly as usize].q(centre.0, centre.1)
-            }) {
-                best = Some(i);
-            }
+        if f.len == 0 && s.alive[i] && best.map_or(true, |b| s.qc[i] > s.qc[b]) {
+            best = Some(i);
         }
     }
     if let Some(b) = best {
@@ -430,7 +456,7 @@ fn resolve_pixel(
                 continue;
             }
             let gp = &polys[g.poly as usize];
-            let d = front_of(gp, fb, centre);
+            let d = front_of(gp, fb, s.qc[i], s.qc[b]);
             // G never in front of the full fragment B anywhere in the pixel.
             if corners
                 .iter()
@@ -455,57 +481,79 @@ fn resolve_pixel(
     }
     let mut acc = [0.0f64; 3];
     let mut covered = 0.0f64;
-    for (i, f) in frags.iter().enumerate() {
-        if !s.alive[i] {
-            continue;
-        }
+    s.live.clear();
+    s.live
+        .extend((0..frags.len() as u32).filter(|&i| s.alive[i as usize]));
+    let Scratch {
+        pieces,
+        next,
+        pool,
+        occ,
+        a,
+        b,
+        cols,
+        qc,
+        live,
+        alive,
+        runs,
+    } = s;
+    for &i in live.iter() {
+        let i = i as usize;
+        let f = &frags[i];
         let fp = &polys[f.poly as usize];
-        s.pieces.clear();
-        s.pieces.push(frag_verts(f, arena, &square).to_vec());
+        pool.append(pieces);
+        let mut whole = pool.pop().unwrap_or_default();
+        whole.clear();
+        whole.extend_from_slice(frag_verts(f, arena, &square));
+        pieces.push(whole);
         // Pieces of one polygon (ear-clipping triangles, texel cells) never
         // hide each other: `front_of` is then the constant `-tie` < 0. They
         // come in runs (fragments are made polygon by polygon), and F's own
         // runs are skipped whole, so a pixel over n texel cells of one
         // polygon costs O(n), not O(n²) tests or even O(n²) skips.
-        for &(r0, r1) in &s.runs {
+        for &(r0, r1) in runs.iter() {
             if frags[r0 as usize].poly == f.poly {
                 continue;
             }
             for j in r0 as usize..r1 as usize {
-                let g = &frags[j];
-                if !s.alive[j] || s.pieces.is_empty() {
+                if !alive[j] || pieces.is_empty() {
                     continue;
                 }
+                let g = &frags[j];
                 let gv = frag_verts(g, arena, &square);
-                if s.pieces.len() == 1 && disjoint(&s.pieces[0], gv) {
-                    continue; // Neighbours that only share an edge.
-                }
                 let gp = &polys[g.poly as usize];
-                let d = front_of(gp, fp, centre);
+                let d = front_of(gp, fp, qc[j], qc[i]);
                 let val = |v: &DVec2| d[0] * v.x + d[1] * v.y + d[2];
+                // The two tests that let G pass are independent of each
+                // other; the cheap depth test goes first (it passes about
+                // half the pairs at depth), the separating-axis test second.
                 if gv.iter().all(|v| val(v) <= 0.0) {
                     continue; // G is behind F wherever G is.
                 }
-                s.occ.clear();
-                if gv.iter().all(|v| val(v) >= 0.0) {
-                    s.occ.extend_from_slice(gv);
-                } else {
-                    clip_line(gv, d, &mut s.occ);
+                if pieces.len() == 1 && disjoint(&pieces[0], gv) {
+                    continue; // Neighbours that only share an edge.
                 }
-                if s.occ.len() < 3 || area2(&s.occ) <= 2.0 * AREA_EPS {
+                occ.clear();
+                if gv.iter().all(|v| val(v) >= 0.0) {
+                    occ.extend_from_slice(gv);
+                } else {
+                    clip_line(gv, d, occ);
+                }
+                if occ.len() < 3 || area2(occ) <= 2.0 * AREA_EPS {
                     continue;
                 }
-                s.next.clear();
-                for piece in s.pieces.drain(..) {
-                    subtract(&piece, &s.occ, &mut s.next, &mut s.a, &mut s.b);
+                next.clear();
+                for piece in pieces.drain(..) {
+                    subtract(&piece, occ, next, a, b, pool);
+                    pool.push(piece);
                 }
-                std::mem::swap(&mut s.pieces, &mut s.next);
+                std::mem::swap(pieces, next);
             }
         }
-        let area: f64 = s.pieces.iter().map(|p| area2(p)).sum::<f64>() * 0.5;
+        let area: f64 = pieces.iter().map(|p| area2(p)).sum::<f64>() * 0.5;
         if area > AREA_EPS {
             covered += area;
-            let c = frag_color(polys, f, &s.cols, i, px, py);
+            let c = frag_color(polys, f, cols, i, px, py);
             for ch in 0..3 {
                 acc[ch] += area * c[ch];
             }
@@ -542,22 +590,37 @@ fn disjoint(a: &[DVec2], b: &[DVec2]) -> bool {
 /// Appends the convex pieces of `p \ o` (both convex, counter-clockwise) to
 /// `out`: for each edge of `o`, the part of `p` to its right is outside `o` and
 /// kept; the rest goes on to the next edge, and what is left at the end lies in
-/// `o` and is dropped. An `o` with fewer than three edges longer than
-/// [`EDGE_EPS`] has no interior and removes nothing (without this check, all
-/// of `p` would be "left at the end" and dropped).
+/// `o` and is dropped. New pieces take their vertex lists from `pool`.
+///
+/// An `o` with fewer than three edges longer than [`EDGE_EPS`] has no
+/// interior and removes nothing (without this check, all of `p` would be
+/// "left at the end" and dropped).
+///
+/// Where `cur` lies strictly on one side of an edge's line, the two clips
+/// would return `cur` unchanged and nothing (or nothing and `cur`): that case
+/// is decided from the signs alone and the clips are skipped. The signs are
+/// the very values `clip_line` computes (negating a line negates them
+/// exactly in IEEE arithmetic), so the pieces are bit for bit the same.
 fn subtract(
     p: &[DVec2],
     o: &[DVec2],
     out: &mut Vec<Vec<DVec2>>,
     cur: &mut Vec<DVec2>,
     tmp: &mut Vec<DVec2>,
+    pool: &mut Vec<Vec<DVec2>>,
 ) {
+    let mut keep = |piece: &[DVec2]| {
+        let mut v = pool.pop().unwrap_or_default();
+        v.clear();
+        v.extend_from_slice(piece);
+        out.push(v);
+    };
     let n = o.len();
     let edges = (0..n)
         .filter(|&i| (o[(i + 1) % n] - o[i]).length_squared() > EDGE_EPS * EDGE_EPS)
         .count();
     if edges < 3 {
-        out.push(p.to_vec());
+        keep(p);
         return;
     }
     cur.clear();
@@ -573,10 +636,21 @@ fn subtract(
             continue;
         }
         let line = [-e.y, e.x, e.y * a.x - e.x * a.y];
+        let side = |v: &DVec2| line[0] * v.x + line[1] * v.y + line[2];
+        if cur.iter().all(|v| side(v) > 0.0) {
+            continue; // Wholly inside this edge: nothing outside it.
+        }
+        if cur.iter().all(|v| side(v) < 0.0) {
+            // Wholly outside this edge, so outside `o`: kept whole.
+            if area2(cur) > 2.0 * AREA_EPS {
+                keep(cur);
+            }
+            return;
+        }
         tmp.clear();
         clip_line(cur, [-line[0], -line[1], -line[2]], tmp);
         if tmp.len() >= 3 && area2(tmp) > 2.0 * AREA_EPS {
-            out.push(tmp.clone());
+            keep(tmp);
         }
         tmp.clear();
         clip_line(cur, line, tmp);
@@ -615,8 +689,8 @@ mod tests {
             DVec2::new(423.0, 256.6012019151243),
             DVec2::new(423.2278482750052, 256.4861575572889),
         ];
-        let (mut out, mut a, mut b) = (Vec::new(), Vec::new(), Vec::new());
-        subtract(&piece, &sliver, &mut out, &mut a, &mut b);
+        let (mut out, mut a, mut b, mut pool) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        subtract(&piece, &sliver, &mut out, &mut a, &mut b, &mut pool);
         let left: f64 = out.iter().map(|p| area2(p)).sum();
         assert!(
             (left - area2(&piece)).abs() < 1e-12,
@@ -767,12 +841,12 @@ mod debris {
         let small = [v(0.1, 0.1), v(0.3, 0.1), v(0.1, 0.3)];
         assert!(!disjoint(&with_debris, &small));
         assert!(!disjoint(&small, &with_debris));
-        let (mut out, mut a, mut b) = (Vec::new(), Vec::new(), Vec::new());
-        subtract(&small, &with_debris, &mut out, &mut a, &mut b);
+        let (mut out, mut a, mut b, mut pool) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        subtract(&small, &with_debris, &mut out, &mut a, &mut b, &mut pool);
         let left: f64 = out.iter().map(|p| area2(p)).sum();
         assert!(left.abs() < 1e-12, "{out:?}");
         out.clear();
-        subtract(&tri, &tri, &mut out, &mut a, &mut b);
+        subtract(&tri, &tri, &mut out, &mut a, &mut b, &mut pool);
         assert!(out.iter().map(|p| area2(p)).sum::<f64>().abs() < 1e-12);
     }
 }
