@@ -15,20 +15,7 @@ SR="$TARGET/release/scene-render"
 WORK="$TARGET/bench-scene-render"
 mkdir -p "$WORK"
 
-VENV="$WORK/venv"
-if ! "$VENV/bin/python" -c 'import moderngl, numpy' 2>/dev/null; then
-    python3 -m venv "$VENV" >&2
-    "$VENV/bin/pip" install -q moderngl numpy >&2
-fi
-if ! "$VENV/bin/python" -c 'import moderngl; moderngl.create_standalone_context(backend="egl")' 2>/dev/null; then
-    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
-        apt-get install -y -q libegl1 libgl1-mesa-dri >&2
-    fi
-    "$VENV/bin/python" -c 'import moderngl; moderngl.create_standalone_context(backend="egl")' >&2 || {
-        echo "scene_render.sh: llvmpipe (EGL) is not available on this machine" >&2
-        exit 1
-    }
-fi
+. bench/venv.sh
 
 # Demo 2 (App. C, examples/scenes/demo2.json): through polyfill3 when it is built
 # (it is, once polyfill3 is on the branch), else through the

@@ -1,7 +1,7 @@
-# Sourced by the llvmpipe benchmarks (bench/texture.sh, bench/tradeoff.sh):
-# sets VENV to a Python venv with moderngl, numpy and matplotlib (pip from
-# PyPI): the one bench/scene_render.sh makes under $TARGET, plus matplotlib;
-# and checks that Mesa's EGL/llvmpipe works (apt-get when root and missing).
+# Sourced by the llvmpipe benchmarks (bench/scene_render.sh, bench/texture.sh,
+# bench/tradeoff.sh): sets VENV to a Python venv under $TARGET with moderngl,
+# numpy and matplotlib (pip from PyPI), and checks that Mesa's EGL/llvmpipe
+# works (apt-get when root and missing).
 VENV="$TARGET/bench-scene-render/venv"
 if ! "$VENV/bin/python" -c 'import moderngl, numpy, matplotlib' 2>/dev/null; then
     python3 -m venv "$VENV" >&2

@@ -158,12 +158,7 @@ fn push_frag(
             return;
         }
     }
-    let square = [
-        DVec2::new(x, y),
-        DVec2::new(x + 1.0, y),
-        DVec2::new(x + 1.0, y + 1.0),
-        DVec2::new(x, y + 1.0),
-    ];
+    let square = super::pixel_square(px, py);
     let shape: &[DVec2] = if verts.is_empty() { &square } else { verts };
     t.pieces.clear();
     t.verts.clear();
@@ -413,12 +408,7 @@ fn resolve_pixel(
     s: &mut Scratch,
 ) -> [f32; 3] {
     let (x, y) = (px as f64, py as f64);
-    let square = [
-        DVec2::new(x, y),
-        DVec2::new(x + 1.0, y),
-        DVec2::new(x + 1.0, y + 1.0),
-        DVec2::new(x, y + 1.0),
-    ];
+    let square = super::pixel_square(px, py);
     let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
     let centre = (x + 0.5, y + 0.5);
     if frags.is_empty() {

@@ -258,6 +258,18 @@ impl ScreenPoly {
     }
 }
 
+/// The square of pixel `(px, py)` (y up), counter-clockwise from its
+/// lower-left corner: the box filter's footprint.
+pub fn pixel_square(px: u32, py: u32) -> [DVec2; 4] {
+    let (x, y) = (px as f64, py as f64);
+    [
+        DVec2::new(x, y),
+        DVec2::new(x + 1.0, y),
+        DVec2::new(x + 1.0, y + 1.0),
+        DVec2::new(x, y + 1.0),
+    ]
+}
+
 /// Twice the signed area (shoelace), positive counter-clockwise with y up.
 ///
 /// Taken about the first vertex, so the rounding error follows the polygon's

@@ -455,7 +455,6 @@ fn texel_lines(
     centre: glam::DVec2,
     prims: &mut Vec<Prim>,
 ) {
-    use glam::DVec2;
     let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
     let den = |(cx, cy): (f64, f64)| m.d[0] * cx + m.d[1] * cy + m.d[2];
     if corners.iter().any(|&c| den(c) <= 0.0) {
@@ -478,23 +477,31 @@ fn texel_lines(
             continue;
         }
         for k in k0..=k1.min(k0 + MAX_TEXEL_LINES - 1) {
-            let [a, b, c] = if dir == 0 {
+            let line = if dir == 0 {
                 m.u_side(k as f64, true)
             } else {
                 m.v_side(k as f64, true)
             };
-            let nn = a * a + b * b;
-            if nn == 0.0 {
-                continue;
-            }
-            let t = (a * centre.x + b * centre.y + c) / nn;
-            prims.push(Prim {
-                p: centre - DVec2::new(a, b) * t,
-                d: DVec2::new(-b, a),
-                bounded: false,
-            });
+            push_line(line, centre, prims);
         }
     }
+}
+
+/// The unbounded prim along the line `a x + b y + c = 0`, anchored at the
+/// line's point nearest `centre` (the pixel's centre, so the anchor is
+/// well-conditioned); nothing for a degenerate line.
+fn push_line([a, b, c]: [f64; 3], centre: glam::DVec2, prims: &mut Vec<Prim>) {
+    use glam::DVec2;
+    let nn = a * a + b * b;
+    if nn == 0.0 {
+        return;
+    }
+    let t = (a * centre.x + b * centre.y + c) / nn;
+    prims.push(Prim {
+        p: centre - DVec2::new(a, b) * t,
+        d: DVec2::new(-b, a),
+        bounded: false,
+    });
 }
 
 /// Unbounded prims along the boundaries between map samples of a stripe
@@ -509,7 +516,6 @@ fn stripe_lines(
     centre: glam::DVec2,
     prims: &mut Vec<Prim>,
 ) {
-    use glam::DVec2;
     let m = &st.mapping;
     let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
     let d: Vec<f64> = corners
@@ -532,17 +538,7 @@ fn stripe_lines(
     }
     let (k0, k1) = (lo.floor() as i64 + 1, hi.ceil() as i64 - 1);
     for k in k0..=k1.min(k0.saturating_add(MAX_TEXEL_LINES - 1)) {
-        let [a, b, c] = m.iso_line(k as f64 / n);
-        let nn = a * a + b * b;
-        if nn == 0.0 {
-            continue;
-        }
-        let t = (a * centre.x + b * centre.y + c) / nn;
-        prims.push(Prim {
-            p: centre - DVec2::new(a, b) * t,
-            d: DVec2::new(-b, a),
-            bounded: false,
-        });
+        push_line(m.iso_line(k as f64 / n), centre, prims);
     }
 }
 
