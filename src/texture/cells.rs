@@ -16,11 +16,15 @@
 //!
 //! Minification: the cut stays exact up to [`MAX_EXACT_CELLS`] cells in the
 //! fragment's box in texel space. Beyond that (a pixel over thousands of
-//! texels, towards the horizon of an unbounded plane) the cost would grow
-//! without bound, so the fragment is cut into [`FALLBACK_SIDE`]² sub-squares
-//! of the pixel instead, each taking the texel at its centre: area-weighted
-//! supersampling, the one approximation, documented as such. (A MIP-level
-//! average would be the better fallback; not done yet.)
+//! texels, towards the horizon of a plane) the cost would grow without
+//! bound, so the fragment takes one colour: the EWA filter (`super::ewa`,
+//! on the MIP pyramid) at its centroid with the pixel's footprint there.
+//! Over that many texels the box integral is the local mean of the pattern,
+//! which the EWA's Gaussian over a prefiltered level estimates closely (see
+//! [`MAX_EXACT_CELLS`] for the measured error). Beyond the plane's horizon,
+//! where the map has no footprint, the fragment is cut into
+//! [`FALLBACK_SIDE`]² sub-squares of the pixel instead, each taking the
+//! texel at its centre.
 
 use super::PolyTexture;
 use crate::raster::area2;
@@ -30,15 +34,23 @@ use glam::DVec2;
 
 /// Most texel cells of a fragment's bounding box in texel space that are cut
 /// exactly. The work is two clips per row of the box plus two per cell a
-/// row's strip meets (each strip is cut only over its own columns), so it
-/// follows the footprint's area, not its box: a pixel at a grazing angle
-/// near the screen's side has a thin diagonal footprint whose box is ~50x
-/// its area. Measured on the receding plane of `bench/texture.sh`: a bound
-/// of 64 with the point-sampled fallback left an RMSE of 4.3 (max 161)
-/// against the reference, 4096 still 1.06 (max 61, all on such diagonal
-/// footprints), exact cutting everywhere 0.0066 (max 1). 65536 keeps every
-/// pixel of that scene exact and bounds the work per fragment.
-pub const MAX_EXACT_CELLS: i64 = 65536;
+/// row's strip meets, so it follows the footprint's area. Measured
+/// (2026-11-21) against `--reference` on the receding plane of
+/// `bench/texture.sh` (320x240, one-texel checker) and on a 2000-unit
+/// ground plane of 0.2-unit texels (256x192, the pattern frame of
+/// `bench/stripe.sh`), time / RMSE / max:
+///
+/// | bound, fallback | plane | ground |
+/// |---|---|---|
+/// | 65536, 16 point samples | 0.20 s, 0.007, 1 | 0.98 s, 1.44, 41 |
+/// | 4096, 16 point samples | 0.09 s, 1.06, 61 | 0.40 s, 5.44, 86 |
+/// | 4096, EWA (this) | 0.13 s, 0.034, 1 | 0.31 s, 0.39, 15 |
+/// | 1024, EWA | 0.09 s, 0.057, 3 | 0.13 s, 0.61, 15 |
+///
+/// (The ground's reference is itself uncertain by up to 53 codes in its
+/// horizon pixels, by its own estimate.) 4096 keeps the plane within one
+/// code and bounds a pixel's work at ~8000 clips.
+pub const MAX_EXACT_CELLS: i64 = 4096;
 
 /// Sub-squares per pixel side in the minification fallback (16 per pixel).
 pub const FALLBACK_SIDE: u32 = 4;
@@ -88,6 +100,11 @@ pub fn split(
         return Split::Whole(tex.texel(b.k0, b.j0));
     }
     if b.cells() > MAX_EXACT_CELLS {
+        let c = frag.iter().fold(DVec2::ZERO, |a, &p| a + p) / frag.len() as f64;
+        if let Some(fp) = tex.map.footprint(c.x, c.y) {
+            let rgba = tex.sample(super::filter::Filter::Ewa, &fp);
+            return Split::Whole(super::filter::unpremultiply(rgba));
+        }
         sub_squares(frag, px, py, tex, verts, pieces, s);
     } else {
         cut(frag, b, tex, verts, pieces, s);
@@ -181,7 +198,7 @@ fn cut(
     }
 }
 
-/// Heavy minification: [`FALLBACK_SIDE`]² sub-squares of the pixel (clipped
+/// Beyond the horizon: [`FALLBACK_SIDE`]² sub-squares of the pixel (clipped
 /// to the fragment, exact area), each given the texel at its vertex
 /// centroid, which lies inside the fragment.
 fn sub_squares(
@@ -231,5 +248,43 @@ fn sub_squares(
             });
             verts.extend_from_slice(&s.cell);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::color::{srgb_to_linear_f64, Rgb8};
+    use crate::texture::filter::tests::{pattern, placed};
+    use crate::texture::filter::Filter;
+
+    /// A pixel over 100x100 texels of a one-texel checker (10,000 cells, past
+    /// [`MAX_EXACT_CELLS`]) takes the checker's linear mean: the EWA on the
+    /// pyramid, within 1% (the box integral over a 100x100 block is the
+    /// mean exactly).
+    #[test]
+    fn heavy_minification_takes_the_local_mean_in_one_piece() {
+        let (a, b) = (Rgb8([230, 230, 230]), Rgb8([20, 20, 120]));
+        let checker = pattern(16, &[a, b], |c, r| ((c + r) % 2) as u16);
+        let tex = placed(checker, 100.0, Filter::Box, 0.0);
+        let square = crate::raster::pixel_square(3, 4);
+        let (mut verts, mut pieces, mut s) = (Vec::new(), Vec::new(), Scratch::default());
+        let Split::Whole(Some(c)) = split(&square, 3, 4, &tex, &mut verts, &mut pieces, &mut s)
+        else {
+            panic!("expected one opaque piece");
+        };
+        for ch in 0..3 {
+            let mean = 0.5
+                * (srgb_to_linear_f64(a.0[ch] as f64 / 255.0)
+                    + srgb_to_linear_f64(b.0[ch] as f64 / 255.0));
+            assert!((c[ch] - mean).abs() <= 0.01 * mean, "{c:?} vs mean {mean}");
+        }
+        // Under the bound the cut is exact: 50x50 cells, 2500 pieces.
+        let tex = placed(tex.texels.clone(), 50.0, Filter::Box, 0.0);
+        assert_eq!(
+            split(&square, 3, 4, &tex, &mut verts, &mut pieces, &mut s),
+            Split::Pieces
+        );
+        assert_eq!(pieces.len(), 2500);
     }
 }
