@@ -40,6 +40,10 @@ METHODS = [
     {"name": "direct --aa ss16", "kind": "direct", "args": ["--aa", "ss16"]},
     {"name": "direct --aa ss4", "kind": "direct", "args": ["--aa", "ss4"]},
     {"name": "direct --aa none", "kind": "direct", "args": ["--aa", "none"]},
+    # The error budget (issue 5): the cheapest per-region plan expected to
+    # stay within E (trade-off study only; bench/max_error.sh checks it).
+    {"name": "direct --max-error 1", "kind": "direct", "args": ["--max-error", "1"], "tradeoff_only": True},
+    {"name": "direct --max-error 4", "kind": "direct", "args": ["--max-error", "4"], "tradeoff_only": True},
     {"name": "polyfill3 incr x4 | exact", "kind": "p3", "factor": 4.0},
     {"name": "polyfill3 incr x2 | exact", "kind": "p3", "factor": 2.0},
     {"name": "polyfill3 incr x1 | exact", "kind": "p3", "factor": 1.0},
@@ -57,7 +61,10 @@ SLOW_RUN_S = 4.0
 SLOW_RUNS = 3
 
 # Methods of the texture report (issue 7's columns): no incr sweep there.
-TEXTURE_METHODS = [m for m in METHODS if m["kind"] != "p3" or m["factor"] == 1.0]
+TEXTURE_METHODS = [
+    m for m in METHODS
+    if (m["kind"] != "p3" or m["factor"] == 1.0) and not m.get("tradeoff_only")
+]
 
 # RMSE 0 cannot be drawn on a log axis: such points are drawn at this floor
 # (8-bit sRGB units; well below one code on one pixel of a 640x480 image,
