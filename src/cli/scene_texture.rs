@@ -139,6 +139,7 @@ impl TextureArgs {
             compose_colors: [self.compose_color1, self.compose_color2],
             filters: self.filters()?,
             perspective_correction: !self.no_perspective_correction,
+            skips: crate::texture::skip::Skips::ALL,
         })
     }
 }
