@@ -245,10 +245,16 @@ impl ScreenPoly {
 
     /// Whether the colour can be absent somewhere (a screen-mode pattern, or
     /// a texture whose transparent texels can show): only then must a
-    /// resolver look at the colour to decide visibility.
+    /// resolver look at the colour to decide visibility. `--no-skip hidden`
+    /// (benchmarks) says yes for every texture, so each covered sample is
+    /// textured before its depth test, hidden or not.
     #[inline]
     pub fn may_be_transparent(&self) -> bool {
-        self.screen.is_some() || self.texture.as_ref().is_some_and(|t| !t.always_opaque())
+        self.screen.is_some()
+            || self
+                .texture
+                .as_ref()
+                .is_some_and(|t| !t.always_opaque() || !t.skips.hidden)
     }
 
     /// Nearness at a screen point.
