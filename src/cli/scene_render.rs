@@ -188,6 +188,18 @@ fn parse_max_error(s: &str) -> Result<f64, String> {
     }
 }
 
+/// `--no-skip mip` (benchmarks): every textured polygon's MIP pyramid is
+/// built before rendering, whether or not any pixel minifies, instead of on
+/// the first minified sample. Each pattern's pyramid is still built once
+/// (it is shared), so this costs what the lazy build saves.
+fn build_mips_eagerly(polys: &[raster::ScreenPoly]) {
+    for tex in polys.iter().filter_map(|p| p.texture.as_ref()) {
+        if !tex.skips.mip {
+            tex.texels.pyramid(tex.mip_key());
+        }
+    }
+}
+
 /// Renders one frame's polygons the way the arguments ask: one --aa for
 /// all, or the --max-error plan (which it also returns).
 fn render_polys(
@@ -197,6 +209,7 @@ fn render_polys(
     width: u32,
     height: u32,
 ) -> (Image, Option<raster::budget::Plan>) {
+    build_mips_eagerly(polys);
     match args.max_error {
         Some(e) => {
             let (frame, plan) = raster::budget::render_within(polys, bg, width, height, e);

@@ -7,6 +7,7 @@ use crate::texture::compose::Compose;
 use crate::texture::filter::{Filter, Filters};
 use crate::texture::mip::MipBuild;
 use crate::texture::place::TextureSettings;
+use crate::texture::skip::Skips;
 
 /// How "object" and "uv" patterns are applied.
 #[derive(clap::Args, Debug, Clone)]
@@ -92,6 +93,15 @@ pub struct TextureArgs {
     /// box.
     #[arg(long, value_enum, value_name = "FILTER", default_value_t = MipBuild::Mitchell)]
     pub mip_build: MipBuild,
+
+    /// For benchmarks only: turn off the listed work-saving skips, a comma
+    /// list of hidden (filter every opaque textured fragment, shown or not),
+    /// mip (build MIP levels for every pattern up front), transparent (visit
+    /// transparent texel runs in the box filter), magnify (cut fragments
+    /// inside one texel cell). The output is the same; only the time differs
+    /// (bench/skips.sh).
+    #[arg(long, value_name = "LIST", hide = true)]
+    pub no_skip: Option<String>,
 }
 
 /// Largest `--lod-bias` magnitude: 16 levels is beyond the 13 of the largest
@@ -139,6 +149,10 @@ impl TextureArgs {
             compose_colors: [self.compose_color1, self.compose_color2],
             filters: self.filters()?,
             perspective_correction: !self.no_perspective_correction,
+            skips: match &self.no_skip {
+                Some(list) => Skips::all_but(list)?,
+                None => Skips::ALL,
+            },
         })
     }
 }

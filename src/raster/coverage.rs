@@ -134,9 +134,10 @@ fn push_frag(
     // filter at the pixel centre (its coverage stays exact). When no texel
     // can be transparent the colour does not decide visibility, and it is
     // left to [`resolve_pixel`], which computes it only if the fragment
-    // shows (hidden pixels are never filtered).
+    // shows (hidden pixels are never filtered; `--no-skip hidden` filters
+    // them all, for the benchmark).
     if let Some((f, fp)) = tex.filter_at(x + 0.5, y + 0.5) {
-        if tex.always_opaque() {
+        if tex.always_opaque() && tex.skips.hidden {
             push_piece(frags, arena, pixel, pi, verts, FILTER_LATER);
         } else if let Some(c) = crate::texture::filter::unpremultiply(tex.sample(f, &fp)) {
             t.colors.push(c);

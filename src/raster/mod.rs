@@ -245,10 +245,16 @@ impl ScreenPoly {
 
     /// Whether the colour can be absent somewhere (a screen-mode pattern, or
     /// a texture whose transparent texels can show): only then must a
-    /// resolver look at the colour to decide visibility.
+    /// resolver look at the colour to decide visibility. `--no-skip hidden`
+    /// (benchmarks) says yes for every texture, so each covered sample is
+    /// textured before its depth test, hidden or not.
     #[inline]
     pub fn may_be_transparent(&self) -> bool {
-        self.screen.is_some() || self.texture.as_ref().is_some_and(|t| !t.always_opaque())
+        self.screen.is_some()
+            || self
+                .texture
+                .as_ref()
+                .is_some_and(|t| !t.always_opaque() || !t.skips.hidden)
     }
 
     /// Nearness at a screen point.
@@ -560,6 +566,9 @@ pub struct ScreenPattern {
     /// Whether any texel is transparent, found once (resolvers ask per
     /// fragment).
     transparent: bool,
+    /// The opaque runs of each texel row, found once for the box filter's
+    /// transparent-run skip ([`crate::texture::skip`]).
+    runs: crate::texture::skip::OpaqueRuns,
     /// Its MIP pyramids, built on first use, one per [`MipKey`] (18 keys:
     /// 2 builds x 3 x 3 edge extensions), shared by every polygon that
     /// holds this pattern.
@@ -592,9 +601,13 @@ impl ScreenPattern {
                 );
             }
         }
+        let runs = crate::texture::skip::OpaqueRuns::new(size, |c, r| {
+            texels[(r * size + c) as usize].is_some()
+        });
         ScreenPattern {
             size,
             transparent: texels.iter().any(|t| t.is_none()),
+            runs,
             texels,
             pyramids: std::array::from_fn(|_| std::sync::OnceLock::new()),
         }
@@ -643,6 +656,11 @@ impl ScreenPattern {
     /// Whether any texel is transparent (the pattern has an alpha channel).
     pub fn has_transparency(&self) -> bool {
         self.transparent
+    }
+
+    /// The opaque runs of each texel row.
+    pub fn runs(&self) -> &crate::texture::skip::OpaqueRuns {
+        &self.runs
     }
 }
 

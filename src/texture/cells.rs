@@ -96,7 +96,9 @@ pub fn split(
     let Some(b) = cell_box(frag, tex) else {
         return Split::Whole(None);
     };
-    if b.k0 == b.k1 && b.j0 == b.j1 {
+    // The magnification fast path: inside one cell the fragment is the
+    // piece (`--no-skip magnify` cuts it anyway, for the benchmark).
+    if b.k0 == b.k1 && b.j0 == b.j1 && tex.skips.magnify {
         return Split::Whole(tex.texel(b.k0, b.j0));
     }
     if b.cells() > MAX_EXACT_CELLS {
@@ -148,7 +150,28 @@ fn cell_box(frag: &[DVec2], tex: &PolyTexture) -> Option<CellBox> {
     })
 }
 
+/// Whether the transparent-run skip applies to `tex`: a transparent texel
+/// must give an absent piece (not the decal compositions, which fill it) and
+/// every cell must be a pattern texel at column `k mod SIZE`, row
+/// `j mod SIZE` (repeat on both axes, the default; the other boundary
+/// conditions map cells otherwise and are cut without the skip).
+fn runs_apply(tex: &PolyTexture) -> bool {
+    use super::boundary::Boundary;
+    tex.skips.transparent
+        && tex.texels.has_transparency()
+        && !tex.compose.fills_transparent()
+        && tex.bounds.u == Boundary::Repeat
+        && tex.bounds.v == Boundary::Repeat
+}
+
 /// The exact cut of a fragment into the cells of its box.
+///
+/// With a transparent pattern ([`runs_apply`]) the texel rows' opaque runs
+/// ([`super::skip::OpaqueRuns`]) skip work that gives no piece: a strip
+/// whose row has no opaque texel in the box's columns is not clipped at all,
+/// and within a strip only the opaque runs of its columns are visited. The
+/// cells skipped are exactly those whose texel lookup gives `None`, so the
+/// pieces (and their order) are the same as without the skip.
 fn cut(
     frag: &[DVec2],
     b: CellBox,
@@ -159,7 +182,15 @@ fn cut(
 ) {
     let m = &tex.map;
     let CellBox { k0, k1, j0, j1 } = b;
+    let runs = runs_apply(tex).then(|| tex.texels.runs());
+    let size = tex.texels.size() as i64;
     for j in j0..=j1 {
+        let row = j.rem_euclid(size) as u32;
+        if let Some(runs) = runs {
+            if !runs.any(row, k0, k1) {
+                continue;
+            }
+        }
         s.a.clear();
         clip_line(frag, m.v_side(j as f64, true), &mut s.a);
         s.strip.clear();
@@ -177,25 +208,50 @@ fn cut(
         }
         let sk0 = (ulo.floor() as i64).clamp(k0, k1);
         let sk1 = (uhi.ceil() as i64 - 1).clamp(sk0, k1);
-        for k in sk0..=sk1 {
-            let Some(color) = tex.texel(k, j) else {
-                continue;
-            };
-            s.b.clear();
-            clip_line(&s.strip, m.u_side(k as f64, true), &mut s.b);
-            s.cell.clear();
-            clip_line(&s.b, m.u_side((k + 1) as f64, false), &mut s.cell);
-            if s.cell.len() < 3 || area2(&s.cell) <= 2.0 * AREA_EPS {
-                continue;
+        match runs {
+            Some(runs) => {
+                for (a, b) in runs.spans(row, sk0, sk1) {
+                    for k in a..=b {
+                        cut_cell(k, j, tex, verts, pieces, s);
+                    }
+                }
             }
-            pieces.push(Piece {
-                start: verts.len() as u32,
-                len: s.cell.len() as u32,
-                color,
-            });
-            verts.extend_from_slice(&s.cell);
+            None => {
+                for k in sk0..=sk1 {
+                    cut_cell(k, j, tex, verts, pieces, s);
+                }
+            }
         }
     }
+}
+
+/// The piece of the strip `s.strip` in cell (k, j), if its texel is opaque
+/// and the piece has area.
+fn cut_cell(
+    k: i64,
+    j: i64,
+    tex: &PolyTexture,
+    verts: &mut Vec<DVec2>,
+    pieces: &mut Vec<Piece>,
+    s: &mut Scratch,
+) {
+    let Some(color) = tex.texel(k, j) else {
+        return;
+    };
+    let m = &tex.map;
+    s.b.clear();
+    clip_line(&s.strip, m.u_side(k as f64, true), &mut s.b);
+    s.cell.clear();
+    clip_line(&s.b, m.u_side((k + 1) as f64, false), &mut s.cell);
+    if s.cell.len() < 3 || area2(&s.cell) <= 2.0 * AREA_EPS {
+        return;
+    }
+    pieces.push(Piece {
+        start: verts.len() as u32,
+        len: s.cell.len() as u32,
+        color,
+    });
+    verts.extend_from_slice(&s.cell);
 }
 
 /// Beyond the horizon: [`FALLBACK_SIDE`]² sub-squares of the pixel (clipped
@@ -255,8 +311,72 @@ fn sub_squares(
 mod tests {
     use super::*;
     use crate::color::{srgb_to_linear_f64, Rgb8};
+    use crate::pat::TRANSPARENT;
+    use crate::raster::pixel_square;
     use crate::texture::filter::tests::{pattern, placed};
     use crate::texture::filter::Filter;
+    use proptest::prelude::*;
+
+    /// `split` of pixel (px, py) of `tex`, with its pieces' vertices.
+    fn pieces_of(tex: &PolyTexture, px: u32, py: u32) -> (Split, Vec<Piece>, Vec<DVec2>) {
+        let (mut verts, mut pieces) = (Vec::new(), Vec::new());
+        let sq = pixel_square(px, py);
+        let split = split(
+            &sq,
+            px,
+            py,
+            tex,
+            &mut verts,
+            &mut pieces,
+            &mut Scratch::default(),
+        );
+        (split, pieces, verts)
+    }
+
+    proptest! {
+        /// The transparent-run skip gives the very same pieces, in the same
+        /// order, as visiting every cell: on sparse patterns, rotated and
+        /// perspective maps, magnified and minified.
+        #[test]
+        fn the_transparent_run_skip_gives_the_same_pieces(
+            sixteens in 1u32..3,
+            seed in any::<u64>(),
+            density in 0u32..4,
+            scale in 0.3f64..40.0,
+            angle in 0.0f64..std::f64::consts::TAU,
+            persp in 0.0f64..0.05,
+            px in 0u32..16,
+            py in 0u32..16,
+        ) {
+            // A dot pattern: texel opaque with probability density/8.
+            let texels = pattern(16 * sixteens, &[Rgb8([200, 10, 10]), Rgb8([10, 200, 10])], |c, r| {
+                let h = (seed ^ ((c as u64) << 32 | r as u64)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+                if (h >> 61) < density as u64 { ((c + r) % 2) as u16 } else { TRANSPARENT }
+            });
+            let mut tex = placed(texels, scale, Filter::Box, 0.0);
+            let (sn, cs) = angle.sin_cos();
+            tex.map.u = [scale * cs, -scale * sn, 0.37];
+            tex.map.v = [scale * sn, scale * cs, -1.21];
+            tex.map.d = [persp, persp * 0.5, 1.0];
+            let with = pieces_of(&tex, px, py);
+            tex.skips.transparent = false;
+            let without = pieces_of(&tex, px, py);
+            prop_assert_eq!(with, without);
+        }
+    }
+
+    #[test]
+    fn a_magnified_fragment_is_whole_unless_the_skip_is_off() {
+        let texels = pattern(16, &[Rgb8([200, 10, 10])], |_, _| 0);
+        let mut tex = placed(texels, 0.1, Filter::Box, 0.0);
+        let (split, pieces, _) = pieces_of(&tex, 3, 3);
+        assert!(matches!(split, Split::Whole(Some(_))) && pieces.is_empty());
+        tex.skips.magnify = false;
+        let (split, pieces, verts) = pieces_of(&tex, 3, 3);
+        assert_eq!(split, Split::Pieces);
+        assert_eq!(pieces.len(), 1);
+        assert_eq!(area2(&verts), 2.0);
+    }
 
     /// A pixel over 100x100 texels of a one-texel checker (10,000 cells, past
     /// [`MAX_EXACT_CELLS`]) takes the checker's linear mean: the EWA on the

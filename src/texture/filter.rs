@@ -364,6 +364,7 @@ pub(crate) mod tests {
                 lod_bias: bias,
                 build: MipBuild::Box,
             },
+            skips: crate::texture::skip::Skips::ALL,
         }
     }
 

@@ -21,6 +21,7 @@ pub mod filter;
 pub mod map;
 pub mod mip;
 pub mod place;
+pub mod skip;
 
 use crate::color::Rgb8;
 use crate::io::Image;
@@ -47,6 +48,8 @@ pub struct PolyTexture {
     pub compose_colors: [[f64; 3]; 2],
     /// The filters (default: the exact box filter everywhere).
     pub filters: filter::Filters,
+    /// Which work-saving skips are on (all but for benchmarks).
+    pub skips: skip::Skips,
 }
 
 impl PolyTexture {

@@ -7,6 +7,7 @@ use super::boundary::{Boundary, Bounds};
 use super::compose::Compose;
 use super::filter::Filters;
 use super::map::{object_uv, ObjectUvError, TexMap};
+use super::skip::Skips;
 use super::PolyTexture;
 use crate::color::{srgb_to_linear_f64, Rgb8};
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
@@ -41,6 +42,9 @@ pub struct TextureSettings {
     /// Interpolate texel coordinates perspective-correctly; `false` is XGL's
     /// `PERSP_NONE`. Default value: true.
     pub perspective_correction: bool,
+    /// Which work-saving skips are on (`scene-render --no-skip`, for
+    /// benchmarks). Default value: all.
+    pub skips: Skips,
 }
 
 impl TextureSettings {
@@ -54,6 +58,7 @@ impl TextureSettings {
         compose_colors: [Rgb8([0, 0, 0]), Rgb8([255, 255, 255])],
         filters: Filters::BOX,
         perspective_correction: true,
+        skips: Skips::ALL,
     };
 }
 
@@ -154,6 +159,7 @@ pub fn place(
                 compose: settings.compose,
                 compose_colors: settings.compose_colors.map(linear),
                 filters: settings.filters,
+                skips: settings.skips,
             }
         }),
     )

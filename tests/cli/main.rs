@@ -11,6 +11,7 @@ mod pat_tile;
 mod polyfill3;
 mod quadric;
 mod scene_render;
+mod skips;
 mod stress;
 mod stripe;
 mod texture;

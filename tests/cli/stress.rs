@@ -557,7 +557,11 @@ fn ten_million_vertex_polygon_renders_when_convex_and_is_refused_naming_the_reco
             .unwrap()
     };
     let out = run("convex.json");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let (_, _, _, px) = pam(&out.stdout);
     assert_eq!(&px[(8 * 16 + 8) * 3..][..3], [255, 255, 255]);
     let out = run("concave.json");

@@ -1,0 +1,15 @@
+#!/bin/sh
+# What each of scene-render's work-saving skips saves (issue 7): per skip a
+# scene where it matters, rendered with and without it (`--no-skip`), best of
+# 5 render phases with one thread, ratio, and a byte-identical output check;
+# then a stream referencing 1 of 200 pattern files against one referencing
+# all 200. The driver is bench/skips.py (Python standard library only).
+#
+#   bench/skips.sh > bench/RESULTS-skips.md
+set -eu
+cd "$(dirname "$0")/.."
+TARGET=$(cargo metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
+cargo build --release --bins >&2
+WORK="$TARGET/bench-skips"
+mkdir -p "$WORK"
+python3 bench/skips.py "$TARGET/release" "$WORK"
