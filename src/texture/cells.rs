@@ -35,22 +35,24 @@ use glam::DVec2;
 /// Most texel cells of a fragment's bounding box in texel space that are cut
 /// exactly. The work is two clips per row of the box plus two per cell a
 /// row's strip meets, so it follows the footprint's area. Measured
-/// (2026-11-21) against `--reference` on the receding plane of
+/// (2026-11-21, idle machine) against `--reference` on the receding plane of
 /// `bench/texture.sh` (320x240, one-texel checker) and on a 2000-unit
-/// ground plane of 0.2-unit texels (256x192, the pattern frame of
-/// `bench/stripe.sh`), time / RMSE / max:
+/// ground plane of 0.2-unit texels (the pattern frame of `bench/stripe.sh`;
+/// error at 256x192, time also at 1024x768 on one thread), with the EWA
+/// fallback beyond the bound: time, RMSE / max.
 ///
-/// | bound, fallback | plane | ground |
-/// |---|---|---|
-/// | 65536, 16 point samples | 0.20 s, 0.007, 1 | 0.98 s, 1.44, 41 |
-/// | 4096, 16 point samples | 0.09 s, 1.06, 61 | 0.40 s, 5.44, 86 |
-/// | 4096, EWA (this) | 0.13 s, 0.034, 1 | 0.31 s, 0.39, 15 |
-/// | 1024, EWA | 0.09 s, 0.057, 3 | 0.13 s, 0.61, 15 |
+/// | bound | plane | ground 256x192 | ground 1024x768 |
+/// |---|---|---|---|
+/// | 65536 | 0.05 s, 0.0066 / 1 | 0.36 s, 0.374 / 15 | 2.24 s |
+/// | 16384 (this) | 0.06 s, 0.0066 / 1 | 0.19 s, 0.375 / 15 | 1.59 s |
+/// | 4096 | 0.04 s, 0.0345 / 1 | 0.17 s, 0.391 / 15 | 1.09 s |
 ///
-/// (The ground's reference is itself uncertain by up to 53 codes in its
-/// horizon pixels, by its own estimate.) 4096 keeps the plane within one
-/// code and bounds a pixel's work at ~8000 clips.
-pub const MAX_EXACT_CELLS: i64 = 4096;
+/// 16384 leaves the plane exactly as accurate as cutting everything (as
+/// accurate as `polyfill3`'s texel polygons) and takes 30% off the ground.
+/// (The former fallback, 16 point samples, left the ground at RMSE 1.44, max
+/// 41; the ground's reference is itself uncertain by up to 53 codes in its
+/// horizon pixels, by its own estimate.)
+pub const MAX_EXACT_CELLS: i64 = 16384;
 
 /// Sub-squares per pixel side in the minification fallback (16 per pixel).
 pub const FALLBACK_SIDE: u32 = 4;
@@ -378,15 +380,15 @@ mod tests {
         assert_eq!(area2(&verts), 2.0);
     }
 
-    /// A pixel over 100x100 texels of a one-texel checker (10,000 cells, past
+    /// A pixel over 200x200 texels of a one-texel checker (40,000 cells, past
     /// [`MAX_EXACT_CELLS`]) takes the checker's linear mean: the EWA on the
-    /// pyramid, within 1% (the box integral over a 100x100 block is the
+    /// pyramid, within 1% (the box integral over a 200x200 block is the
     /// mean exactly).
     #[test]
     fn heavy_minification_takes_the_local_mean_in_one_piece() {
         let (a, b) = (Rgb8([230, 230, 230]), Rgb8([20, 20, 120]));
         let checker = pattern(16, &[a, b], |c, r| ((c + r) % 2) as u16);
-        let tex = placed(checker, 100.0, Filter::Box, 0.0);
+        let tex = placed(checker, 200.0, Filter::Box, 0.0);
         let square = crate::raster::pixel_square(3, 4);
         let (mut verts, mut pieces, mut s) = (Vec::new(), Vec::new(), Scratch::default());
         let Split::Whole(Some(c)) = split(&square, 3, 4, &tex, &mut verts, &mut pieces, &mut s)
