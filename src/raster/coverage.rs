@@ -188,6 +188,65 @@ fn push_frag(
     }
 }
 
+/// Whether [`push_full_run`] applies to `p`: a pattern under the exact box
+/// filter (no stripe), with the magnification fast path on.
+fn box_magnified(p: &ScreenPoly) -> bool {
+    p.stripe.is_none()
+        && p.texture
+            .as_ref()
+            .is_some_and(|t| t.filters.is_box() && t.skips.magnify)
+}
+
+/// Where a run of full pixels lies in a tile: row `py`, tile origin and width.
+#[derive(Clone, Copy)]
+struct Row {
+    py: u32,
+    ty0: u32,
+    tx0: u32,
+    tw: usize,
+}
+
+/// The magnification fast path over a run `xa..xb` of full pixels of one
+/// row of a box-filtered textured polygon. Where the run's rectangle lies in
+/// one texel cell, every pixel of it is that texel, whole: what
+/// `cells::split` finds pixel by pixel (the map is projective with `D > 0`
+/// on the polygon, so the rectangle's image is the convex hull of its
+/// corners' images, and the cell box of the corners bounds every pixel's).
+/// Otherwise the run is halved, down to single pixels, which go through
+/// [`push_frag`]. A close-up wall of 40-pixel texels costs a few map
+/// evaluations per cell edge instead of four per pixel.
+#[allow(clippy::too_many_arguments)]
+fn push_full_run(
+    p: &ScreenPoly,
+    pi: u32,
+    row: Row,
+    xa: u32,
+    xb: u32,
+    frags: &mut Vec<Frag>,
+    arena: &mut Vec<DVec2>,
+    t: &mut TexScratch,
+) {
+    let pixel = |x: u32| ((row.py - row.ty0) as usize * row.tw + (x - row.tx0) as usize) as u32;
+    let tex = p.texture.as_ref().expect("box_magnified");
+    if xb - xa == 1 {
+        push_frag(p, pi, pixel(xa), (xa, row.py), &[], frags, arena, t);
+        return;
+    }
+    if let Some((k, j)) = crate::texture::cells::single_cell(tex, xa, xb, row.py) {
+        if let Some(c) = tex.texel(k, j) {
+            t.colors.push(c);
+            let color = (t.colors.len() - 1) as u32;
+            for x in xa..xb {
+                push_piece(frags, arena, pixel(x), pi, &[], color);
+            }
+        }
+        return;
+    }
+    let mid = xa + (xb - xa) / 2;
+    push_full_run(p, pi, row, xa, mid, frags, arena, t);
+    push_full_run(p, pi, row, mid, xb, frags, arena, t);
+}
+
 /// Stores one fragment: its vertices copied into the tile's arena (none for
 /// the full pixel square, which `verts` being empty stands for).
 fn push_piece(
@@ -268,20 +327,30 @@ pub fn render_tile(
                 let full_hi = rb.min(rt).floor();
                 let cx0 = (bx0.floor() as u32).max(tx0);
                 let cx1 = (bx1.ceil() as u32).min(tx1);
-                for px in cx0..cx1 {
-                    let pixel = ((py - ty0) as usize * tw + (px - tx0) as usize) as u32;
-                    let (xl, xr) = (px as f64, px as f64 + 1.0);
+                // The full pixels of the row, for the run fast path.
+                let (fx0, fx1) = if full_hi >= full_lo + 1.0 {
+                    (
+                        (full_lo.max(cx0 as f64) as u32).min(cx1),
+                        (full_hi.min(cx1 as f64) as u32).max(cx0),
+                    )
+                } else {
+                    (cx1, cx1)
+                };
+                let run_path = fx1 > fx0 && box_magnified(p);
+                let mut px = cx0;
+                while px < cx1 {
+                    if run_path && px == fx0 {
+                        let row = Row { py, ty0, tx0, tw };
+                        push_full_run(p, pi, row, fx0, fx1, &mut frags, &mut arena, &mut tex);
+                        px = fx1;
+                        continue;
+                    }
+                    let x = px;
+                    px += 1;
+                    let pixel = ((py - ty0) as usize * tw + (x - tx0) as usize) as u32;
+                    let (xl, xr) = (x as f64, x as f64 + 1.0);
                     if xl >= full_lo && xr <= full_hi {
-                        push_frag(
-                            p,
-                            pi,
-                            pixel,
-                            (px, py),
-                            &[],
-                            &mut frags,
-                            &mut arena,
-                            &mut tex,
-                        );
+                        push_frag(p, pi, pixel, (x, py), &[], &mut frags, &mut arena, &mut tex);
                         continue;
                     }
                     tmp2.clear();
@@ -295,7 +364,7 @@ pub fn render_tile(
                         p,
                         pi,
                         pixel,
-                        (px, py),
+                        (x, py),
                         &cell,
                         &mut frags,
                         &mut arena,

@@ -152,6 +152,22 @@ fn cell_box(frag: &[DVec2], tex: &PolyTexture) -> Option<CellBox> {
     })
 }
 
+/// The texel cell `(k, j)` holding the whole screen rectangle of pixels
+/// `xa..xb` of row `py`, if there is one: by the rule of [`cell_box`] on
+/// the rectangle's corners (the magnification fast path of a run of full
+/// pixels, `raster::coverage`).
+pub fn single_cell(tex: &PolyTexture, xa: u32, xb: u32, py: u32) -> Option<(i64, i64)> {
+    let (x0, x1, y0, y1) = (xa as f64, xb as f64, py as f64, py as f64 + 1.0);
+    let corners = [
+        DVec2::new(x0, y0),
+        DVec2::new(x1, y0),
+        DVec2::new(x1, y1),
+        DVec2::new(x0, y1),
+    ];
+    let b = cell_box(&corners, tex)?;
+    (b.k0 == b.k1 && b.j0 == b.j1).then_some((b.k0, b.j0))
+}
+
 /// Whether the transparent-run skip applies to `tex`: a transparent texel
 /// must give an absent piece (not the decal compositions, which fill it) and
 /// every cell must be a pattern texel at column `k mod SIZE`, row
