@@ -31,17 +31,24 @@
 use super::{bin, coverage, scan, tiles, Aa, Background, Frame, ScreenPoly};
 use crate::color::linear_to_srgb;
 
-/// The methods to choose from, cheapest first: one sample, 2x2 and 4x4
-/// supersampling, and exact coverage.
-pub const LADDER: [Aa; 4] = [Aa::None, Aa::Ss(2), Aa::Ss(4), Aa::Exact];
+/// The methods to choose from, cheapest first: one sample, 2x2
+/// supersampling, and exact coverage. (4x4 supersampling is left out: in
+/// the benchmarks it costs more than exact coverage for a larger error --
+/// demo 2: 0.075 s against 0.064 s, the close-up wall 0.074 s against
+/// 0.015 s -- so no plan would choose it, and the pilot need not pay for it.)
+pub const LADDER: [Aa; 3] = [Aa::None, Aa::Ss(2), Aa::Exact];
+
+/// Number of [`LADDER`] methods.
+const N: usize = LADDER.len();
 
 /// Relative render cost per pixel of each [`LADDER`] method, per region
 /// (`[flat, textured]`). A fixed model rather than a measurement, so that the
-/// same scene always gets the same plan; the figures are render-only times
-/// relative to `--aa none` in `bench/RESULTS-scene-render.md` (demo 2: 1 :
-/// 1.36 : 2.0 : 2.4) and `bench/RESULTS-texture.md` (the receding plane:
-/// 1 : ~1.8 : 2.9 : 14).
-pub const COST: [[f64; 4]; 2] = [[1.0, 1.4, 2.0, 2.4], [1.0, 1.8, 2.9, 14.0]];
+/// same scene always gets the same plan. Render-only times relative to
+/// `--aa none` (2026-11-21): flat, demo 2 through polyfill3 in
+/// `bench/RESULTS-scene-render.md`, 1 : 1.26 : 1.9; textured, between the
+/// receding plane (1 : 2.3 : 9.3) and the close-up wall (1 : 2.6 : 1.1) of
+/// `bench/RESULTS-texture.md`.
+pub const COST: [[f64; N]; 2] = [[1.0, 1.3, 1.9], [1.0, 2.5, 5.0]];
 
 /// One tile in this many of a region is a pilot tile. 16 makes the pilot cost
 /// about a fifth of an exact render while giving 48 tiles on a fully covered
@@ -77,7 +84,7 @@ pub struct Plan {
     /// The budget `E` (RMSE, 8-bit sRGB units).
     pub max_error: f64,
     /// Method of the non-pilot tiles of the flat region (`none`, `ss4`,
-    /// `ss16`, `exact`).
+    /// `exact`).
     pub flat: String,
     /// Method of the non-pilot tiles of the textured region.
     pub textured: String,
@@ -243,7 +250,7 @@ pub fn render_within(
     // promise zero error.
     let mut pilots = vec![pilot_sample(&flat), pilot_sample(&textured)];
     let area = |ts: &[usize]| -> f64 { ts.iter().map(|&t| pixels(t)).sum() };
-    let exact_cost = COST[0][3] * area(&flat) + COST[1][3] * area(&textured);
+    let exact_cost = COST[0][N - 1] * area(&flat) + COST[1][N - 1] * area(&textured);
     let pilot_cost = |pilots: &[Vec<usize>]| -> f64 {
         (0..2)
             .map(|r| COST[r].iter().sum::<f64>() * area(&pilots[r]))
@@ -257,11 +264,11 @@ pub fn render_within(
     }
     let pilot_tiles: Vec<usize> = pilots.concat();
     let snapped_pilot = Snapped::new(polys, if pilot_tiles.is_empty() { &[] } else { &LADDER });
-    let pilot_results: Vec<(Vec<[f32; 3]>, [f64; 4])> = pilot_tiles
+    let pilot_results: Vec<(Vec<[f32; 3]>, [f64; N])> = pilot_tiles
         .par_iter()
         .map(|&t| {
             let exact = coverage::render_tile(polys, &bins[t], bg, tiles[t]);
-            let mut sse = [0.0; 4];
+            let mut sse = [0.0; N];
             for (m, aa) in LADDER.iter().enumerate().take(LADDER.len() - 1) {
                 let block = snapped_pilot.tile(polys, &bins[t], bg, tiles[t], *aa);
                 sse[m] = squared_error(&block, &exact);
@@ -272,7 +279,7 @@ pub fn render_within(
 
     // Mean squared channel error of each method per region, and the pixels
     // left to render in each region.
-    let mut mse = [[0.0f64; 4]; 2];
+    let mut mse = [[0.0f64; N]; 2];
     let mut rest = [0.0f64; 2];
     let mut start = 0;
     for (r, (pilot, all)) in pilots.iter().zip([&flat, &textured]).enumerate() {

@@ -704,7 +704,7 @@ clitest!(max_error_keeps_the_achieved_rmse_within_the_budget, |dir| {
         .assert()
         .success();
     let mut chosen = Vec::new();
-    for e in ["0", "0.5", "2", "8"] {
+    for e in ["0", "0.5", "2", "16"] {
         let out = dir
             .cmd("scene-render")
             .args(base)
