@@ -154,7 +154,7 @@ static ENCODE_START: std::sync::LazyLock<[u8; ENCODE_BUCKETS]> = std::sync::Lazy
 #[inline]
 pub fn linear_to_srgb(l: f32) -> u8 {
     // NaN and anything not above 0 lie below every edge.
-    if !(l > 0.0) {
+    if l.is_nan() || l <= 0.0 {
         return 0;
     }
     if l >= 1.0 {
