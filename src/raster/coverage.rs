@@ -150,7 +150,7 @@ fn push_frag(
     // lies inside the polygon. (Falling back to the box filter there would
     // cut a near-horizon fragment into up to MAX_EXACT_CELLS pieces.)
     if !tex.filters.is_box() && !verts.is_empty() {
-        let c = verts.iter().fold(DVec2::ZERO, |a, &v| a + v) / verts.len() as f64;
+        let c = super::vertex_mean(verts);
         if let Some((f, fp)) = tex.filter_at(c.x, c.y) {
             if let Some(c) = crate::texture::filter::unpremultiply(tex.sample(f, &fp)) {
                 t.colors.push(c);

@@ -276,6 +276,13 @@ pub fn pixel_square(px: u32, py: u32) -> [DVec2; 4] {
     ]
 }
 
+/// The mean of a convex polygon's vertices: a point inside it (where the
+/// texture filters are evaluated for a fragment whose pixel centre may lie
+/// outside it, beyond a plane's horizon).
+pub fn vertex_mean(v: &[DVec2]) -> DVec2 {
+    v.iter().fold(DVec2::ZERO, |a, &p| a + p) / v.len() as f64
+}
+
 /// Twice the signed area (shoelace), positive counter-clockwise with y up.
 ///
 /// Taken about the first vertex, so the rounding error follows the polygon's

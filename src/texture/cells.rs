@@ -104,7 +104,7 @@ pub fn split(
         return Split::Whole(tex.texel(b.k0, b.j0));
     }
     if b.cells() > MAX_EXACT_CELLS {
-        let c = frag.iter().fold(DVec2::ZERO, |a, &p| a + p) / frag.len() as f64;
+        let c = crate::raster::vertex_mean(frag);
         if let Some(fp) = tex.map.footprint(c.x, c.y) {
             let rgba = tex.sample(super::filter::Filter::Ewa, &fp);
             return Split::Whole(super::filter::unpremultiply(rgba));
@@ -264,12 +264,17 @@ fn cut_cell(
     if s.cell.len() < 3 || area2(&s.cell) <= 2.0 * AREA_EPS {
         return;
     }
+    push_piece(&s.cell, color, verts, pieces);
+}
+
+/// Appends one opaque piece, its vertices into the arena.
+fn push_piece(cell: &[DVec2], color: [f64; 3], verts: &mut Vec<DVec2>, pieces: &mut Vec<Piece>) {
     pieces.push(Piece {
         start: verts.len() as u32,
-        len: s.cell.len() as u32,
+        len: cell.len() as u32,
         color,
     });
-    verts.extend_from_slice(&s.cell);
+    verts.extend_from_slice(cell);
 }
 
 /// Beyond the horizon: [`FALLBACK_SIDE`]² sub-squares of the pixel (clipped
@@ -310,17 +315,12 @@ fn sub_squares(
             if s.cell.len() < 3 || area2(&s.cell) <= 2.0 * AREA_EPS {
                 continue;
             }
-            let c = s.cell.iter().fold(DVec2::ZERO, |a, &p| a + p) / s.cell.len() as f64;
+            let c = crate::raster::vertex_mean(&s.cell);
             let t = tex.map.uv(c.x, c.y);
             let Some(color) = tex.texel(t.x.floor() as i64, t.y.floor() as i64) else {
                 continue;
             };
-            pieces.push(Piece {
-                start: verts.len() as u32,
-                len: s.cell.len() as u32,
-                color,
-            });
-            verts.extend_from_slice(&s.cell);
+            push_piece(&s.cell, color, verts, pieces);
         }
     }
 }
