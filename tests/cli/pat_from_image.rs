@@ -2,6 +2,7 @@
 //! palette forcing, stdin, and every bad input (exit 2 for usage, 1 otherwise,
 //! no output file left behind).
 
+use crate::util::OkStdout;
 use assert_cmd::Command;
 use patkit::{Pattern, Rgb8};
 use predicates::str::contains;
@@ -79,11 +80,7 @@ fn crop_takes_the_central_square_exactly() {
     let out = tool()
         .args(["--crop", "--size", "16", "--colors", "256"])
         .arg(&png)
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
+        .ok_stdout();
     let pat = Pattern::parse(&out, "stdout").unwrap();
     assert_eq!(pat.palette().len(), 256);
     for y in 0..16u32 {
@@ -273,19 +270,11 @@ fn every_fixture_survives_pat_tile_then_pat_from_image() {
                 "png",
             ])
             .arg(&path)
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone();
+            .ok_stdout();
         let text = tool()
             .args(["--size", &size, "--colors", "256", "-"])
             .write_stdin(png)
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone();
+            .ok_stdout();
         let back = Pattern::parse(&text, name).unwrap();
         assert_eq!(back.size(), original.size(), "{name}");
         for row in 0..original.size() {

@@ -1,6 +1,7 @@
 //! `pat-tile`: orientation, formats, --pat, two routes cross-checked, failures.
 
 use crate::util::checker16;
+use crate::util::OkStdout;
 use predicates::prelude::*;
 use std::io::Read;
 
@@ -89,11 +90,7 @@ clitest!(two_routes_to_the_same_image_agree, |dir| {
         .args([
             "--size", "100x70", "--scale", "2", "--offset", "3,5", "--format", "pam", "c.pat",
         ])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
+        .ok_stdout();
     dir.cmd("pat-tile")
         .args([
             "--pat", "--size", "64x64", "--scale", "2", "--offset", "3,5", "-o", "big.pat", "c.pat",
@@ -105,11 +102,7 @@ clitest!(two_routes_to_the_same_image_agree, |dir| {
     let via_pat = dir
         .cmd("pat-tile")
         .args(["--size", "100x70", "--format", "pam", "big.pat"])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
+        .ok_stdout();
     assert_eq!(direct, via_pat);
 });
 

@@ -2,6 +2,7 @@
 //! against their golden image, the tessellation at the camera's pixel
 //! tolerance, GLU's seam, errors, polyfill3's expansion and the animated PNG.
 
+use crate::util::OkStdout;
 use predicates::prelude::*;
 
 /// A 16x16 pattern split at s = 0.5: red in columns 0-7, blue in 8-15.
@@ -239,11 +240,7 @@ clitest!(
                     "ppm",
                 ])
                 .arg(f)
-                .assert()
-                .success()
-                .get_output()
-                .stdout
-                .clone()
+                .ok_stdout()
         };
         assert!(
             render("s.json") == render("cells.ndjson"),
@@ -285,11 +282,7 @@ clitest!(
                     "ppm",
                 ])
                 .arg(f)
-                .assert()
-                .success()
-                .get_output()
-                .stdout
-                .clone()
+                .ok_stdout()
         };
         assert!(render("a.json") == render("b.json"));
     }

@@ -1,6 +1,7 @@
 //! `scene-render`: formats, cameras, anti-aliasing modes against the reference,
 //! comparison reports, determinism across threads, and failures.
 
+use crate::util::OkStdout;
 use predicates::prelude::*;
 
 fn decode(bytes: &[u8]) -> image::RgbaImage {
@@ -114,11 +115,7 @@ clitest!(thread_count_does_not_change_a_byte, |dir| {
         let run = |t: &str| {
             dir.cmd("scene-render")
                 .args(["--size", "100x70", "--aa", aa, "--threads", t, "s.json"])
-                .assert()
-                .success()
-                .get_output()
-                .stdout
-                .clone()
+                .ok_stdout()
         };
         assert_eq!(run("1"), run("3"), "{aa}");
     }
@@ -424,14 +421,7 @@ clitest!(
         // rotated 0, 90, 180 and -90 degrees about y; the image is demo 2's
         // (the four partitioned faces) within the golden tolerance.
         let scene = crate::util::repo("fixtures/scenes/demo2-fig51.json");
-        let cells = dir
-            .cmd("polyfill3")
-            .arg(&scene)
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone();
+        let cells = dir.cmd("polyfill3").arg(&scene).ok_stdout();
         assert_eq!(
             cells.iter().filter(|&&b| b == b'\n').count(),
             1 + 4 + 1280,

@@ -6,6 +6,7 @@
 //! the record, no output file): never a panic, a hang or a NaN pixel. The
 //! library half is `tests/stress/`.
 
+use crate::util::OkStdout;
 use predicates::prelude::*;
 
 /// Largest difference in 8-bit sRGB codes allowed between a scene and the
@@ -58,23 +59,12 @@ fn render(dir: &crate::util::Dir, scene: &str, args: &[&str]) -> Vec<u8> {
 /// `polyfill3 scene | scene-render args`: the flat-coloured cells rendered.
 fn render_partitioned(dir: &crate::util::Dir, scene: &str, args: &[&str]) -> Vec<u8> {
     dir.write("scene.json", scene);
-    let cells = dir
-        .cmd("polyfill3")
-        .arg("scene.json")
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
+    let cells = dir.cmd("polyfill3").arg("scene.json").ok_stdout();
     dir.cmd("scene-render")
         .args(args)
         .args(["--format", "pam", "-"])
         .write_stdin(cells)
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone()
+        .ok_stdout()
 }
 
 fn brick(dir: &crate::util::Dir) {
@@ -349,14 +339,7 @@ clitest!(
                 "s.json",
                 format!(r#"{{"vertices":[[0,0,0],[1,0,0],[1,1,0],[0,1,0]],"color":[1,2,3],"pattern":{{"file":"brick.pat","incr":0.25,"horz":{horz}}}}}"#),
             );
-            let out = dir
-                .cmd("polyfill3")
-                .arg("s.json")
-                .assert()
-                .success()
-                .get_output()
-                .stdout
-                .clone();
+            let out = dir.cmd("polyfill3").arg("s.json").ok_stdout();
             String::from_utf8(out)
                 .unwrap()
                 .lines()
@@ -575,14 +558,7 @@ fn ten_million_vertex_polygon_renders_when_convex_and_is_refused_naming_the_reco
         convex.strip_suffix('}').unwrap()
     );
     dir.write("textured.json", textured);
-    let out = dir
-        .cmd("polyfill3")
-        .arg("textured.json")
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
+    let out = dir.cmd("polyfill3").arg("textured.json").ok_stdout();
     let cells = out.iter().filter(|&&b| b == b'\n').count();
     assert!((140..=200).contains(&cells), "{cells}");
 }

@@ -4,6 +4,7 @@
 //! power of two, a table with the wrong number of entries).
 
 use crate::util::repo;
+use crate::util::OkStdout;
 use predicates::prelude::*;
 use serde_json::Value;
 
@@ -437,11 +438,7 @@ clitest!(
                 .args(view)
                 .args(extra)
                 .args(["scene.json", "-o", "-"])
-                .assert()
-                .success()
-                .get_output()
-                .stdout
-                .clone()
+                .ok_stdout()
         };
         let exact = run(&[]);
         let reference = run(&["--reference"]);
@@ -486,11 +483,7 @@ clitest!(cig_compat_differs_from_blended_within_a_bound, |dir| {
             .args(view)
             .args(extra)
             .args(["scene.json", "-o", "-"])
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone()
+            .ok_stdout()
     };
     let blended = run(&[]);
     let cig = run(&["--cig-compat"]);
@@ -605,11 +598,7 @@ clitest!(stripes_stay_on_an_instanced_object, |dir| {
     let run = |f: &str| {
         dir.cmd("scene-render")
             .args(["--size", "60x40", f, "-o", "-"])
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone()
+            .ok_stdout()
     };
     assert!(run("inst.json") == run("flat.json"));
 });

@@ -3,6 +3,7 @@
 //! worked examples of the OpenGL chapter (seed 002, ch. 7).
 
 use crate::util::Dir;
+use crate::util::OkStdout;
 
 /// Largest channel difference (8-bit sRGB codes) allowed between two exact
 /// renderings of the same scene: direct texturing and `polyfill3` both
@@ -47,11 +48,7 @@ fn max_error(dir: &Dir, img: &str, reference: &str) -> u64 {
     let out = dir
         .cmd("scene-render")
         .args(["--image", img, "--compare", reference, "--json"])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
+        .ok_stdout();
     let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
     v["compare"]["max_error"].as_u64().unwrap()
 }
@@ -84,14 +81,7 @@ clitest!(
         };
         render("s.json", &[], "direct.png");
         render("s.json", &["--reference"], "ref.png");
-        let out = dir
-            .cmd("polyfill3")
-            .arg("s.json")
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone();
+        let out = dir.cmd("polyfill3").arg("s.json").ok_stdout();
         dir.write("p3.json", out);
         render("p3.json", &[], "p3.png");
         render("p3.json", &["--reference"], "p3ref.png");
@@ -122,14 +112,7 @@ clitest!(pixel_aligned_texels_are_pixel_exact, |dir| {
             .assert()
             .success();
     }
-    let out = dir
-        .cmd("polyfill3")
-        .arg("s.json")
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
+    let out = dir.cmd("polyfill3").arg("s.json").ok_stdout();
     dir.write("p3.json", out);
     dir.cmd("scene-render")
         .args(["--size", "48x40", "p3.json", "-o", "p3.ppm"])
@@ -421,14 +404,7 @@ clitest!(polyfill3_uv_renders_as_the_object_scene, |dir| {
 {"instance":"tri","transform":[{"translate":[-2,0,-6]}]}
 "#;
     dir.write("s.json", format!("{SCENE}{extra}"));
-    let uv = dir
-        .cmd("polyfill3")
-        .args(["--uv", "s.json"])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
+    let uv = dir.cmd("polyfill3").args(["--uv", "s.json"]).ok_stdout();
     dir.write("uv.json", &uv);
     for (input, out) in [("s.json", "direct.png"), ("uv.json", "uv.png")] {
         dir.cmd("scene-render")
@@ -475,11 +451,7 @@ clitest!(polyfill3_uv_records, |dir| {
     let out = dir
         .cmd("polyfill3")
         .args(["--uv", "--tolerance", "0.1", "s.json"])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
+        .ok_stdout();
     let recs: Vec<serde_json::Value> = std::str::from_utf8(&out)
         .unwrap()
         .lines()

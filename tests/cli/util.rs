@@ -89,3 +89,14 @@ macro_rules! clitest {
         }
     };
 }
+
+/// The standard output of a command that must succeed.
+pub trait OkStdout {
+    fn ok_stdout(&mut self) -> Vec<u8>;
+}
+
+impl OkStdout for assert_cmd::Command {
+    fn ok_stdout(&mut self) -> Vec<u8> {
+        self.assert().success().get_output().stdout.clone()
+    }
+}
