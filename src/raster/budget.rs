@@ -207,7 +207,11 @@ impl Snapped {
         aa: Aa,
     ) -> Vec<[f32; 3]> {
         let k = match aa {
-            Aa::Exact => return coverage::render_tile(polys, bin, bg, tile),
+            Aa::Exact => {
+                let mut scratch = coverage::TileScratch::default();
+                let geom = super::gather::TileGeom::gather(polys, bin);
+                return coverage::render_tile(polys, &geom, bg, tile, &mut scratch);
+            }
             Aa::None => 1,
             Aa::Ss(k) => k,
         };
@@ -266,8 +270,9 @@ pub fn render_within(
     let snapped_pilot = Snapped::new(polys, if pilot_tiles.is_empty() { &[] } else { &LADDER });
     let pilot_results: Vec<(Vec<[f32; 3]>, [f64; N])> = pilot_tiles
         .par_iter()
-        .map(|&t| {
-            let exact = coverage::render_tile(polys, &bins[t], bg, tiles[t]);
+        .map_init(coverage::TileScratch::default, |scratch, &t| {
+            let geom = super::gather::TileGeom::gather(polys, &bins[t]);
+            let exact = coverage::render_tile(polys, &geom, bg, tiles[t], scratch);
             let mut sse = [0.0; N];
             for (m, aa) in LADDER.iter().enumerate().take(LADDER.len() - 1) {
                 let block = snapped_pilot.tile(polys, &bins[t], bg, tiles[t], *aa);

@@ -34,6 +34,7 @@ pub mod budget;
 pub mod clip;
 pub mod compare;
 pub mod coverage;
+pub mod gather;
 pub mod reference;
 pub mod scan;
 
@@ -818,17 +819,26 @@ pub fn bin(polys: &[ScreenPoly], width: u32, height: u32) -> Vec<Vec<u32>> {
     let ty = height.div_ceil(TILE) as usize;
     let mut bins = vec![Vec::new(); tx * ty];
     for (i, p) in polys.iter().enumerate() {
-        let [x0, y0, x1, y1] = p.bbox;
-        if x1 <= x0 || y1 <= y0 {
-            continue;
-        }
-        for ty_i in (y0 / TILE) as usize..=((y1 - 1) / TILE) as usize {
-            for tx_i in (x0 / TILE) as usize..=((x1 - 1) / TILE) as usize {
-                bins[ty_i * tx + tx_i].push(i as u32);
-            }
+        for t in tiles_met(p.bbox, tx) {
+            bins[t].push(i as u32);
         }
     }
     bins
+}
+
+/// Indices (row-major, `tiles_across` per row) of the tiles that a pixel
+/// bounding box `[x0, y0, x1, y1)` meets; none for an empty box.
+fn tiles_met(bbox: [u32; 4], tiles_across: usize) -> impl Iterator<Item = usize> {
+    let [x0, y0, x1, y1] = bbox;
+    let (rows, cols) = if x1 <= x0 || y1 <= y0 {
+        (0..0, 0..0)
+    } else {
+        (
+            (y0 / TILE) as usize..(y1 - 1) as usize / TILE as usize + 1,
+            (x0 / TILE) as usize..(x1 - 1) as usize / TILE as usize + 1,
+        )
+    };
+    rows.flat_map(move |r| cols.clone().map(move |c| r * tiles_across + c))
 }
 
 /// Renders projected polygons with the chosen anti-aliasing. Runs on the
@@ -836,15 +846,29 @@ pub fn bin(polys: &[ScreenPoly], width: u32, height: u32) -> Vec<Vec<u32>> {
 pub fn render(polys: &[ScreenPoly], bg: &Background, width: u32, height: u32, aa: Aa) -> Frame {
     use rayon::prelude::*;
     let tiles = tiles(width, height);
-    let bins = bin(polys, width, height);
     let blocks: Vec<Vec<[f32; 3]>> = match aa {
-        Aa::Exact => tiles
-            .par_iter()
-            .zip(&bins)
-            .map(|(t, b)| coverage::render_tile(polys, b, bg, *t))
-            .collect(),
+        Aa::Exact => {
+            let binned = gather::bin_geometry(polys, width, height);
+            tiles
+                .par_iter()
+                .enumerate()
+                .map_init(
+                    || {
+                        (
+                            coverage::TileScratch::default(),
+                            gather::TileGeom::default(),
+                        )
+                    },
+                    |(s, g), (i, t)| {
+                        binned.tile_into(i, g);
+                        coverage::render_tile(polys, g, bg, *t, s)
+                    },
+                )
+                .collect()
+        }
         Aa::None | Aa::Ss(_) => {
             let k = if let Aa::Ss(k) = aa { k } else { 1 };
+            let bins = bin(polys, width, height);
             let snapped: Vec<scan::FixedPoly> = polys
                 .par_iter()
                 .map(|p| scan::FixedPoly::new(p, k))

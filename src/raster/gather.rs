@@ -1,0 +1,167 @@
+//! The exact resolver's input per tile: a dense copy of what it reads of
+//! each polygon, gathered in one sequential pass over the polygon list.
+//!
+//! `--aa exact` visits every polygon of a tile twice and looks up each
+//! fragment's plane many times. Read through `ScreenPoly` (a struct, then
+//! its piece list, then each piece's vertices, all on the heap in stream
+//! order), a tile of small triangles from a million-polygon scene misses the
+//! cache at every step; copied here, the tile's geometry is a few contiguous
+//! arrays.
+
+use super::{ScreenPoly, TILE};
+use glam::DVec2;
+
+/// What visibility needs of a polygon. Fragments name it by its index in
+/// [`TileGeom::locals`].
+#[derive(Clone, Copy, Debug)]
+pub struct Local {
+    /// Nearness `q = a*x + b*y + c`, as [`ScreenPoly::plane`].
+    pub plane: [f64; 3],
+    pub tie_floor: f64,
+    pub order: u32,
+    /// Index in the frame's polygon list, for its texture or screen pattern.
+    pub global: u32,
+    /// The flat colour, or `None` when a screen-mode pattern decides it.
+    pub color: Option<[f64; 3]>,
+    /// Neither textured nor striped: every fragment has the polygon's colour,
+    /// and the fragment maker needs nothing else of it.
+    pub plain: bool,
+    /// Covers every pixel it is full in: no screen pattern and no
+    /// transparent texel can leave a hole.
+    pub occludes: bool,
+    /// Its fragments may be dropped unseen: all but textures under
+    /// `--no-skip hidden`, which the benchmark filters hidden or not.
+    pub cullable: bool,
+}
+
+impl Local {
+    pub fn new(p: &ScreenPoly, global: u32) -> Local {
+        Local {
+            plane: p.plane,
+            tie_floor: p.tie_floor,
+            order: p.order,
+            global,
+            color: p.screen.is_none().then_some(p.color),
+            plain: p.texture.is_none() && p.stripe.is_none(),
+            occludes: p.screen.is_none() && p.texture.as_ref().map_or(true, |t| t.always_opaque()),
+            cullable: p.texture.as_ref().map_or(true, |t| t.skips.hidden),
+        }
+    }
+
+    /// Nearness at a screen point, as [`ScreenPoly::q`].
+    #[inline]
+    pub fn q(&self, x: f64, y: f64) -> f64 {
+        self.plane[0] * x + self.plane[1] * y + self.plane[2]
+    }
+
+    /// How far the nearness can move from a pixel's centre within the
+    /// pixel: half a step in x and in y.
+    #[inline]
+    pub fn half_spread(&self) -> f64 {
+        0.5 * (self.plane[0].abs() + self.plane[1].abs())
+    }
+}
+
+/// One convex piece of a polygon in a tile: `len` vertices from `start` in
+/// [`TileGeom::verts`].
+#[derive(Clone, Copy, Debug)]
+pub struct PieceRef {
+    pub local: u32,
+    pub start: u32,
+    pub len: u32,
+}
+
+/// The polygons whose bounding box meets one tile, in stream order.
+#[derive(Default, Debug)]
+pub struct TileGeom {
+    pub locals: Vec<Local>,
+    pub pieces: Vec<PieceRef>,
+    pub verts: Vec<DVec2>,
+}
+
+impl TileGeom {
+    /// Appends polygon `pi` of `polys`.
+    pub fn push(&mut self, polys: &[ScreenPoly], pi: u32) {
+        let p = &polys[pi as usize];
+        let local = self.locals.len() as u32;
+        self.locals.push(Local::new(p, pi));
+        for piece in &p.pieces {
+            self.pieces.push(PieceRef {
+                local,
+                start: self.verts.len() as u32,
+                len: piece.len() as u32,
+            });
+            self.verts.extend_from_slice(piece);
+        }
+    }
+
+    /// The vertices of a piece.
+    #[inline]
+    pub fn piece(&self, r: &PieceRef) -> &[DVec2] {
+        &self.verts[r.start as usize..(r.start + r.len) as usize]
+    }
+
+    /// The geometry of one tile's bin (see [`super::bin`]).
+    pub fn gather(polys: &[ScreenPoly], bin: &[u32]) -> TileGeom {
+        let mut g = TileGeom::default();
+        for &pi in bin {
+            g.push(polys, pi);
+        }
+        g
+    }
+}
+
+/// Polygons per chunk of [`bin_geometry`]'s parallel pass: big enough that
+/// a chunk's per-tile vectors fill up, small enough to spread over threads.
+/// Fixed, so that nothing depends on the thread count.
+const GATHER_CHUNK: usize = 1 << 12;
+
+/// [`super::bin`] with each tile's geometry copied out: the same polygons
+/// per tile, in the same order.
+pub struct Binned {
+    /// `parts[chunk][tile]`: chunks of the polygon list in order.
+    parts: Vec<Vec<TileGeom>>,
+}
+
+/// Gathers the tiles' geometry, chunks of the polygon list in parallel
+/// (the copying is memory-bound, and each thread's misses overlap).
+pub fn bin_geometry(polys: &[ScreenPoly], width: u32, height: u32) -> Binned {
+    use rayon::prelude::*;
+    let tx = width.div_ceil(TILE) as usize;
+    let ty = height.div_ceil(TILE) as usize;
+    let parts = polys
+        .par_chunks(GATHER_CHUNK)
+        .enumerate()
+        .map(|(c, chunk)| {
+            let mut tiles: Vec<TileGeom> = (0..tx * ty).map(|_| TileGeom::default()).collect();
+            for (i, p) in chunk.iter().enumerate() {
+                let pi = (c * GATHER_CHUNK + i) as u32;
+                for t in super::tiles_met(p.bbox, tx) {
+                    tiles[t].push(polys, pi);
+                }
+            }
+            tiles
+        })
+        .collect();
+    Binned { parts }
+}
+
+impl Binned {
+    /// Tile `t`'s geometry, into `out` (cleared first).
+    pub fn tile_into(&self, t: usize, out: &mut TileGeom) {
+        out.locals.clear();
+        out.pieces.clear();
+        out.verts.clear();
+        for part in &self.parts {
+            let g = &part[t];
+            let (l0, v0) = (out.locals.len() as u32, out.verts.len() as u32);
+            out.locals.extend_from_slice(&g.locals);
+            out.verts.extend_from_slice(&g.verts);
+            out.pieces.extend(g.pieces.iter().map(|r| PieceRef {
+                local: r.local + l0,
+                start: r.start + v0,
+                len: r.len,
+            }));
+        }
+    }
+}
