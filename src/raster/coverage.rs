@@ -327,15 +327,15 @@ fn for_each_row(
         // [x, x+1] is full iff it lies within both (convexity).
         let (mut lb, mut rb, mut lt, mut rt) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
         for v in band.iter() {
-            bx0 = bx0.min(v.x);
-            bx1 = bx1.max(v.x);
+            bx0 = fmin(bx0, v.x);
+            bx1 = fmax(bx1, v.x);
             if v.y == yb {
-                lb = lb.min(v.x);
-                rb = rb.max(v.x);
+                lb = fmin(lb, v.x);
+                rb = fmax(rb, v.x);
             }
             if v.y == yt {
-                lt = lt.min(v.x);
-                rt = rt.max(v.x);
+                lt = fmin(lt, v.x);
+                rt = fmax(rt, v.x);
             }
         }
         let span = RowSpan {
@@ -811,11 +811,34 @@ fn blend_background(
     acc.map(|c| c as f32)
 }
 
+/// `a.min(b)` for numbers that are not NaN (screen geometry is finite by
+/// construction: the stream rejects NaN and the clipper keeps `w > 0`). One
+/// instruction, where `f64::min`'s NaN handling took 13% of a deep scene's
+/// exact render in a profile.
+#[inline(always)]
+fn fmin(a: f64, b: f64) -> f64 {
+    if b < a {
+        b
+    } else {
+        a
+    }
+}
+
+/// `a.max(b)` for numbers that are not NaN; see [`fmin`].
+#[inline(always)]
+fn fmax(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
+    }
+}
+
 /// Bounding box `[x0, y0, x1, y1]` of a vertex list.
 fn bounds(v: &[DVec2]) -> [f64; 4] {
     v.iter().fold(
         [f64::MAX, f64::MAX, f64::MIN, f64::MIN],
-        |[x0, y0, x1, y1], p| [x0.min(p.x), y0.min(p.y), x1.max(p.x), y1.max(p.y)],
+        |[x0, y0, x1, y1], p| [fmin(x0, p.x), fmin(y0, p.y), fmax(x1, p.x), fmax(y1, p.y)],
     )
 }
 
@@ -897,9 +920,9 @@ fn sweep_front_to_back(
         let i = live[k] as usize;
         let [most, abs, floor] = tail[k + 1];
         tail[k] = [
-            most.max(span[k][1]),
-            abs.max(qc[i].abs()),
-            floor.max(locals[frags[i].poly as usize].tie_floor),
+            fmax(most, span[k][1]),
+            fmax(abs, qc[i].abs()),
+            fmax(floor, locals[frags[i].poly as usize].tie_floor),
         ];
     }
     seen.clear();

@@ -8,7 +8,7 @@
 //! cache at every step; copied here, the tile's geometry is a few contiguous
 //! arrays.
 
-use super::{ScreenPoly, TILE};
+use super::{ScreenPoly, EXACT_TILE};
 use glam::DVec2;
 
 /// What visibility needs of a polygon. Fragments name it by its index in
@@ -111,13 +111,14 @@ impl TileGeom {
     }
 }
 
-/// Polygons per chunk of [`bin_geometry`]'s parallel pass: big enough that
-/// a chunk's per-tile vectors fill up, small enough to spread over threads.
-/// Fixed, so that nothing depends on the thread count.
-const GATHER_CHUNK: usize = 1 << 12;
+/// Chunks of the polygon list that [`bin_geometry`] gathers in parallel:
+/// enough to keep two to eight threads busy, few enough that each chunk's
+/// per-tile vectors are long (a tile's geometry is the chunks' parts put
+/// end to end, so the count changes nothing in the result).
+const GATHER_CHUNKS: usize = 8;
 
-/// [`super::bin`] with each tile's geometry copied out: the same polygons
-/// per tile, in the same order.
+/// [`super::bin`] for the tiles of `--aa exact` ([`EXACT_TILE`]), with each
+/// tile's geometry copied out: the polygons that meet it, in stream order.
 pub struct Binned {
     /// `parts[chunk][tile]`: chunks of the polygon list in order.
     parts: Vec<Vec<TileGeom>>,
@@ -127,16 +128,17 @@ pub struct Binned {
 /// (the copying is memory-bound, and each thread's misses overlap).
 pub fn bin_geometry(polys: &[ScreenPoly], width: u32, height: u32) -> Binned {
     use rayon::prelude::*;
-    let tx = width.div_ceil(TILE) as usize;
-    let ty = height.div_ceil(TILE) as usize;
+    let tx = width.div_ceil(EXACT_TILE) as usize;
+    let ty = height.div_ceil(EXACT_TILE) as usize;
+    let chunk_len = polys.len().div_ceil(GATHER_CHUNKS).max(1);
     let parts = polys
-        .par_chunks(GATHER_CHUNK)
+        .par_chunks(chunk_len)
         .enumerate()
         .map(|(c, chunk)| {
             let mut tiles: Vec<TileGeom> = (0..tx * ty).map(|_| TileGeom::default()).collect();
             for (i, p) in chunk.iter().enumerate() {
-                let pi = (c * GATHER_CHUNK + i) as u32;
-                for t in super::tiles_met(p.bbox, tx) {
+                let pi = (c * chunk_len + i) as u32;
+                for t in super::tiles_met(p.bbox, tx, EXACT_TILE) {
                     tiles[t].push(polys, pi);
                 }
             }
