@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-RUNS = 3
+RUNS = 5
 W, H = 1024, 768
 BACKGROUND = (20, 20, 80)
 # Demo 2's view (App. C): perspective(550, 1.0, 0.0, 1000.0) and
