@@ -208,9 +208,10 @@ impl Snapped {
     ) -> Vec<[f32; 3]> {
         let k = match aa {
             Aa::Exact => {
-                let mut scratch = coverage::TileScratch::default();
-                let geom = super::gather::TileGeom::gather(polys, bin);
-                return coverage::render_tile(polys, &geom, bg, tile, &mut scratch);
+                return coverage::with_tile_scratch(|s, g| {
+                    g.gather(polys, bin);
+                    coverage::render_tile(polys, g, bg, tile, s)
+                });
             }
             Aa::None => 1,
             Aa::Ss(k) => k,
@@ -270,9 +271,11 @@ pub fn render_within(
     let snapped_pilot = Snapped::new(polys, if pilot_tiles.is_empty() { &[] } else { &LADDER });
     let pilot_results: Vec<(Vec<[f32; 3]>, [f64; N])> = pilot_tiles
         .par_iter()
-        .map_init(coverage::TileScratch::default, |scratch, &t| {
-            let geom = super::gather::TileGeom::gather(polys, &bins[t]);
-            let exact = coverage::render_tile(polys, &geom, bg, tiles[t], scratch);
+        .map(|&t| {
+            let exact = coverage::with_tile_scratch(|s, g| {
+                g.gather(polys, &bins[t]);
+                coverage::render_tile(polys, g, bg, tiles[t], s)
+            });
             let mut sse = [0.0; N];
             for (m, aa) in LADDER.iter().enumerate().take(LADDER.len() - 1) {
                 let block = snapped_pilot.tile(polys, &bins[t], bg, tiles[t], *aa);

@@ -396,6 +396,18 @@ pub struct TileScratch {
     resolve: Scratch,
 }
 
+thread_local! {
+    /// Each thread's [`TileScratch`] and tile geometry, kept for the
+    /// process's life: rayon's `map_init` makes a fresh one per work split,
+    /// and a fresh large vector is fresh pages for the kernel to zero.
+    static SCRATCH: std::cell::RefCell<(TileScratch, TileGeom)> = Default::default();
+}
+
+/// Runs `f` with this thread's tile buffers.
+pub fn with_tile_scratch<R>(f: impl FnOnce(&mut TileScratch, &mut TileGeom) -> R) -> R {
+    SCRATCH.with_borrow_mut(|(s, g)| f(s, g))
+}
+
 /// Renders one tile with exact coverage.
 ///
 /// A first pass finds, per pixel, the nearest opaque polygon that covers it

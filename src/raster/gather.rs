@@ -101,13 +101,19 @@ impl TileGeom {
         &self.verts[r.start as usize..(r.start + r.len) as usize]
     }
 
-    /// The geometry of one tile's bin (see [`super::bin`]).
-    pub fn gather(polys: &[ScreenPoly], bin: &[u32]) -> TileGeom {
-        let mut g = TileGeom::default();
+    /// Replaces the contents with the geometry of one tile's bin (see
+    /// [`super::bin`]).
+    pub fn gather(&mut self, polys: &[ScreenPoly], bin: &[u32]) {
+        self.clear();
         for &pi in bin {
-            g.push(polys, pi);
+            self.push(polys, pi);
         }
-        g
+    }
+
+    fn clear(&mut self) {
+        self.locals.clear();
+        self.pieces.clear();
+        self.verts.clear();
     }
 }
 
@@ -135,7 +141,30 @@ pub fn bin_geometry(polys: &[ScreenPoly], width: u32, height: u32) -> Binned {
         .par_chunks(chunk_len)
         .enumerate()
         .map(|(c, chunk)| {
-            let mut tiles: Vec<TileGeom> = (0..tx * ty).map(|_| TileGeom::default()).collect();
+            // Sized first (a count over bounding boxes), so that no vector
+            // regrows: regrowth copies and faults in fresh pages.
+            let mut sizes = vec![[0usize; 3]; tx * ty];
+            for p in chunk {
+                let pieces = p.pieces.len();
+                // Ear-clipping makes triangles; a convex polygon is one piece.
+                let verts = if pieces == 1 {
+                    p.verts.len()
+                } else {
+                    3 * pieces
+                };
+                for t in super::tiles_met(p.bbox, tx, EXACT_TILE) {
+                    let n = &mut sizes[t];
+                    *n = [n[0] + 1, n[1] + pieces, n[2] + verts];
+                }
+            }
+            let mut tiles: Vec<TileGeom> = sizes
+                .iter()
+                .map(|&[locals, pieces, verts]| TileGeom {
+                    locals: Vec::with_capacity(locals),
+                    pieces: Vec::with_capacity(pieces),
+                    verts: Vec::with_capacity(verts),
+                })
+                .collect();
             for (i, p) in chunk.iter().enumerate() {
                 let pi = (c * chunk_len + i) as u32;
                 for t in super::tiles_met(p.bbox, tx, EXACT_TILE) {
@@ -151,9 +180,7 @@ pub fn bin_geometry(polys: &[ScreenPoly], width: u32, height: u32) -> Binned {
 impl Binned {
     /// Tile `t`'s geometry, into `out` (cleared first).
     pub fn tile_into(&self, t: usize, out: &mut TileGeom) {
-        out.locals.clear();
-        out.pieces.clear();
-        out.verts.clear();
+        out.clear();
         for part in &self.parts {
             let g = &part[t];
             let (l0, v0) = (out.locals.len() as u32, out.verts.len() as u32);

@@ -878,18 +878,12 @@ pub fn render(polys: &[ScreenPoly], bg: &Background, width: u32, height: u32, aa
             tiles
                 .par_iter()
                 .enumerate()
-                .map_init(
-                    || {
-                        (
-                            coverage::TileScratch::default(),
-                            gather::TileGeom::default(),
-                        )
-                    },
-                    |(s, g), (i, t)| {
+                .map(|(i, t)| {
+                    coverage::with_tile_scratch(|s, g| {
                         binned.tile_into(i, g);
                         coverage::render_tile(polys, g, bg, *t, s)
-                    },
-                )
+                    })
+                })
                 .collect()
         }
         Aa::None | Aa::Ss(_) => {
