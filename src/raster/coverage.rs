@@ -403,9 +403,16 @@ thread_local! {
     static SCRATCH: std::cell::RefCell<(TileScratch, TileGeom)> = Default::default();
 }
 
-/// Runs `f` with this thread's tile buffers.
+/// Runs `f` with this thread's tile buffers, or fresh ones if they are in
+/// use (a tile's work waiting in rayon could let this thread start another).
 pub fn with_tile_scratch<R>(f: impl FnOnce(&mut TileScratch, &mut TileGeom) -> R) -> R {
-    SCRATCH.with_borrow_mut(|(s, g)| f(s, g))
+    SCRATCH.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut held) => {
+            let (s, g) = &mut *held;
+            f(s, g)
+        }
+        Err(_) => f(&mut TileScratch::default(), &mut TileGeom::default()),
+    })
 }
 
 /// Renders one tile with exact coverage.
