@@ -1029,6 +1029,42 @@ fn disjoint(a: &[DVec2], b: &[DVec2]) -> bool {
     separated(a, b) || separated(b, a)
 }
 
+/// Longest piece [`subtract`] splits in one pass (its sides on the stack);
+/// longer ones, which a pixel's pieces never are in practice, are clipped
+/// twice instead, with the same result.
+const SPLIT_MAX: usize = 32;
+
+/// Splits the convex `poly` by a line whose value at each vertex is
+/// `sides`: the part where it is `>= 0` into `inside`, the part where it is
+/// `<= 0` into `outside`. Bit for bit what `clip_line` gives with the line
+/// and with its negation (negating a line negates its values exactly, and
+/// each crossing is made from the same endpoint as there).
+fn split(poly: &[DVec2], sides: &[f64], inside: &mut Vec<DVec2>, outside: &mut Vec<DVec2>) {
+    let n = poly.len();
+    for i in 0..n {
+        let j = if i + 1 == n { 0 } else { i + 1 };
+        let (a, b) = (poly[i], poly[j]);
+        let (da, db) = (sides[i], sides[j]);
+        if da >= 0.0 {
+            inside.push(a);
+            if db < 0.0 && da > 0.0 {
+                inside.push(a + (b - a) * (da / (da - db)));
+            }
+        } else if db > 0.0 {
+            inside.push(b + (a - b) * (db / (db - da)));
+        }
+        let (na, nb) = (-da, -db);
+        if na >= 0.0 {
+            outside.push(a);
+            if nb < 0.0 && na > 0.0 {
+                outside.push(a + (b - a) * (na / (na - nb)));
+            }
+        } else if nb > 0.0 {
+            outside.push(b + (a - b) * (nb / (nb - na)));
+        }
+    }
+}
+
 /// Appends the convex pieces of `p \ o` (both convex, counter-clockwise) to
 /// `out`: for each edge of `o`, the part of `p` to its right is outside `o` and
 /// kept; the rest goes on to the next edge, and what is left at the end lies in
@@ -1052,7 +1088,7 @@ fn subtract(
     tmp: &mut Vec<DVec2>,
     pool: &mut Vec<Vec<DVec2>>,
 ) -> f64 {
-    let mut keep = |piece: &[DVec2]| {
+    let keep = |piece: &[DVec2], out: &mut Vec<Vec<DVec2>>, pool: &mut Vec<Vec<DVec2>>| {
         let mut v = pool.pop().unwrap_or_default();
         v.clear();
         v.extend_from_slice(piece);
@@ -1063,7 +1099,7 @@ fn subtract(
         .filter(|&i| (o[(i + 1) % n] - o[i]).length_squared() > EDGE_EPS * EDGE_EPS)
         .count();
     if edges < 3 {
-        keep(p);
+        keep(p, out, pool);
         return 0.0;
     }
     cur.clear();
@@ -1080,23 +1116,55 @@ fn subtract(
         }
         let line = [-e.y, e.x, e.y * a.x - e.x * a.y];
         let side = |v: &DVec2| line[0] * v.x + line[1] * v.y + line[2];
-        if cur.iter().all(|v| side(v) > 0.0) {
+        let m = cur.len();
+        if m > SPLIT_MAX {
+            if cur.iter().all(|v| side(v) > 0.0) {
+                continue; // Wholly inside this edge: nothing outside it.
+            }
+            if cur.iter().all(|v| side(v) < 0.0) {
+                // Wholly outside this edge, so outside `o`: kept whole.
+                if area2(cur) > 2.0 * AREA_EPS {
+                    keep(cur, out, pool);
+                }
+                return 0.0;
+            }
+            tmp.clear();
+            clip_line(cur, [-line[0], -line[1], -line[2]], tmp);
+            if tmp.len() >= 3 && area2(tmp) > 2.0 * AREA_EPS {
+                keep(tmp, out, pool);
+            }
+            tmp.clear();
+            clip_line(cur, line, tmp);
+            std::mem::swap(cur, tmp);
+            continue;
+        }
+        // The same two clips in one pass, each vertex's side computed once.
+        let mut sides = [0.0f64; SPLIT_MAX];
+        let (mut inside, mut outside) = (true, true);
+        for (d, v) in sides.iter_mut().zip(cur.iter()) {
+            *d = side(v);
+            inside &= *d > 0.0;
+            outside &= *d < 0.0;
+        }
+        if inside {
             continue; // Wholly inside this edge: nothing outside it.
         }
-        if cur.iter().all(|v| side(v) < 0.0) {
+        if outside {
             // Wholly outside this edge, so outside `o`: kept whole.
             if area2(cur) > 2.0 * AREA_EPS {
-                keep(cur);
+                keep(cur, out, pool);
             }
             return 0.0;
         }
+        let mut part = pool.pop().unwrap_or_default();
+        part.clear();
         tmp.clear();
-        clip_line(cur, [-line[0], -line[1], -line[2]], tmp);
-        if tmp.len() >= 3 && area2(tmp) > 2.0 * AREA_EPS {
-            keep(tmp);
+        split(cur, &sides[..m], tmp, &mut part);
+        if part.len() >= 3 && area2(&part) > 2.0 * AREA_EPS {
+            out.push(part);
+        } else {
+            pool.push(part);
         }
-        tmp.clear();
-        clip_line(cur, line, tmp);
         std::mem::swap(cur, tmp);
     }
     if cur.len() < 3 {
