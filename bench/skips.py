@@ -98,6 +98,8 @@ def scenes(work):
          wide + ["--aa", "exact", "--filter", "ewa"]),
         ("hidden", "hidden samples not textured (trilinear, ss16)", "hidden.json", "320x240",
          wide + ["--aa", "ss16", "--filter", "trilinear"]),
+        ("hidden", "hidden fragments not cut into texel cells (box, exact)", "hidden.json", "640x480",
+         wide + ["--aa", "exact"]),
         ("mip", "MIP levels built only when minified (trilinear, exact)", "mip.json", "320x240",
          head_on + ["--aa", "exact", "--filter", "trilinear"]),
         ("transparent", "transparent runs skipped (box, exact)", "transparent.json", "640x480",
@@ -142,9 +144,9 @@ NOTES = """Notes:
 - hidden: a checker floor receding to the horizon lies wholly behind an opaque textured wall
   that fills the view. With the skip its fragments are never filtered (`--aa exact`: a deferred
   colour filtered only once visible; `--aa ss<N>`: the depth test first, texturing only the
-  samples that stay). Without it every covered fragment or sample is filtered. The box filter
-  has no such skip (its cut into texel cells is the fragment's coverage), so the scenes use
-  EWA and trilinear.
+  samples that stay). Without it every covered fragment or sample is filtered. With the box
+  filter (exact) the skip is the occlusion cull: a textured fragment behind its pixel's nearest
+  full cover is never cut into texel cells; without the skip it is cut and then found hidden.
 - mip: a 1024x1024 pattern on a wall that is magnified everywhere: with the skip no pixel asks
   for a MIP level, so the pyramid is never built; without it the pattern's pyramid is built
   before rendering (what an eager loader would do). The ratio is the pyramid's cost.

@@ -4,7 +4,10 @@
 //! unchanged; only the time differs.
 //!
 //! - hidden: an always-opaque texture's filter runs only for fragments that
-//!   turn out visible (`raster::coverage`'s deferred colour).
+//!   turn out visible (`raster::coverage`'s deferred colour), and with
+//!   `--aa exact` a textured fragment behind its pixel's nearest full cover
+//!   is not even made (the occlusion cull; flat polygons are culled
+//!   regardless, as they have nothing to filter).
 //! - mip: MIP levels are built on the first minified sample
 //!   ([`crate::raster::ScreenPattern::pyramid`]), never for a pattern that is
 //!   only magnified.
