@@ -457,7 +457,7 @@ pub fn render_tile(
         if !l.occludes {
             continue;
         }
-        let piece = geom.piece(r);
+        let piece = geom.piece(polys, r);
         let [x0, y0, x1, y1] = bounds(piece);
         if x1 - x0 < 1.0 || y1 - y0 < 1.0 {
             continue; // No room for a full pixel.
@@ -481,7 +481,7 @@ pub fn render_tile(
         let pi = r.local;
         let l = &locals[pi as usize];
         let p = (!l.plain).then(|| &polys[l.global as usize]);
-        for_each_row(geom.piece(r), tile, tmp, band, |r, band| {
+        for_each_row(geom.piece(polys, r), tile, tmp, band, |r, band| {
             let py = r.py;
             let cy = py as f64 + 0.5;
             // The full pixels of the row, for the run fast path.

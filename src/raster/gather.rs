@@ -62,14 +62,24 @@ impl Local {
     }
 }
 
+/// Pieces with more vertices than this are not copied into each tile they
+/// meet but read where they are: a polygon of a million vertices spanning a
+/// frame's 192 tiles would otherwise be copied 192 times (3 GB). Small
+/// pieces, the many that make a scene deep, are the ones worth copying.
+pub const GATHER_MAX_VERTS: usize = 64;
+
 /// One convex piece of a polygon in a tile: `len` vertices from `start` in
-/// [`TileGeom::verts`].
+/// [`TileGeom::verts`], or, when `len` is [`IN_PLACE`], piece `start` of
+/// the polygon itself (a large one, see [`GATHER_MAX_VERTS`]).
 #[derive(Clone, Copy, Debug)]
 pub struct PieceRef {
     pub local: u32,
     pub start: u32,
     pub len: u32,
 }
+
+/// [`PieceRef::len`] of a piece read in place.
+const IN_PLACE: u32 = u32::MAX;
 
 /// The polygons whose bounding box meets one tile, in stream order.
 #[derive(Default, Debug)]
@@ -85,7 +95,15 @@ impl TileGeom {
         let p = &polys[pi as usize];
         let local = self.locals.len() as u32;
         self.locals.push(Local::new(p, pi));
-        for piece in &p.pieces {
+        for (k, piece) in p.pieces.iter().enumerate() {
+            if piece.len() > GATHER_MAX_VERTS {
+                self.pieces.push(PieceRef {
+                    local,
+                    start: k as u32,
+                    len: IN_PLACE,
+                });
+                continue;
+            }
             self.pieces.push(PieceRef {
                 local,
                 start: self.verts.len() as u32,
@@ -95,10 +113,16 @@ impl TileGeom {
         }
     }
 
-    /// The vertices of a piece.
+    /// The vertices of a piece (`polys`: the frame's polygons, for a piece
+    /// read in place).
     #[inline]
-    pub fn piece(&self, r: &PieceRef) -> &[DVec2] {
-        &self.verts[r.start as usize..(r.start + r.len) as usize]
+    pub fn piece<'a>(&'a self, polys: &'a [ScreenPoly], r: &PieceRef) -> &'a [DVec2] {
+        if r.len == IN_PLACE {
+            let global = self.locals[r.local as usize].global;
+            &polys[global as usize].pieces[r.start as usize]
+        } else {
+            &self.verts[r.start as usize..(r.start + r.len) as usize]
+        }
     }
 
     /// Replaces the contents with the geometry of one tile's bin (see
@@ -148,7 +172,12 @@ pub fn bin_geometry(polys: &[ScreenPoly], width: u32, height: u32) -> Binned {
                 let pieces = p.pieces.len();
                 // Ear-clipping makes triangles; a convex polygon is one piece.
                 let verts = if pieces == 1 {
-                    p.verts.len()
+                    // Copied only up to GATHER_MAX_VERTS.
+                    if p.verts.len() > GATHER_MAX_VERTS {
+                        0
+                    } else {
+                        p.verts.len()
+                    }
                 } else {
                     3 * pieces
                 };
@@ -188,9 +217,100 @@ impl Binned {
             out.verts.extend_from_slice(&g.verts);
             out.pieces.extend(g.pieces.iter().map(|r| PieceRef {
                 local: r.local + l0,
-                start: r.start + v0,
+                start: if r.len == IN_PLACE {
+                    r.start
+                } else {
+                    r.start + v0
+                },
                 len: r.len,
             }));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::poly2;
+    use super::super::{reference, render, Aa, Background, View};
+    use super::*;
+    use crate::color::Rgb8;
+
+    /// A regular `n`-gon of radius `r` about `(c, c)`.
+    fn ngon(n: usize, c: f64, r: f64) -> Vec<[f64; 2]> {
+        (0..n)
+            .map(|k| {
+                let a = k as f64 / n as f64 * std::f64::consts::TAU;
+                [c + r * a.cos(), c + r * a.sin()]
+            })
+            .collect()
+    }
+
+    /// Every tile sees each of its polygons' pieces exactly: small ones from
+    /// its copy, large ones in place, through the chunked merge too.
+    #[test]
+    fn tiles_see_small_pieces_copied_and_large_ones_in_place() {
+        let v = View::ortho2(0.0, 200.0, 0.0, 200.0, 200, 200);
+        let polys = vec![
+            poly2(
+                &v,
+                &ngon(GATHER_MAX_VERTS + 36, 100.0, 90.0),
+                Rgb8::WHITE,
+                0,
+            )
+            .unwrap(),
+            poly2(
+                &v,
+                &[[10.0, 10.0], [150.0, 20.0], [60.0, 170.0]],
+                Rgb8::BLACK,
+                1,
+            )
+            .unwrap(),
+        ];
+        let mut g = TileGeom::default();
+        g.gather(&polys, &[0, 1]);
+        assert_eq!(g.verts.len(), 3, "only the triangle is copied");
+        for r in &g.pieces {
+            let whole = &polys[g.locals[r.local as usize].global as usize].pieces[0];
+            assert_eq!(g.piece(&polys, r), &whole[..]);
+        }
+        let binned = bin_geometry(&polys, 200, 200);
+        let tiles = 200u32.div_ceil(EXACT_TILE).pow(2) as usize;
+        for t in 0..tiles {
+            binned.tile_into(t, &mut g);
+            let met = polys
+                .iter()
+                .filter(|p| super::super::tiles_met(p.bbox, 4, EXACT_TILE).any(|m| m == t));
+            assert_eq!(g.locals.len(), met.count(), "tile {t}");
+            for r in &g.pieces {
+                let whole = &polys[g.locals[r.local as usize].global as usize].pieces[0];
+                assert_eq!(g.piece(&polys, r), &whole[..], "tile {t}");
+            }
+        }
+    }
+
+    /// A polygon read in place renders as the reference says, across tiles.
+    #[test]
+    fn a_large_polygon_across_tiles_matches_the_reference() {
+        let v = View::ortho2(0.0, 150.0, 0.0, 150.0, 150, 150);
+        let polys = vec![
+            poly2(&v, &ngon(500, 75.0, 70.3), Rgb8([200, 100, 50]), 0).unwrap(),
+            poly2(
+                &v,
+                &[[5.5, 5.5], [140.0, 30.2], [40.7, 120.1]],
+                Rgb8([20, 90, 200]),
+                1,
+            )
+            .unwrap(),
+        ];
+        let bg = Background::color(Rgb8::BLACK);
+        let exact = render(&polys, &bg, 150, 150, Aa::Exact).to_image();
+        let want = reference::render(&polys, &bg, 150, 150, 6).frame.to_image();
+        let worst = exact
+            .data
+            .iter()
+            .zip(&want.data)
+            .map(|(a, b)| a.abs_diff(*b))
+            .max();
+        assert!(worst <= Some(1), "off by {worst:?}");
     }
 }
