@@ -838,11 +838,16 @@ pub fn tiles_of_side(width: u32, height: u32, side: u32) -> Vec<[u32; 4]> {
 /// For every tile, the indices of the polygons whose bounding box meets it, in
 /// stream order.
 pub fn bin(polys: &[ScreenPoly], width: u32, height: u32) -> Vec<Vec<u32>> {
-    let tx = width.div_ceil(TILE) as usize;
-    let ty = height.div_ceil(TILE) as usize;
+    bin_of_side(polys, width, height, TILE)
+}
+
+/// [`bin`] for tiles of any side.
+pub fn bin_of_side(polys: &[ScreenPoly], width: u32, height: u32, side: u32) -> Vec<Vec<u32>> {
+    let tx = width.div_ceil(side) as usize;
+    let ty = height.div_ceil(side) as usize;
     let mut bins = vec![Vec::new(); tx * ty];
     for (i, p) in polys.iter().enumerate() {
-        for t in tiles_met(p.bbox, tx, TILE) {
+        for t in tiles_met(p.bbox, tx, side) {
             bins[t].push(i as u32);
         }
     }
@@ -874,13 +879,13 @@ pub fn render(polys: &[ScreenPoly], bg: &Background, width: u32, height: u32, aa
     };
     let blocks: Vec<Vec<[f32; 3]>> = match aa {
         Aa::Exact => {
-            let binned = gather::bin_geometry(polys, width, height);
+            let bins = bin_of_side(polys, width, height, EXACT_TILE);
             tiles
                 .par_iter()
                 .enumerate()
                 .map(|(i, t)| {
                     coverage::with_tile_scratch(|s, g| {
-                        binned.tile_into(i, g);
+                        g.gather(polys, &bins[i]);
                         coverage::render_tile(polys, g, bg, *t, s)
                     })
                 })
