@@ -1045,23 +1045,22 @@ fn split(poly: &[DVec2], sides: &[f64], inside: &mut Vec<DVec2>, outside: &mut V
         let j = if i + 1 == n { 0 } else { i + 1 };
         let (a, b) = (poly[i], poly[j]);
         let (da, db) = (sides[i], sides[j]);
-        if da >= 0.0 {
-            inside.push(a);
-            if db < 0.0 && da > 0.0 {
-                inside.push(a + (b - a) * (da / (da - db)));
-            }
-        } else if db > 0.0 {
-            inside.push(b + (a - b) * (db / (db - da)));
+        clip_step(a, b, da, db, inside);
+        clip_step(a, b, -da, -db, outside);
+    }
+}
+
+/// One edge `a -> b` of a Sutherland–Hodgman pass keeping `d >= 0` (`da`,
+/// `db` at its ends), pushing what `clip_line` pushes for it.
+#[inline(always)]
+fn clip_step(a: DVec2, b: DVec2, da: f64, db: f64, out: &mut Vec<DVec2>) {
+    if da >= 0.0 {
+        out.push(a);
+        if db < 0.0 && da > 0.0 {
+            out.push(a + (b - a) * (da / (da - db)));
         }
-        let (na, nb) = (-da, -db);
-        if na >= 0.0 {
-            outside.push(a);
-            if nb < 0.0 && na > 0.0 {
-                outside.push(a + (b - a) * (na / (na - nb)));
-            }
-        } else if nb > 0.0 {
-            outside.push(b + (a - b) * (nb / (nb - na)));
-        }
+    } else if db > 0.0 {
+        out.push(b + (a - b) * (db / (db - da)));
     }
 }
 
