@@ -52,8 +52,8 @@ pub const TILE: u32 = 32;
 /// Side of the tiles of `--aa exact`, which keeps no sample buffers: larger
 /// tiles cut fewer polygons at their borders (each is gathered and clipped
 /// once per tile it meets). Measured on a million random triangles at
-/// 1024x768: 16 → 1.3x the time of 32, 64 → 0.87x, 128 → 1.2x (fewer,
-/// less even tiles); demo 2 alike within 5%.
+/// 1024x768 (interleaved runs, median): 16 → 1.2x the time of 32, 64 →
+/// 0.86x of 32, 128 → 1.2x of 64 (fewer, less even tiles); demo 2 at 64 within 2%.
 pub const EXACT_TILE: u32 = 64;
 
 /// Relative depth tolerance under which two polygons count as equally near at a

@@ -335,20 +335,38 @@ impl StripeTexture {
         if area.is_nan() || area <= 0.0 {
             return None;
         }
-        let (jmin, jmax) = (jmin as i64, jmax as i64);
+        let total = self.integrate((jmin as i64, jmax as i64), area, |[a, b, c]| {
+            clipped_area_few(poly, sign * a, sign * b, sign * c)
+        });
+        Some(total / area)
+    }
+
+    /// The integral of the crisp stripe function over a polygon of area
+    /// `area` whose stripe samples run from `jmin` to `jmax`: each sample's
+    /// value times the polygon's area within it, found as differences of
+    /// `area_where_less(line)`, the polygon's area on the negative side of
+    /// `line` (the iso-line `P = (j + 1)/n`, as [`ScreenMapping::iso_line`]
+    /// gives it). The one loop of the reference and of `--aa exact`.
+    fn integrate(
+        &self,
+        (jmin, jmax): (i64, i64),
+        area: f64,
+        area_where_less: impl Fn([f64; 3]) -> f64,
+    ) -> f64 {
+        let n = self.modulation.len() as f64;
         let mut total = 0.0;
         let mut below = 0.0;
         for j in jmin..=jmax {
             let upto = if j == jmax {
                 area
             } else {
-                let [a, b, c] = map.iso_line((j + 1) as f64 / n);
-                clipped_area_few(poly, sign * a, sign * b, sign * c)
+                // Area where P < (j + 1)/n: sign·(N − c D) < 0.
+                area_where_less(self.mapping.iso_line((j + 1) as f64 / n))
             };
             total += self.modulation.crisp((j as f64 + 0.5) / n) * (upto - below);
             below = upto;
         }
-        Some(total / area)
+        total
     }
 
     /// The crisp stripe colour at the screen point `(x, y)` (level 0, no LOD),
@@ -401,21 +419,9 @@ impl StripeTexture {
                 u64::MAX
             }));
         }
-        let (jmin, jmax) = (jmin as i64, jmax as i64);
-        let mut total = 0.0;
-        let mut below = 0.0;
-        for j in jmin..=jmax {
-            let upto = if j == jmax {
-                area
-            } else {
-                // Area where P < (j + 1)/n: sign·(N − c D) < 0.
-                let [a, b, c] = map.iso_line((j + 1) as f64 / n);
-                clipped_area(poly, sign * a, sign * b, sign * c)
-            };
-            let value = self.modulation.crisp((j as f64 + 0.5) / n);
-            total += value * (upto - below);
-            below = upto;
-        }
+        let total = self.integrate((jmin as i64, jmax as i64), area, |[a, b, c]| {
+            clipped_area(poly, sign * a, sign * b, sign * c)
+        });
         Ok(total / area)
     }
 

@@ -21,12 +21,23 @@ fn decode(bytes: &[u8]) -> image::RgbaImage {
 }
 
 fn linear(code: u8) -> f64 {
-    let c = code as f64 / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
+    patkit::color::srgb_to_linear_f64(code as f64 / 255.0)
+}
+
+/// `scene-render` of `file` under `--ortho 0,200,0,200,-100,100` at 200x200,
+/// as PPM bytes.
+fn render_200(dir: &crate::util::Dir, file: &str) -> Vec<u8> {
+    dir.cmd("scene-render")
+        .args([
+            "--ortho",
+            "0,200,0,200,-100,100",
+            "--size",
+            "200x200",
+            "--format",
+            "ppm",
+        ])
+        .arg(file)
+        .ok_stdout()
 }
 
 /// Seed 002's view: glOrtho(-80,80,-60,60,0,100) on 800x600.
@@ -229,19 +240,7 @@ clitest!(
         assert_eq!(lines.len(), 2 + 12 * 2 * 2);
         assert!(lines[2].get("uv").is_none() && lines[2].get("transform").is_none());
         dir.write("cells.ndjson", &text);
-        let render = |f: &str| {
-            dir.cmd("scene-render")
-                .args([
-                    "--ortho",
-                    "0,200,0,200,-100,100",
-                    "--size",
-                    "200x200",
-                    "--format",
-                    "ppm",
-                ])
-                .arg(f)
-                .ok_stdout()
-        };
+        let render = |f: &str| render_200(&dir, f);
         assert!(
             render("s.json") == render("cells.ndjson"),
             "direct and expanded renders differ"
@@ -271,19 +270,7 @@ clitest!(
 {"instance": "o", "transform": {"translate": [100, 100, 0]}}"#;
         dir.write("a.json", direct);
         dir.write("b.json", placed);
-        let render = |f: &str| {
-            dir.cmd("scene-render")
-                .args([
-                    "--ortho",
-                    "0,200,0,200,-100,100",
-                    "--size",
-                    "200x200",
-                    "--format",
-                    "ppm",
-                ])
-                .arg(f)
-                .ok_stdout()
-        };
+        let render = |f: &str| render_200(&dir, f);
         assert!(render("a.json") == render("b.json"));
     }
 );
