@@ -145,8 +145,8 @@ NOTES = """Notes:
   that fills the view. With the skip its fragments are never filtered (`--aa exact`: a deferred
   colour filtered only once visible; `--aa ss<N>`: the depth test first, texturing only the
   samples that stay). Without it every covered fragment or sample is filtered. With the box
-  filter (exact) the skip is the occlusion cull: a textured fragment behind its pixel's nearest
-  full cover is never cut into texel cells; without the skip it is cut and then found hidden.
+  filter (exact) the skip is the tile sweep's drop: a textured fragment behind everything that
+  covers its pixel is never cut into texel cells; without the skip it is cut and then found hidden.
 - mip: a 1024x1024 pattern on a wall that is magnified everywhere: with the skip no pixel asks
   for a MIP level, so the pyramid is never built; without it the pattern's pyramid is built
   before rendering (what an eager loader would do). The ratio is the pyramid's cost.

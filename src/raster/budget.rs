@@ -209,7 +209,7 @@ impl Snapped {
         let k = match aa {
             Aa::Exact => {
                 return coverage::with_tile_scratch(|s, g| {
-                    g.gather(polys, bin);
+                    g.gather(polys, bin, tile);
                     coverage::render_tile(polys, g, bg, tile, s)
                 });
             }
@@ -273,7 +273,7 @@ pub fn render_within(
         .par_iter()
         .map(|&t| {
             let exact = coverage::with_tile_scratch(|s, g| {
-                g.gather(polys, &bins[t]);
+                g.gather(polys, &bins[t], tiles[t]);
                 coverage::render_tile(polys, g, bg, tiles[t], s)
             });
             let mut sse = [0.0; N];

@@ -7,25 +7,22 @@
 //!    crossings of an edge are computed from its inside endpoint, so the
 //!    fragments of polygons that share an edge meet exactly. Pixels whose four
 //!    corners lie in the piece are marked *full* without any clipping.
-//! 2. **Occlusion cull.** A first pass over the tile records, per pixel, the
-//!    nearest opaque polygon full in it; a fragment behind that one over the
-//!    whole pixel (tie tolerance included) is never cut or stored.
-//! 3. **Visibility.** Nearness is affine over the screen, so the part of
+//! 2. **Visibility.** Nearness is affine over the screen, so the part of
 //!    fragment G in front of fragment F is G cut by one line (where
 //!    `q_G - q_F > 0`): a convex polygon. The visible part of F is F minus the
-//!    union of those pieces over every other G, computed by convex subtraction
-//!    (the remainder stays a list of convex polygons). This is exact for
-//!    interpenetrating polygons too, with no depth sorting
-//!    ([`subtract_pairwise`]). Where the fragments of a pixel have one
-//!    front-to-back order over all their overlaps, which is checked, a sweep
-//!    in that order cuts each out of what is still uncovered and stops when
-//!    nothing is ([`sweep_front_to_back`]): the same areas, in linear time.
+//!    union of those pieces over every other G, by convex subtraction (the
+//!    remainder stays a list of convex polygons): exact for interpenetrating
+//!    polygons too ([`subtract_pairwise`]).
+//! 3. **Tile sweep.** The same areas, found front to back: the tile's
+//!    polygons come nearest first, and each fragment is cut out of its
+//!    pixel's uncovered part as it is made, its visible area being what it
+//!    removed ([`PixelStates`]). That holds where no fragment is in front of
+//!    one that showed before it, which is checked; a pixel where the check
+//!    fails is resolved again pairwise. A covered pixel drops what comes
+//!    behind everything that showed in it before it is clipped, and a pixel
+//!    row wholly behind is never cut from its piece.
 //! 4. **Blend.** The pixel is `sum(area_F * colour_F) + (1 - sum(area_F)) * bg`
-//!    in linear light, accumulated in f64 in a fixed order.
-//!
-//! Fast path: a full fragment that is nearer than every other fragment at all
-//! four corners of the pixel (differences of affine functions are extreme at
-//! corners) hides them entirely, and the pixel is its colour.
+//!    in linear light, accumulated in f64.
 //!
 //! Two same-coloured polygons sharing an edge give areas that sum to the area of
 //! their union up to ~1e-16; [`AREA_EPS`] absorbs that so no seam of background
@@ -55,17 +52,6 @@ pub const EDGE_EPS: f64 = 1e-9;
 /// subtraction for every pair of neighbours, the common case on textured faces.
 pub const SEPARATION_EPS: f64 = 1e-9;
 
-/// Pixels with at least this many live fragments are resolved by
-/// [`sweep_front_to_back`], the others by pairwise subtraction. With two or
-/// three, the pairs are mostly neighbours that touch along an edge, which
-/// the pairwise test passes without cutting anything, while the sweep cuts
-/// every fragment out of the uncovered part. Measured (resolve time, one
-/// thread) on demo 2 at incr 1 with back faces culled, about three per
-/// pixel: 40 ms all pairwise, 53 ms all swept, 43 ms with this threshold.
-/// On a million random triangles, about nine per pixel, the sweep took the
-/// whole render from 4.2 s to 2.0 s.
-const SWEEP_MIN_LIVE: usize = 4;
-
 /// One polygon's part of one pixel.
 #[derive(Clone, Copy, Debug)]
 struct Frag {
@@ -88,21 +74,10 @@ const POLY_COLOR: u32 = u32::MAX;
 /// the pixel centre) is computed only once it is known to be visible.
 const FILTER_LATER: u32 = u32::MAX - 1;
 
-/// The colour of a fragment, filtering a [`FILTER_LATER`] texture now.
-#[inline]
-fn frag_color(
-    polys: &[ScreenPoly],
-    locals: &[Local],
-    f: &Frag,
-    cols: &[[f64; 3]],
-    i: usize,
-    px: u32,
-    py: u32,
-) -> [f64; 3] {
-    if f.color != FILTER_LATER {
-        return cols[i];
-    }
-    let tex = polys[locals[f.poly as usize].global as usize]
+/// The filtered colour at the centre of pixel `(px, py)` of a
+/// [`FILTER_LATER`] fragment of `l`, computed once it is known to show.
+fn deferred_filter(polys: &[ScreenPoly], l: &Local, px: u32, py: u32) -> [f64; 3] {
+    let tex = polys[l.global as usize]
         .texture
         .as_ref()
         .expect("FILTER_LATER fragments are textured");
@@ -153,9 +128,9 @@ fn push_frag(
     // A filter other than the box: the fragment is flat, coloured by the
     // filter at the pixel centre (its coverage stays exact). When no texel
     // can be transparent the colour does not decide visibility, and it is
-    // left to [`resolve_pixel`], which computes it only if the fragment
-    // shows (hidden pixels are never filtered; `--no-skip hidden` filters
-    // them all, for the benchmark).
+    // left to [`PixelStates::sweep`], which computes it only if the
+    // fragment shows (hidden pixels are never filtered; `--no-skip hidden`
+    // filters them all, for the benchmark).
     if let Some((f, fp)) = tex.filter_at(x + 0.5, y + 0.5) {
         if tex.always_opaque() && tex.skips.hidden {
             push_piece(frags, arena, pixel, pi, verts, FILTER_LATER);
@@ -296,85 +271,87 @@ fn push_piece(
 /// the row), the pixel columns `cx0..cx1` it touches, and its full pixels
 /// `[x, x + 1] ⊂ [full_lo, full_hi]`.
 struct RowSpan {
-    py: u32,
     cx0: u32,
     cx1: u32,
     full_lo: f64,
     full_hi: f64,
 }
 
-/// Calls `row` for each pixel row of the tile that the convex `piece` meets
-/// with some area, with the band of the piece in that row.
-fn for_each_row(
+/// The pixel rows `y0..y1` and columns `x0..x1` of the tile that a box
+/// `[x0, y0, x1, y1]` meets.
+fn pixel_range(bb: &[f64; 4], [tx0, ty0, tx1, ty1]: [u32; 4]) -> [u32; 4] {
+    [
+        (bb[0].floor() as u32).max(tx0),
+        (bb[1].floor() as u32).max(ty0),
+        (bb[2].ceil() as u32).min(tx1),
+        (bb[3].ceil() as u32).min(ty1),
+    ]
+}
+
+/// The band of the convex `piece` in pixel row `py` (into `band`, `tmp`
+/// scratch) and where it lies in the row, or `None` where the piece meets
+/// the row with no area.
+fn row_band(
     piece: &[DVec2],
-    [tx0, ty0, tx1, ty1]: [u32; 4],
+    py: u32,
+    (tx0, tx1): (u32, u32),
     tmp: &mut Vec<DVec2>,
     band: &mut Vec<DVec2>,
-    mut row: impl FnMut(RowSpan, &[DVec2]),
-) {
-    let [_, y0, _, y1] = bounds(piece);
-    let ry0 = (y0.floor() as u32).max(ty0);
-    let ry1 = (y1.ceil() as u32).min(ty1);
-    for py in ry0..ry1 {
-        let (yb, yt) = (py as f64, py as f64 + 1.0);
-        tmp.clear();
-        clip_axis(piece, 1, yb, true, tmp);
-        band.clear();
-        clip_axis(tmp, 1, yt, false, band);
-        if band.len() < 3 {
-            continue;
-        }
-        let (mut bx0, mut bx1) = (f64::MAX, f64::MIN);
-        // Spans of the band on its bottom and top lines: the pixel
-        // [x, x+1] is full iff it lies within both (convexity).
-        let (mut lb, mut rb, mut lt, mut rt) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-        for v in band.iter() {
-            bx0 = fmin(bx0, v.x);
-            bx1 = fmax(bx1, v.x);
-            if v.y == yb {
-                lb = fmin(lb, v.x);
-                rb = fmax(rb, v.x);
-            }
-            if v.y == yt {
-                lt = fmin(lt, v.x);
-                rt = fmax(rt, v.x);
-            }
-        }
-        let span = RowSpan {
-            py,
-            cx0: (bx0.floor() as u32).max(tx0),
-            cx1: (bx1.ceil() as u32).min(tx1),
-            full_lo: lb.max(lt).ceil(),
-            full_hi: rb.min(rt).floor(),
-        };
-        row(span, band);
+) -> Option<RowSpan> {
+    let (yb, yt) = (py as f64, py as f64 + 1.0);
+    tmp.clear();
+    clip_axis(piece, 1, yb, true, tmp);
+    band.clear();
+    clip_axis(tmp, 1, yt, false, band);
+    if band.len() < 3 {
+        return None;
     }
+    let (mut bx0, mut bx1) = (f64::MAX, f64::MIN);
+    // Spans of the band on its bottom and top lines: the pixel
+    // [x, x+1] is full iff it lies within both (convexity).
+    let (mut lb, mut rb, mut lt, mut rt) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for v in band.iter() {
+        bx0 = fmin(bx0, v.x);
+        bx1 = fmax(bx1, v.x);
+        if v.y == yb {
+            lb = fmin(lb, v.x);
+            rb = fmax(rb, v.x);
+        }
+        if v.y == yt {
+            lt = fmin(lt, v.x);
+            rt = fmax(rt, v.x);
+        }
+    }
+    Some(RowSpan {
+        cx0: (bx0.floor() as u32).max(tx0),
+        cx1: (bx1.ceil() as u32).min(tx1),
+        full_lo: lb.max(lt).ceil(),
+        full_hi: rb.min(rt).floor(),
+    })
 }
 
-/// The nearest polygon known to cover a whole pixel, as a bound: its
-/// nearness at the pixel centre and its least nearness over the pixel.
-#[derive(Clone, Copy)]
-struct Cover {
-    q_centre: f64,
-    q_min: f64,
-}
-
-impl Cover {
-    const NONE: Cover = Cover {
-        q_centre: f64::NEG_INFINITY,
-        q_min: f64::NEG_INFINITY,
-    };
-}
-
-/// Whether `p` is behind `cover` over the whole pixel centred at `(cx, cy)`
-/// by more than the tie tolerance (so that [`front_of`] from `p` to the
-/// covering polygon is `<= 0` at every corner): then the pixel never shows
-/// `p`, as [`resolve_pixel`]'s fast path finds for fragments behind a full
-/// one. The bound uses the cover's least nearness over the pixel and `p`'s
-/// greatest, so it holds at every point, not only at the corners.
-fn hidden_by(p: &Local, cover: Cover, cx: f64, cy: f64) -> bool {
-    let qc = p.q(cx, cy);
-    qc + p.half_spread() + tie_tolerance(qc, cover.q_centre, p.tie_floor) <= cover.q_min
+/// The part of pixel `x` of a row's `band` (into `cell`, `tmp` scratch):
+/// `Some(&[])` for the full pixel square (no clipping), `None` where the
+/// piece has no area in the pixel.
+fn pixel_cell<'a>(
+    band: &[DVec2],
+    r: &RowSpan,
+    x: u32,
+    tmp: &mut Vec<DVec2>,
+    cell: &'a mut Vec<DVec2>,
+) -> Option<&'a [DVec2]> {
+    let (xl, xr) = (x as f64, x as f64 + 1.0);
+    if xl >= r.full_lo && xr <= r.full_hi {
+        return Some(&[]);
+    }
+    tmp.clear();
+    clip_axis(band, 0, xl, true, tmp);
+    cell.clear();
+    clip_axis(tmp, 0, xr, false, cell);
+    if cell.len() < 3 || area2(cell) <= 2.0 * AREA_EPS {
+        return None;
+    }
+    Some(cell)
 }
 
 /// Buffers of [`render_tile`], kept from tile to tile by each thread: a
@@ -383,11 +360,8 @@ fn hidden_by(p: &Local, cover: Cover, cx: f64, cy: f64) -> bool {
 #[derive(Default)]
 pub struct TileScratch {
     frags: Vec<Frag>,
-    grouped: Vec<Frag>,
     arena: Vec<DVec2>,
-    first: Vec<u32>,
-    next: Vec<u32>,
-    covers: Vec<Cover>,
+    pixels: PixelStates,
     band: Vec<DVec2>,
     tmp: Vec<DVec2>,
     cell: Vec<DVec2>,
@@ -417,10 +391,14 @@ pub fn with_tile_scratch<R>(f: impl FnOnce(&mut TileScratch, &mut TileGeom) -> R
 
 /// Renders one tile with exact coverage.
 ///
-/// A first pass finds, per pixel, the nearest opaque polygon that covers it
-/// whole; fragments behind it by more than the tie tolerance over the whole
-/// pixel are then never clipped or stored. At depth (ten layers of small
-/// triangles) most fragments die there, before the per-pixel work.
+/// The tile's pieces are swept nearest first (by their greatest nearness
+/// in the tile), and each fragment is cut out of its pixel's uncovered part
+/// as it is made ([`PixelStates`]): once a pixel is covered, what comes
+/// later and lies behind everything that showed in it is dropped before it
+/// is clipped, and a pixel row wholly behind is never cut from its piece.
+/// At depth (ten layers of small triangles) most fragments die there.
+/// Pixels where that order does not hold (polygons crossing inside the
+/// pixel, or met out of order) are resolved again by pairwise subtraction.
 pub fn render_tile(
     polys: &[ScreenPoly],
     geom: &TileGeom,
@@ -428,16 +406,13 @@ pub fn render_tile(
     tile: [u32; 4],
     s: &mut TileScratch,
 ) -> Vec<[f32; 3]> {
-    let [tx0, ty0, tx1, ty1] = tile;
+    let [tx0, ty0, tx1, _] = tile;
     let tw = (tx1 - tx0) as usize;
-    let th = (ty1 - ty0) as usize;
+    let th = (tile[3] - ty0) as usize;
     let TileScratch {
         frags,
-        grouped,
         arena,
-        first,
-        next,
-        covers,
+        pixels,
         band,
         tmp,
         cell,
@@ -448,42 +423,27 @@ pub fn render_tile(
     frags.clear();
     arena.clear();
     tex.colors.clear();
-    covers.clear();
-    covers.resize(tw * th, Cover::NONE);
+    pixels.reset(tw * th, &mut resolve.pool);
     let locals = &geom.locals[..];
     let pixel_of = |x: u32, py: u32| ((py - ty0) as usize * tw + (x - tx0) as usize) as u32;
-    for r in &geom.pieces {
-        let l = &locals[r.local as usize];
-        if !l.occludes {
-            continue;
-        }
-        let piece = geom.piece(polys, r);
-        let [x0, y0, x1, y1] = bounds(piece);
-        if x1 - x0 < 1.0 || y1 - y0 < 1.0 {
-            continue; // No room for a full pixel.
-        }
-        for_each_row(piece, tile, tmp, band, |r, _| {
-            let lo = (r.full_lo.max(r.cx0 as f64) as u32).min(r.cx1);
-            let hi = (r.full_hi.min(r.cx1 as f64).max(lo as f64)) as u32;
-            let cy = r.py as f64 + 0.5;
-            for x in lo..hi {
-                let q_centre = l.q(x as f64 + 0.5, cy);
-                let c = &mut covers[pixel_of(x, r.py) as usize];
-                let q_min = q_centre - l.half_spread();
-                if q_min > c.q_min {
-                    *c = Cover { q_centre, q_min };
-                }
-            }
-        });
-    }
     for r in &geom.pieces {
         // Fragments name their polygon by its index in the tile ([`Local`]).
         let pi = r.local;
         let l = &locals[pi as usize];
         let p = (!l.plain).then(|| &polys[l.global as usize]);
-        for_each_row(geom.piece(polys, r), tile, tmp, band, |r, band| {
-            let py = r.py;
+        let piece = geom.piece(polys, r);
+        let [rx0, ry0, rx1, ry1] = pixel_range(&r.bb, tile);
+        for py in ry0..ry1 {
             let cy = py as f64 + 0.5;
+            let hidden = |pixels: &PixelStates, x: u32| {
+                l.cullable && pixels.hides(pixel_of(x, py), l, x as f64 + 0.5, cy)
+            };
+            if (rx0..rx1).all(|x| hidden(pixels, x)) {
+                continue; // Behind every pixel the row could touch.
+            }
+            let Some(r) = row_band(piece, py, (tx0, tx1), tmp, band) else {
+                continue;
+            };
             // The full pixels of the row, for the run fast path.
             let (fx0, fx1) = if r.full_hi >= r.full_lo + 1.0 {
                 (
@@ -496,83 +456,446 @@ pub fn render_tile(
             let run_path = fx1 > fx0 && p.is_some_and(box_magnified);
             let mut px = r.cx0;
             while px < r.cx1 {
+                frags.clear();
                 if let (true, Some(p)) = (run_path && px == fx0, p) {
                     let row = Row { py, ty0, tx0, tw };
                     push_full_run(p, pi, row, fx0, fx1, frags, arena, tex);
                     px = fx1;
-                    continue;
-                }
-                let x = px;
-                px += 1;
-                let pixel = pixel_of(x, py);
-                if l.cullable && hidden_by(l, covers[pixel as usize], x as f64 + 0.5, cy) {
-                    continue;
-                }
-                let (xl, xr) = (x as f64, x as f64 + 1.0);
-                let verts: &[DVec2] = if xl >= r.full_lo && xr <= r.full_hi {
-                    &[]
                 } else {
-                    tmp2.clear();
-                    clip_axis(band, 0, xl, true, tmp2);
-                    cell.clear();
-                    clip_axis(tmp2, 0, xr, false, cell);
-                    if cell.len() < 3 || area2(cell) <= 2.0 * AREA_EPS {
+                    let x = px;
+                    px += 1;
+                    let pixel = pixel_of(x, py);
+                    if hidden(pixels, x) {
                         continue;
                     }
-                    cell
-                };
-                match p {
-                    None => push_piece(frags, arena, pixel, pi, verts, POLY_COLOR),
-                    Some(p) => push_frag(p, pi, pixel, (x, py), verts, frags, arena, tex),
+                    let Some(verts) = pixel_cell(band, &r, x, tmp2, cell) else {
+                        continue;
+                    };
+                    match p {
+                        None => push_piece(frags, arena, pixel, pi, verts, POLY_COLOR),
+                        Some(p) => push_frag(p, pi, pixel, (x, py), verts, frags, arena, tex),
+                    }
+                }
+                for f in frags.iter() {
+                    let at = (tx0 + f.pixel % tw as u32, ty0 + f.pixel / tw as u32);
+                    let shown = Shown {
+                        polys,
+                        locals,
+                        arena,
+                        colors: &tex.colors,
+                    };
+                    pixels.sweep(f, at, &shown, resolve);
                 }
             }
-        });
-    }
-    // Group by pixel, keeping stream order within a pixel: a counting sort
-    // (stable, like the comparison sort it replaces, and linear in the number
-    // of fragments, which runs to tens of thousands per tile at depth).
-    first.clear();
-    first.resize(tw * th + 1, 0);
-    for f in frags.iter() {
-        first[f.pixel as usize + 1] += 1;
-    }
-    for k in 0..tw * th {
-        first[k + 1] += first[k];
-    }
-    grouped.clear();
-    if let Some(&f0) = frags.first() {
-        grouped.resize(frags.len(), f0);
-        next.clear();
-        next.extend_from_slice(first);
-        for f in frags.iter() {
-            let slot = &mut next[f.pixel as usize];
-            grouped[*slot as usize] = *f;
-            *slot += 1;
         }
     }
-    let mut out = Vec::with_capacity(tw * th);
-    for idx in 0..(tw * th) as u32 {
-        let (start, end) = (
-            first[idx as usize] as usize,
-            first[idx as usize + 1] as usize,
-        );
-        let (px, py) = (tx0 + idx % tw as u32, ty0 + idx / tw as u32);
-        out.push(resolve_pixel(
-            polys,
-            locals,
-            &grouped[start..end],
-            arena,
-            &tex.colors,
-            bg,
-            px,
-            py,
-            resolve,
-        ));
-    }
-    out
+    (0..(tw * th) as u32)
+        .map(|idx| {
+            let (px, py) = (tx0 + idx % tw as u32, ty0 + idx / tw as u32);
+            pixels.colour(idx, bg, px, py)
+        })
+        .collect()
 }
 
-/// Per-tile buffers of [`resolve_pixel`], reused from pixel to pixel.
+/// Where a pixel stands in the tile-order sweep of [`render_tile`].
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Status {
+    /// What has shown (if anything) is pairwise disjoint, so the uncovered
+    /// part is the square minus their areas, and it is never built: a pixel
+    /// cut into texel cells or split between neighbours that only touch
+    /// costs no subtraction at all.
+    Disjoint,
+    /// Partly covered, with overlaps: the uncovered part is the pixel's
+    /// convex pieces.
+    Open,
+    /// Wholly covered.
+    Closed,
+}
+
+/// A fragment that showed in a pixel, kept to check what comes later
+/// against it (and to resolve the pixel again if that check fails).
+#[derive(Clone, Copy)]
+struct Shower {
+    poly: u32,
+    /// Vertices in the arena, or `len == 0` for the full pixel square.
+    start: u32,
+    len: u32,
+    /// Nearness at the pixel centre, and least over the pixel.
+    qc: f64,
+    q_lo: f64,
+    bb: [f64; 4],
+    color: [f64; 3],
+}
+
+/// What [`PixelStates::sweep`] reads of the tile to place and colour a
+/// fragment.
+struct Shown<'a> {
+    polys: &'a [ScreenPoly],
+    locals: &'a [Local],
+    arena: &'a [DVec2],
+    colors: &'a [[f64; 3]],
+}
+
+/// The tile-order sweep's state of each pixel of a tile: what is still
+/// uncovered, the colour and area of what has shown, and the fragments
+/// that showed (the *showers*).
+///
+/// Fragments arrive in the tile's sweep order, nearest first by a bound,
+/// not in each pixel's own order. Each is checked against every shower of
+/// its pixel: it must be nowhere in front of it where they overlap
+/// ([`front_of`] `<= 0` at the vertices of either, which bound their
+/// overlap since it is affine, or no common interior). Then it hides
+/// nothing that has shown, and what it shows is exactly its part of the
+/// uncovered region: it is cut out of it, and its visible area is what it
+/// removed. Fragments that showed nothing need no check: they lie under
+/// showers, which are in front of them there.
+///
+/// Where the check fails (polygons crossing inside the pixel, or met out
+/// of order) the pixel is resolved again among its showers and the
+/// newcomer by pairwise subtraction ([`subtract_pairwise`]), exact for any
+/// arrangement. The showers are enough: every other fragment lies, at each
+/// of its points, behind a shower. The sweep then goes on from there.
+#[derive(Default)]
+struct PixelStates {
+    status: Vec<Status>,
+    /// Area-weighted linear-light colour of what has shown, and its area.
+    acc: Vec<[f64; 4]>,
+    /// Over the showers: the least nearness over the pixel, and the largest
+    /// |nearness| at the centre (for the tie tolerance).
+    floor: Vec<[f64; 2]>,
+    /// The uncovered part of an [`Status::Open`] pixel, as convex pieces.
+    open: Vec<Vec<Vec<DVec2>>>,
+    showers: Vec<Vec<Shower>>,
+    /// How many times a pixel was resolved again (a count for the tests).
+    resolved_again: u32,
+}
+
+/// A fragment on its way into [`PixelStates::sweep`].
+struct Newcomer<'a> {
+    f: &'a Frag,
+    l: &'a Local,
+    verts: &'a [DVec2],
+    bb: [f64; 4],
+    qc: f64,
+    /// Its colour, `None` for a [`FILTER_LATER`] one not yet filtered.
+    color: Option<[f64; 3]>,
+}
+
+impl PixelStates {
+    /// Every pixel uncovered, for a tile of `n` pixels; the last tile's
+    /// pieces go back to `pool`.
+    fn reset(&mut self, n: usize, pool: &mut Vec<Vec<DVec2>>) {
+        for open in &mut self.open {
+            pool.append(open);
+        }
+        for s in &mut self.showers {
+            s.clear();
+        }
+        if self.open.len() < n {
+            self.open.resize_with(n, Vec::new);
+            self.showers.resize_with(n, Vec::new);
+        }
+        self.status.clear();
+        self.status.resize(n, Status::Disjoint);
+        self.acc.clear();
+        self.acc.resize(n, [0.0; 4]);
+        self.floor.clear();
+        self.floor.resize(n, [f64::INFINITY, 0.0]);
+    }
+
+    /// Whether `l` can show nothing in the pixel centred at `(cx, cy)`: the
+    /// pixel is covered, and `l` is behind every shower over the whole
+    /// pixel by more than the tie tolerance (so the check of
+    /// [`PixelStates::sweep`] passes for it without its fragment).
+    #[inline]
+    fn hides(&self, pixel: u32, l: &Local, cx: f64, cy: f64) -> bool {
+        let p = pixel as usize;
+        if self.status[p] != Status::Closed {
+            return false;
+        }
+        let [q_lo, abs] = self.floor[p];
+        let qc = l.q(cx, cy);
+        qc + l.half_spread() + tie_tolerance(qc, abs, l.tie_floor) <= q_lo
+    }
+
+    /// Sweeps fragment `f` of pixel `(px, py)` (see [`PixelStates`]).
+    fn sweep(&mut self, f: &Frag, (px, py): (u32, u32), t: &Shown, work: &mut Scratch) {
+        let p = f.pixel as usize;
+        let l = &t.locals[f.poly as usize];
+        // A screen pattern's transparent texel: no fragment at all.
+        let color = match f.color {
+            POLY_COLOR => match l
+                .color
+                .or_else(|| t.polys[l.global as usize].color_at(px, py))
+            {
+                Some(c) => Some(c),
+                None => return,
+            },
+            FILTER_LATER => None,
+            i => Some(t.colors[i as usize]),
+        };
+        let square = super::pixel_square(px, py);
+        let verts = frag_verts(f, t.arena, &square);
+        let n = Newcomer {
+            f,
+            l,
+            verts,
+            bb: bounds(verts),
+            qc: l.q(px as f64 + 0.5, py as f64 + 0.5),
+            color,
+        };
+        let status = self.status[p];
+        let (in_order, overlaps) = self.check(p, &n, &square, t);
+        if !in_order {
+            self.resolve_again(p, &n, (px, py), &square, t, work);
+            return;
+        }
+        let seen2 = match status {
+            Status::Closed => return, // Hidden: behind what covers the pixel.
+            Status::Disjoint if !overlaps => {
+                if f.len == 0 {
+                    2.0
+                } else {
+                    area2(verts)
+                }
+            }
+            Status::Disjoint | Status::Open => {
+                if status == Status::Disjoint {
+                    self.build_open(p, &square, t.arena, work);
+                }
+                self.cut(p, &n, &square, work)
+            }
+        };
+        let area = 0.5 * seen2;
+        if area > AREA_EPS {
+            let c = n
+                .color
+                .unwrap_or_else(|| deferred_filter(t.polys, l, px, py));
+            self.show(p, &n, area, c);
+        }
+        if self.status[p] == Status::Disjoint && self.acc[p][3] >= 1.0 - AREA_EPS {
+            self.status[p] = Status::Closed;
+        }
+    }
+
+    /// Whether `n` is nowhere in front of a shower of pixel `p` where they
+    /// overlap; and, for a [`Status::Disjoint`] pixel, whether it overlaps
+    /// any shower.
+    fn check(&self, p: usize, n: &Newcomer, square: &[DVec2; 4], t: &Shown) -> (bool, bool) {
+        let track = self.status[p] == Status::Disjoint;
+        let (l, qc) = (n.l, n.qc);
+        let q_hi = qc + l.half_spread();
+        let [floor, abs] = self.floor[p];
+        let behind_all = q_hi + tie_tolerance(qc, abs, l.tie_floor) <= floor;
+        if behind_all && !track {
+            return (true, false);
+        }
+        let mut overlaps = false;
+        for c in &self.showers[p] {
+            if c.poly == n.f.poly {
+                continue; // One polygon's pieces never overlap.
+            }
+            let cv = if c.len == 0 {
+                &square[..]
+            } else {
+                &t.arena[c.start as usize..(c.start + c.len) as usize]
+            };
+            let apart = || boxes_apart(&n.bb, &c.bb) || disjoint(cv, n.verts);
+            let behind = behind_all || q_hi + tie_tolerance(qc, c.qc, l.tie_floor) <= c.q_lo || {
+                let d = front_of(l, &t.locals[c.poly as usize], qc, c.qc);
+                let val = |v: &DVec2| d[0] * v.x + d[1] * v.y + d[2];
+                n.verts.iter().all(|v| val(v) <= 0.0) || cv.iter().all(|v| val(v) <= 0.0)
+            };
+            if behind {
+                overlaps = overlaps || (track && !apart());
+                continue;
+            }
+            if apart() {
+                continue;
+            }
+            return (false, true);
+        }
+        (true, overlaps)
+    }
+
+    /// Builds the uncovered part of a [`Status::Disjoint`] pixel: the
+    /// square minus each shower.
+    fn build_open(&mut self, p: usize, square: &[DVec2; 4], arena: &[DVec2], work: &mut Scratch) {
+        let open = &mut self.open[p];
+        let mut whole = work.pool.pop().unwrap_or_default();
+        whole.clear();
+        whole.extend_from_slice(square);
+        open.push(whole);
+        for c in &self.showers[p] {
+            let cv = if c.len == 0 {
+                &square[..]
+            } else {
+                &arena[c.start as usize..(c.start + c.len) as usize]
+            };
+            cut_out(open, cv, &c.bb, square, work);
+        }
+        self.status[p] = if open.is_empty() {
+            Status::Closed
+        } else {
+            Status::Open
+        };
+    }
+
+    /// Cuts `n` out of the uncovered part of an [`Status::Open`] pixel;
+    /// twice the area it removed.
+    fn cut(&mut self, p: usize, n: &Newcomer, square: &[DVec2; 4], work: &mut Scratch) -> f64 {
+        let open = &mut self.open[p];
+        let seen2 = cut_out(open, n.verts, &n.bb, square, work);
+        if open.is_empty() {
+            self.status[p] = Status::Closed;
+        }
+        seen2
+    }
+
+    /// Adds a shower to pixel `p`.
+    fn show(&mut self, p: usize, n: &Newcomer, area: f64, c: [f64; 3]) {
+        let acc = &mut self.acc[p];
+        for ch in 0..3 {
+            acc[ch] += area * c[ch];
+        }
+        acc[3] += area;
+        let q_lo = n.qc - n.l.half_spread();
+        self.showers[p].push(Shower {
+            poly: n.f.poly,
+            start: n.f.start,
+            len: n.f.len,
+            qc: n.qc,
+            q_lo,
+            bb: n.bb,
+            color: c,
+        });
+        let fl = &mut self.floor[p];
+        *fl = [fmin(fl[0], q_lo), fmax(fl[1], n.qc.abs())];
+    }
+
+    /// Resolves pixel `p` again among its showers and `n`, which is in front
+    /// of one of them somewhere, by pairwise subtraction; then cuts `n` out
+    /// of the uncovered part.
+    #[allow(clippy::too_many_arguments)]
+    fn resolve_again(
+        &mut self,
+        p: usize,
+        n: &Newcomer,
+        (px, py): (u32, u32),
+        square: &[DVec2; 4],
+        t: &Shown,
+        work: &mut Scratch,
+    ) {
+        self.resolved_again += 1;
+        let showers = &mut self.showers[p];
+        let batch = &mut work.batch;
+        batch.clear();
+        batch.extend(showers.iter().map(|c| Frag {
+            pixel: p as u32,
+            poly: c.poly,
+            start: c.start,
+            len: c.len,
+            color: POLY_COLOR,
+        }));
+        batch.push(*n.f);
+        work.qc.clear();
+        work.qc.extend(showers.iter().map(|c| c.qc));
+        work.qc.push(n.qc);
+        work.alive.clear();
+        work.alive.resize(batch.len(), true);
+        let batch = std::mem::take(&mut work.batch);
+        subtract_pairwise(t.locals, &batch, t.arena, square, work);
+        work.batch = batch;
+        // The new showers, with their new areas.
+        let mut acc = [0.0; 4];
+        let mut kept = std::mem::take(&mut work.showers);
+        kept.clear();
+        for &(i, area) in &work.seen {
+            let c = match showers.get(i as usize) {
+                Some(s) => *s,
+                None => {
+                    let color = n
+                        .color
+                        .unwrap_or_else(|| deferred_filter(t.polys, n.l, px, py));
+                    Shower {
+                        poly: n.f.poly,
+                        start: n.f.start,
+                        len: n.f.len,
+                        qc: n.qc,
+                        q_lo: n.qc - n.l.half_spread(),
+                        bb: n.bb,
+                        color,
+                    }
+                }
+            };
+            for ch in 0..3 {
+                acc[ch] += area * c.color[ch];
+            }
+            acc[3] += area;
+            kept.push(c);
+        }
+        std::mem::swap(showers, &mut kept);
+        work.showers = kept;
+        self.acc[p] = acc;
+        self.floor[p] = showers.iter().fold([f64::INFINITY, 0.0], |[lo, abs], c| {
+            [fmin(lo, c.q_lo), fmax(abs, c.qc.abs())]
+        });
+        match self.status[p] {
+            Status::Closed => {}
+            Status::Disjoint => self.build_open(p, square, t.arena, work),
+            Status::Open => {
+                self.cut(p, n, square, work);
+            }
+        }
+    }
+
+    /// The pixel's colour.
+    fn colour(&self, pixel: u32, bg: &Background, px: u32, py: u32) -> [f32; 3] {
+        let [r, g, b, covered] = self.acc[pixel as usize];
+        blend_background([r, g, b], covered, bg, px, py)
+    }
+}
+
+/// Cuts the convex `v` (bounding box `bb`) out of the convex pieces `open`
+/// of the pixel `square`; twice the area it removed.
+fn cut_out(
+    open: &mut Vec<Vec<DVec2>>,
+    v: &[DVec2],
+    bb: &[f64; 4],
+    square: &[DVec2; 4],
+    work: &mut Scratch,
+) -> f64 {
+    if v == square {
+        // The whole pixel: all that was open is seen.
+        let seen2 = open.iter().map(|piece| area2(piece)).sum();
+        work.pool.append(open);
+        return seen2;
+    }
+    let pixel = box_of(square);
+    let mut seen2 = 0.0;
+    let next = &mut work.next;
+    next.clear();
+    for piece in open.drain(..) {
+        if boxes_apart(&bounds(&piece), bb) {
+            next.push(piece);
+            continue;
+        }
+        seen2 += subtract(
+            &piece,
+            v,
+            pixel,
+            next,
+            &mut work.a,
+            &mut work.b,
+            &mut work.pool,
+        );
+        work.pool.push(piece);
+    }
+    std::mem::swap(open, next);
+    seen2
+}
+
+/// Per-tile buffers of the per-pixel visibility, reused from pixel to pixel.
 #[derive(Default)]
 struct Scratch {
     pieces: Vec<Vec<DVec2>>,
@@ -584,26 +907,20 @@ struct Scratch {
     occ: Vec<DVec2>,
     a: Vec<DVec2>,
     b: Vec<DVec2>,
+    /// The fragments [`subtract_pairwise`] resolves, and which of them are
+    /// present.
+    batch: Vec<Frag>,
     alive: Vec<bool>,
-    cols: Vec<[f64; 3]>,
     /// Runs `[start, end)` of consecutive fragments of one polygon.
     runs: Vec<(u32, u32)>,
     /// Each fragment's nearness at the pixel centre (the point the tie rule
     /// is evaluated at), computed once per pixel instead of once per pair.
     qc: Vec<f64>,
-    /// The fragments still alive after the fast path, in stream order, or
-    /// nearest first once [`sweep_front_to_back`] has run.
-    live: Vec<u32>,
-    /// Bounding box of each of `live`, in its order.
-    bb: Vec<[f64; 4]>,
     /// Visible area of each fragment that shows, found by
-    /// [`sweep_front_to_back`].
+    /// [`subtract_pairwise`].
     seen: Vec<(u32, f64)>,
-    /// Least and most nearness over the pixel of each of `live`.
-    span: Vec<[f64; 2]>,
-    /// Over `live[k..]`: the most nearness, the largest |q| at the centre,
-    /// the largest tie floor.
-    tail: Vec<[f64; 3]>,
+    /// A spare list of showers, for [`PixelStates::resolve_again`].
+    showers: Vec<Shower>,
 }
 
 fn frag_verts<'a>(f: &Frag, arena: &'a [DVec2], square: &'a [DVec2; 4]) -> &'a [DVec2] {
@@ -633,94 +950,6 @@ fn front_of(g: &Local, f: &Local, qg: f64, qf: f64) -> [f64; 3] {
     [d[0], d[1], c]
 }
 
-#[allow(clippy::too_many_arguments)]
-fn resolve_pixel(
-    polys: &[ScreenPoly],
-    locals: &[Local],
-    frags: &[Frag],
-    arena: &[DVec2],
-    colors: &[[f64; 3]],
-    bg: &Background,
-    px: u32,
-    py: u32,
-    s: &mut Scratch,
-) -> [f32; 3] {
-    let (x, y) = (px as f64, py as f64);
-    let square = super::pixel_square(px, py);
-    let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
-    let centre = (x + 0.5, y + 0.5);
-    if frags.is_empty() {
-        return bg.at(px, py).map(|c| c as f32);
-    }
-    // Colours here; a screen-mode pattern's transparent texel removes the
-    // fragment from this pixel altogether.
-    s.cols.clear();
-    s.alive.clear();
-    s.qc.clear();
-    for f in frags {
-        let l = &locals[f.poly as usize];
-        s.qc.push(l.q(centre.0, centre.1));
-        let c = match f.color {
-            POLY_COLOR => l
-                .color
-                .or_else(|| polys[l.global as usize].color_at(px, py)),
-            // Opaque; computed below only if it shows.
-            FILTER_LATER => Some([0.0; 3]),
-            i => Some(colors[i as usize]),
-        };
-        s.alive.push(c.is_some());
-        s.cols.push(c.unwrap_or_default());
-    }
-    // Fast path: the nearest full fragment at the centre, if it is in front of
-    // every other fragment over the whole pixel.
-    let mut best: Option<usize> = None;
-    for (i, f) in frags.iter().enumerate() {
-        if f.len == 0 && s.alive[i] && best.map_or(true, |b| s.qc[i] > s.qc[b]) {
-            best = Some(i);
-        }
-    }
-    if let Some(b) = best {
-        let fb = &locals[frags[b].poly as usize];
-        let mut all_hidden = true;
-        for (i, g) in frags.iter().enumerate() {
-            if i == b || !s.alive[i] {
-                continue;
-            }
-            let gp = &locals[g.poly as usize];
-            let d = front_of(gp, fb, s.qc[i], s.qc[b]);
-            // G never in front of the full fragment B anywhere in the pixel.
-            if corners
-                .iter()
-                .all(|&(cx, cy)| d[0] * cx + d[1] * cy + d[2] <= 0.0)
-            {
-                s.alive[i] = false;
-            } else {
-                all_hidden = false;
-            }
-        }
-        if all_hidden {
-            return frag_color(polys, locals, &frags[b], &s.cols, b, px, py).map(|c| c as f32);
-        }
-    }
-    s.live.clear();
-    s.live
-        .extend((0..frags.len() as u32).filter(|&i| s.alive[i as usize]));
-    if s.live.len() < SWEEP_MIN_LIVE || !sweep_front_to_back(locals, frags, arena, &square, s) {
-        subtract_pairwise(locals, frags, arena, &square, s);
-    }
-    let mut acc = [0.0f64; 3];
-    let mut covered = 0.0f64;
-    for &(i, area) in &s.seen {
-        let i = i as usize;
-        covered += area;
-        let c = frag_color(polys, locals, &frags[i], &s.cols, i, px, py);
-        for ch in 0..3 {
-            acc[ch] += area * c[ch];
-        }
-    }
-    blend_background(acc, covered, bg, px, py)
-}
-
 /// The visible area of each live fragment, in `s.seen` in stream order: F
 /// minus the part of every other fragment G in front of it (G cut by the
 /// line where their nearness is equal, so a convex polygon), by convex
@@ -734,6 +963,7 @@ fn subtract_pairwise(
     square: &[DVec2; 4],
     s: &mut Scratch,
 ) {
+    let pixel = box_of(square);
     let Scratch {
         pieces,
         next,
@@ -803,7 +1033,7 @@ fn subtract_pairwise(
                 }
                 next.clear();
                 for piece in pieces.drain(..) {
-                    subtract(&piece, occ, next, a, b, pool);
+                    subtract(&piece, occ, pixel, next, a, b, pool);
                     pool.push(piece);
                 }
                 std::mem::swap(pieces, next);
@@ -858,157 +1088,21 @@ fn fmax(a: f64, b: f64) -> f64 {
 }
 
 /// Bounding box `[x0, y0, x1, y1]` of a vertex list.
-fn bounds(v: &[DVec2]) -> [f64; 4] {
+pub(super) fn bounds(v: &[DVec2]) -> [f64; 4] {
     v.iter().fold(
         [f64::MAX, f64::MAX, f64::MIN, f64::MIN],
         |[x0, y0, x1, y1], p| [fmin(x0, p.x), fmin(y0, p.y), fmax(x1, p.x), fmax(y1, p.y)],
     )
 }
 
+/// The box `[x0, y0, x1, y1]` of a pixel square.
+fn box_of(square: &[DVec2; 4]) -> [f64; 4] {
+    [square[0].x, square[0].y, square[2].x, square[2].y]
+}
+
 /// Whether two boxes share no interior (touching counts as apart).
 fn boxes_apart(a: &[f64; 4], b: &[f64; 4]) -> bool {
     a[2] <= b[0] || b[2] <= a[0] || a[3] <= b[1] || b[3] <= a[1]
-}
-
-/// The visible area of each live fragment by a front-to-back sweep, in
-/// `s.seen`; `false` (and `s.seen` meaningless) where the sweep's order
-/// does not hold and [`resolve_pixel`] must subtract pairwise.
-///
-/// `s.live` is sorted nearest first at the pixel centre (on equal nearness
-/// the later polygon first, as the tie rule decides). The pixel's uncovered
-/// part starts as the square; each fragment in turn sees its overlap with
-/// it and is then cut out of it. That equals the pairwise subtraction (up
-/// to rounding) when no fragment is in front of an earlier one anywhere
-/// they overlap: then what an earlier G hides of F is all of their
-/// overlap, and no later G hides any of F. Each fragment is checked against
-/// every later one as it is swept ([`front_of`] <= 0 at the vertices of
-/// either, which bound their overlap since it is affine, or no common
-/// interior; pieces of one polygon never overlap). The check fails only
-/// where two fragments interpenetrate inside the pixel, or meet at an angle
-/// within the tie tolerance.
-///
-/// The sweep stops when nothing is left uncovered: the fragments after that
-/// are hidden, and they need no check among themselves. A pixel under ten
-/// layers of small triangles is settled by its first few fragments: linear
-/// work where the pairwise subtraction is quadratic.
-fn sweep_front_to_back(
-    locals: &[Local],
-    frags: &[Frag],
-    arena: &[DVec2],
-    square: &[DVec2; 4],
-    s: &mut Scratch,
-) -> bool {
-    let Scratch {
-        pieces: open,
-        next,
-        pool,
-        a,
-        b,
-        live,
-        qc,
-        bb,
-        seen,
-        span,
-        tail,
-        ..
-    } = s;
-    live.sort_by(|&i, &j| {
-        let (i, j) = (i as usize, j as usize);
-        qc[j].total_cmp(&qc[i]).then_with(|| {
-            let (pi, pj) = (
-                &locals[frags[i].poly as usize],
-                &locals[frags[j].poly as usize],
-            );
-            pj.order.cmp(&pi.order).then(i.cmp(&j))
-        })
-    });
-    bb.clear();
-    bb.extend(
-        live.iter()
-            .map(|&i| bounds(frag_verts(&frags[i as usize], arena, square))),
-    );
-    // Nearness bounds over the pixel, `[least, most]`, per fragment in
-    // sweep order; and over each suffix of it, the most nearness, the
-    // largest |q| at the centre and the largest tie floor: the tie
-    // tolerance of any pair in the suffix is at most what those give.
-    span.clear();
-    span.extend(live.iter().map(|&i| {
-        let l = &locals[frags[i as usize].poly as usize];
-        let q = qc[i as usize];
-        [q - l.half_spread(), q + l.half_spread()]
-    }));
-    tail.clear();
-    tail.resize(live.len() + 1, [f64::NEG_INFINITY, 0.0, 0.0]);
-    for k in (0..live.len()).rev() {
-        let i = live[k] as usize;
-        let [most, abs, floor] = tail[k + 1];
-        tail[k] = [
-            fmax(most, span[k][1]),
-            fmax(abs, qc[i].abs()),
-            fmax(floor, locals[frags[i].poly as usize].tie_floor),
-        ];
-    }
-    seen.clear();
-    pool.append(open);
-    let mut whole = pool.pop().unwrap_or_default();
-    whole.clear();
-    whole.extend_from_slice(square);
-    open.push(whole);
-    for (k, &e) in live.iter().enumerate() {
-        if open.is_empty() {
-            break;
-        }
-        let e = e as usize;
-        let fe = &frags[e];
-        let ep = &locals[fe.poly as usize];
-        let ev = frag_verts(fe, arena, square);
-        // Every later fragment is behind E over the whole pixel, tie
-        // tolerance included: its pairs need no look (one test per
-        // fragment, in a scene of layers at distinct depths).
-        let [most, abs, floor] = tail[k + 1];
-        let all_behind = most + tie_tolerance(abs, qc[e], floor) <= span[k][0];
-        for (m, &l) in live.iter().enumerate().skip(k + 1) {
-            if all_behind {
-                break;
-            }
-            let l = l as usize;
-            let fl = &frags[l];
-            if fl.poly == fe.poly {
-                continue;
-            }
-            let lp = &locals[fl.poly as usize];
-            if span[m][1] + tie_tolerance(qc[l], qc[e], lp.tie_floor) <= span[k][0] {
-                continue; // L behind E over the whole pixel.
-            }
-            let lv = frag_verts(fl, arena, square);
-            let d = front_of(lp, ep, qc[l], qc[e]);
-            let val = |v: &DVec2| d[0] * v.x + d[1] * v.y + d[2];
-            if lv.iter().all(|v| val(v) <= 0.0)
-                || ev.iter().all(|v| val(v) <= 0.0)
-                || boxes_apart(&bb[k], &bb[m])
-                || disjoint(ev, lv)
-            {
-                continue;
-            }
-            return false;
-        }
-        let mut seen2 = 0.0;
-        next.clear();
-        for piece in open.drain(..) {
-            if boxes_apart(&bounds(&piece), &bb[k]) {
-                next.push(piece);
-                continue;
-            }
-            seen2 += subtract(&piece, ev, next, a, b, pool);
-            pool.push(piece);
-        }
-        std::mem::swap(open, next);
-        let area = 0.5 * seen2;
-        if area > AREA_EPS {
-            seen.push((e as u32, area));
-        }
-    }
-    true
 }
 
 /// Whether two convex counter-clockwise polygons have no interior in common:
@@ -1018,7 +1112,7 @@ fn disjoint(a: &[DVec2], b: &[DVec2]) -> bool {
     let separated = |p: &[DVec2], q: &[DVec2]| {
         let n = p.len();
         (0..n).any(|i| {
-            let (s, e) = (p[i], p[(i + 1) % n]);
+            let (s, e) = (p[i], p[if i + 1 == n { 0 } else { i + 1 }]);
             let dir = e - s;
             let len = dir.length();
             len > EDGE_EPS
@@ -1074,6 +1168,10 @@ fn clip_step(a: DVec2, b: DVec2, da: f64, db: f64, out: &mut Vec<DVec2>) {
 /// interior and removes nothing (without this check, all of `p` would be
 /// "left at the end" and dropped).
 ///
+/// `p` lies in the pixel `[x0, y0, x1, y1]`: an edge of `o` along a side of
+/// it (exactly, as the axis clipping makes them) has all of `p` inside and
+/// is skipped. A fragment's pixel-border edges are half of its edges.
+///
 /// Where `cur` lies strictly on one side of an edge's line, the two clips
 /// would return `cur` unchanged and nothing (or nothing and `cur`): that case
 /// is decided from the signs alone and the clips are skipped. The signs are
@@ -1082,6 +1180,7 @@ fn clip_step(a: DVec2, b: DVec2, da: f64, db: f64, out: &mut Vec<DVec2>) {
 fn subtract(
     p: &[DVec2],
     o: &[DVec2],
+    [x0, y0, x1, y1]: [f64; 4],
     out: &mut Vec<Vec<DVec2>>,
     cur: &mut Vec<DVec2>,
     tmp: &mut Vec<DVec2>,
@@ -1095,7 +1194,9 @@ fn subtract(
     };
     let n = o.len();
     let edges = (0..n)
-        .filter(|&i| (o[(i + 1) % n] - o[i]).length_squared() > EDGE_EPS * EDGE_EPS)
+        .filter(|&i| {
+            (o[if i + 1 == n { 0 } else { i + 1 }] - o[i]).length_squared() > EDGE_EPS * EDGE_EPS
+        })
         .count();
     if edges < 3 {
         keep(p, out, pool);
@@ -1107,10 +1208,13 @@ fn subtract(
         if cur.len() < 3 {
             return 0.0;
         }
-        let (a, b) = (o[i], o[(i + 1) % n]);
+        let (a, b) = (o[i], o[if i + 1 == n { 0 } else { i + 1 }]);
         // Left of a->b: (b - a) x (p - a) >= 0, as a*x + b*y + c.
         let e = b - a;
-        if e.length_squared() <= EDGE_EPS * EDGE_EPS {
+        if e.length_squared() <= EDGE_EPS * EDGE_EPS
+            || (e.x == 0.0 && (a.x == x0 || a.x == x1))
+            || (e.y == 0.0 && (a.y == y0 || a.y == y1))
+        {
             continue;
         }
         let line = [-e.y, e.x, e.y * a.x - e.x * a.y];
@@ -1205,7 +1309,8 @@ mod tests {
             DVec2::new(423.2278482750052, 256.4861575572889),
         ];
         let (mut out, mut a, mut b, mut pool) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        subtract(&piece, &sliver, &mut out, &mut a, &mut b, &mut pool);
+        let pixel = [423.0, 256.0, 424.0, 257.0];
+        subtract(&piece, &sliver, pixel, &mut out, &mut a, &mut b, &mut pool);
         let left: f64 = out.iter().map(|p| area2(p)).sum();
         assert!(
             (left - area2(&piece)).abs() < 1e-12,
@@ -1357,17 +1462,27 @@ mod debris {
         assert!(!disjoint(&with_debris, &small));
         assert!(!disjoint(&small, &with_debris));
         let (mut out, mut a, mut b, mut pool) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        subtract(&small, &with_debris, &mut out, &mut a, &mut b, &mut pool);
+        // A box wider than the shapes: no edge of theirs lies on its sides.
+        let wide = [-1.0, -1.0, 2.0, 2.0];
+        subtract(
+            &small,
+            &with_debris,
+            wide,
+            &mut out,
+            &mut a,
+            &mut b,
+            &mut pool,
+        );
         let left: f64 = out.iter().map(|p| area2(p)).sum();
         assert!(left.abs() < 1e-12, "{out:?}");
         out.clear();
-        subtract(&tri, &tri, &mut out, &mut a, &mut b, &mut pool);
+        subtract(&tri, &tri, wide, &mut out, &mut a, &mut b, &mut pool);
         assert!(out.iter().map(|p| area2(p)).sum::<f64>().abs() < 1e-12);
     }
 }
 
-/// The sweep, the pairwise subtraction and the occlusion cull against each
-/// other and against the independent reference.
+/// The tile sweep and the pairwise subtraction against each other and
+/// against the independent reference.
 #[cfg(test)]
 mod sweep {
     use super::super::{project, reference, render, Aa, Cull, View};
@@ -1410,8 +1525,8 @@ mod sweep {
     }
 
     /// Ten layers of small triangles, flat and crossing: `--aa exact`
-    /// (occlusion cull, sweep, and pairwise where the sweep's order fails)
-    /// against the reference, which shares none of that code.
+    /// (the tile sweep, its drops, and pairwise subtraction where its order
+    /// fails) against the reference, which shares none of that code.
     #[test]
     fn deep_random_scenes_match_the_reference() {
         let bg = Background::color(Rgb8([20, 40, 60]));
@@ -1481,50 +1596,92 @@ mod sweep {
         (locals, frags, arena)
     }
 
-    fn areas(seen: &[(u32, f64)], n: usize) -> Vec<f64> {
-        let mut out = vec![0.0; n];
-        for &(i, a) in seen {
-            out[i as usize] += a;
-        }
-        out
-    }
-
     fn triangle() -> impl Strategy<Value = [f64; 6]> {
         proptest::array::uniform6(-0.5f64..1.5)
     }
 
+    /// Sweeps `frags` into one pixel in the order `order`, fragment `k`
+    /// coloured `colors[k]`: the pixel's colour (linear, before the
+    /// background) and covered area, and how often it was resolved again.
+    fn swept(
+        locals: &[Local],
+        frags: &[Frag],
+        arena: &[DVec2],
+        colors: &[[f64; 3]],
+        order: &[usize],
+    ) -> ([f64; 4], u32) {
+        let mut pixels = PixelStates::default();
+        let mut work = Scratch::default();
+        pixels.reset(1, &mut work.pool);
+        let shown = Shown {
+            polys: &[],
+            locals,
+            arena,
+            colors,
+        };
+        for &k in order {
+            pixels.sweep(&frags[k], (0, 0), &shown, &mut work);
+        }
+        (pixels.acc[0], pixels.resolved_again)
+    }
+
     proptest! {
-        /// Where the sweep accepts its order, it finds the areas the
-        /// pairwise subtraction finds; with flat planes at distinct depths
-        /// it always accepts.
+        /// The tile sweep gives each pixel the colour and covered area that
+        /// pairwise subtraction gives, whatever order its fragments come
+        /// in; nearest first over flat layers, it never resolves again.
         #[test]
-        fn the_sweep_agrees_with_pairwise_subtraction(
+        fn the_tile_sweep_agrees_with_pairwise_subtraction_in_any_order(
             tris in proptest::collection::vec(
-                (triangle(), (-0.3f64..0.3, -0.3f64..0.3, -1.0f64..1.0), any::<bool>()),
-                4..12,
-            )
+                (triangle(), (-0.3f64..0.3, -0.3f64..0.3, -1.0f64..1.0), any::<bool>(), 0.0f64..1.0),
+                1..12,
+            ),
+            shuffle in proptest::collection::vec(any::<u32>(), 12),
         ) {
-            let tris: Vec<([f64; 6], [f64; 3])> = tris
+            let planes: Vec<([f64; 6], [f64; 3])> = tris
                 .iter()
-                .map(|(t, (a, b, c), flat)| (*t, if *flat { [0.0, 0.0, *c] } else { [*a, *b, *c] }))
+                .map(|(t, (a, b, c), flat, _)| (*t, if *flat { [0.0, 0.0, *c] } else { [*a, *b, *c] }))
                 .collect();
-            let all_flat = tris.iter().all(|(_, p)| p[0] == 0.0 && p[1] == 0.0);
-            let (locals, frags, arena) = pixel_frags(&tris);
+            let all_flat = planes.iter().all(|(_, p)| p[0] == 0.0 && p[1] == 0.0);
+            let (locals, mut frags, arena) = pixel_frags(&planes);
+            // Fragment k in its own colour.
+            let colors: Vec<[f64; 3]> = frags
+                .iter()
+                .map(|f| {
+                    let g = tris[locals[f.poly as usize].order as usize].3;
+                    [g, 1.0 - g, g * g]
+                })
+                .collect();
+            for (k, f) in frags.iter_mut().enumerate() {
+                f.color = k as u32;
+            }
             let square = super::super::pixel_square(0, 0);
             let mut s = Scratch::default();
             s.qc.extend(frags.iter().map(|f| locals[f.poly as usize].q(0.5, 0.5)));
             s.alive.resize(frags.len(), true);
-            s.live.extend(0..frags.len() as u32);
             subtract_pairwise(&locals, &frags, &arena, &square, &mut s);
-            let pairwise = areas(&s.seen, frags.len());
-            let accepted = sweep_front_to_back(&locals, &frags, &arena, &square, &mut s);
-            prop_assert!(accepted || !all_flat, "flat layers must sweep");
-            if accepted {
-                let swept = areas(&s.seen, frags.len());
-                for (i, (p, w)) in pairwise.iter().zip(&swept).enumerate() {
-                    prop_assert!((p - w).abs() <= 1e-9, "fragment {i}: pairwise {p}, sweep {w}");
+            let mut want = [0.0; 4];
+            for &(i, area) in &s.seen {
+                for ch in 0..3 {
+                    want[ch] += area * colors[i as usize][ch];
                 }
+                want[3] += area;
             }
+            let mut order: Vec<usize> = (0..frags.len()).collect();
+            order.sort_by_key(|&k| shuffle[k]);
+            let (got, _) = swept(&locals, &frags, &arena, &colors, &order);
+            for ch in 0..4 {
+                prop_assert!((got[ch] - want[ch]).abs() <= 1e-9, "shuffled: {got:?} against {want:?}");
+            }
+            // Nearest first, as the tile sweep orders flat polygons.
+            order.sort_by(|&i, &j| {
+                let q = |k: usize| locals[frags[k].poly as usize].q(0.5, 0.5);
+                q(j).total_cmp(&q(i))
+            });
+            let (got, again) = swept(&locals, &frags, &arena, &colors, &order);
+            for ch in 0..4 {
+                prop_assert!((got[ch] - want[ch]).abs() <= 1e-9, "nearest first: {got:?} against {want:?}");
+            }
+            prop_assert!(again == 0 || !all_flat, "flat layers resolved again {again} times");
         }
     }
 }

@@ -9,7 +9,13 @@
 //! the tile's geometry is a few contiguous arrays. (Gathering every tile in
 //! one pass over the polygons first measured the same and held every tile's
 //! copy at once: 0.9 GB instead of 0.74 GB peak on a million triangles.)
+//!
+//! The copy is laid out in the order the resolver sweeps the tile, nearest
+//! polygon first, so that it reads the arrays front to back: read in stream
+//! order through a sorted index, the load of each polygon's flags missed
+//! the cache and took 16% of the tile's time.
 
+use super::coverage::bounds;
 use super::ScreenPoly;
 use glam::DVec2;
 
@@ -78,17 +84,31 @@ pub struct PieceRef {
     pub local: u32,
     pub start: u32,
     pub len: u32,
+    /// Bounding box `[x0, y0, x1, y1]` of the piece.
+    pub bb: [f64; 4],
 }
 
 /// [`PieceRef::len`] of a piece read in place.
 const IN_PLACE: u32 = u32::MAX;
 
-/// The polygons whose bounding box meets one tile, in stream order.
+/// The polygons whose bounding box meets one tile, nearest first (see
+/// [`TileGeom::gather`]).
 #[derive(Default, Debug)]
 pub struct TileGeom {
     pub locals: Vec<Local>,
     pub pieces: Vec<PieceRef>,
     pub verts: Vec<DVec2>,
+    /// The bin in sweep order: nearness bound, stream order, polygon.
+    keyed: Vec<(f64, u32, u32)>,
+}
+
+/// The greatest nearness of `plane` over the pixel box `bbox` clipped to
+/// `tile`: a bound of the polygon's nearness anywhere it can show there.
+fn nearest_in(plane: &[f64; 3], bbox: [u32; 4], tile: [u32; 4]) -> f64 {
+    let x = [bbox[0].max(tile[0]) as f64, bbox[2].min(tile[2]) as f64];
+    let y = [bbox[1].max(tile[1]) as f64, bbox[3].min(tile[3]) as f64];
+    let [a, b, c] = *plane;
+    c + (a * x[0]).max(a * x[1]) + (b * y[0]).max(b * y[1])
 }
 
 impl TileGeom {
@@ -98,11 +118,13 @@ impl TileGeom {
         let local = self.locals.len() as u32;
         self.locals.push(Local::new(p, pi));
         for (k, piece) in p.pieces.iter().enumerate() {
+            let bb = bounds(piece);
             if piece.len() > GATHER_MAX_VERTS {
                 self.pieces.push(PieceRef {
                     local,
                     start: k as u32,
                     len: IN_PLACE,
+                    bb,
                 });
                 continue;
             }
@@ -110,6 +132,7 @@ impl TileGeom {
                 local,
                 start: self.verts.len() as u32,
                 len: piece.len() as u32,
+                bb,
             });
             self.verts.extend_from_slice(piece);
         }
@@ -128,18 +151,26 @@ impl TileGeom {
     }
 
     /// Replaces the contents with the geometry of one tile's bin (see
-    /// [`super::bin`]).
-    pub fn gather(&mut self, polys: &[ScreenPoly], bin: &[u32]) {
-        self.clear();
-        for &pi in bin {
-            self.push(polys, pi);
-        }
-    }
-
-    fn clear(&mut self) {
+    /// [`super::bin`]), in the order [`super::coverage::render_tile`]
+    /// sweeps it: nearest first by the greatest nearness of the polygon's
+    /// box in the tile; on a tie the later polygon first, as the tie rule
+    /// decides; then the stream, so that the order is total. (Gathering in
+    /// stream order and sorting the copy measured 1.07x slower.)
+    pub fn gather(&mut self, polys: &[ScreenPoly], bin: &[u32], tile: [u32; 4]) {
         self.locals.clear();
         self.pieces.clear();
         self.verts.clear();
+        let mut keyed = std::mem::take(&mut self.keyed);
+        keyed.clear();
+        keyed.extend(bin.iter().map(|&pi| {
+            let p = &polys[pi as usize];
+            (nearest_in(&p.plane, p.bbox, tile), p.order, pi)
+        }));
+        keyed.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(b.1.cmp(&a.1)).then(a.2.cmp(&b.2)));
+        for &(_, _, pi) in &keyed {
+            self.push(polys, pi);
+        }
+        self.keyed = keyed;
     }
 }
 
@@ -182,15 +213,16 @@ mod tests {
             .unwrap(),
         ];
         let mut g = TileGeom::default();
-        g.gather(&polys, &[0, 1]);
+        g.gather(&polys, &[0, 1], [0, 0, 200, 200]);
         assert_eq!(g.verts.len(), 3, "only the triangle is copied");
         for r in &g.pieces {
             let whole = &polys[g.locals[r.local as usize].global as usize].pieces[0];
             assert_eq!(g.piece(&polys, r), &whole[..]);
         }
         let bins = super::super::bin_of_side(&polys, 200, 200, super::super::EXACT_TILE);
+        let tiles = super::super::tiles_of_side(200, 200, super::super::EXACT_TILE);
         for (t, bin) in bins.iter().enumerate() {
-            g.gather(&polys, bin);
+            g.gather(&polys, bin, tiles[t]);
             for r in &g.pieces {
                 let whole = &polys[g.locals[r.local as usize].global as usize].pieces[0];
                 assert_eq!(g.piece(&polys, r), &whole[..], "tile {t}");

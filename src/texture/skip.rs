@@ -5,9 +5,9 @@
 //!
 //! - hidden: an always-opaque texture's filter runs only for fragments that
 //!   turn out visible (`raster::coverage`'s deferred colour), and with
-//!   `--aa exact` a textured fragment behind its pixel's nearest full cover
-//!   is not even made (the occlusion cull; flat polygons are culled
-//!   regardless, as they have nothing to filter).
+//!   `--aa exact` a textured fragment behind everything that covers its
+//!   pixel is not even made (the tile sweep's drop; flat polygons are
+//!   dropped regardless, as they have nothing to filter).
 //! - mip: MIP levels are built on the first minified sample
 //!   ([`crate::raster::ScreenPattern::pyramid`]), never for a pattern that is
 //!   only magnified.
