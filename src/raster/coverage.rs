@@ -454,6 +454,8 @@ pub fn render_tile(
                 (r.cx1, r.cx1)
             };
             let run_path = fx1 > fx0 && p.is_some_and(box_magnified);
+            // Where the band is in the arena, once an open pixel needs it.
+            let mut band_at: Option<(u32, u32)> = None;
             let mut px = r.cx0;
             while px < r.cx1 {
                 frags.clear();
@@ -468,12 +470,30 @@ pub fn render_tile(
                     if hidden(pixels, x) {
                         continue;
                     }
-                    let Some(verts) = pixel_cell(band, &r, x, tmp2, cell) else {
-                        continue;
-                    };
-                    match p {
-                        None => push_piece(frags, arena, pixel, pi, verts, POLY_COLOR),
-                        Some(p) => push_frag(p, pi, pixel, (x, py), verts, frags, arena, tex),
+                    let full = x as f64 >= r.full_lo && x as f64 + 1.0 <= r.full_hi;
+                    if p.is_none() && !full && pixels.is_open(pixel) {
+                        // Only cut out of the open part: the row's band
+                        // stands for the fragment (the open part lies in
+                        // the pixel), saving its clip to the pixel.
+                        let (start, len) = *band_at.get_or_insert_with(|| {
+                            arena.extend_from_slice(band);
+                            ((arena.len() - band.len()) as u32, band.len() as u32)
+                        });
+                        frags.push(Frag {
+                            pixel,
+                            poly: pi,
+                            start,
+                            len,
+                            color: POLY_COLOR,
+                        });
+                    } else {
+                        let Some(verts) = pixel_cell(band, &r, x, tmp2, cell) else {
+                            continue;
+                        };
+                        match p {
+                            None => push_piece(frags, arena, pixel, pi, verts, POLY_COLOR),
+                            Some(p) => push_frag(p, pi, pixel, (x, py), verts, frags, arena, tex),
+                        }
                     }
                 }
                 for f in frags.iter() {
@@ -607,6 +627,11 @@ impl PixelStates {
     /// pixel is covered, and `l` is behind every shower over the whole
     /// pixel by more than the tie tolerance (so the check of
     /// [`PixelStates::sweep`] passes for it without its fragment).
+    #[inline]
+    fn is_open(&self, pixel: u32) -> bool {
+        self.status[pixel as usize] == Status::Open
+    }
+
     #[inline]
     fn hides(&self, pixel: u32, l: &Local, cx: f64, cy: f64) -> bool {
         let p = pixel as usize;
@@ -788,24 +813,47 @@ impl PixelStates {
     ) {
         self.resolved_again += 1;
         let showers = &mut self.showers[p];
+        // Each one's part of the pixel (a row's band stands for the
+        // fragments of open pixels), copied into an arena of their own.
+        let mut cells = std::mem::take(&mut work.cells);
+        cells.clear();
         let batch = &mut work.batch;
         batch.clear();
-        batch.extend(showers.iter().map(|c| Frag {
-            pixel: p as u32,
-            poly: c.poly,
-            start: c.start,
-            len: c.len,
-            color: POLY_COLOR,
-        }));
-        batch.push(*n.f);
+        work.alive.clear();
+        let members = showers
+            .iter()
+            .map(|c| (c.poly, c.start, c.len, c.bb))
+            .chain([(n.f.poly, n.f.start, n.f.len, n.bb)]);
+        let pixel = box_of(square);
+        for (poly, start, len, bb) in members {
+            let at = cells.len() as u32;
+            // `len == 0`: the full square. A band that meets the pixel in no
+            // area is absent (and its empty vertex list is never read).
+            let present = len == 0 || {
+                let v = &t.arena[start as usize..(start + len) as usize];
+                if within(&bb, &pixel) {
+                    cells.extend_from_slice(v);
+                } else {
+                    clip_to_box(v, &pixel, &mut work.a, &mut cells);
+                }
+                cells.len() as u32 > at
+            };
+            work.alive.push(present);
+            batch.push(Frag {
+                pixel: p as u32,
+                poly,
+                start: at,
+                len: cells.len() as u32 - at,
+                color: POLY_COLOR,
+            });
+        }
         work.qc.clear();
         work.qc.extend(showers.iter().map(|c| c.qc));
         work.qc.push(n.qc);
-        work.alive.clear();
-        work.alive.resize(batch.len(), true);
         let batch = std::mem::take(&mut work.batch);
-        subtract_pairwise(t.locals, &batch, t.arena, square, work);
+        subtract_pairwise(t.locals, &batch, &cells, square, work);
         work.batch = batch;
+        work.cells = cells;
         // The new showers, with their new areas.
         let mut acc = [0.0; 4];
         let mut kept = std::mem::take(&mut work.showers);
@@ -919,8 +967,10 @@ struct Scratch {
     /// Visible area of each fragment that shows, found by
     /// [`subtract_pairwise`].
     seen: Vec<(u32, f64)>,
-    /// A spare list of showers, for [`PixelStates::resolve_again`].
+    /// A spare list of showers, and the vertices of the fragments it
+    /// resolves, for [`PixelStates::resolve_again`].
     showers: Vec<Shower>,
+    cells: Vec<DVec2>,
 }
 
 fn frag_verts<'a>(f: &Frag, arena: &'a [DVec2], square: &'a [DVec2; 4]) -> &'a [DVec2] {
@@ -1093,6 +1143,36 @@ pub(super) fn bounds(v: &[DVec2]) -> [f64; 4] {
         [f64::MAX, f64::MAX, f64::MIN, f64::MIN],
         |[x0, y0, x1, y1], p| [fmin(x0, p.x), fmin(y0, p.y), fmax(x1, p.x), fmax(y1, p.y)],
     )
+}
+
+/// Whether box `a` lies within box `b`.
+fn within(a: &[f64; 4], b: &[f64; 4]) -> bool {
+    a[0] >= b[0] && a[1] >= b[1] && a[2] <= b[2] && a[3] <= b[3]
+}
+
+/// Appends the part of the convex `v` in the box `[x0, y0, x1, y1]` to
+/// `out` (nothing where it has less than three vertices), clipping as the
+/// fragments are made (`tmp` scratch).
+fn clip_to_box(
+    v: &[DVec2],
+    [x0, y0, x1, y1]: &[f64; 4],
+    tmp: &mut Vec<DVec2>,
+    out: &mut Vec<DVec2>,
+) {
+    let mut cur: Vec<DVec2> = v.to_vec();
+    for (axis, value, above) in [
+        (1, *y0, true),
+        (1, *y1, false),
+        (0, *x0, true),
+        (0, *x1, false),
+    ] {
+        tmp.clear();
+        clip_axis(&cur, axis, value, above, tmp);
+        std::mem::swap(&mut cur, tmp);
+    }
+    if cur.len() >= 3 {
+        out.extend_from_slice(&cur);
+    }
 }
 
 /// The box `[x0, y0, x1, y1]` of a pixel square.
