@@ -454,11 +454,14 @@ pub fn render_tile(
                 (r.cx1, r.cx1)
             };
             let run_path = fx1 > fx0 && p.is_some_and(box_magnified);
-            // Where the band is in the arena, once an open pixel needs it.
-            let mut band_at: Option<(u32, u32)> = None;
+            // Where the band is in the arena, and its box, once an open
+            // pixel needs it.
+            let mut band_at: Option<(u32, u32, [f64; 4])> = None;
             let mut px = r.cx0;
             while px < r.cx1 {
                 frags.clear();
+                // The box of the fragment, where already known.
+                let mut known_bb = None;
                 if let (true, Some(p)) = (run_path && px == fx0, p) {
                     let row = Row { py, ty0, tx0, tw };
                     push_full_run(p, pi, row, fx0, fx1, frags, arena, tex);
@@ -475,10 +478,12 @@ pub fn render_tile(
                         // Only cut out of the open part: the row's band
                         // stands for the fragment (the open part lies in
                         // the pixel), saving its clip to the pixel.
-                        let (start, len) = *band_at.get_or_insert_with(|| {
+                        let (start, len, bb) = *band_at.get_or_insert_with(|| {
                             arena.extend_from_slice(band);
-                            ((arena.len() - band.len()) as u32, band.len() as u32)
+                            let start = (arena.len() - band.len()) as u32;
+                            (start, band.len() as u32, bounds(band))
                         });
+                        known_bb = Some(bb);
                         frags.push(Frag {
                             pixel,
                             poly: pi,
@@ -504,7 +509,7 @@ pub fn render_tile(
                         arena,
                         colors: &tex.colors,
                     };
-                    pixels.sweep(f, at, &shown, resolve);
+                    pixels.sweep(f, at, known_bb, &shown, resolve);
                 }
             }
         }
@@ -644,7 +649,14 @@ impl PixelStates {
     }
 
     /// Sweeps fragment `f` of pixel `(px, py)` (see [`PixelStates`]).
-    fn sweep(&mut self, f: &Frag, (px, py): (u32, u32), t: &Shown, work: &mut Scratch) {
+    fn sweep(
+        &mut self,
+        f: &Frag,
+        (px, py): (u32, u32),
+        bb: Option<[f64; 4]>,
+        t: &Shown,
+        work: &mut Scratch,
+    ) {
         let p = f.pixel as usize;
         let l = &t.locals[f.poly as usize];
         // A screen pattern's transparent texel: no fragment at all.
@@ -665,7 +677,7 @@ impl PixelStates {
             f,
             l,
             verts,
-            bb: bounds(verts),
+            bb: bb.unwrap_or_else(|| bounds(verts)),
             qc: l.q(px as f64 + 0.5, py as f64 + 0.5),
             color,
         };
@@ -1700,7 +1712,7 @@ mod sweep {
             colors,
         };
         for &k in order {
-            pixels.sweep(&frags[k], (0, 0), &shown, &mut work);
+            pixels.sweep(&frags[k], (0, 0), None, &shown, &mut work);
         }
         (pixels.acc[0], pixels.resolved_again)
     }

@@ -117,7 +117,8 @@ impl TileGeom {
         let p = &polys[pi as usize];
         let local = self.locals.len() as u32;
         self.locals.push(Local::new(p, pi));
-        for (k, piece) in p.pieces.iter().enumerate() {
+        for k in 0..p.piece_count() {
+            let piece = p.piece(k);
             let bb = bounds(piece);
             if piece.len() > GATHER_MAX_VERTS {
                 self.pieces.push(PieceRef {
@@ -144,7 +145,7 @@ impl TileGeom {
     pub fn piece<'a>(&'a self, polys: &'a [ScreenPoly], r: &PieceRef) -> &'a [DVec2] {
         if r.len == IN_PLACE {
             let global = self.locals[r.local as usize].global;
-            &polys[global as usize].pieces[r.start as usize]
+            polys[global as usize].piece(r.start as usize)
         } else {
             &self.verts[r.start as usize..(r.start + r.len) as usize]
         }
@@ -216,16 +217,16 @@ mod tests {
         g.gather(&polys, &[0, 1], [0, 0, 200, 200]);
         assert_eq!(g.verts.len(), 3, "only the triangle is copied");
         for r in &g.pieces {
-            let whole = &polys[g.locals[r.local as usize].global as usize].pieces[0];
-            assert_eq!(g.piece(&polys, r), &whole[..]);
+            let whole = polys[g.locals[r.local as usize].global as usize].piece(0);
+            assert_eq!(g.piece(&polys, r), whole);
         }
         let bins = super::super::bin_of_side(&polys, 200, 200, super::super::EXACT_TILE);
         let tiles = super::super::tiles_of_side(200, 200, super::super::EXACT_TILE);
         for (t, bin) in bins.iter().enumerate() {
             g.gather(&polys, bin, tiles[t]);
             for r in &g.pieces {
-                let whole = &polys[g.locals[r.local as usize].global as usize].pieces[0];
-                assert_eq!(g.piece(&polys, r), &whole[..], "tile {t}");
+                let whole = polys[g.locals[r.local as usize].global as usize].piece(0);
+                assert_eq!(g.piece(&polys, r), whole, "tile {t}");
             }
         }
     }

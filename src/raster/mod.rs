@@ -196,8 +196,11 @@ pub struct ScreenPoly {
     pub stripe: Option<std::sync::Arc<crate::stripe::StripeTexture>>,
     /// Position in the stream: draw order, for visibility ties.
     pub order: u32,
-    /// Convex pieces (index triples or the whole polygon) that tile the polygon
-    /// exactly: the polygon itself when convex, else an ear-clipping triangulation.
+    /// Convex pieces that tile the polygon exactly: none when it is convex
+    /// (it is its own piece, see [`ScreenPoly::piece`]), else an
+    /// ear-clipping triangulation. (A copy of a convex polygon's vertices
+    /// cost a million allocations on a million triangles, and the exact
+    /// resolver a cache miss more per polygon and tile to reach them.)
     pub pieces: Vec<Vec<DVec2>>,
     /// Absolute part of the tie tolerance: [`DEPTH_TIE_REL`] times the view's
     /// [`View::nearness_scale`].
@@ -207,6 +210,20 @@ pub struct ScreenPoly {
 }
 
 impl ScreenPoly {
+    /// How many convex pieces tile the polygon.
+    pub fn piece_count(&self) -> usize {
+        self.pieces.len().max(1)
+    }
+
+    /// Convex piece `k` of the polygon (`k < piece_count()`).
+    pub fn piece(&self, k: usize) -> &[DVec2] {
+        if self.pieces.is_empty() {
+            &self.verts
+        } else {
+            &self.pieces[k]
+        }
+    }
+
     /// The polygon's linear colour at pixel (x, y); `None` where a screen-mode
     /// pattern is transparent.
     #[inline]
@@ -420,7 +437,7 @@ pub fn try_project(
         return Ok(None);
     };
     let pieces = if is_convex(&verts) {
-        vec![verts.clone()]
+        Vec::new()
     } else if verts.len() > MAX_CONCAVE_VERTICES {
         return Err(ProjectError::TooManyConcaveVertices(verts.len()));
     } else {
