@@ -940,7 +940,7 @@ fn cut_out(
             next.push(piece);
             continue;
         }
-        seen2 += subtract(
+        match subtract(
             &piece,
             v,
             pixel,
@@ -948,8 +948,13 @@ fn cut_out(
             &mut work.a,
             &mut work.b,
             &mut work.pool,
-        );
-        work.pool.push(piece);
+        ) {
+            None => next.push(piece),
+            Some(s2) => {
+                seen2 += s2;
+                work.pool.push(piece);
+            }
+        }
     }
     std::mem::swap(open, next);
     seen2
@@ -1095,8 +1100,10 @@ fn subtract_pairwise(
                 }
                 next.clear();
                 for piece in pieces.drain(..) {
-                    subtract(&piece, occ, pixel, next, a, b, pool);
-                    pool.push(piece);
+                    match subtract(&piece, occ, pixel, next, a, b, pool) {
+                        None => next.push(piece),
+                        Some(_) => pool.push(piece),
+                    }
                 }
                 std::mem::swap(pieces, next);
             }
@@ -1254,7 +1261,10 @@ fn clip_step(a: DVec2, b: DVec2, da: f64, db: f64, out: &mut Vec<DVec2>) {
 /// `out`: for each edge of `o`, the part of `p` to its right is outside `o` and
 /// kept; the rest goes on to the next edge, and what is left at the end lies in
 /// `o` and is dropped. New pieces take their vertex lists from `pool`.
-/// Returns twice the area of what was dropped, `p ∩ o`.
+/// Returns twice the area of what was dropped, `p ∩ o`; or `None`, with
+/// nothing appended, where `p` lies wholly outside `o` (or `o` has no
+/// interior): `p \ o` is then `p` itself, which the caller keeps without a
+/// copy.
 ///
 /// An `o` with fewer than three edges longer than [`EDGE_EPS`] has no
 /// interior and removes nothing (without this check, all of `p` would be
@@ -1277,7 +1287,7 @@ fn subtract(
     cur: &mut Vec<DVec2>,
     tmp: &mut Vec<DVec2>,
     pool: &mut Vec<Vec<DVec2>>,
-) -> f64 {
+) -> Option<f64> {
     let keep = |piece: &[DVec2], out: &mut Vec<Vec<DVec2>>, pool: &mut Vec<Vec<DVec2>>| {
         let mut v = pool.pop().unwrap_or_default();
         v.clear();
@@ -1291,14 +1301,15 @@ fn subtract(
         })
         .count();
     if edges < 3 {
-        keep(p, out, pool);
-        return 0.0;
+        return None;
     }
     cur.clear();
     cur.extend_from_slice(p);
+    // Whether `cur` is no longer `p`.
+    let mut cut = false;
     for i in 0..n {
         if cur.len() < 3 {
-            return 0.0;
+            return Some(0.0);
         }
         let (a, b) = (o[i], o[if i + 1 == n { 0 } else { i + 1 }]);
         // Left of a->b: (b - a) x (p - a) >= 0, as a*x + b*y + c.
@@ -1318,11 +1329,15 @@ fn subtract(
             }
             if cur.iter().all(|v| side(v) < 0.0) {
                 // Wholly outside this edge, so outside `o`: kept whole.
+                if !cut {
+                    return None;
+                }
                 if area2(cur) > 2.0 * AREA_EPS {
                     keep(cur, out, pool);
                 }
-                return 0.0;
+                return Some(0.0);
             }
+            cut = true;
             tmp.clear();
             clip_line(cur, [-line[0], -line[1], -line[2]], tmp);
             if tmp.len() >= 3 && area2(tmp) > 2.0 * AREA_EPS {
@@ -1346,11 +1361,15 @@ fn subtract(
         }
         if outside {
             // Wholly outside this edge, so outside `o`: kept whole.
+            if !cut {
+                return None;
+            }
             if area2(cur) > 2.0 * AREA_EPS {
                 keep(cur, out, pool);
             }
-            return 0.0;
+            return Some(0.0);
         }
+        cut = true;
         let mut part = pool.pop().unwrap_or_default();
         part.clear();
         tmp.clear();
@@ -1362,11 +1381,7 @@ fn subtract(
         }
         std::mem::swap(cur, tmp);
     }
-    if cur.len() < 3 {
-        0.0
-    } else {
-        area2(cur)
-    }
+    Some(if cur.len() < 3 { 0.0 } else { area2(cur) })
 }
 
 #[cfg(test)]
@@ -1402,8 +1417,11 @@ mod tests {
         ];
         let (mut out, mut a, mut b, mut pool) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let pixel = [423.0, 256.0, 424.0, 257.0];
-        subtract(&piece, &sliver, pixel, &mut out, &mut a, &mut b, &mut pool);
-        let left: f64 = out.iter().map(|p| area2(p)).sum();
+        let left: f64 = match subtract(&piece, &sliver, pixel, &mut out, &mut a, &mut b, &mut pool)
+        {
+            None => area2(&piece), // Untouched.
+            Some(_) => out.iter().map(|p| area2(p)).sum(),
+        };
         assert!(
             (left - area2(&piece)).abs() < 1e-12,
             "{left} of {}",
@@ -1556,7 +1574,7 @@ mod debris {
         let (mut out, mut a, mut b, mut pool) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         // A box wider than the shapes: no edge of theirs lies on its sides.
         let wide = [-1.0, -1.0, 2.0, 2.0];
-        subtract(
+        let cut = subtract(
             &small,
             &with_debris,
             wide,
@@ -1565,10 +1583,12 @@ mod debris {
             &mut b,
             &mut pool,
         );
+        assert!(cut.is_some(), "the debris hides the small triangle");
         let left: f64 = out.iter().map(|p| area2(p)).sum();
         assert!(left.abs() < 1e-12, "{out:?}");
         out.clear();
-        subtract(&tri, &tri, wide, &mut out, &mut a, &mut b, &mut pool);
+        let cut = subtract(&tri, &tri, wide, &mut out, &mut a, &mut b, &mut pool);
+        assert!(cut.is_some());
         assert!(out.iter().map(|p| area2(p)).sum::<f64>().abs() < 1e-12);
     }
 }
