@@ -673,15 +673,31 @@ impl PixelStates {
         };
         let square = super::pixel_square(px, py);
         let verts = frag_verts(f, t.arena, &square);
+        let first_full =
+            f.len == 0 && self.showers[p].is_empty() && self.status[p] == Status::Disjoint;
         let n = Newcomer {
             f,
             l,
             verts,
-            bb: bb.unwrap_or_else(|| bounds(verts)),
+            bb: match bb {
+                Some(bb) => bb,
+                None if f.len == 0 => box_of(&square),
+                None => bounds(verts),
+            },
             qc: l.q(px as f64 + 0.5, py as f64 + 0.5),
             color,
         };
         let status = self.status[p];
+        if first_full {
+            // The first fragment, and full: it is all the pixel shows so far
+            // (the common case inside polygons; nothing to check or cut).
+            let c = n
+                .color
+                .unwrap_or_else(|| deferred_filter(t.polys, l, px, py));
+            self.show(p, &n, 1.0, c);
+            self.status[p] = Status::Closed;
+            return;
+        }
         let (in_order, overlaps) = self.check(p, &n, &square, t);
         if !in_order {
             self.resolve_again(p, &n, (px, py), &square, t, work);
