@@ -29,7 +29,7 @@
 //! shows through, and the pixel is bit for bit that of one polygon.
 
 use super::clip::{clip_axis, clip_line};
-use super::gather::{Local, TileGeom};
+use super::gather::{Local, TileGeom, GATHER_MAX_VERTS};
 use super::{area2, tie_tolerance, Background, ScreenPoly};
 use glam::DVec2;
 
@@ -366,6 +366,8 @@ pub struct TileScratch {
     tmp: Vec<DVec2>,
     cell: Vec<DVec2>,
     tmp2: Vec<DVec2>,
+    /// A large piece clipped to the tile.
+    large: Vec<DVec2>,
     tex: TexScratch,
     resolve: Scratch,
 }
@@ -417,6 +419,7 @@ pub fn render_tile(
         tmp,
         cell,
         tmp2,
+        large,
         tex,
         resolve,
     } = s;
@@ -425,13 +428,20 @@ pub fn render_tile(
     tex.colors.clear();
     pixels.reset(tw * th, &mut resolve.pool);
     let locals = &geom.locals[..];
+    let tile_box = [tx0 as f64, ty0 as f64, tx1 as f64, tile[3] as f64];
     let pixel_of = |x: u32, py: u32| ((py - ty0) as usize * tw + (x - tx0) as usize) as u32;
     for r in &geom.pieces {
         // Fragments name their polygon by its index in the tile ([`Local`]).
         let pi = r.local;
         let l = &locals[pi as usize];
         let p = (!l.plain).then(|| &polys[l.global as usize]);
-        let piece = geom.piece(polys, r);
+        let mut piece = geom.piece(polys, r);
+        if piece.len() > GATHER_MAX_VERTS {
+            // A large polygon, read in place: clipped to the tile once,
+            // not whole for each of its rows.
+            clip_to_box(piece, &tile_box, tmp, large);
+            piece = large;
+        }
         let [rx0, ry0, rx1, ry1] = pixel_range(&r.bb, tile);
         for py in ry0..ry1 {
             let cy = py as f64 + 0.5;
@@ -862,7 +872,10 @@ impl PixelStates {
                 if within(&bb, &pixel) {
                     cells.extend_from_slice(v);
                 } else {
-                    clip_to_box(v, &pixel, &mut work.a, &mut cells);
+                    clip_to_box(v, &pixel, &mut work.a, &mut work.b);
+                    if work.b.len() >= 3 {
+                        cells.extend_from_slice(&work.b);
+                    }
                 }
                 cells.len() as u32 > at
             };
@@ -1185,29 +1198,23 @@ fn within(a: &[f64; 4], b: &[f64; 4]) -> bool {
     a[0] >= b[0] && a[1] >= b[1] && a[2] <= b[2] && a[3] <= b[3]
 }
 
-/// Appends the part of the convex `v` in the box `[x0, y0, x1, y1]` to
-/// `out` (nothing where it has less than three vertices), clipping as the
-/// fragments are made (`tmp` scratch).
+/// The part of the convex `v` in the box `[x0, y0, x1, y1]`, into `out`
+/// (`tmp` scratch), clipped as the fragments are made: rows first, then
+/// columns, each crossing made from its inside endpoint.
 fn clip_to_box(
     v: &[DVec2],
     [x0, y0, x1, y1]: &[f64; 4],
     tmp: &mut Vec<DVec2>,
     out: &mut Vec<DVec2>,
 ) {
-    let mut cur: Vec<DVec2> = v.to_vec();
-    for (axis, value, above) in [
-        (1, *y0, true),
-        (1, *y1, false),
-        (0, *x0, true),
-        (0, *x1, false),
-    ] {
-        tmp.clear();
-        clip_axis(&cur, axis, value, above, tmp);
-        std::mem::swap(&mut cur, tmp);
-    }
-    if cur.len() >= 3 {
-        out.extend_from_slice(&cur);
-    }
+    tmp.clear();
+    clip_axis(v, 1, *y0, true, tmp);
+    out.clear();
+    clip_axis(tmp, 1, *y1, false, out);
+    tmp.clear();
+    clip_axis(out, 0, *x0, true, tmp);
+    out.clear();
+    clip_axis(tmp, 0, *x1, false, out);
 }
 
 /// The box `[x0, y0, x1, y1]` of a pixel square.
