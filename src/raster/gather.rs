@@ -15,7 +15,7 @@
 //! order through a sorted index, the load of each polygon's flags missed
 //! the cache and took 16% of the tile's time.
 
-use super::coverage::bounds;
+use super::visible::bounds;
 use super::ScreenPoly;
 use glam::DVec2;
 

@@ -14,7 +14,8 @@
 //! 3. One of three resolvers turns the screen polygons into linear-light pixels:
 //!    [`scan`] (point sampling, `--aa none` and `--aa ss<N>`, watertight on exact
 //!    integer edge functions), [`coverage`] (`--aa exact`: the exact area of every
-//!    visible polygon in every pixel), [`reference`] (`--reference`: the SPEC §4
+//!    visible polygon in every pixel; its tile's geometry in [`gather`], the
+//!    visibility within a pixel in `visible`), [`reference`] (`--reference`: the SPEC §4
 //!    reference by an independent method, with its own error estimate).
 //! 4. [`Frame::to_image`] encodes linear light to sRGB once, rounding.
 //!
@@ -38,6 +39,7 @@ pub mod coverage;
 pub mod gather;
 pub mod reference;
 pub mod scan;
+mod visible;
 
 use crate::color::{linear_to_srgb, srgb_to_linear_f64, Rgb8};
 use crate::io::Image;
