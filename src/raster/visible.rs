@@ -832,39 +832,23 @@ pub(super) fn subtract(
         let line = [-e.y, e.x, e.y * a.x - e.x * a.y];
         let side = |v: &DVec2| line[0] * v.x + line[1] * v.y + line[2];
         let m = cur.len();
-        if m > SPLIT_MAX {
-            if cur.iter().all(|v| side(v) > 0.0) {
-                continue; // Wholly inside this edge: nothing outside it.
-            }
-            if cur.iter().all(|v| side(v) < 0.0) {
-                // Wholly outside this edge, so outside `o`: kept whole.
-                if !cut {
-                    return None;
-                }
-                if area2(cur) > 2.0 * AREA_EPS {
-                    keep(cur, out, pool);
-                }
-                return Some(0.0);
-            }
-            cut = true;
-            tmp.clear();
-            clip_line(cur, [-line[0], -line[1], -line[2]], tmp);
-            if tmp.len() >= 3 && area2(tmp) > 2.0 * AREA_EPS {
-                keep(tmp, out, pool);
-            }
-            tmp.clear();
-            clip_line(cur, line, tmp);
-            std::mem::swap(cur, tmp);
-            continue;
-        }
-        // The same two clips in one pass, each vertex's side computed once.
+        // Each vertex's side, computed once (kept for the split when the
+        // piece fits on the stack).
         let mut sides = [0.0f64; SPLIT_MAX];
-        let (mut inside, mut outside) = (true, true);
-        for (d, v) in sides.iter_mut().zip(cur.iter()) {
-            *d = side(v);
-            inside &= *d > 0.0;
-            outside &= *d < 0.0;
-        }
+        let (inside, outside) = if m > SPLIT_MAX {
+            (
+                cur.iter().all(|v| side(v) > 0.0),
+                cur.iter().all(|v| side(v) < 0.0),
+            )
+        } else {
+            let (mut inside, mut outside) = (true, true);
+            for (d, v) in sides.iter_mut().zip(cur.iter()) {
+                *d = side(v);
+                inside &= *d > 0.0;
+                outside &= *d < 0.0;
+            }
+            (inside, outside)
+        };
         if inside {
             continue; // Wholly inside this edge: nothing outside it.
         }
@@ -879,14 +863,25 @@ pub(super) fn subtract(
             return Some(0.0);
         }
         cut = true;
-        let mut part = pool.pop().unwrap_or_default();
-        part.clear();
-        tmp.clear();
-        split(cur, &sides[..m], tmp, &mut part);
-        if part.len() >= 3 && area2(&part) > 2.0 * AREA_EPS {
-            out.push(part);
+        if m > SPLIT_MAX {
+            tmp.clear();
+            clip_line(cur, [-line[0], -line[1], -line[2]], tmp);
+            if tmp.len() >= 3 && area2(tmp) > 2.0 * AREA_EPS {
+                keep(tmp, out, pool);
+            }
+            tmp.clear();
+            clip_line(cur, line, tmp);
         } else {
-            pool.push(part);
+            // The same two clips in one pass.
+            let mut part = pool.pop().unwrap_or_default();
+            part.clear();
+            tmp.clear();
+            split(cur, &sides[..m], tmp, &mut part);
+            if part.len() >= 3 && area2(&part) > 2.0 * AREA_EPS {
+                out.push(part);
+            } else {
+                pool.push(part);
+            }
         }
         std::mem::swap(cur, tmp);
     }
