@@ -207,12 +207,7 @@ impl Snapped {
         aa: Aa,
     ) -> Vec<[f32; 3]> {
         let k = match aa {
-            Aa::Exact => {
-                return coverage::with_tile_scratch(|s, g| {
-                    g.gather(polys, bin, tile);
-                    coverage::render_tile(polys, g, bg, tile, s)
-                });
-            }
+            Aa::Exact => return coverage::render_bin(polys, bin, bg, tile),
             Aa::None => 1,
             Aa::Ss(k) => k,
         };
@@ -272,10 +267,7 @@ pub fn render_within(
     let pilot_results: Vec<(Vec<[f32; 3]>, [f64; N])> = pilot_tiles
         .par_iter()
         .map(|&t| {
-            let exact = coverage::with_tile_scratch(|s, g| {
-                g.gather(polys, &bins[t], tiles[t]);
-                coverage::render_tile(polys, g, bg, tiles[t], s)
-            });
+            let exact = coverage::render_bin(polys, &bins[t], bg, tiles[t]);
             let mut sse = [0.0; N];
             for (m, aa) in LADDER.iter().enumerate().take(LADDER.len() - 1) {
                 let block = snapped_pilot.tile(polys, &bins[t], bg, tiles[t], *aa);

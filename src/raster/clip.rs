@@ -89,8 +89,7 @@ pub fn clip_against<T: Copy>(
     }
     let mut db = d(poly[0]);
     for i in 0..n {
-        // The next vertex, without a division (`% n`) per edge.
-        let j = if i + 1 == n { 0 } else { i + 1 };
+        let j = (i + 1) % n;
         let (a, b, da) = (poly[i], poly[j], db);
         db = d(b);
         if da >= 0.0 {

@@ -278,6 +278,13 @@ struct RowSpan {
     full_hi: f64,
 }
 
+impl RowSpan {
+    /// Whether pixel `x` of the row lies wholly in the piece.
+    fn is_full(&self, x: u32) -> bool {
+        x as f64 >= self.full_lo && x as f64 + 1.0 <= self.full_hi
+    }
+}
+
 /// The pixel rows `y0..y1` and columns `x0..x1` of the tile that a box
 /// `[x0, y0, x1, y1]` meets.
 fn pixel_range(bb: &[f64; 4], [tx0, ty0, tx1, ty1]: [u32; 4]) -> [u32; 4] {
@@ -341,10 +348,10 @@ fn pixel_cell<'a>(
     tmp: &mut Vec<DVec2>,
     cell: &'a mut Vec<DVec2>,
 ) -> Option<&'a [DVec2]> {
-    let (xl, xr) = (x as f64, x as f64 + 1.0);
-    if xl >= r.full_lo && xr <= r.full_hi {
+    if r.is_full(x) {
         return Some(&[]);
     }
+    let (xl, xr) = (x as f64, x as f64 + 1.0);
     tmp.clear();
     clip_axis(band, 0, xl, true, tmp);
     cell.clear();
@@ -359,7 +366,7 @@ fn pixel_cell<'a>(
 /// deep tile holds tens of thousands of fragments, and fresh vectors per
 /// tile cost page faults and regrowth copies.
 #[derive(Default)]
-pub struct TileScratch {
+struct TileScratch {
     frags: Vec<Frag>,
     arena: Vec<DVec2>,
     pixels: PixelStates,
@@ -380,19 +387,30 @@ thread_local! {
     static SCRATCH: std::cell::RefCell<(TileScratch, TileGeom)> = Default::default();
 }
 
-/// Runs `f` with this thread's tile buffers, or fresh ones if they are in
-/// use (a tile's work waiting in rayon could let this thread start another).
-pub fn with_tile_scratch<R>(f: impl FnOnce(&mut TileScratch, &mut TileGeom) -> R) -> R {
+/// Renders the tile `tile` of polygons `bin` (see [`super::bin`]) with
+/// exact coverage, on this thread's tile buffers, or fresh ones if they are
+/// in use (a tile's work waiting in rayon could let this thread start
+/// another).
+pub fn render_bin(
+    polys: &[ScreenPoly],
+    bin: &[u32],
+    bg: &Background,
+    tile: [u32; 4],
+) -> Vec<[f32; 3]> {
+    let render = |s: &mut TileScratch, g: &mut TileGeom| {
+        g.gather(polys, bin, tile);
+        render_tile(polys, g, bg, tile, s)
+    };
     SCRATCH.with(|cell| match cell.try_borrow_mut() {
         Ok(mut held) => {
             let (s, g) = &mut *held;
-            f(s, g)
+            render(s, g)
         }
-        Err(_) => f(&mut TileScratch::default(), &mut TileGeom::default()),
+        Err(_) => render(&mut TileScratch::default(), &mut TileGeom::default()),
     })
 }
 
-/// Renders one tile with exact coverage.
+/// Renders one tile with exact coverage, from its gathered geometry.
 ///
 /// The tile's pieces are swept nearest first (by their greatest nearness
 /// in the tile), and each fragment is cut out of its pixel's uncovered part
@@ -402,7 +420,7 @@ pub fn with_tile_scratch<R>(f: impl FnOnce(&mut TileScratch, &mut TileGeom) -> R
 /// At depth (ten layers of small triangles) most fragments die there.
 /// Pixels where that order does not hold (polygons crossing inside the
 /// pixel, or met out of order) are resolved again by pairwise subtraction.
-pub fn render_tile(
+fn render_tile(
     polys: &[ScreenPoly],
     geom: &TileGeom,
     bg: &Background,
@@ -484,8 +502,7 @@ pub fn render_tile(
                     if hidden(pixels, x) {
                         continue;
                     }
-                    let full = x as f64 >= r.full_lo && x as f64 + 1.0 <= r.full_hi;
-                    if p.is_none() && !full && pixels.is_open(pixel) {
+                    if p.is_none() && !r.is_full(x) && pixels.is_open(pixel) {
                         // Only cut out of the open part: the row's band
                         // stands for the fragment (the open part lies in
                         // the pixel), saving its clip to the pixel.
@@ -776,18 +793,8 @@ mod sweep {
             if area2(&tri) < 0.0 {
                 tri.reverse();
             }
-            let mut a = Vec::new();
-            let mut cell = tri;
-            for (axis, value, above) in [
-                (0, 0.0, true),
-                (0, 1.0, false),
-                (1, 0.0, true),
-                (1, 1.0, false),
-            ] {
-                a.clear();
-                clip_axis(&cell, axis, value, above, &mut a);
-                std::mem::swap(&mut cell, &mut a);
-            }
+            let (mut tmp, mut cell) = (Vec::new(), Vec::new());
+            clip_to_box(&tri, &[0.0, 0.0, 1.0, 1.0], &mut tmp, &mut cell);
             if cell.len() < 3 || area2(&cell) <= 2.0 * AREA_EPS {
                 continue;
             }
@@ -798,7 +805,6 @@ mod sweep {
                 global: k as u32,
                 color: Some([0.5; 3]),
                 plain: true,
-                occludes: true,
                 cullable: true,
             });
             push_piece(

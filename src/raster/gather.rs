@@ -1,12 +1,12 @@
 //! The exact resolver's input per tile: a dense copy of what it reads of
 //! each polygon of the tile's bin.
 //!
-//! `--aa exact` visits every polygon of a tile twice and looks up each
-//! fragment's plane many times. Read through `ScreenPoly` (a struct, then
-//! its piece list, then each piece's vertices, all on the heap in stream
-//! order), a tile of small triangles from a million-polygon scene misses the
-//! cache at every step; gathered once, by the thread that renders the tile,
-//! the tile's geometry is a few contiguous arrays. (Gathering every tile in
+//! `--aa exact` reads each polygon of a tile row by row and looks up the
+//! plane of each pixel's earlier fragments many times. Read through
+//! `ScreenPoly` (a struct, then its piece list, then each piece's vertices,
+//! all on the heap), a tile of small triangles from a million-polygon scene
+//! misses the cache at every step; gathered once, by the thread that
+//! renders the tile, the tile's geometry is a few contiguous arrays. (Gathering every tile in
 //! one pass over the polygons first measured the same and held every tile's
 //! copy at once: 0.9 GB instead of 0.74 GB peak on a million triangles.)
 //!
@@ -34,9 +34,6 @@ pub struct Local {
     /// Neither textured nor striped: every fragment has the polygon's colour,
     /// and the fragment maker needs nothing else of it.
     pub plain: bool,
-    /// Covers every pixel it is full in: no screen pattern and no
-    /// transparent texel can leave a hole.
-    pub occludes: bool,
     /// Its fragments may be dropped unseen: all but textures under
     /// `--no-skip hidden`, which the benchmark filters hidden or not.
     pub cullable: bool,
@@ -51,7 +48,6 @@ impl Local {
             global,
             color: p.screen.is_none().then_some(p.color),
             plain: p.texture.is_none() && p.stripe.is_none(),
-            occludes: p.screen.is_none() && p.texture.as_ref().map_or(true, |t| t.always_opaque()),
             cullable: p.texture.as_ref().map_or(true, |t| t.skips.hidden),
         }
     }
@@ -72,7 +68,7 @@ impl Local {
 
 /// Pieces with more vertices than this are not copied into each tile they
 /// meet but read where they are: a polygon of a million vertices spanning a
-/// frame's 192 tiles would otherwise be copied 192 times (3 GB). Small
+/// 1024x768 frame's 768 tiles would otherwise be copied 768 times (12 GB). Small
 /// pieces, the many that make a scene deep, are the ones worth copying.
 pub const GATHER_MAX_VERTS: usize = 64;
 
@@ -220,8 +216,8 @@ mod tests {
             let whole = polys[g.locals[r.local as usize].global as usize].piece(0);
             assert_eq!(g.piece(&polys, r), whole);
         }
-        let bins = super::super::bin_of_side(&polys, 200, 200, super::super::EXACT_TILE);
-        let tiles = super::super::tiles_of_side(200, 200, super::super::EXACT_TILE);
+        let bins = super::super::bin(&polys, 200, 200);
+        let tiles = super::super::tiles(200, 200);
         for (t, bin) in bins.iter().enumerate() {
             g.gather(&polys, bin, tiles[t]);
             for r in &g.pieces {

@@ -19,8 +19,7 @@
 //!    reference by an independent method, with its own error estimate).
 //! 4. [`Frame::to_image`] encodes linear light to sRGB once, rounding.
 //!
-//! Work is split into fixed square tiles of [`TILE`] pixels ([`EXACT_TILE`]
-//! for `--aa exact`); every tile is
+//! Work is split into fixed square tiles of [`TILE`] pixels; every tile is
 //! computed from the same inputs in the same order whatever the number of
 //! threads, so the output is byte-identical for any `--threads`.
 //!
@@ -48,15 +47,12 @@ use glam::{DMat4, DVec2, DVec3, DVec4};
 
 /// Side of the square tiles work is split into. 32 keeps a tile's sample
 /// buffers in cache for up to 16x16 supersampling while leaving a 1024x768
-/// image 768 tiles to share among threads.
-pub const TILE: u32 = 32;
-
-/// Side of the tiles of `--aa exact`. Its tile sweep keeps a state per
-/// pixel (uncovered part, showers, colour) that is read at random as the
-/// tile's polygons come in: at 32 it stays in cache. Measured on a million
+/// image 768 tiles to share among threads. `--aa exact` keeps a state per
+/// pixel (uncovered part, showers, colour) read at random as the tile's
+/// polygons come in, and at 32 it stays in cache too. Measured on a million
 /// random triangles at 1024x768 (interleaved runs, two threads): 64 → 1.25x
 /// the time of 32, 128 → 1.8x; 16, 24 and 48 within 5% of 32.
-pub const EXACT_TILE: u32 = 32;
+pub const TILE: u32 = 32;
 
 /// Relative depth tolerance under which two polygons count as equally near at a
 /// point (coplanar overlap): the later polygon in the stream then wins, as
@@ -840,15 +836,10 @@ impl Frame {
 /// The tiles of a `width x height` frame: `[x0, y0, x1, y1]`, row-major from the
 /// bottom.
 pub fn tiles(width: u32, height: u32) -> Vec<[u32; 4]> {
-    tiles_of_side(width, height, TILE)
-}
-
-/// [`tiles`] of any side.
-pub fn tiles_of_side(width: u32, height: u32, side: u32) -> Vec<[u32; 4]> {
     let mut out = Vec::new();
-    for y in (0..height).step_by(side as usize) {
-        for x in (0..width).step_by(side as usize) {
-            out.push([x, y, (x + side).min(width), (y + side).min(height)]);
+    for y in (0..height).step_by(TILE as usize) {
+        for x in (0..width).step_by(TILE as usize) {
+            out.push([x, y, (x + TILE).min(width), (y + TILE).min(height)]);
         }
     }
     out
@@ -857,62 +848,37 @@ pub fn tiles_of_side(width: u32, height: u32, side: u32) -> Vec<[u32; 4]> {
 /// For every tile, the indices of the polygons whose bounding box meets it, in
 /// stream order.
 pub fn bin(polys: &[ScreenPoly], width: u32, height: u32) -> Vec<Vec<u32>> {
-    bin_of_side(polys, width, height, TILE)
-}
-
-/// [`bin`] for tiles of any side.
-pub fn bin_of_side(polys: &[ScreenPoly], width: u32, height: u32, side: u32) -> Vec<Vec<u32>> {
-    let tx = width.div_ceil(side) as usize;
-    let ty = height.div_ceil(side) as usize;
+    let tx = width.div_ceil(TILE) as usize;
+    let ty = height.div_ceil(TILE) as usize;
     let mut bins = vec![Vec::new(); tx * ty];
     for (i, p) in polys.iter().enumerate() {
-        for t in tiles_met(p.bbox, tx, side) {
-            bins[t].push(i as u32);
+        let [x0, y0, x1, y1] = p.bbox;
+        if x1 <= x0 || y1 <= y0 {
+            continue;
+        }
+        for ty_i in (y0 / TILE) as usize..=((y1 - 1) / TILE) as usize {
+            for tx_i in (x0 / TILE) as usize..=((x1 - 1) / TILE) as usize {
+                bins[ty_i * tx + tx_i].push(i as u32);
+            }
         }
     }
     bins
-}
-
-/// Indices (row-major, `tiles_across` per row) of the tiles of side `side`
-/// that a pixel bounding box `[x0, y0, x1, y1)` meets; none for an empty box.
-fn tiles_met(bbox: [u32; 4], tiles_across: usize, side: u32) -> impl Iterator<Item = usize> {
-    let [x0, y0, x1, y1] = bbox;
-    let (rows, cols) = if x1 <= x0 || y1 <= y0 {
-        (0..0, 0..0)
-    } else {
-        (
-            (y0 / side) as usize..((y1 - 1) / side) as usize + 1,
-            (x0 / side) as usize..((x1 - 1) / side) as usize + 1,
-        )
-    };
-    rows.flat_map(move |r| cols.clone().map(move |c| r * tiles_across + c))
 }
 
 /// Renders projected polygons with the chosen anti-aliasing. Runs on the
 /// current rayon pool; the result does not depend on its size.
 pub fn render(polys: &[ScreenPoly], bg: &Background, width: u32, height: u32, aa: Aa) -> Frame {
     use rayon::prelude::*;
-    let tiles = match aa {
-        Aa::Exact => tiles_of_side(width, height, EXACT_TILE),
-        Aa::None | Aa::Ss(_) => tiles(width, height),
-    };
+    let tiles = tiles(width, height);
+    let bins = bin(polys, width, height);
     let blocks: Vec<Vec<[f32; 3]>> = match aa {
-        Aa::Exact => {
-            let bins = bin_of_side(polys, width, height, EXACT_TILE);
-            tiles
-                .par_iter()
-                .enumerate()
-                .map(|(i, t)| {
-                    coverage::with_tile_scratch(|s, g| {
-                        g.gather(polys, &bins[i], *t);
-                        coverage::render_tile(polys, g, bg, *t, s)
-                    })
-                })
-                .collect()
-        }
+        Aa::Exact => tiles
+            .par_iter()
+            .zip(&bins)
+            .map(|(t, b)| coverage::render_bin(polys, b, bg, *t))
+            .collect(),
         Aa::None | Aa::Ss(_) => {
             let k = if let Aa::Ss(k) = aa { k } else { 1 };
-            let bins = bin(polys, width, height);
             let snapped: Vec<scan::FixedPoly> = polys
                 .par_iter()
                 .map(|p| scan::FixedPoly::new(p, k))

@@ -15,7 +15,7 @@ use glam::DVec2;
 /// Where a pixel stands in the tile-order sweep of
 /// [`super::coverage::render_tile`].
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub(super) enum Status {
+enum Status {
     /// What has shown (if anything) is pairwise disjoint, so the uncovered
     /// part is the square minus their areas, and it is never built: a pixel
     /// cut into texel cells or split between neighbours that only touch
@@ -31,7 +31,7 @@ pub(super) enum Status {
 /// A fragment that showed in a pixel, kept to check what comes later
 /// against it (and to resolve the pixel again if that check fails).
 #[derive(Clone, Copy)]
-pub(super) struct Shower {
+struct Shower {
     poly: u32,
     /// Vertices in the arena, or `len == 0` for the full pixel square.
     start: u32,
@@ -73,21 +73,21 @@ pub(super) struct Shown<'a> {
 /// of its points, behind a shower. The sweep then goes on from there.
 #[derive(Default)]
 pub(super) struct PixelStates {
-    pub(super) status: Vec<Status>,
+    status: Vec<Status>,
     /// Area-weighted linear-light colour of what has shown, and its area.
     pub(super) acc: Vec<[f64; 4]>,
     /// Over the showers: the least nearness over the pixel, and the largest
     /// |nearness| at the centre (for the tie tolerance).
-    pub(super) floor: Vec<[f64; 2]>,
+    floor: Vec<[f64; 2]>,
     /// The uncovered part of an [`Status::Open`] pixel, as convex pieces.
-    pub(super) open: Vec<Vec<Vec<DVec2>>>,
-    pub(super) showers: Vec<Vec<Shower>>,
+    open: Vec<Vec<Vec<DVec2>>>,
+    showers: Vec<Vec<Shower>>,
     /// How many times a pixel was resolved again (a count for the tests).
     pub(super) resolved_again: u32,
 }
 
 /// A fragment on its way into [`PixelStates::sweep`].
-pub(super) struct Newcomer<'a> {
+struct Newcomer<'a> {
     f: &'a Frag,
     l: &'a Local,
     verts: &'a [DVec2],
@@ -95,6 +95,21 @@ pub(super) struct Newcomer<'a> {
     qc: f64,
     /// Its colour, `None` for a [`FILTER_LATER`] one not yet filtered.
     color: Option<[f64; 3]>,
+}
+
+impl Newcomer<'_> {
+    /// This fragment as a shower of colour `color`.
+    fn shower(&self, color: [f64; 3]) -> Shower {
+        Shower {
+            poly: self.f.poly,
+            start: self.f.start,
+            len: self.f.len,
+            qc: self.qc,
+            q_lo: self.qc - self.l.half_spread(),
+            bb: self.bb,
+            color,
+        }
+    }
 }
 
 impl PixelStates {
@@ -119,15 +134,17 @@ impl PixelStates {
         self.floor.resize(n, [f64::INFINITY, 0.0]);
     }
 
-    /// Whether `l` can show nothing in the pixel centred at `(cx, cy)`: the
-    /// pixel is covered, and `l` is behind every shower over the whole
-    /// pixel by more than the tie tolerance (so the check of
-    /// [`PixelStates::sweep`] passes for it without its fragment).
+    /// Whether the pixel is partly covered, with overlaps (so a fragment is
+    /// only cut out of its uncovered part).
     #[inline]
     pub(super) fn is_open(&self, pixel: u32) -> bool {
         self.status[pixel as usize] == Status::Open
     }
 
+    /// Whether `l` can show nothing in the pixel centred at `(cx, cy)`: the
+    /// pixel is covered, and `l` is behind every shower over the whole
+    /// pixel by more than the tie tolerance (so the check of
+    /// [`PixelStates::sweep`] passes for it without its fragment).
     #[inline]
     pub(super) fn hides(&self, pixel: u32, l: &Local, cx: f64, cy: f64) -> bool {
         let p = pixel as usize;
@@ -239,11 +256,7 @@ impl PixelStates {
             if c.poly == n.f.poly {
                 continue; // One polygon's pieces never overlap.
             }
-            let cv = if c.len == 0 {
-                &square[..]
-            } else {
-                &t.arena[c.start as usize..(c.start + c.len) as usize]
-            };
+            let cv = shape(c.start, c.len, t.arena, square);
             let apart = || boxes_apart(&n.bb, &c.bb) || disjoint(cv, n.verts);
             let behind = behind_all || q_hi + tie_tolerance(qc, c.qc, l.tie_floor) <= c.q_lo || {
                 let d = front_of(l, &t.locals[c.poly as usize], qc, c.qc);
@@ -271,11 +284,7 @@ impl PixelStates {
         whole.extend_from_slice(square);
         open.push(whole);
         for c in &self.showers[p] {
-            let cv = if c.len == 0 {
-                &square[..]
-            } else {
-                &arena[c.start as usize..(c.start + c.len) as usize]
-            };
+            let cv = shape(c.start, c.len, arena, square);
             cut_out(open, cv, &c.bb, square, work);
         }
         self.status[p] = if open.is_empty() {
@@ -303,18 +312,10 @@ impl PixelStates {
             acc[ch] += area * c[ch];
         }
         acc[3] += area;
-        let q_lo = n.qc - n.l.half_spread();
-        self.showers[p].push(Shower {
-            poly: n.f.poly,
-            start: n.f.start,
-            len: n.f.len,
-            qc: n.qc,
-            q_lo,
-            bb: n.bb,
-            color: c,
-        });
+        let shower = n.shower(c);
+        self.showers[p].push(shower);
         let fl = &mut self.floor[p];
-        *fl = [fmin(fl[0], q_lo), fmax(fl[1], n.qc.abs())];
+        *fl = [fmin(fl[0], shower.q_lo), fmax(fl[1], shower.qc.abs())];
     }
 
     /// Resolves pixel `p` again among its showers and `n`, which is in front
@@ -383,20 +384,10 @@ impl PixelStates {
         for &(i, area) in &work.seen {
             let c = match showers.get(i as usize) {
                 Some(s) => *s,
-                None => {
-                    let color = n
-                        .color
-                        .unwrap_or_else(|| deferred_filter(t.polys, n.l, px, py));
-                    Shower {
-                        poly: n.f.poly,
-                        start: n.f.start,
-                        len: n.f.len,
-                        qc: n.qc,
-                        q_lo: n.qc - n.l.half_spread(),
-                        bb: n.bb,
-                        color,
-                    }
-                }
+                None => n.shower(
+                    n.color
+                        .unwrap_or_else(|| deferred_filter(t.polys, n.l, px, py)),
+                ),
             };
             for ch in 0..3 {
                 acc[ch] += area * c.color[ch];
@@ -428,7 +419,7 @@ impl PixelStates {
 
 /// Cuts the convex `v` (bounding box `bb`) out of the convex pieces `open`
 /// of the pixel `square`; twice the area it removed.
-pub(super) fn cut_out(
+fn cut_out(
     open: &mut Vec<Vec<DVec2>>,
     v: &[DVec2],
     bb: &[f64; 4],
@@ -473,21 +464,21 @@ pub(super) fn cut_out(
 /// Per-tile buffers of the per-pixel visibility, reused from pixel to pixel.
 #[derive(Default)]
 pub(super) struct Scratch {
-    pub(super) pieces: Vec<Vec<DVec2>>,
-    pub(super) next: Vec<Vec<DVec2>>,
+    pieces: Vec<Vec<DVec2>>,
+    next: Vec<Vec<DVec2>>,
     /// Vertex lists no longer in use, kept for their allocations: the convex
     /// subtraction makes and drops several small pieces per fragment pair, and
     /// recycling them keeps the allocator out of the inner loop.
     pub(super) pool: Vec<Vec<DVec2>>,
-    pub(super) occ: Vec<DVec2>,
-    pub(super) a: Vec<DVec2>,
-    pub(super) b: Vec<DVec2>,
+    occ: Vec<DVec2>,
+    a: Vec<DVec2>,
+    b: Vec<DVec2>,
     /// The fragments [`subtract_pairwise`] resolves, and which of them are
     /// present.
-    pub(super) batch: Vec<Frag>,
+    batch: Vec<Frag>,
     pub(super) alive: Vec<bool>,
     /// Runs `[start, end)` of consecutive fragments of one polygon.
-    pub(super) runs: Vec<(u32, u32)>,
+    runs: Vec<(u32, u32)>,
     /// Each fragment's nearness at the pixel centre (the point the tie rule
     /// is evaluated at), computed once per pixel instead of once per pair.
     pub(super) qc: Vec<f64>,
@@ -496,23 +487,29 @@ pub(super) struct Scratch {
     pub(super) seen: Vec<(u32, f64)>,
     /// A spare list of showers, and the vertices of the fragments it
     /// resolves, for [`PixelStates::resolve_again`].
-    pub(super) showers: Vec<Shower>,
-    pub(super) cells: Vec<DVec2>,
+    showers: Vec<Shower>,
+    cells: Vec<DVec2>,
 }
 
-pub(super) fn frag_verts<'a>(f: &Frag, arena: &'a [DVec2], square: &'a [DVec2; 4]) -> &'a [DVec2] {
-    if f.len == 0 {
+/// The `len` vertices from `start` in `arena`, or the pixel `square` for
+/// `len == 0`: how fragments and showers name their shape.
+fn shape<'a>(start: u32, len: u32, arena: &'a [DVec2], square: &'a [DVec2; 4]) -> &'a [DVec2] {
+    if len == 0 {
         square
     } else {
-        &arena[f.start as usize..(f.start + f.len) as usize]
+        &arena[start as usize..(start + len) as usize]
     }
+}
+
+fn frag_verts<'a>(f: &Frag, arena: &'a [DVec2], square: &'a [DVec2; 4]) -> &'a [DVec2] {
+    shape(f.start, f.len, arena, square)
 }
 
 /// `q_G - q_F` as an affine function, shifted by the tie rule: positive where G
 /// is in front of F. The later polygon wins within [`tie_tolerance`] (painter's order).
 /// `qg` and `qf` are `g.q(at)` and `f.q(at)` at the point the tie is decided
 /// (the pixel centre), passed in because they are the same for every pair.
-pub(super) fn front_of(g: &Local, f: &Local, qg: f64, qf: f64) -> [f64; 3] {
+fn front_of(g: &Local, f: &Local, qg: f64, qf: f64) -> [f64; 3] {
     let d = [
         g.plane[0] - f.plane[0],
         g.plane[1] - f.plane[1],
@@ -527,7 +524,7 @@ pub(super) fn front_of(g: &Local, f: &Local, qg: f64, qf: f64) -> [f64; 3] {
     [d[0], d[1], c]
 }
 
-/// The visible area of each live fragment, in `s.seen` in stream order: F
+/// The visible area of each live fragment, in `s.seen` in `frags`' order: F
 /// minus the part of every other fragment G in front of it (G cut by the
 /// line where their nearness is equal, so a convex polygon), by convex
 /// subtraction. Exact for any arrangement, interpenetration included;
@@ -563,7 +560,6 @@ pub(super) fn subtract_pairwise(
         }
     }
     seen.clear();
-    // Stream order, even after a sweep that gave up had sorted `live`.
     for i in (0..frags.len()).filter(|&i| alive[i]) {
         let f = &frags[i];
         let fp = &locals[f.poly as usize];
@@ -626,7 +622,7 @@ pub(super) fn subtract_pairwise(
 }
 
 /// Adds the background over the part of the pixel no fragment covers.
-pub(super) fn blend_background(
+fn blend_background(
     mut acc: [f64; 3],
     covered: f64,
     bg: &Background,
@@ -675,7 +671,7 @@ pub(super) fn bounds(v: &[DVec2]) -> [f64; 4] {
 }
 
 /// Whether box `a` lies within box `b`.
-pub(super) fn within(a: &[f64; 4], b: &[f64; 4]) -> bool {
+fn within(a: &[f64; 4], b: &[f64; 4]) -> bool {
     a[0] >= b[0] && a[1] >= b[1] && a[2] <= b[2] && a[3] <= b[3]
 }
 
@@ -699,23 +695,23 @@ pub(super) fn clip_to_box(
 }
 
 /// The box `[x0, y0, x1, y1]` of a pixel square.
-pub(super) fn box_of(square: &[DVec2; 4]) -> [f64; 4] {
+fn box_of(square: &[DVec2; 4]) -> [f64; 4] {
     [square[0].x, square[0].y, square[2].x, square[2].y]
 }
 
 /// Whether two boxes share no interior (touching counts as apart).
-pub(super) fn boxes_apart(a: &[f64; 4], b: &[f64; 4]) -> bool {
+fn boxes_apart(a: &[f64; 4], b: &[f64; 4]) -> bool {
     a[2] <= b[0] || b[2] <= a[0] || a[3] <= b[1] || b[3] <= a[1]
 }
 
 /// Whether two convex counter-clockwise polygons have no interior in common:
 /// some edge of one has the whole other on its outer side (separating axis;
 /// touching along an edge, within [`SEPARATION_EPS`], counts as disjoint).
-pub(super) fn disjoint(a: &[DVec2], b: &[DVec2]) -> bool {
+fn disjoint(a: &[DVec2], b: &[DVec2]) -> bool {
     let separated = |p: &[DVec2], q: &[DVec2]| {
         let n = p.len();
         (0..n).any(|i| {
-            let (s, e) = (p[i], p[if i + 1 == n { 0 } else { i + 1 }]);
+            let (s, e) = (p[i], p[(i + 1) % n]);
             let dir = e - s;
             let len = dir.length();
             len > EDGE_EPS
@@ -729,19 +725,14 @@ pub(super) fn disjoint(a: &[DVec2], b: &[DVec2]) -> bool {
 /// Longest piece [`subtract`] splits in one pass (its sides on the stack);
 /// longer ones, which a pixel's pieces never are in practice, are clipped
 /// twice instead, with the same result.
-pub(super) const SPLIT_MAX: usize = 32;
+const SPLIT_MAX: usize = 32;
 
 /// Splits the convex `poly` by a line whose value at each vertex is
 /// `sides`: the part where it is `>= 0` into `inside`, the part where it is
 /// `<= 0` into `outside`. Bit for bit what `clip_line` gives with the line
 /// and with its negation (negating a line negates its values exactly, and
 /// each crossing is made from the same endpoint as there).
-pub(super) fn split(
-    poly: &[DVec2],
-    sides: &[f64],
-    inside: &mut Vec<DVec2>,
-    outside: &mut Vec<DVec2>,
-) {
+fn split(poly: &[DVec2], sides: &[f64], inside: &mut Vec<DVec2>, outside: &mut Vec<DVec2>) {
     let n = poly.len();
     for i in 0..n {
         let j = if i + 1 == n { 0 } else { i + 1 };
@@ -755,7 +746,7 @@ pub(super) fn split(
 /// One edge `a -> b` of a Sutherland–Hodgman pass keeping `d >= 0` (`da`,
 /// `db` at its ends), pushing what `clip_line` pushes for it.
 #[inline(always)]
-pub(super) fn clip_step(a: DVec2, b: DVec2, da: f64, db: f64, out: &mut Vec<DVec2>) {
+fn clip_step(a: DVec2, b: DVec2, da: f64, db: f64, out: &mut Vec<DVec2>) {
     if da >= 0.0 {
         out.push(a);
         if db < 0.0 && da > 0.0 {
@@ -805,9 +796,7 @@ pub(super) fn subtract(
     };
     let n = o.len();
     let edges = (0..n)
-        .filter(|&i| {
-            (o[if i + 1 == n { 0 } else { i + 1 }] - o[i]).length_squared() > EDGE_EPS * EDGE_EPS
-        })
+        .filter(|&i| (o[(i + 1) % n] - o[i]).length_squared() > EDGE_EPS * EDGE_EPS)
         .count();
     if edges < 3 {
         return None;
@@ -820,7 +809,7 @@ pub(super) fn subtract(
         if cur.len() < 3 {
             return Some(0.0);
         }
-        let (a, b) = (o[i], o[if i + 1 == n { 0 } else { i + 1 }]);
+        let (a, b) = (o[i], o[(i + 1) % n]);
         // Left of a->b: (b - a) x (p - a) >= 0, as a*x + b*y + c.
         let e = b - a;
         if e.length_squared() <= EDGE_EPS * EDGE_EPS
