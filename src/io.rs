@@ -187,7 +187,8 @@ fn display_out(name: &str) -> &str {
 }
 
 /// The image formats every tool writes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum ImageFormat {
     /// PNG, lossless, with alpha when the image has transparency.
     Png,

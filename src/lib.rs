@@ -5,6 +5,7 @@
 //! and each tool's arguments. The binaries in `src/bin/` are one-line shims.
 
 pub mod camera;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod color;
 pub mod geom;

@@ -87,7 +87,8 @@ const FS_AHEAD_BELOW: f32 = 1.0 / 16.0;
 const PEAK: f64 = 255.0;
 
 /// How pixels are assigned palette colours.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Dither {
     /// Each pixel takes its nearest palette colour: crisp texels, best PSNR.
     #[default]

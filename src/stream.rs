@@ -145,7 +145,8 @@ fn parse_quadric(
 }
 
 /// How a pattern is fixed to a polygon (SPEC §2).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum PatternMode {
     /// Fixed to the polygon: the thesis's `polcolorf3`.
     #[default]

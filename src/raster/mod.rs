@@ -156,7 +156,8 @@ impl View {
 }
 
 /// Which faces to drop (SPEC §2: vertices counter-clockwise seen from the front).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Cull {
     /// Draw both faces.
     #[default]

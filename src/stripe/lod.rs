@@ -38,7 +38,8 @@
 //! point").
 
 /// How a pixel's levels are chosen.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum LodMode {
     /// The nearest level only.
     Nearest,
@@ -46,7 +47,7 @@ pub enum LodMode {
     #[default]
     Blend,
     /// The Compuscene III rule: ΔP_max, integer exponent, 4-bit blend factor.
-    #[value(name = "cig")]
+    #[cfg_attr(feature = "cli", value(name = "cig"))]
     Cig,
 }
 

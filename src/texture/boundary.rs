@@ -4,7 +4,8 @@
 //! `Xgl_texture_mipmap_desc`).
 
 /// One direction's boundary condition.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Boundary {
     /// `XGL_TEXTURE_BOUNDARY_WRAP`: the pattern repeats (SPEC §2's tiling;
     /// OpenGL's `GL_REPEAT`).

@@ -8,7 +8,8 @@
 //! carries no alpha, so decal with it is an error.
 
 /// The composition method.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Compose {
     /// `XGL_TEXTURE_OP_REPLACE`: the texel replaces the polygon's colour
     /// (SPEC §2; transparent texels show what is behind).

@@ -41,7 +41,8 @@ use super::PolyTexture;
 use glam::DVec2;
 
 /// A filter method.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Filter {
     /// The exact area integral over texel cells.
     #[default]

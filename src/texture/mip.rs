@@ -25,7 +25,8 @@
 //! time a pixel minifies and shares it between all polygons of the pattern.
 
 /// The filter that builds each level from the one above.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum MipBuild {
     /// The area average: each coarse texel is the mean of the fine texels it
     /// covers (exact area weights when the ratio is odd, 3 → 1).
