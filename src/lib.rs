@@ -17,7 +17,6 @@ pub mod stream;
 pub mod stripe;
 mod text;
 pub mod texture;
-pub mod transform;
 
 pub use color::Rgb8;
 pub use pat::{ParseError, Pattern, TRANSPARENT};

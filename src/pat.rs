@@ -7,6 +7,7 @@
 //! Orientation: row 0 is the BOTTOM row (IRIS GL, y up), exactly as in the file.
 
 use crate::color::Rgb8;
+pub use crate::text::ParseError;
 use crate::text::{Word, Words};
 use std::fmt;
 use std::io::{self, Write};
@@ -323,44 +324,6 @@ impl Pattern {
     }
 }
 
-/// What went wrong reading a `.pat`, and where.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct ParseError {
-    /// The file as the user named it (`-` or `<stdin>` for standard input).
-    pub file: String,
-    /// 1-based line, when the error has a position.
-    pub line: Option<usize>,
-    /// 1-based index of the offending word in the file, and the word itself.
-    pub word: Option<(usize, String)>,
-    /// What was wrong, or what was expected there.
-    pub message: String,
-}
-
-impl ParseError {
-    fn io(file: &str, e: io::Error) -> ParseError {
-        ParseError {
-            file: file.to_string(),
-            line: None,
-            word: None,
-            message: e.to_string(),
-        }
-    }
-}
-
-impl fmt::Display for ParseError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.file)?;
-        if let Some(line) = self.line {
-            write!(f, ":{line}")?;
-        }
-        if let Some((n, w)) = &self.word {
-            write!(f, ": word {n} `{w}`")?;
-        }
-        write!(f, ": {}", self.message)
-    }
-}
-
-impl std::error::Error for ParseError {}
 
 /// What a `.pat` file holds, for the "empty file" and "not text" messages.
 const PAT_CONTENTS: &str = "`SIZE NCOLORS` and colour blocks of hex words";

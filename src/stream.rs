@@ -7,7 +7,8 @@
 //! what the geometry and the renderer use.
 
 use crate::color::Rgb8;
-use crate::transform::Transform;
+use crate::geom::Shape;
+use crate::geom::transform::Transform;
 use glam::DVec3;
 use serde::de::{Deserializer as _, SeqAccess, Visitor};
 use serde_json::{Map, Value};
@@ -17,28 +18,6 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 mod plain;
-
-/// The geometry of a record.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Shape {
-    /// A planar polygon, counter-clockwise seen from its front. `[x,y]` means z = 0.
-    Polygon(Vec<DVec3>),
-    /// `{"rect": [x1,y1,x2,y2]}` in the z = 0 plane.
-    Rect([f64; 4]),
-    /// `{"circle": {"center": [x,y], "radius": r}}` in the z = 0 plane.
-    Circle { center: [f64; 2], radius: f64 },
-    /// `{"arc": {...}}`: a filled sector drawn counter-clockwise from `start` to `end` degrees.
-    Arc {
-        center: [f64; 2],
-        radius: f64,
-        start: f64,
-        end: f64,
-    },
-    /// `{"sphere": {...}}`, `"cylinder"`, `"cone"` or `"disk"` with an
-    /// optional record `"transform"` (docs/objects.md, Quadrics): drawn as
-    /// triangles with GLU texture coordinates (`crate::geom::quadric`).
-    Quadric(Box<crate::geom::quadric::QuadricShape>),
-}
 
 /// The record keys of the quadrics, GLU's names (`cone` is a cylinder with
 /// top radius 0).
@@ -885,7 +864,7 @@ pub fn transform_record(r: &Record, t: &Transform, index: usize) -> Result<Recor
             let s = t.similarity_scale().ok_or_else(|| {
                 "the instance transform stretches unevenly, which an object-mode pattern cannot follow: partition the object with polyfill3 first".to_string()
             })?;
-            if (s - 1.0).abs() > crate::transform::SIMILARITY_TOLERANCE {
+            if (s - 1.0).abs() > crate::geom::transform::SIMILARITY_TOLERANCE {
                 let incr = p.incr.ok_or_else(|| {
                     format!("the instance transform scales by {s}: give the pattern an explicit \"incr\" so it can scale too")
                 })?;

@@ -1,13 +1,53 @@
 //! The whitespace tokenizer shared by the project's text formats: `.pat`
 //! patterns and the stripe formats (modulation maps, translation maps,
-//! colour-code tables). Errors are [`crate::pat::ParseError`]s naming file,
+//! colour-code tables). Errors are [`ParseError`]s naming file,
 //! line, word number and word; a byte that is not printable ASCII is refused
 //! as binary data rather than decoded.
 
-use crate::pat::ParseError;
+use std::fmt;
 
 /// Longest word echoed back in an error message (as in `pat.rs`).
 const MAX_ECHO: usize = 24;
+
+/// What went wrong reading a text file (a `.pat`, a stripe map or table), and
+/// where.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ParseError {
+    /// The file as the user named it (`-` or `<stdin>` for standard input).
+    pub file: String,
+    /// 1-based line, when the error has a position.
+    pub line: Option<usize>,
+    /// 1-based index of the offending word in the file, and the word itself.
+    pub word: Option<(usize, String)>,
+    /// What was wrong, or what was expected there.
+    pub message: String,
+}
+
+impl ParseError {
+    pub(crate) fn io(file: &str, e: std::io::Error) -> ParseError {
+        ParseError {
+            file: file.to_string(),
+            line: None,
+            word: None,
+            message: e.to_string(),
+        }
+    }
+}
+
+impl fmt::Display for ParseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.file)?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+        }
+        if let Some((n, w)) = &self.word {
+            write!(f, ": word {n} `{w}`")?;
+        }
+        write!(f, ": {}", self.message)
+    }
+}
+
+impl std::error::Error for ParseError {}
 
 /// One word of a file with its position.
 #[derive(Debug)]

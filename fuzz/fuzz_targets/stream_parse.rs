@@ -2,7 +2,8 @@
 //! naming the record, and every record it yields has finite vertices.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use patkit::stream::{for_each_record, Shape};
+use patkit::geom::Shape;
+use patkit::stream::for_each_record;
 
 fuzz_target!(|data: &[u8]| {
     let _ = for_each_record(data, "fuzz.json", |r| {

@@ -8,7 +8,8 @@ use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::geom::{map_to_plane, outline, CellSink, Grid, Partitioner, Placement};
 use crate::io::{display_name, Output, STDIO};
 use crate::pat::Pattern;
-use crate::stream::{self, Instance, Item, ObjectDef, Objects, PatternMode, Record, Shape};
+use crate::geom::Shape;
+use crate::stream::{self, Instance, Item, ObjectDef, Objects, PatternMode, Record};
 use crate::texture::map::object_uv;
 use crate::usage_bail;
 use anyhow::{anyhow, Context, Result};
@@ -351,7 +352,7 @@ impl Job<'_> {
         if rec
             .fields
             .get("transform")
-            .is_some_and(crate::transform::Transform::is_animated)
+            .is_some_and(crate::geom::transform::Transform::is_animated)
         {
             self.summary.passed += 1;
             return self.writer.pass(&rec.fields);

@@ -9,8 +9,9 @@ use crate::pat::Pattern;
 use crate::raster::{
     self, compare, reference, Aa, Background, Cull, ScreenPattern, ScreenPoly, View,
 };
-use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, Record, Shape};
-use crate::transform::Transform;
+use crate::geom::Shape;
+use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, Record};
+use crate::geom::transform::Transform;
 use crate::usage_bail;
 use anyhow::{Context, Result};
 use clap::Parser;

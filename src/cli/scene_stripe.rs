@@ -5,7 +5,7 @@
 
 use crate::color::Rgb8;
 use crate::raster::View;
-use crate::stream::Shape;
+use crate::geom::Shape;
 use crate::stripe::record::{LoadedStripe, NoMapping, StripeLoader, StripeSpec};
 use crate::stripe::{LodMode, StripeTexture};
 use anyhow::Result;

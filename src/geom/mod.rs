@@ -12,13 +12,35 @@ pub mod merge;
 pub mod partition;
 pub mod plane;
 pub mod quadric;
+pub mod transform;
 
 pub use partition::{CellSink, Grid, GridError, Partitioner, Placement};
 pub use plane::{map_to_plane, Frame, PlaneError, PlanePolygon};
 
-use crate::stream::Shape;
 use glam::DVec3;
 use std::f64::consts::PI;
+
+/// The geometry of a stream record (SPEC §2), in its own coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    /// A planar polygon, counter-clockwise seen from its front. `[x,y]` means z = 0.
+    Polygon(Vec<DVec3>),
+    /// `{"rect": [x1,y1,x2,y2]}` in the z = 0 plane.
+    Rect([f64; 4]),
+    /// `{"circle": {"center": [x,y], "radius": r}}` in the z = 0 plane.
+    Circle { center: [f64; 2], radius: f64 },
+    /// `{"arc": {...}}`: a filled sector drawn counter-clockwise from `start` to `end` degrees.
+    Arc {
+        center: [f64; 2],
+        radius: f64,
+        start: f64,
+        end: f64,
+    },
+    /// `{"sphere": {...}}`, `"cylinder"`, `"cone"` or `"disk"` with an
+    /// optional record `"transform"` (docs/objects.md, Quadrics): drawn as
+    /// triangles with GLU texture coordinates (`crate::geom::quadric`).
+    Quadric(Box<quadric::QuadricShape>),
+}
 
 /// Fewest segments a full circle is ever drawn with, however coarse the tolerance.
 pub const MIN_CIRCLE_SEGMENTS: usize = 8;

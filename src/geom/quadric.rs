@@ -18,7 +18,7 @@
 //! so no triangle's s wraps from 0.97 back to 0 across the whole texture (the
 //! artefact seed 002's cylinder mapping corrects with its atan2 test).
 
-use crate::transform::Transform;
+use crate::geom::transform::Transform;
 use glam::{DMat4, DVec3};
 use std::f64::consts::PI;
 

@@ -16,7 +16,8 @@
 //! The record's JSON object ([`Record::fields`]) is parsed from the kept line
 //! only when a tool asks for it.
 
-use super::{Fields, Record, Shape, MAX_VERTICES};
+use super::{Fields, Record, MAX_VERTICES};
+use crate::geom::Shape;
 use crate::color::Rgb8;
 use glam::DVec3;
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};

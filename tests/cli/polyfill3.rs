@@ -425,7 +425,7 @@ clitest!(
                 let want = &face_cells[face * per_face + i];
                 assert_eq!(got.fields["texel"], want["texel"]);
                 let w: Vec<[f64; 3]> = serde_json::from_value(want["vertices"].clone()).unwrap();
-                let patkit::stream::Shape::Polygon(g) = &got.shape else {
+                let patkit::geom::Shape::Polygon(g) = &got.shape else {
                     panic!("cells are polygons")
                 };
                 assert_eq!(g.len(), w.len());
