@@ -17,6 +17,7 @@ pub mod stream;
 pub mod stripe;
 mod text;
 pub mod texture;
+pub mod view;
 
 pub use color::Rgb8;
 pub use pat::{ParseError, Pattern, TRANSPARENT};

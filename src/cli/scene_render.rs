@@ -7,11 +7,13 @@ use crate::color::Rgb8;
 use crate::io::{decode_image, display_name, read_input, Image, ImageFormat, PngOptions};
 use crate::pat::Pattern;
 use crate::raster::{
-    self, compare, reference, Aa, Background, Cull, ScreenPattern, ScreenPoly, View,
+    self, compare, reference, Aa, Background, Cull, ScreenPoly,
 };
 use crate::geom::Shape;
 use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, Record};
 use crate::geom::transform::Transform;
+use crate::texture::Texels;
+use crate::view::View;
 use crate::usage_bail;
 use anyhow::{Context, Result};
 use clap::Parser;
@@ -333,14 +335,7 @@ fn run_in_pool(args: Args) -> Result<()> {
         Some(c) => c,
         None => Camera::ortho2(0.0, width as f64, 0.0, height as f64),
     };
-    let view = View {
-        world_to_clip: camera.world_to_clip(),
-        near: camera.near,
-        far: camera.far,
-        perspective: camera.perspective,
-        width,
-        height,
-    };
+    let view = View::new(&camera, width, height);
     let bg_pattern = match &args.background_pattern {
         Some(p) => Some(Pattern::read_file(std::path::Path::new(p))?),
         None => None,
@@ -484,7 +479,7 @@ fn load_image(name: &str) -> Result<Image> {
 fn read_scene(input: &str) -> Result<Scene> {
     let name = display_name(input).to_string();
     let base = crate::stream::base_dir(input);
-    let mut patterns: HashMap<std::path::PathBuf, Arc<ScreenPattern>> = HashMap::new();
+    let mut patterns: HashMap<std::path::PathBuf, Arc<Texels>> = HashMap::new();
     let mut stripes = crate::stripe::record::StripeLoader::new(&base);
     let reader: Box<dyn BufRead> = if input == crate::io::STDIO {
         Box::new(std::io::stdin().lock())
@@ -527,7 +522,7 @@ fn read_scene(input: &str) -> Result<Scene> {
                 None => {
                     let pat = Pattern::read_file(&path)
                         .with_context(|| format!("{name}: record {}", rec.index))?;
-                    let p = Arc::new(ScreenPattern::new(&pat));
+                    let p = Arc::new(Texels::new(&pat));
                     patterns.insert(path, p.clone());
                     p
                 }
@@ -695,9 +690,9 @@ struct Drawable {
     index: usize,
     shape: Shape,
     color: Rgb8,
-    screen: Option<Arc<ScreenPattern>>,
+    screen: Option<Arc<Texels>>,
     /// An object- or uv-mode pattern, placed when the record is projected.
-    placed: Option<(crate::stream::PatternRef, PatternMode, Arc<ScreenPattern>)>,
+    placed: Option<(crate::stream::PatternRef, PatternMode, Arc<Texels>)>,
     uv: Option<Vec<[f64; 2]>>,
     /// A stripe texture (seed 001), given its screen mapping when the record
     /// is projected.

@@ -4,7 +4,7 @@
 //! projected face.
 
 use crate::color::Rgb8;
-use crate::raster::View;
+use crate::view::View;
 use crate::geom::Shape;
 use crate::stripe::record::{LoadedStripe, NoMapping, StripeLoader, StripeSpec};
 use crate::stripe::{LodMode, StripeTexture};

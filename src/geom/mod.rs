@@ -11,6 +11,7 @@ pub mod cull;
 pub mod merge;
 pub mod partition;
 pub mod plane;
+pub mod polygon;
 pub mod quadric;
 pub mod transform;
 

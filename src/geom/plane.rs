@@ -16,6 +16,7 @@
 //! depend on plane coordinates, so the choice of origin does not move the
 //! pattern (SPEC §2 puts it at vertex 0; the offset cancels in `x - xmin`).
 
+use super::polygon::area2;
 use glam::{DVec2, DVec3};
 use std::fmt;
 
@@ -215,20 +216,10 @@ pub fn map_to_plane(
     })
 }
 
-/// Signed area of a 2D polygon (positive when counter-clockwise), with
-/// coordinates taken relative to its first vertex for precision.
+/// Signed area of a 2D polygon (positive when counter-clockwise): half the
+/// kernel's [`area2`], taken about the first vertex for precision.
 pub fn signed_area(p: &[DVec2]) -> f64 {
-    if p.len() < 3 {
-        return 0.0;
-    }
-    let o = p[0];
-    let mut s = 0.0;
-    for i in 1..p.len() - 1 {
-        let a = p[i] - o;
-        let b = p[i + 1] - o;
-        s += a.perp_dot(b);
-    }
-    s / 2.0
+    area2(p) / 2.0
 }
 
 #[cfg(test)]

@@ -361,7 +361,7 @@ mod tests {
     use crate::color::Rgb8;
     use crate::raster::render;
     use crate::raster::tests::poly2;
-    use crate::raster::View;
+    use crate::view::View;
 
     /// A frame of many edges: a fan of thin triangles in two colours about
     /// the centre of a 256x192 frame (plus one square: a flat interior).

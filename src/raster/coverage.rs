@@ -28,16 +28,11 @@
 //! their union up to ~1e-16; [`AREA_EPS`] absorbs that so no seam of background
 //! shows through, and the pixel is bit for bit that of one polygon.
 
-use super::clip::clip_axis;
+use crate::geom::polygon::{area2, clip_axis, pixel_square, vertex_mean, AREA_EPS};
 use super::gather::{Local, TileGeom, GATHER_MAX_VERTS};
 use super::visible::{bounds, clip_to_box, fmax, fmin, PixelStates, Scratch, Shown};
-use super::{area2, Background, ScreenPoly};
+use super::{Background, ScreenPoly};
 use glam::DVec2;
-
-/// Areas (in pixels) below this are rounding noise, not geometry: f64 shoelace
-/// areas of unit-scale fragments are exact to ~1e-15, while the smallest area
-/// that can change an 8-bit sRGB value is ~1e-6 (1/255 of the darkest step).
-pub const AREA_EPS: f64 = 1e-12;
 
 /// Edges shorter than this (pixels) are clipping debris: a crossing computed a
 /// hair from an existing vertex. Their direction is rounding noise, so they
@@ -146,7 +141,7 @@ fn push_frag(
     // lies inside the polygon. (Falling back to the box filter there would
     // cut a near-horizon fragment into up to MAX_EXACT_CELLS pieces.)
     if !tex.filters.is_box() && !verts.is_empty() {
-        let c = super::vertex_mean(verts);
+        let c = vertex_mean(verts);
         if let Some((f, fp)) = tex.filter_at(c.x, c.y) {
             if let Some(c) = crate::texture::filter::unpremultiply(tex.sample(f, &fp)) {
                 t.colors.push(c);
@@ -155,7 +150,7 @@ fn push_frag(
             return;
         }
     }
-    let square = super::pixel_square(px, py);
+    let square = pixel_square(px, py);
     let shape: &[DVec2] = if verts.is_empty() { &square } else { verts };
     t.pieces.clear();
     t.verts.clear();
@@ -552,9 +547,11 @@ fn render_tile(
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::{perspective, poly2};
+    use super::super::tests::poly2;
+    use crate::view::tests::perspective;
     use super::super::visible::subtract;
-    use super::super::{project, render, Aa, Cull, View};
+    use super::super::{project, render, Aa, Cull};
+    use crate::view::View;
     use super::*;
     use crate::color::Rgb8;
     use glam::DVec3;
@@ -671,7 +668,8 @@ mod tests {
 #[cfg(test)]
 mod ties {
     use super::super::tests::poly2;
-    use super::super::{render, Aa, View};
+    use super::super::{render, Aa};
+    use crate::view::View;
     use super::*;
     use crate::color::Rgb8;
 
@@ -719,7 +717,8 @@ mod ties {
 #[cfg(test)]
 mod sweep {
     use super::super::visible::subtract_pairwise;
-    use super::super::{project, reference, render, Aa, Cull, View};
+    use super::super::{project, reference, render, Aa, Cull};
+    use crate::view::View;
     use super::*;
     use crate::color::Rgb8;
     use glam::DVec3;
@@ -877,7 +876,7 @@ mod sweep {
             for (k, f) in frags.iter_mut().enumerate() {
                 f.color = k as u32;
             }
-            let square = super::super::pixel_square(0, 0);
+            let square = super::pixel_square(0, 0);
             let mut s = Scratch::default();
             s.qc.extend(frags.iter().map(|f| locals[f.poly as usize].q(0.5, 0.5)));
             s.alive.resize(frags.len(), true);

@@ -174,7 +174,8 @@ impl TileGeom {
 #[cfg(test)]
 mod tests {
     use super::super::tests::poly2;
-    use super::super::{reference, render, Aa, Background, View};
+    use super::super::{reference, render, Aa, Background};
+    use crate::view::View;
     use super::*;
     use crate::color::Rgb8;
 

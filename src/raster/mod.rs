@@ -32,7 +32,6 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod budget;
-pub mod clip;
 pub mod compare;
 pub mod coverage;
 pub mod gather;
@@ -42,8 +41,11 @@ mod visible;
 
 use crate::color::{linear_to_srgb, srgb_to_linear_f64, Rgb8};
 use crate::io::Image;
+use crate::geom::polygon::{area2, ear_clip, is_convex, newell_plane, GRID_SNAP_PX};
 use crate::pat::Pattern;
-use glam::{DMat4, DVec2, DVec3, DVec4};
+use crate::texture::Texels;
+use crate::view::{clip, View};
+use glam::{DVec2, DVec3, DVec4};
 
 /// Side of the square tiles work is split into. 32 keeps a tile's sample
 /// buffers in cache for up to 16x16 supersampling while leaving a 1024x768
@@ -62,20 +64,6 @@ pub const TILE: u32 = 32;
 /// separation in a scene that f64 can tell apart.
 pub const DEPTH_TIE_REL: f64 = 1e-9;
 
-impl View {
-    /// The nearness scale of the view, the floor of the tie tolerance: without
-    /// it, polygons at exactly nearness 0 (2D records at z = 0 under ortho2)
-    /// would tie with a zero tolerance and each hide neither. Parallel views:
-    /// the depth range; perspective: `1/far`, the smallest nearness visible.
-    pub fn nearness_scale(&self) -> f64 {
-        if self.perspective {
-            1.0 / self.far.abs().max(f64::MIN_POSITIVE)
-        } else {
-            self.near.abs().max(self.far.abs()).max(f64::MIN_POSITIVE)
-        }
-    }
-}
-
 /// The tie tolerance between two nearness values at a point: relative to
 /// them, floored by the view's scale (stored in each polygon as `tie_floor`).
 #[inline]
@@ -83,77 +71,9 @@ pub fn tie_tolerance(qa: f64, qb: f64, floor: f64) -> f64 {
     DEPTH_TIE_REL * qa.abs().max(qb.abs()) + floor
 }
 
-/// For a perspective view the clipper keeps `w >= W_EPSILON_REL * far` (in eye
-/// units: distance in front of the eye). This is what makes `near = 0` work: the
-/// near plane `z >= 0` alone would let vertices reach `w = 0` and divide by zero.
-/// At 1e-9 of the far distance the lost sliver is invisible at any image size
-/// this tool makes (it would need a polygon lying within a billionth of the
-/// scene depth of the eye).
-pub const W_EPSILON_REL: f64 = 1e-9;
-
 /// Curves (`circle`, `arc`) are flattened to polygons whose chords stray at most
 /// this many pixels from the true curve: far below what 8 bits can show.
 pub const CURVE_TOLERANCE_PX: f64 = 1.0 / 256.0;
-
-/// The view a frame is rendered from: world → clip matrix and the clip volume
-/// contract of `camera.rs` (visible iff `-w<=x<=w`, `-w<=y<=w`,
-/// `near <= z_clip <= far`; `z_clip = -z_eye`; `w = -z_eye` in perspective and 1
-/// in parallel views).
-#[derive(Clone, Debug, PartialEq)]
-pub struct View {
-    pub world_to_clip: DMat4,
-    pub near: f64,
-    pub far: f64,
-    pub perspective: bool,
-    pub width: u32,
-    pub height: u32,
-}
-
-impl View {
-    /// IRIS `ortho2(left, right, bottom, top)`: a parallel view of the z = 0
-    /// plane with near = -1 and far = 1, as in IRIS GL.
-    pub fn ortho2(l: f64, r: f64, b: f64, t: f64, width: u32, height: u32) -> View {
-        let m = DMat4::from_cols(
-            DVec4::new(2.0 / (r - l), 0.0, 0.0, 0.0),
-            DVec4::new(0.0, 2.0 / (t - b), 0.0, 0.0),
-            // z_clip = -z_eye, and the eye space of ortho2 is world space.
-            DVec4::new(0.0, 0.0, -1.0, 0.0),
-            DVec4::new(-(r + l) / (r - l), -(t + b) / (t - b), 0.0, 1.0),
-        );
-        View {
-            world_to_clip: m,
-            near: -1.0,
-            far: 1.0,
-            perspective: false,
-            width,
-            height,
-        }
-    }
-
-    /// Clip coordinates of a world point.
-    pub fn to_clip(&self, p: DVec3) -> DVec4 {
-        self.world_to_clip * p.extend(1.0)
-    }
-
-    /// Screen position (pixels, y up) of a clip-space point with `w > 0`.
-    pub fn to_screen(&self, c: DVec4) -> DVec2 {
-        let (w, h) = (self.width as f64, self.height as f64);
-        let x = ((c.x / c.w) * 0.5 + 0.5) * w;
-        let y = ((c.y / c.w) * 0.5 + 0.5) * h;
-        // Clipping keeps |x/w| <= 1 up to rounding; clamp that rounding away so
-        // every later stage may assume the polygon lies within the image.
-        DVec2::new(x.clamp(0.0, w), y.clamp(0.0, h))
-    }
-
-    /// Nearness at a clip-space point: bigger is nearer (see the module doc).
-    pub fn nearness(&self, c: DVec4) -> f64 {
-        if self.perspective {
-            1.0 / c.w
-        } else {
-            -c.z
-        }
-    }
-}
 
 /// Which faces to drop (SPEC §2: vertices counter-clockwise seen from the front).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -181,7 +101,7 @@ pub struct ScreenPoly {
     /// A screen-mode pattern (SPEC §2, the IRIS `setpattern`) that replaces
     /// `color`: pixel (x, y) from the lower-left shows texel (x mod SIZE,
     /// y mod SIZE), and the polygon is absent where that texel is transparent.
-    pub screen: Option<std::sync::Arc<ScreenPattern>>,
+    pub screen: Option<std::sync::Arc<Texels>>,
     /// A pattern in "object" or "uv" placement (SPEC §2), sampled per pixel
     /// through its screen → texel map (`crate::texture`). Each resolver
     /// integrates it exactly over texel cells; transparent texels leave the
@@ -288,51 +208,6 @@ impl ScreenPoly {
         self.plane[0] * x + self.plane[1] * y + self.plane[2]
     }
 }
-
-/// The square of pixel `(px, py)` (y up), counter-clockwise from its
-/// lower-left corner: the box filter's footprint.
-pub fn pixel_square(px: u32, py: u32) -> [DVec2; 4] {
-    let (x, y) = (px as f64, py as f64);
-    [
-        DVec2::new(x, y),
-        DVec2::new(x + 1.0, y),
-        DVec2::new(x + 1.0, y + 1.0),
-        DVec2::new(x, y + 1.0),
-    ]
-}
-
-/// The mean of a convex polygon's vertices: a point inside it (where the
-/// texture filters are evaluated for a fragment whose pixel centre may lie
-/// outside it, beyond a plane's horizon).
-pub fn vertex_mean(v: &[DVec2]) -> DVec2 {
-    v.iter().fold(DVec2::ZERO, |a, &p| a + p) / v.len() as f64
-}
-
-/// Twice the signed area (shoelace), positive counter-clockwise with y up.
-///
-/// Taken about the first vertex, so the rounding error follows the polygon's
-/// own size, not its distance from the origin: the plain shoelace on screen
-/// coordinates near (1000, 1000) rounds with an absolute error of ~1e-10
-/// (|x|·|y|·ε per term), which made a clipping sliver with 1e-12-pixel edges
-/// count as an area above [`coverage::AREA_EPS`] and, as an occluder, erase a
-/// whole texel piece behind it (regression test
-/// `coverage::tests::a_sliver_occluder_far_from_the_origin_hides_nothing`).
-pub fn area2(v: &[DVec2]) -> f64 {
-    let Some(&o) = v.first() else {
-        return 0.0;
-    };
-    let mut s = 0.0;
-    for w in v.windows(2).skip(1) {
-        s += (w[0] - o).perp_dot(w[1] - o);
-    }
-    s
-}
-
-/// Screen coordinates within this many pixels of a whole or half pixel are
-/// moved onto it: the viewport map's rounding (1e-15 px) would otherwise make
-/// a pixel-aligned 2D rectangle cover its border pixels by 1 - 1e-15. Any
-/// geometry this close to the grid is on it for every purpose of 8-bit output.
-pub const GRID_SNAP_PX: f64 = 1e-9;
 
 fn snap_grid(v: f64) -> f64 {
     let r = (v * 2.0).round() * 0.5;
@@ -471,231 +346,6 @@ pub fn try_project(
     }))
 }
 
-/// The affine nearness `q(x, y)` through a planar polygon's screen vertices, by
-/// Newell's method on the points `(x, y, q)`: it uses every vertex, so it stays
-/// well conditioned for slivers where any three vertices would not.
-pub fn newell_plane(v: &[DVec2], q: &[f64]) -> Option<[f64; 3]> {
-    let n = v.len();
-    let (mut nx, mut ny, mut nz) = (0.0, 0.0, 0.0);
-    let (mut cx, mut cy, mut cq) = (0.0, 0.0, 0.0);
-    for i in 0..n {
-        let j = (i + 1) % n;
-        nx += (v[i].y - v[j].y) * (q[i] + q[j]);
-        ny += (q[i] - q[j]) * (v[i].x + v[j].x);
-        nz += (v[i].x - v[j].x) * (v[i].y + v[j].y);
-        cx += v[i].x;
-        cy += v[i].y;
-        cq += q[i];
-    }
-    let k = n as f64;
-    let (cx, cy, cq) = (cx / k, cy / k, cq / k);
-    if nz == 0.0 {
-        return None;
-    }
-    let a = -nx / nz;
-    let b = -ny / nz;
-    let plane = [a, b, cq - a * cx - b * cy];
-    plane.iter().all(|c| c.is_finite()).then_some(plane)
-}
-
-/// Relative tolerance of the convexity test: a turn against the polygon's
-/// orientation smaller than this share of the product of the two edge lengths
-/// counts as straight (clipping and projection leave such rounding-level kinks).
-const CONVEX_REL: f64 = 1e-12;
-
-/// Absolute tolerance of the convexity test, in pixels: a vertex at most this
-/// far inside the chord of its neighbours still counts as convex. It is the
-/// [`GRID_SNAP_PX`] by which projection may move a vertex, so the snap alone
-/// never makes a convex outline concave: a 10-million-vertex circle of radius
-/// 7 px has 4e-6 px edges, which a 1e-9 px move turns by 2e-4 rad, far above
-/// [`CONVEX_REL`]. Drawing such a polygon whole misplaces at most ~1e-9 px²
-/// per kink, far below 8 bits.
-const CONVEX_ABS_PX: f64 = GRID_SNAP_PX;
-
-/// Whether a counter-clockwise polygon is convex (collinear and repeated
-/// vertices allowed).
-pub fn is_convex(v: &[DVec2]) -> bool {
-    let mut v: Vec<DVec2> = v.to_vec();
-    v.dedup();
-    while v.len() > 1 && v.first() == v.last() {
-        v.pop();
-    }
-    let n = v.len();
-    (0..n).all(|i| {
-        let (a, b, c) = (v[i], v[(i + 1) % n], v[(i + 2) % n]);
-        let (e, f) = (b - a, c - b);
-        // perp_dot / |c - a| is b's distance from the chord a-c.
-        e.perp_dot(f)
-            >= -(CONVEX_REL * e.length() * f.length()).max(CONVEX_ABS_PX * (c - a).length())
-    })
-}
-
-/// Ear-clipping triangulation of a simple counter-clockwise polygon. Robust to
-/// repeated and collinear vertices: zero-area ears are dropped, and if no proper
-/// ear is found (a self-intersecting or numerically degenerate remainder) the
-/// most convex remaining corner is cut, so it always terminates with at most
-/// n - 2 triangles.
-pub fn ear_clip(poly: &[DVec2]) -> Vec<Vec<DVec2>> {
-    let mut idx: Vec<usize> = (0..poly.len()).collect();
-    let mut out = Vec::with_capacity(poly.len().saturating_sub(2));
-    while idx.len() > 3 {
-        let m = idx.len();
-        let mut cut = None;
-        let mut best = (f64::MIN, 0usize);
-        for i in 0..m {
-            let (a, b, c) = (
-                poly[idx[(i + m - 1) % m]],
-                poly[idx[i]],
-                poly[idx[(i + 1) % m]],
-            );
-            let turn = (b - a).perp_dot(c - b);
-            if turn > best.0 {
-                best = (turn, i);
-            }
-            if turn <= 0.0 {
-                continue;
-            }
-            let blocked = idx.iter().any(|&k| {
-                let p = poly[k];
-                p != a && p != b && p != c && in_triangle(p, a, b, c)
-            });
-            if !blocked {
-                cut = Some(i);
-                break;
-            }
-        }
-        let i = cut.unwrap_or(best.1);
-        let (a, b, c) = (
-            poly[idx[(i + m - 1) % m]],
-            poly[idx[i]],
-            poly[idx[(i + 1) % m]],
-        );
-        if (b - a).perp_dot(c - b) > 0.0 {
-            out.push(vec![a, b, c]);
-        }
-        idx.remove(i);
-    }
-    let (a, b, c) = (poly[idx[0]], poly[idx[1]], poly[idx[2]]);
-    if (b - a).perp_dot(c - b) > 0.0 {
-        out.push(vec![a, b, c]);
-    }
-    out
-}
-
-/// Point in (or on) a counter-clockwise triangle.
-fn in_triangle(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> bool {
-    (b - a).perp_dot(p - a) >= 0.0
-        && (c - b).perp_dot(p - b) >= 0.0
-        && (a - c).perp_dot(p - c) >= 0.0
-}
-
-/// A pattern laid over the screen, texels decoded to linear light once.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ScreenPattern {
-    size: u32,
-    /// Row 0 at the bottom; `None` is transparent.
-    texels: Vec<Option<[f64; 3]>>,
-    /// Whether any texel is transparent, found once (resolvers ask per
-    /// fragment).
-    transparent: bool,
-    /// The opaque runs of each texel row, found once for the box filter's
-    /// transparent-run skip ([`crate::texture::skip`]).
-    runs: crate::texture::skip::OpaqueRuns,
-    /// Its MIP pyramids, built on first use, one per [`MipKey`] (18 keys:
-    /// 2 builds x 3 x 3 edge extensions), shared by every polygon that
-    /// holds this pattern.
-    pyramids: [std::sync::OnceLock<crate::texture::mip::Pyramid>; MIP_KEYS],
-}
-
-/// The number of distinct [`MipKey`]s.
-const MIP_KEYS: usize = 18;
-
-use crate::texture::mip::{Extend, MipBuild, MipKey};
-
-fn mip_key_index(k: MipKey) -> usize {
-    let e = |x: Extend| match x {
-        Extend::Repeat => 0,
-        Extend::Mirror => 1,
-        Extend::Edge => 2,
-    };
-    (k.build == MipBuild::Mitchell) as usize * 9 + e(k.u) * 3 + e(k.v)
-}
-
-impl ScreenPattern {
-    pub fn new(p: &Pattern) -> ScreenPattern {
-        let size = p.size();
-        let mut texels = Vec::with_capacity((size * size) as usize);
-        for row in 0..size {
-            for col in 0..size {
-                texels.push(
-                    p.color_at(col, row)
-                        .map(|c| c.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0))),
-                );
-            }
-        }
-        let runs = crate::texture::skip::OpaqueRuns::new(size, |c, r| {
-            texels[(r * size + c) as usize].is_some()
-        });
-        ScreenPattern {
-            size,
-            transparent: texels.iter().any(|t| t.is_none()),
-            runs,
-            texels,
-            pyramids: std::array::from_fn(|_| std::sync::OnceLock::new()),
-        }
-    }
-
-    /// Texel (c, r), `c, r < SIZE`, as premultiplied linear RGBA.
-    #[inline]
-    pub fn premultiplied(&self, c: u32, r: u32) -> [f64; 4] {
-        match self.texels[(r * self.size + c) as usize] {
-            Some(t) => [t[0], t[1], t[2], 1.0],
-            None => [0.0; 4],
-        }
-    }
-
-    /// The MIP pyramid built with `key`: built by the first caller (others
-    /// wait for it), then shared.
-    pub fn pyramid(&self, key: MipKey) -> &crate::texture::mip::Pyramid {
-        self.pyramids[mip_key_index(key)].get_or_init(|| {
-            let s = self.size;
-            let base: Vec<[f64; 4]> = (0..s * s)
-                .map(|i| self.premultiplied(i % s, i / s))
-                .collect();
-            crate::texture::mip::build(&base, s, key)
-        })
-    }
-
-    /// Linear colour of pixel (x, y) counted from the lower-left.
-    #[inline]
-    pub fn at(&self, x: u32, y: u32) -> Option<[f64; 3]> {
-        self.texels[((y % self.size) * self.size + x % self.size) as usize]
-    }
-
-    /// Linear colour of texel cell (k, j) of the infinite tiling: column
-    /// `k mod SIZE`, row `j mod SIZE` (SPEC §2); `None` is transparent.
-    #[inline]
-    pub fn texel(&self, k: i64, j: i64) -> Option<[f64; 3]> {
-        let s = self.size as i64;
-        self.texels[(j.rem_euclid(s) * s + k.rem_euclid(s)) as usize]
-    }
-
-    /// Side of the pattern in texels.
-    pub fn size(&self) -> u32 {
-        self.size
-    }
-
-    /// Whether any texel is transparent (the pattern has an alpha channel).
-    pub fn has_transparency(&self) -> bool {
-        self.transparent
-    }
-
-    /// The opaque runs of each texel row.
-    pub fn runs(&self) -> &crate::texture::skip::OpaqueRuns {
-        &self.runs
-    }
-}
-
 /// What lies behind every polygon: a colour, or the thesis's `colorclear`
 /// pattern tiled in screen mode (pixel (x, y) from the lower-left takes texel
 /// (x mod SIZE, y mod SIZE); transparent texels show the colour).
@@ -704,7 +354,7 @@ pub struct Background {
     /// Linear light of the colour, decoded once (it is read for every pixel
     /// not fully covered).
     color: [f64; 3],
-    pattern: Option<ScreenPattern>,
+    pattern: Option<Texels>,
 }
 
 impl Background {
@@ -716,7 +366,7 @@ impl Background {
     pub fn new(color: Rgb8, pattern: Option<&Pattern>) -> Background {
         Background {
             color: color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0)),
-            pattern: pattern.map(ScreenPattern::new),
+            pattern: pattern.map(Texels::new),
         }
     }
 
@@ -897,27 +547,7 @@ pub fn render(polys: &[ScreenPoly], bg: &Background, width: u32, height: u32, aa
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-
-    /// A perspective view for tests: eye at the origin looking down -z, vertical
-    /// field `fovy` degrees, with the camera contract's z_clip = w = -z_eye.
-    pub fn perspective(fovy: f64, width: u32, height: u32, near: f64, far: f64) -> View {
-        let f = 1.0 / (fovy.to_radians() / 2.0).tan();
-        let aspect = width as f64 / height as f64;
-        let m = DMat4::from_cols(
-            DVec4::new(f / aspect, 0.0, 0.0, 0.0),
-            DVec4::new(0.0, f, 0.0, 0.0),
-            DVec4::new(0.0, 0.0, -1.0, -1.0),
-            DVec4::new(0.0, 0.0, 0.0, 0.0),
-        );
-        View {
-            world_to_clip: m,
-            near,
-            far,
-            perspective: true,
-            width,
-            height,
-        }
-    }
+    use crate::view::tests::perspective;
 
     pub fn poly2(view: &View, pts: &[[f64; 2]], color: Rgb8, order: u32) -> Option<ScreenPoly> {
         let w: Vec<DVec3> = pts.iter().map(|p| DVec3::new(p[0], p[1], 0.0)).collect();
@@ -1049,7 +679,7 @@ pub(crate) mod tests {
 #[cfg(test)]
 mod determinism {
     use super::scan::tests::Rng;
-    use super::tests::perspective;
+    use crate::view::tests::perspective;
     use super::*;
 
     #[test]
@@ -1089,5 +719,72 @@ mod determinism {
                 .install(|| reference::render(&polys, &bg, 100, 70, 6).frame.to_image())
         };
         assert_eq!(run_ref(1), run_ref(2));
+    }
+}
+
+#[cfg(test)]
+mod clip_tests {
+    use super::{project, Cull};
+    use crate::view::clip::clip_polygon;
+    use crate::view::tests::perspective;
+    use crate::view::W_EPSILON_REL;
+    use crate::color::Rgb8;
+    use glam::DVec3;
+
+    #[test]
+    fn nothing_behind_the_eye_is_drawn() {
+        let v = perspective(90.0, 100, 100, 0.0, 1000.0);
+        // Entirely behind the eye (z_eye > 0): a naive divide would mirror it
+        // into the view.
+        let behind = [
+            DVec3::new(-1.0, -1.0, 5.0),
+            DVec3::new(1.0, -1.0, 5.0),
+            DVec3::new(0.0, 1.0, 5.0),
+        ];
+        assert!(project(&v, &behind, Rgb8::WHITE, 0, Cull::None).is_none());
+        // Straddling the eye plane: only the part in front survives, and it
+        // lies on the correct side of the screen.
+        let straddle = [
+            DVec3::new(-1.0, -1.0, -5.0),
+            DVec3::new(1.0, -1.0, -5.0),
+            DVec3::new(1.0, -1.0, 5.0),
+            DVec3::new(-1.0, -1.0, 5.0),
+        ];
+        let p = project(&v, &straddle, Rgb8::WHITE, 0, Cull::None).unwrap();
+        assert!(p.verts.iter().all(|s| s.y <= 50.0 && s.x.is_finite()));
+    }
+
+    #[test]
+    fn near_zero_clips_at_a_tiny_positive_w_without_division_by_zero() {
+        let v = perspective(90.0, 100, 100, 0.0, 1000.0);
+        // A floor through the eye's position: vertex at z_eye = 0 exactly.
+        let floor = [
+            DVec3::new(-10.0, -1.0, 0.0),
+            DVec3::new(10.0, -1.0, 0.0),
+            DVec3::new(10.0, -1.0, -100.0),
+            DVec3::new(-10.0, -1.0, -100.0),
+        ];
+        let clipped = clip_polygon(&floor.iter().map(|&p| v.to_clip(p)).collect::<Vec<_>>(), &v);
+        assert!(!clipped.is_empty());
+        assert!(clipped
+            .iter()
+            .all(|c| c.w >= W_EPSILON_REL * 1000.0 * (1.0 - 1e-12)));
+        let p = project(&v, &floor, Rgb8::WHITE, 0, Cull::None).unwrap();
+        assert!(p.plane.iter().all(|c| c.is_finite()));
+        // The floor reaches the bottom edge of the screen.
+        assert!(p.verts.iter().any(|s| s.y == 0.0));
+    }
+
+    #[test]
+    fn shared_edges_get_identical_crossings() {
+        let v = perspective(60.0, 64, 64, 0.5, 50.0);
+        let a = DVec3::new(-3.0, 0.2, -20.0);
+        let b = DVec3::new(2.0, -0.1, 3.0);
+        let t1 = [a, b, DVec3::new(3.0, 2.0, -10.0)];
+        let t2 = [b, a, DVec3::new(-3.0, -2.0, -10.0)];
+        let c1 = clip_polygon(&t1.map(|p| v.to_clip(p)), &v);
+        let c2 = clip_polygon(&t2.map(|p| v.to_clip(p)), &v);
+        let shared: Vec<_> = c1.iter().filter(|p| c2.contains(p)).collect();
+        assert!(shared.len() >= 2, "{c1:?} {c2:?}");
     }
 }

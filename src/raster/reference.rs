@@ -693,7 +693,8 @@ fn line_colour(
 #[cfg(test)]
 mod tests {
     use super::super::scan::tests::Rng;
-    use super::super::tests::{perspective, poly2};
+    use super::super::tests::poly2;
+    use crate::view::tests::perspective;
     use super::super::{project, render as render_fast, Aa, Cull};
     use super::*;
     use crate::color::Rgb8;

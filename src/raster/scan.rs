@@ -234,7 +234,8 @@ pub fn render_tile(
 #[cfg(test)]
 pub(crate) mod tests {
     use super::super::tests::poly2;
-    use super::super::{render, Aa, View};
+    use super::super::{render, Aa};
+    use crate::view::View;
     use super::*;
     use crate::color::Rgb8;
 

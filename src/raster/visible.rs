@@ -4,12 +4,12 @@
 //! ([`subtract_pairwise`]), and the convex geometry both stand on
 //! ([`subtract`], [`disjoint`]).
 
-use super::clip::{clip_axis, clip_line};
+use crate::geom::polygon::{area2, clip_axis, clip_line, pixel_square, AREA_EPS};
 use super::coverage::{
-    deferred_filter, Frag, AREA_EPS, EDGE_EPS, FILTER_LATER, POLY_COLOR, SEPARATION_EPS,
+    deferred_filter, Frag, EDGE_EPS, FILTER_LATER, POLY_COLOR, SEPARATION_EPS,
 };
 use super::gather::Local;
-use super::{area2, tie_tolerance, Background, ScreenPoly};
+use super::{tie_tolerance, Background, ScreenPoly};
 use glam::DVec2;
 
 /// Where a pixel stands in the tile-order sweep of
@@ -179,7 +179,7 @@ impl PixelStates {
             FILTER_LATER => None,
             i => Some(t.colors[i as usize]),
         };
-        let square = super::pixel_square(px, py);
+        let square = pixel_square(px, py);
         let verts = frag_verts(f, t.arena, &square);
         let first_full =
             f.len == 0 && self.showers[p].is_empty() && self.status[p] == Status::Disjoint;

@@ -289,7 +289,7 @@ impl StripeTexture {
     /// ones under its (possibly uncovered) centre.
     pub fn fragment_linear(&self, px: u32, py: u32, verts: &[DVec2]) -> [f32; 3] {
         let (x, y) = (px as f64, py as f64);
-        let square = crate::raster::pixel_square(px, py);
+        let square = crate::geom::polygon::pixel_square(px, py);
         let shape: &[DVec2] = if verts.is_empty() { &square } else { verts };
         if let Some(m) = self.box_modulation_few(shape) {
             return self.colour(m as f32);
@@ -431,7 +431,7 @@ impl StripeTexture {
     /// rounding: the error is below 1e-12 per 10^3 crossed samples (each sample
     /// adds one rounded area difference of relative size 1e-16).
     pub fn reference_linear(&self, px: u32, py: u32) -> Result<[f64; 3], ReferenceError> {
-        let square = crate::raster::pixel_square(px, py);
+        let square = crate::geom::polygon::pixel_square(px, py);
         let m = self.reference_modulation(&square)?;
         let mut c = self.face.map(|v| v as f64);
         for (ch, on) in c.iter_mut().zip(self.select.0) {

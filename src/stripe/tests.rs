@@ -237,7 +237,7 @@ proptest::proptest! {
         let (x, y) = (px as f64, py as f64);
         // The pixel square cut by the line v = cut + slope (u - 0.5): a
         // convex fragment of 3 to 5 vertices, as coverage.rs makes them.
-        let square = crate::raster::pixel_square(px, py);
+        let square = crate::geom::polygon::pixel_square(px, py);
         let f = |v: DVec2| (v.y - y) - (cut + slope * (v.x - x - 0.5));
         let mut frag = Vec::new();
         for i in 0..4 {

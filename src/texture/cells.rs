@@ -27,9 +27,9 @@
 //! texel at its centre.
 
 use super::PolyTexture;
-use crate::raster::area2;
-use crate::raster::clip::{clip_axis, clip_line};
-use crate::raster::coverage::AREA_EPS;
+use crate::geom::polygon::area2;
+use crate::geom::polygon::{clip_axis, clip_line};
+use crate::geom::polygon::AREA_EPS;
 use glam::DVec2;
 
 /// Most texel cells of a fragment's bounding box in texel space that are cut
@@ -104,7 +104,7 @@ pub fn split(
         return Split::Whole(tex.texel(b.k0, b.j0));
     }
     if b.cells() > MAX_EXACT_CELLS {
-        let c = crate::raster::vertex_mean(frag);
+        let c = crate::geom::polygon::vertex_mean(frag);
         if let Some(fp) = tex.map.footprint(c.x, c.y) {
             let rgba = tex.sample(super::filter::Filter::Ewa, &fp);
             return Split::Whole(super::filter::unpremultiply(rgba));
@@ -315,7 +315,7 @@ fn sub_squares(
             if s.cell.len() < 3 || area2(&s.cell) <= 2.0 * AREA_EPS {
                 continue;
             }
-            let c = crate::raster::vertex_mean(&s.cell);
+            let c = crate::geom::polygon::vertex_mean(&s.cell);
             let t = tex.map.uv(c.x, c.y);
             let Some(color) = tex.texel(t.x.floor() as i64, t.y.floor() as i64) else {
                 continue;
@@ -330,7 +330,7 @@ mod tests {
     use super::*;
     use crate::color::{srgb_to_linear_f64, Rgb8};
     use crate::pat::TRANSPARENT;
-    use crate::raster::pixel_square;
+    use crate::geom::polygon::pixel_square;
     use crate::texture::filter::tests::{pattern, placed};
     use crate::texture::filter::Filter;
     use proptest::prelude::*;
@@ -405,7 +405,7 @@ mod tests {
         let (a, b) = (Rgb8([230, 230, 230]), Rgb8([20, 20, 120]));
         let checker = pattern(16, &[a, b], |c, r| ((c + r) % 2) as u16);
         let tex = placed(checker, 200.0, Filter::Box, 0.0);
-        let square = crate::raster::pixel_square(3, 4);
+        let square = crate::geom::polygon::pixel_square(3, 4);
         let (mut verts, mut pieces, mut s) = (Vec::new(), Vec::new(), Scratch::default());
         let Split::Whole(Some(c)) = split(&square, 3, 4, &tex, &mut verts, &mut pieces, &mut s)
         else {

@@ -315,7 +315,7 @@ pub(crate) mod tests {
     use super::*;
     use crate::color::Rgb8;
     use crate::pat::{Pattern, TRANSPARENT};
-    use crate::raster::ScreenPattern;
+    use crate::texture::Texels;
     use crate::texture::boundary::{Boundary, Bounds};
     use crate::texture::compose::Compose;
     use crate::texture::map::TexMap;
@@ -337,16 +337,16 @@ pub(crate) mod tests {
         s: u32,
         colors: &[Rgb8],
         mut f: impl FnMut(u32, u32) -> u16,
-    ) -> Arc<ScreenPattern> {
+    ) -> Arc<Texels> {
         let t = (0..s * s).map(|i| f(i % s, i / s)).collect();
-        Arc::new(ScreenPattern::new(
+        Arc::new(Texels::new(
             &Pattern::new(s, colors.to_vec(), t).unwrap(),
         ))
     }
 
     /// The pattern seen head-on at `scale` texels per pixel (u = scale x,
     /// v = scale y), with filter `min` (mag: its counterpart).
-    pub fn placed(texels: Arc<ScreenPattern>, scale: f64, min: Filter, bias: f64) -> PolyTexture {
+    pub fn placed(texels: Arc<Texels>, scale: f64, min: Filter, bias: f64) -> PolyTexture {
         PolyTexture {
             texels,
             map: TexMap {

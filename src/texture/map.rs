@@ -14,7 +14,7 @@
 //! convex quadrilateral, and a fragment can be cut along it exactly.
 
 use crate::geom::{map_to_plane, Grid, GridError, Placement, PlaneError};
-use crate::raster::{clip, View};
+use crate::view::{clip, View};
 use glam::{DVec2, DVec3, DVec4};
 
 /// A projective map from the screen (pixels, y up) to texel space.
@@ -126,10 +126,10 @@ impl TexMap {
         if pts.len() < 3 {
             return None;
         }
-        let u = crate::raster::newell_plane(&pts, &us)?;
-        let v = crate::raster::newell_plane(&pts, &vs)?;
+        let u = crate::geom::polygon::newell_plane(&pts, &us)?;
+        let v = crate::geom::polygon::newell_plane(&pts, &vs)?;
         let d = if projective {
-            crate::raster::newell_plane(&pts, &ds)?
+            crate::geom::polygon::newell_plane(&pts, &ds)?
         } else {
             [0.0, 0.0, 1.0]
         };
@@ -214,7 +214,7 @@ mod tests {
 
     #[test]
     fn the_jacobian_matches_finite_differences() {
-        let view = crate::raster::tests::perspective(70.0, 64, 64, 0.1, 100.0);
+        let view = crate::view::tests::perspective(70.0, 64, 64, 0.1, 100.0);
         let world = [
             DVec3::new(-1.0, -1.0, -1.5),
             DVec3::new(1.0, -1.0, -1.5),
@@ -251,7 +251,7 @@ mod tests {
 
     #[test]
     fn a_perspective_view_interpolates_perspective_correctly() {
-        let view = crate::raster::tests::perspective(90.0, 100, 100, 0.1, 100.0);
+        let view = crate::view::tests::perspective(90.0, 100, 100, 0.1, 100.0);
         // A floor square from z = -1 to z = -3, u across, v along depth.
         let world = [
             DVec3::new(-1.0, -1.0, -1.0),

@@ -21,7 +21,7 @@
 //! texel, so neither the polygon's colour nor the clamp colour bleeds into
 //! the pattern (they apply outside it at every level, at sampling time).
 //!
-//! Built lazily: [`crate::raster::ScreenPattern::pyramid`] builds it the first
+//! Built lazily: [`crate::texture::Texels::pyramid`] builds it the first
 //! time a pixel minifies and shares it between all polygons of the pattern.
 
 /// The filter that builds each level from the one above.

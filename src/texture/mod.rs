@@ -22,18 +22,20 @@ pub mod map;
 pub mod mip;
 pub mod place;
 pub mod skip;
+pub mod texels;
+
+pub use texels::Texels;
 
 use crate::color::Rgb8;
 use crate::io::Image;
 use crate::pat::Pattern;
-use crate::raster::ScreenPattern;
 use std::sync::Arc;
 
 /// A pattern placed on one projected polygon ("object" or "uv" mode): its
 /// texels (linear light, shared between polygons) and the screen → texel map.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PolyTexture {
-    pub texels: Arc<ScreenPattern>,
+    pub texels: Arc<Texels>,
     pub map: map::TexMap,
     /// What lies outside the pattern's bounds (default: repeat, SPEC §2).
     pub bounds: boundary::Bounds,

@@ -12,7 +12,8 @@ use super::PolyTexture;
 use crate::color::{srgb_to_linear_f64, Rgb8};
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::geom::Placement;
-use crate::raster::{ScreenPattern, View};
+use crate::texture::Texels;
+use crate::view::View;
 use crate::stream::{PatternMode, PatternRef};
 use glam::{DVec2, DVec3};
 use std::sync::Arc;
@@ -118,7 +119,7 @@ pub fn place(
     pref: &PatternRef,
     mode: PatternMode,
     uv: Option<&[[f64; 2]]>,
-    texels: Arc<ScreenPattern>,
+    texels: Arc<Texels>,
 ) -> Result<Option<PolyTexture>, PlaceError> {
     let coords: Vec<DVec2> = match (mode, uv) {
         (PatternMode::Uv, Some(uv)) => uv.iter().map(|t| DVec2::new(t[0], t[1])).collect(),

@@ -9,7 +9,7 @@
 //!   pixel is not even made (the tile sweep's drop; flat polygons are
 //!   dropped regardless, as they have nothing to filter).
 //! - mip: MIP levels are built on the first minified sample
-//!   ([`crate::raster::ScreenPattern::pyramid`]), never for a pattern that is
+//!   ([`crate::texture::Texels::pyramid`]), never for a pattern that is
 //!   only magnified.
 //! - transparent: the exact box filter ([`super::cells`]) skips whole texel
 //!   rows and runs of columns that are transparent, using [`OpaqueRuns`].

@@ -3,7 +3,8 @@
 
 use glam::DVec3;
 use patkit::camera::Camera;
-use patkit::raster::{render, try_project, Aa, Background, Cull, View};
+use patkit::raster::{render, try_project, Aa, Background, Cull};
+use patkit::view::View;
 use patkit::Rgb8;
 use proptest::prelude::*;
 use serde_json::json;
@@ -18,15 +19,7 @@ const H: u32 = 36;
 const TRANSLATED_MAX_CODE: u8 = 1;
 
 fn view(camera: serde_json::Value) -> View {
-    let c = Camera::from_json(&camera, "test").unwrap();
-    View {
-        world_to_clip: c.world_to_clip(),
-        near: c.near,
-        far: c.far,
-        perspective: c.perspective,
-        width: W,
-        height: H,
-    }
+    View::new(&Camera::from_json(&camera, "test").unwrap(), W, H)
 }
 
 fn perspective(eye: DVec3, center: DVec3, near: f64, far: f64) -> View {

@@ -1,6 +1,6 @@
 //! Patterns of every size the format allows, sampled far from the origin.
 
-use patkit::raster::ScreenPattern;
+use patkit::texture::Texels;
 use patkit::{Pattern, Rgb8};
 use proptest::prelude::*;
 
@@ -33,7 +33,7 @@ proptest! {
         // Texel (k*SIZE + col, j*SIZE + row) of the infinite tiling is texel
         // (col, row): no drift, however many repeats away.
         let size = 1u32 << size_log;
-        let s = ScreenPattern::new(&pattern(size));
+        let s = Texels::new(&pattern(size));
         let (col, row) = (col % size as i64, row % size as i64);
         let far = s.texel(k * size as i64 + col, j * size as i64 + row);
         prop_assert_eq!(far, s.texel(col, row));

@@ -1,0 +1,233 @@
+//! The 2D polygon kernel: signed area, half-plane clipping, convexity,
+//! triangulation and plane fitting on screen or plane coordinates, with the
+//! named tolerances they share. Every stage that cuts polygons (the exact
+//! resolver, the texel cells, the stripe integrals, the partition) uses these,
+//! so a rounding rule is decided once.
+
+use glam::DVec2;
+
+/// Areas (in pixels) below this are rounding noise, not geometry: f64 shoelace
+/// areas of unit-scale fragments are exact to ~1e-15, while the smallest area
+/// that can change an 8-bit sRGB value is ~1e-6 (1/255 of the darkest step).
+pub const AREA_EPS: f64 = 1e-12;
+
+/// Screen coordinates within this many pixels of a whole or half pixel are
+/// moved onto it: the viewport map's rounding (1e-15 px) would otherwise make
+/// a pixel-aligned 2D rectangle cover its border pixels by 1 - 1e-15. Any
+/// geometry this close to the grid is on it for every purpose of 8-bit output.
+pub const GRID_SNAP_PX: f64 = 1e-9;
+
+/// The square of pixel `(px, py)` (y up), counter-clockwise from its
+/// lower-left corner: the box filter's footprint.
+pub fn pixel_square(px: u32, py: u32) -> [DVec2; 4] {
+    let (x, y) = (px as f64, py as f64);
+    [
+        DVec2::new(x, y),
+        DVec2::new(x + 1.0, y),
+        DVec2::new(x + 1.0, y + 1.0),
+        DVec2::new(x, y + 1.0),
+    ]
+}
+
+/// The mean of a convex polygon's vertices: a point inside it (where the
+/// texture filters are evaluated for a fragment whose pixel centre may lie
+/// outside it, beyond a plane's horizon).
+pub fn vertex_mean(v: &[DVec2]) -> DVec2 {
+    v.iter().fold(DVec2::ZERO, |a, &p| a + p) / v.len() as f64
+}
+
+/// Twice the signed area (shoelace), positive counter-clockwise with y up.
+///
+/// Taken about the first vertex, so the rounding error follows the polygon's
+/// own size, not its distance from the origin: the plain shoelace on screen
+/// coordinates near (1000, 1000) rounds with an absolute error of ~1e-10
+/// (|x|·|y|·ε per term), which made a clipping sliver with 1e-12-pixel edges
+/// count as an area above [`AREA_EPS`] and, as an occluder, erase a
+/// whole texel piece behind it (regression test
+/// `raster::coverage::tests::a_sliver_occluder_far_from_the_origin_hides_nothing`).
+pub fn area2(v: &[DVec2]) -> f64 {
+    let Some(&o) = v.first() else {
+        return 0.0;
+    };
+    let mut s = 0.0;
+    for w in v.windows(2).skip(1) {
+        s += (w[0] - o).perp_dot(w[1] - o);
+    }
+    s
+}
+
+/// One Sutherland–Hodgman pass: keeps the part where `d(p) >= 0`. `lerp(inside,
+/// outside, t)` makes the crossing, always from the inside endpoint.
+pub fn clip_against<T: Copy>(
+    poly: &[T],
+    d: impl Fn(T) -> f64,
+    out: &mut Vec<T>,
+    lerp: impl Fn(T, T, f64) -> T,
+) {
+    let n = poly.len();
+    if n == 0 {
+        return;
+    }
+    let mut db = d(poly[0]);
+    for i in 0..n {
+        let j = (i + 1) % n;
+        let (a, b, da) = (poly[i], poly[j], db);
+        db = d(b);
+        if da >= 0.0 {
+            out.push(a);
+            if db < 0.0 && da > 0.0 {
+                out.push(lerp(a, b, da / (da - db)));
+            }
+        } else if db > 0.0 {
+            out.push(lerp(b, a, db / (db - da)));
+        }
+    }
+}
+
+/// Clips a 2D polygon to `coord(p) >= value` (`keep_above`) or `<= value`,
+/// where `coord` is x (`axis = 0`) or y (`axis = 1`). New vertices get exactly
+/// `value` on that axis, so the pieces of a pixel grid meet without gaps.
+pub fn clip_axis(poly: &[DVec2], axis: usize, value: f64, keep_above: bool, out: &mut Vec<DVec2>) {
+    let d = |p: DVec2| {
+        let c = if axis == 0 { p.x } else { p.y };
+        if keep_above {
+            c - value
+        } else {
+            value - c
+        }
+    };
+    clip_against(poly, d, out, |a, b, t| {
+        let mut p = a + (b - a) * t;
+        if axis == 0 {
+            p.x = value;
+        } else {
+            p.y = value;
+        }
+        p
+    });
+}
+
+/// Clips a 2D polygon to the half-plane `a*x + b*y + c >= 0`.
+pub fn clip_line(poly: &[DVec2], abc: [f64; 3], out: &mut Vec<DVec2>) {
+    let d = |p: DVec2| abc[0] * p.x + abc[1] * p.y + abc[2];
+    clip_against(poly, d, out, |a, b, t| a + (b - a) * t);
+}
+
+/// The affine nearness `q(x, y)` through a planar polygon's screen vertices, by
+/// Newell's method on the points `(x, y, q)`: it uses every vertex, so it stays
+/// well conditioned for slivers where any three vertices would not.
+pub fn newell_plane(v: &[DVec2], q: &[f64]) -> Option<[f64; 3]> {
+    let n = v.len();
+    let (mut nx, mut ny, mut nz) = (0.0, 0.0, 0.0);
+    let (mut cx, mut cy, mut cq) = (0.0, 0.0, 0.0);
+    for i in 0..n {
+        let j = (i + 1) % n;
+        nx += (v[i].y - v[j].y) * (q[i] + q[j]);
+        ny += (q[i] - q[j]) * (v[i].x + v[j].x);
+        nz += (v[i].x - v[j].x) * (v[i].y + v[j].y);
+        cx += v[i].x;
+        cy += v[i].y;
+        cq += q[i];
+    }
+    let k = n as f64;
+    let (cx, cy, cq) = (cx / k, cy / k, cq / k);
+    if nz == 0.0 {
+        return None;
+    }
+    let a = -nx / nz;
+    let b = -ny / nz;
+    let plane = [a, b, cq - a * cx - b * cy];
+    plane.iter().all(|c| c.is_finite()).then_some(plane)
+}
+
+/// Relative tolerance of the convexity test: a turn against the polygon's
+/// orientation smaller than this share of the product of the two edge lengths
+/// counts as straight (clipping and projection leave such rounding-level kinks).
+const CONVEX_REL: f64 = 1e-12;
+
+/// Absolute tolerance of the convexity test, in pixels: a vertex at most this
+/// far inside the chord of its neighbours still counts as convex. It is the
+/// [`GRID_SNAP_PX`] by which projection may move a vertex, so the snap alone
+/// never makes a convex outline concave: a 10-million-vertex circle of radius
+/// 7 px has 4e-6 px edges, which a 1e-9 px move turns by 2e-4 rad, far above
+/// [`CONVEX_REL`]. Drawing such a polygon whole misplaces at most ~1e-9 px²
+/// per kink, far below 8 bits.
+const CONVEX_ABS_PX: f64 = GRID_SNAP_PX;
+
+/// Whether a counter-clockwise polygon is convex (collinear and repeated
+/// vertices allowed).
+pub fn is_convex(v: &[DVec2]) -> bool {
+    let mut v: Vec<DVec2> = v.to_vec();
+    v.dedup();
+    while v.len() > 1 && v.first() == v.last() {
+        v.pop();
+    }
+    let n = v.len();
+    (0..n).all(|i| {
+        let (a, b, c) = (v[i], v[(i + 1) % n], v[(i + 2) % n]);
+        let (e, f) = (b - a, c - b);
+        // perp_dot / |c - a| is b's distance from the chord a-c.
+        e.perp_dot(f)
+            >= -(CONVEX_REL * e.length() * f.length()).max(CONVEX_ABS_PX * (c - a).length())
+    })
+}
+
+/// Ear-clipping triangulation of a simple counter-clockwise polygon. Robust to
+/// repeated and collinear vertices: zero-area ears are dropped, and if no proper
+/// ear is found (a self-intersecting or numerically degenerate remainder) the
+/// most convex remaining corner is cut, so it always terminates with at most
+/// n - 2 triangles.
+pub fn ear_clip(poly: &[DVec2]) -> Vec<Vec<DVec2>> {
+    let mut idx: Vec<usize> = (0..poly.len()).collect();
+    let mut out = Vec::with_capacity(poly.len().saturating_sub(2));
+    while idx.len() > 3 {
+        let m = idx.len();
+        let mut cut = None;
+        let mut best = (f64::MIN, 0usize);
+        for i in 0..m {
+            let (a, b, c) = (
+                poly[idx[(i + m - 1) % m]],
+                poly[idx[i]],
+                poly[idx[(i + 1) % m]],
+            );
+            let turn = (b - a).perp_dot(c - b);
+            if turn > best.0 {
+                best = (turn, i);
+            }
+            if turn <= 0.0 {
+                continue;
+            }
+            let blocked = idx.iter().any(|&k| {
+                let p = poly[k];
+                p != a && p != b && p != c && in_triangle(p, a, b, c)
+            });
+            if !blocked {
+                cut = Some(i);
+                break;
+            }
+        }
+        let i = cut.unwrap_or(best.1);
+        let (a, b, c) = (
+            poly[idx[(i + m - 1) % m]],
+            poly[idx[i]],
+            poly[idx[(i + 1) % m]],
+        );
+        if (b - a).perp_dot(c - b) > 0.0 {
+            out.push(vec![a, b, c]);
+        }
+        idx.remove(i);
+    }
+    let (a, b, c) = (poly[idx[0]], poly[idx[1]], poly[idx[2]]);
+    if (b - a).perp_dot(c - b) > 0.0 {
+        out.push(vec![a, b, c]);
+    }
+    out
+}
+
+/// Point in (or on) a counter-clockwise triangle.
+fn in_triangle(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> bool {
+    (b - a).perp_dot(p - a) >= 0.0
+        && (c - b).perp_dot(p - b) >= 0.0
+        && (a - c).perp_dot(p - c) >= 0.0
+}
+
