@@ -1074,12 +1074,12 @@ impl CameraArgs {
     pub fn resolve(&self) -> Result<Option<Camera>> {
         if let Some(path) = &self.camera {
             if self.json().is_some() {
-                crate::usage_bail!("--camera cannot be combined with other camera flags");
+                crate::cli::usage_bail!("--camera cannot be combined with other camera flags");
             }
             return Camera::load(path).map(Some);
         }
         if self.lookat.is_none() && (self.up.is_some() || self.twist.is_some()) {
-            crate::usage_bail!("--up and --twist need --lookat EX,EY,EZ,CX,CY,CZ");
+            crate::cli::usage_bail!("--up and --twist need --lookat EX,EY,EZ,CX,CY,CZ");
         }
         let Some(value) = self.json() else {
             return Ok(None);

@@ -21,3 +21,8 @@ pub mod view;
 
 pub use color::Rgb8;
 pub use pat::{ParseError, Pattern, TRANSPARENT};
+
+#[cfg(test)]
+mod layering;
+#[cfg(test)]
+mod test_util;

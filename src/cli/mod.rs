@@ -42,12 +42,12 @@ impl fmt::Display for AlreadyReported {
 impl std::error::Error for AlreadyReported {}
 
 /// Returns early with a [`UsageError`].
-#[macro_export]
 macro_rules! usage_bail {
     ($($arg:tt)*) => {
         return Err(anyhow::Error::new($crate::cli::UsageError(format!($($arg)*))))
     };
 }
+pub(crate) use usage_bail;
 
 /// Exit statuses (SPEC §5).
 pub const EXIT_OK: i32 = 0;

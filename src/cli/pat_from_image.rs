@@ -6,7 +6,7 @@ use crate::color::Rgb8;
 use crate::io::{self, display_name, Output};
 use crate::pat::{self, Pattern};
 use crate::quantize::{self, Dither, Options, DEFAULT_COLORS, MAX_QUANT_COLORS};
-use crate::usage_bail;
+use crate::cli::usage_bail;
 use anyhow::{Context, Result};
 use clap::Parser;
 

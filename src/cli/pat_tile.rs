@@ -6,7 +6,7 @@ use crate::color::Rgb8;
 use crate::io::{display_name, read_input, ImageFormat, Output, PngOptions};
 use crate::pat::Pattern;
 use crate::texture::{tile_image, ScreenTiling};
-use crate::usage_bail;
+use crate::cli::usage_bail;
 use anyhow::{Context, Result};
 use clap::Parser;
 

@@ -11,7 +11,7 @@ use crate::pat::Pattern;
 use crate::geom::Shape;
 use crate::stream::{self, Instance, Item, ObjectDef, Objects, PatternMode, Record};
 use crate::texture::map::object_uv;
-use crate::usage_bail;
+use crate::cli::usage_bail;
 use anyhow::{anyhow, Context, Result};
 use clap::{Parser, ValueEnum};
 use glam::DVec3;

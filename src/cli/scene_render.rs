@@ -14,7 +14,7 @@ use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, Record}
 use crate::geom::transform::Transform;
 use crate::texture::Texels;
 use crate::view::View;
-use crate::usage_bail;
+use crate::cli::usage_bail;
 use anyhow::{Context, Result};
 use clap::Parser;
 use glam::DVec3;

@@ -239,16 +239,7 @@ pub(crate) mod tests {
     use super::*;
     use crate::color::Rgb8;
 
-    /// A tiny deterministic generator (xorshift64*), so tests need no crate.
-    pub struct Rng(pub u64);
-    impl Rng {
-        pub fn next(&mut self) -> f64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    pub use crate::test_util::Rng;
 
     /// Counts, per sample, how many polygons cover it.
     fn count_hits(polys: &[ScreenPoly], w: u32, h: u32, k: u32) -> Vec<u32> {

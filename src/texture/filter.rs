@@ -398,7 +398,7 @@ pub(crate) mod tests {
             mitchell in proptest::bool::ANY,
             bi in 0usize..5,
         ) {
-            let mut r = crate::raster::scan::tests::Rng(seed.wrapping_mul(2654435761) + 1);
+            let mut r = crate::test_util::Rng(seed.wrapping_mul(2654435761) + 1);
             let p = pattern(16, &BW, |_, _| (r.next() < 0.5) as u16);
             let mut t = placed(p, 1.0, ALL[fi], bias);
             t.map = TexMap { u: [a, b, 3.0], v: [c, dd, -7.0], d: [persp.0, persp.1, 1.0] };
