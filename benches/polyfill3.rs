@@ -12,8 +12,8 @@
 //! keeps a run).
 
 use glam::{DVec2, DVec3};
-use patkit::cli::polyfill3::CellWriter;
 use patkit::geom::{map_to_plane, CellSink, Grid, Partitioner, Placement, PlanePolygon};
+use patkit::scene::polyfill::CellWriter;
 use patkit::stream::Record;
 use patkit::{Pattern, Rgb8};
 use std::hint::black_box;

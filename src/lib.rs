@@ -13,6 +13,7 @@ pub mod io;
 pub mod pat;
 pub mod quantize;
 pub mod raster;
+pub mod scene;
 pub mod stream;
 pub mod stripe;
 mod text;

@@ -324,7 +324,6 @@ impl Pattern {
     }
 }
 
-
 /// What a `.pat` file holds, for the "empty file" and "not text" messages.
 const PAT_CONTENTS: &str = "`SIZE NCOLORS` and colour blocks of hex words";
 

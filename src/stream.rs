@@ -7,8 +7,8 @@
 //! what the geometry and the renderer use.
 
 use crate::color::Rgb8;
-use crate::geom::Shape;
 use crate::geom::transform::Transform;
+use crate::geom::Shape;
 use glam::DVec3;
 use serde::de::{Deserializer as _, SeqAccess, Visitor};
 use serde_json::{Map, Value};

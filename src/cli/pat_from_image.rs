@@ -2,11 +2,11 @@
 //! resampling (or cropping) it to SIZE x SIZE and quantizing it to K colours
 //! (see [`crate::quantize`] for how and why).
 
+use crate::cli::usage_bail;
 use crate::color::Rgb8;
 use crate::io::{self, display_name, Output};
 use crate::pat::{self, Pattern};
 use crate::quantize::{self, Dither, Options, DEFAULT_COLORS, MAX_QUANT_COLORS};
-use crate::cli::usage_bail;
 use anyhow::{Context, Result};
 use clap::Parser;
 

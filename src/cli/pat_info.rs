@@ -4,12 +4,12 @@
 //! examine commands).
 
 use super::{AlreadyReported, IntPair};
+use crate::cli::usage_bail;
 use crate::io::{display_name, read_input};
 use crate::pat::{Pattern, Seam};
 use crate::stripe::map::ModulationMap;
 use crate::stripe::record::{LoadedStripe, StripeSpec, TranslationSpec};
 use crate::stripe::vector::Orientation;
-use crate::cli::usage_bail;
 use anyhow::Result;
 use clap::Parser;
 use serde_json::{json, Value};
@@ -387,7 +387,12 @@ fn translation_words(t: &TranslationSpec) -> String {
     }
 }
 
-fn record_text(name: &str, n: usize, l: &LoadedStripe, colour: Option<crate::color::Rgb8>) -> String {
+fn record_text(
+    name: &str,
+    n: usize,
+    l: &LoadedStripe,
+    colour: Option<crate::color::Rgb8>,
+) -> String {
     use std::fmt::Write;
     let v = &l.spec.vector;
     let len = l.map.len();
@@ -454,7 +459,12 @@ fn record_text(name: &str, n: usize, l: &LoadedStripe, colour: Option<crate::col
     s
 }
 
-fn record_json(name: &str, n: usize, l: &LoadedStripe, colour: Option<crate::color::Rgb8>) -> Value {
+fn record_json(
+    name: &str,
+    n: usize,
+    l: &LoadedStripe,
+    colour: Option<crate::color::Rgb8>,
+) -> Value {
     let v = &l.spec.vector;
     let len = l.map.len();
     let (yaw, pitch) = v.orientation.yaw_pitch();

@@ -2,11 +2,11 @@
 //! the IRIS `colorclear`), or write a larger tiled `.pat`.
 
 use super::{warn, IntPair, Size};
+use crate::cli::usage_bail;
 use crate::color::Rgb8;
 use crate::io::{display_name, read_input, ImageFormat, Output, PngOptions};
 use crate::pat::Pattern;
 use crate::texture::{tile_image, ScreenTiling};
-use crate::cli::usage_bail;
 use anyhow::{Context, Result};
 use clap::Parser;
 

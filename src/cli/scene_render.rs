@@ -3,24 +3,17 @@
 
 use super::Size;
 use crate::camera::{Camera, CameraArgs};
+use crate::cli::usage_bail;
 use crate::color::Rgb8;
 use crate::io::{decode_image, display_name, read_input, Image, ImageFormat, PngOptions};
 use crate::pat::Pattern;
-use crate::raster::{
-    self, compare, reference, Aa, Background, Cull, ScreenPoly,
-};
-use crate::geom::Shape;
-use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, Record};
-use crate::geom::transform::Transform;
-use crate::texture::Texels;
+use crate::raster::{self, compare, reference, Aa, Background, Cull};
+use crate::scene::{self, DrawOptions, Resolve, Scene};
+use crate::texture::place::TextureSettings;
 use crate::view::View;
-use crate::cli::usage_bail;
 use anyhow::{Context, Result};
 use clap::Parser;
-use glam::DVec3;
-use std::collections::HashMap;
-use std::io::{BufRead, BufReader, Write};
-use std::sync::Arc;
+use std::io::Write;
 
 const TOOL: &str = "scene-render";
 
@@ -191,37 +184,22 @@ fn parse_max_error(s: &str) -> Result<f64, String> {
     }
 }
 
-/// `--no-skip mip` (benchmarks): every textured polygon's MIP pyramid is
-/// built before rendering, whether or not any pixel minifies, instead of on
-/// the first minified sample. Each pattern's pyramid is still built once
-/// (it is shared), so this costs what the lazy build saves.
-fn build_mips_eagerly(polys: &[raster::ScreenPoly]) {
-    for tex in polys.iter().filter_map(|p| p.texture.as_ref()) {
-        if !tex.skips.mip {
-            tex.texels.pyramid(tex.mip_key());
-        }
+/// The scene's drawing options from the flags.
+fn draw_options(args: &Args, texture: TextureSettings) -> DrawOptions {
+    DrawOptions {
+        cull: args.cull,
+        texture,
+        stripe_lod: args.stripe.mode(),
+        stripe_footprint: scene::stripe_footprint(args.aa),
+        quadric_tolerance: args.quadric_tolerance,
     }
 }
 
-/// Renders one frame's polygons the way the arguments ask: one --aa for
-/// all, or the --max-error plan (which it also returns).
-fn render_polys(
-    args: &Args,
-    polys: &[raster::ScreenPoly],
-    bg: &raster::Background,
-    width: u32,
-    height: u32,
-) -> (Image, Option<raster::budget::Plan>) {
-    build_mips_eagerly(polys);
+/// How the flags ask the frame to be resolved: one --aa, or --max-error.
+fn resolve(args: &Args) -> Resolve {
     match args.max_error {
-        Some(e) => {
-            let (frame, plan) = raster::budget::render_within(polys, bg, width, height, e);
-            (frame.to_image(), Some(plan))
-        }
-        None => (
-            raster::render(polys, bg, width, height, args.aa).to_image(),
-            None,
-        ),
+        Some(e) => Resolve::WithinError(e),
+        None => Resolve::Aa(args.aa),
     }
 }
 
@@ -342,28 +320,22 @@ fn run_in_pool(args: Args) -> Result<()> {
     };
     let bg = Background::new(args.background, bg_pattern.as_ref());
     let t_read = std::time::Instant::now();
-    let scene = read_scene(&args.input)?;
+    let scene = Scene::load(&args.input)?;
+    let how = draw_options(&args, texture);
     if animation || args.animate {
         let format = format.expect("animations have an output");
-        return render_frames(&args, &texture, &scene, &view, &bg, format);
+        return render_frames(&args, &how, &scene, &view, &bg, format);
     }
-    let mut polys = Vec::new();
-    project_parts(
-        &scene.parts,
-        &view,
-        None,
-        None,
-        &Drawing::new(&args, &texture, 0),
-        &mut polys,
-    )
-    .with_context(|| display_name(&args.input).to_string())?;
+    let polys = scene
+        .project(&view, &how, 0)
+        .with_context(|| display_name(&args.input).to_string())?;
     let t_render = std::time::Instant::now();
     let (img, residual, plan) = if args.reference {
         let r = reference::render(&polys, &bg, width, height, args.reference_samples);
         let res = r.residual(args.reference_samples);
         (r.frame.to_image(), Some(res), None)
     } else {
-        let (img, plan) = render_polys(&args, &polys, &bg, width, height);
+        let (img, plan) = scene::render(&polys, &bg, width, height, resolve(&args));
         (img, None, plan)
     };
     let t_write = std::time::Instant::now();
@@ -470,93 +442,6 @@ fn load_image(name: &str) -> Result<Image> {
     })
 }
 
-/// Reads the stream, keeping objects and instances. Patterns are drawn
-/// directly: screen mode (the IRIS hardware patterns of the thesis's demo 1)
-/// per pixel, object and uv placement through their screen → texel map
-/// (`scene_texture`), computed when each record is projected (in the object's
-/// own coordinates for an instance, so the pattern stays fixed to the object as
-/// in the thesis's Fig. 5.1), integrated exactly over texel cells by `--aa exact`.
-fn read_scene(input: &str) -> Result<Scene> {
-    let name = display_name(input).to_string();
-    let base = crate::stream::base_dir(input);
-    let mut patterns: HashMap<std::path::PathBuf, Arc<Texels>> = HashMap::new();
-    let mut stripes = crate::stripe::record::StripeLoader::new(&base);
-    let reader: Box<dyn BufRead> = if input == crate::io::STDIO {
-        Box::new(std::io::stdin().lock())
-    } else {
-        let path = std::path::Path::new(input);
-        if path.is_dir() {
-            anyhow::bail!("{input}: is a directory, not a file");
-        }
-        Box::new(BufReader::with_capacity(
-            1 << 16,
-            std::fs::File::open(path).with_context(|| input.to_string())?,
-        ))
-    };
-    let scene = read_items(reader, &name, |rec| {
-        let stripe = super::scene_stripe::read(&mut stripes, &rec.fields, rec.color)
-            .with_context(|| format!("{name}: record {}", rec.index))?;
-        if stripe.is_some() && rec.pattern.is_some() {
-            anyhow::bail!(
-                "{name}: record {}: has both \"pattern\" and \"stripe\": a face takes one texture",
-                rec.index
-            );
-        }
-        let mut screen = None;
-        // "object" and "uv" patterns: placed after projection (below).
-        let mut placed = None;
-        if let Some(pref) = &rec.pattern {
-            let quadric = matches!(rec.shape, Shape::Quadric(_));
-            let mode = pref.mode.unwrap_or(if rec.uv.is_some() || quadric {
-                PatternMode::Uv
-            } else {
-                PatternMode::Object
-            });
-            let Some(file) = &pref.file else {
-                anyhow::bail!("{name}: record {}: pattern.file is missing", rec.index);
-            };
-            // Only patterns the scene references are read, each once.
-            let path = crate::stream::resolve(&base, file);
-            let p = match patterns.get(&path) {
-                Some(p) => p.clone(),
-                None => {
-                    let pat = Pattern::read_file(&path)
-                        .with_context(|| format!("{name}: record {}", rec.index))?;
-                    let p = Arc::new(Texels::new(&pat));
-                    patterns.insert(path, p.clone());
-                    p
-                }
-            };
-            match mode {
-                PatternMode::Screen => screen = Some(p),
-                PatternMode::Object | PatternMode::Uv => placed = Some((pref, mode, p)),
-            }
-        }
-        let animated = match rec.shape {
-            Shape::Quadric(_) => rec
-                .fields
-                .get("transform")
-                .filter(|t| Transform::is_animated(t))
-                .cloned(),
-            _ => None,
-        };
-        Ok(Drawable {
-            animated,
-            index: rec.index,
-            shape: rec.shape,
-            color: match &stripe {
-                Some(st) => st.face,
-                None => rec.color.unwrap_or(Rgb8::BLACK),
-            },
-            stripe,
-            screen,
-            placed: placed.map(|(pref, mode, p)| (pref.clone(), mode, p)),
-            uv: rec.uv,
-        })
-    })?;
-    Ok(scene)
-}
-
 /// `%d` or `%0Nd` in an output name replaced by the frame number; `None`
 /// when the name has no such pattern.
 pub fn frame_name(pattern: &str, k: u64) -> Option<String> {
@@ -585,7 +470,7 @@ pub fn frame_name(pattern: &str, k: u64) -> Option<String> {
 /// projects and resolves. With --frame K only frame K is drawn.
 fn render_frames(
     args: &Args,
-    texture: &crate::texture::place::TextureSettings,
+    how: &DrawOptions,
     scene: &Scene,
     view: &View,
     bg: &raster::Background,
@@ -600,18 +485,11 @@ fn render_frames(
     for k in frames {
         let name = frame_name(pattern, k).unwrap_or_else(|| pattern.to_string());
         let t0 = std::time::Instant::now();
-        let mut polys = Vec::new();
-        project_parts(
-            &scene.parts,
-            view,
-            None,
-            None,
-            &Drawing::new(args, texture, k),
-            &mut polys,
-        )
-        .with_context(|| display_name(&args.input).to_string())?;
+        let polys = scene
+            .project(view, how, k)
+            .with_context(|| display_name(&args.input).to_string())?;
         let t1 = std::time::Instant::now();
-        let (img, plan) = render_polys(args, &polys, bg, view.width, view.height);
+        let (img, plan) = scene::render(&polys, bg, view.width, view.height, resolve(args));
         if let Some(p) = plan {
             eprintln!("{TOOL}: frame {k}: {}", p.report());
         }
@@ -646,317 +524,4 @@ fn render_frames(
         a.finish()?;
     }
     Ok(())
-}
-
-/// What every record of one frame is drawn with.
-#[derive(Clone, Copy)]
-struct Drawing<'a> {
-    cull: Cull,
-    texture: &'a crate::texture::place::TextureSettings,
-    stripe: crate::stripe::LodMode,
-    /// Pixels per stripe evaluation ([`crate::stripe::StripeTexture::footprint`]):
-    /// `1/k` for `--aa ss<k²>`, else 1.
-    stripe_footprint: f64,
-    /// The frame number, for transforms that vary per frame.
-    frame: u64,
-    /// `--quadric-tolerance`, pixels.
-    quadric_tolerance: f64,
-}
-
-impl<'a> Drawing<'a> {
-    fn new(
-        args: &'a Args,
-        texture: &'a crate::texture::place::TextureSettings,
-        frame: u64,
-    ) -> Drawing<'a> {
-        Drawing {
-            cull: args.cull,
-            texture,
-            stripe: args.stripe.mode(),
-            stripe_footprint: match args.aa {
-                raster::Aa::Ss(k) => 1.0 / k as f64,
-                raster::Aa::None | raster::Aa::Exact => 1.0,
-            },
-            frame,
-            quadric_tolerance: args.quadric_tolerance,
-        }
-    }
-}
-
-/// One record ready to draw, in its own coordinates (world coordinates at the
-/// top level, the object's inside a definition). Only the geometry is kept,
-/// not the record's JSON.
-struct Drawable {
-    index: usize,
-    shape: Shape,
-    color: Rgb8,
-    screen: Option<Arc<Texels>>,
-    /// An object- or uv-mode pattern, placed when the record is projected.
-    placed: Option<(crate::stream::PatternRef, PatternMode, Arc<Texels>)>,
-    uv: Option<Vec<[f64; 2]>>,
-    /// A stripe texture (seed 001), given its screen mapping when the record
-    /// is projected.
-    stripe: Option<super::scene_stripe::RecordStripe>,
-    /// A quadric's "transform" when its numbers vary per frame.
-    animated: Option<serde_json::Value>,
-}
-
-/// A stream element as the renderer keeps it.
-enum Part {
-    Draw(Drawable),
-    /// An instance (the thesis's `callobj`): the object's parts are shared,
-    /// never copied; they are projected through the instance's transform.
-    Place {
-        index: usize,
-        name: String,
-        object: std::rc::Rc<Vec<Part>>,
-        transform: Transform,
-        /// The transform's JSON when its numbers vary per frame.
-        animated: Option<serde_json::Value>,
-    },
-}
-
-/// The stream read into parts, objects defined once.
-#[derive(Default)]
-struct Scene {
-    parts: Vec<Part>,
-}
-
-/// Reads the stream, keeping objects and instances (the thesis's
-/// `makeobj`/`callobj`, Fig. 5.1): every record, inside an object or not, goes
-/// through `each` once; an instance refers to its object's parts.
-fn read_items(
-    reader: Box<dyn BufRead>,
-    name: &str,
-    mut each: impl FnMut(Record) -> Result<Drawable>,
-) -> Result<Scene> {
-    let mut checks = Objects::default();
-    let mut objects: HashMap<String, std::rc::Rc<Vec<Part>>> = HashMap::new();
-    let mut scene = Scene::default();
-    let named = |mut e: crate::stream::StreamError| {
-        e.source = name.to_string();
-        e
-    };
-    let place = |inst: Instance, objects: &HashMap<String, std::rc::Rc<Vec<Part>>>| Part::Place {
-        index: inst.index,
-        object: objects[&inst.object].clone(),
-        transform: inst.transform,
-        animated: inst
-            .fields
-            .get("transform")
-            .filter(|t| Transform::is_animated(t))
-            .cloned(),
-        name: inst.object,
-    };
-    for_each_item(reader, name, |item| {
-        match item {
-            Item::Record(rec) => scene.parts.push(Part::Draw(each(rec)?)),
-            Item::Object(def) => {
-                checks.define(def.skeleton()).map_err(named)?;
-                let mut parts = Vec::with_capacity(def.items.len());
-                for it in def.items {
-                    parts.push(match it {
-                        Item::Record(rec) => Part::Draw(each(rec)?),
-                        Item::Instance(inst) => place(inst, &objects),
-                        Item::Object(_) => {
-                            unreachable!("Objects::define rejects nested definitions")
-                        }
-                    });
-                }
-                objects.insert(def.name, std::rc::Rc::new(parts));
-            }
-            Item::Instance(inst) => {
-                checks.check_instance(&inst).map_err(named)?;
-                scene.parts.push(place(inst, &objects));
-            }
-        }
-        Ok(())
-    })?;
-    Ok(scene)
-}
-
-/// Clips and projects parts into screen polygons. `placed` is the transform
-/// of the instance being drawn (object to world) and `order` its position in
-/// the stream: every polygon of an instance draws at the instance's place, as
-/// when the instance is expanded. An instance's polygons are never copied:
-/// the view's matrix is multiplied by the instance's, so the clip-space
-/// vertices the clipper makes anyway are the only transformed buffer.
-fn project_parts(
-    parts: &[Part],
-    base: &View,
-    placed: Option<Transform>,
-    order: Option<u32>,
-    how: &Drawing,
-    out: &mut Vec<ScreenPoly>,
-) -> Result<()> {
-    let frame = how.frame;
-    let moved;
-    let view = match placed {
-        Some(t) => {
-            moved = View {
-                world_to_clip: base.world_to_clip * t.matrix(),
-                ..base.clone()
-            };
-            &moved
-        }
-        None => base,
-    };
-    for part in parts {
-        match part {
-            Part::Draw(d) => {
-                let order = match order {
-                    Some(o) => o,
-                    None => u32::try_from(d.index).context("more than 2^32 records")?,
-                };
-                if let Shape::Quadric(q) = &d.shape {
-                    project_quadric(d, q, view, order, how, out)
-                        .with_context(|| format!("record {}", d.index))?;
-                    continue;
-                }
-                let outline = match &d.shape {
-                    Shape::Polygon(v) => std::borrow::Cow::Borrowed(v.as_slice()),
-                    other => std::borrow::Cow::Owned(crate::geom::outline(
-                        other,
-                        curve_tolerance(other, view),
-                    )),
-                };
-                draw_polygon(d, view, &outline, d.uv.as_deref(), order, how, out)
-                    .with_context(|| format!("record {}", d.index))?;
-            }
-            Part::Place {
-                index,
-                name,
-                object,
-                transform,
-                animated,
-            } => {
-                let transform = match animated {
-                    Some(v) => &Transform::from_json_at(v, frame).with_context(|| {
-                        format!("record {index}: instance of `{name}` at frame {frame}")
-                    })?,
-                    None => transform,
-                };
-                let order = match order {
-                    Some(o) => o,
-                    None => u32::try_from(*index).context("more than 2^32 records")?,
-                };
-                let total = match placed {
-                    Some(outer) => transform.then(outer),
-                    None => *transform,
-                };
-                project_parts(object, base, Some(total), Some(order), how, out)?;
-            }
-        }
-    }
-    Ok(())
-}
-
-/// Projects one polygon of a record and places its pattern: `outline` in the
-/// record's coordinates, `uv` its texture coordinates in texels (uv mode).
-fn draw_polygon(
-    d: &Drawable,
-    view: &View,
-    outline: &[DVec3],
-    uv: Option<&[[f64; 2]]>,
-    order: u32,
-    how: &Drawing,
-    out: &mut Vec<ScreenPoly>,
-) -> Result<()> {
-    let Some(mut p) = raster::try_project(view, outline, d.color, order, how.cull)? else {
-        return Ok(());
-    };
-    p.screen = d.screen.clone();
-    if let Some(st) = &d.stripe {
-        match super::scene_stripe::shader(st, view, outline, how.stripe)? {
-            Some(t) => p.stripe = Some(Arc::new(t.with_footprint(how.stripe_footprint))),
-            // Edge-on: a sliver of rounding; nothing to draw.
-            None => return Ok(()),
-        }
-    }
-    if let Some((pref, mode, texels)) = &d.placed {
-        let tex = crate::texture::place::place(
-            how.texture,
-            d.color,
-            view,
-            outline,
-            pref,
-            *mode,
-            uv,
-            texels.clone(),
-        )?;
-        match tex {
-            Some(t) => p.texture = Some(Arc::new(t)),
-            // Visible by the projection but not by the fit: rounding at a
-            // sliver; nothing to draw.
-            None => return Ok(()),
-        }
-    }
-    out.push(p);
-    Ok(())
-}
-
-/// Tessellates a quadric record for this view (`geom::quadric`: the slices
-/// and stacks it leaves out come from `--quadric-tolerance` at this camera
-/// and this instance's placement, so every instance and frame is as fine as
-/// it needs) and draws its triangles with their texel coordinates.
-fn project_quadric(
-    d: &Drawable,
-    q: &crate::geom::quadric::QuadricShape,
-    view: &View,
-    order: u32,
-    how: &Drawing,
-    out: &mut Vec<ScreenPoly>,
-) -> Result<()> {
-    let moved;
-    let q = match &d.animated {
-        Some(v) => {
-            let mut m = q.clone();
-            m.transform = Transform::from_json_at(v, how.frame)
-                .with_context(|| format!("{}: transform at frame {}", q.kind, how.frame))?;
-            moved = m;
-            &moved
-        }
-        None => q,
-    };
-    let own_to_clip = view.world_to_clip * q.transform.matrix();
-    let tolerance = crate::geom::quadric::tolerance_at(
-        &q.quadric,
-        own_to_clip,
-        view.width,
-        view.height,
-        how.quadric_tolerance,
-    );
-    let size = d.placed.as_ref().map_or(1, |(_, _, p)| p.size());
-    let tris = q
-        .texel_triangles(tolerance, size)
-        .map_err(anyhow::Error::msg)?;
-    for t in &tris {
-        draw_polygon(d, view, &t.v, Some(&t.uv), order, how, out)?;
-    }
-    Ok(())
-}
-
-/// World-space chord tolerance for a curved record, from the view's scale at
-/// the curve's centre, so chords stay within [`raster::CURVE_TOLERANCE_PX`].
-fn curve_tolerance(shape: &Shape, view: &View) -> f64 {
-    let (center, radius) = match *shape {
-        Shape::Circle { center, radius } | Shape::Arc { center, radius, .. } => (center, radius),
-        _ => return 1.0,
-    };
-    let c = DVec3::new(center[0], center[1], 0.0);
-    let at = |p: DVec3| {
-        let q = view.to_clip(p);
-        glam::DVec2::new(
-            q.x / q.w * view.width as f64,
-            q.y / q.w * view.height as f64,
-        ) * 0.5
-    };
-    let (p0, px, py) = (at(c), at(c + DVec3::X * radius), at(c + DVec3::Y * radius));
-    let px_per_unit = (px - p0).length().max((py - p0).length()) / radius;
-    if px_per_unit.is_finite() && px_per_unit > 0.0 {
-        raster::CURVE_TOLERANCE_PX / px_per_unit
-    } else {
-        // Behind the eye or degenerate: fall back to a fine relative tolerance.
-        radius * 1e-4
-    }
 }

@@ -230,4 +230,3 @@ fn in_triangle(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> bool {
         && (c - b).perp_dot(p - b) >= 0.0
         && (a - c).perp_dot(p - c) >= 0.0
 }
-

@@ -28,10 +28,10 @@
 //! their union up to ~1e-16; [`AREA_EPS`] absorbs that so no seam of background
 //! shows through, and the pixel is bit for bit that of one polygon.
 
-use crate::geom::polygon::{area2, clip_axis, pixel_square, vertex_mean, AREA_EPS};
 use super::gather::{Local, TileGeom, GATHER_MAX_VERTS};
 use super::visible::{bounds, clip_to_box, fmax, fmin, PixelStates, Scratch, Shown};
 use super::{Background, ScreenPoly};
+use crate::geom::polygon::{area2, clip_axis, pixel_square, vertex_mean, AREA_EPS};
 use glam::DVec2;
 
 /// Edges shorter than this (pixels) are clipping debris: a crossing computed a
@@ -548,12 +548,12 @@ fn render_tile(
 #[cfg(test)]
 mod tests {
     use super::super::tests::poly2;
-    use crate::view::tests::perspective;
     use super::super::visible::subtract;
     use super::super::{project, render, Aa, Cull};
-    use crate::view::View;
     use super::*;
     use crate::color::Rgb8;
+    use crate::view::tests::perspective;
+    use crate::view::View;
     use glam::DVec3;
 
     fn render_exact(polys: &[ScreenPoly], w: u32, h: u32) -> crate::io::Image {
@@ -669,9 +669,9 @@ mod tests {
 mod ties {
     use super::super::tests::poly2;
     use super::super::{render, Aa};
-    use crate::view::View;
     use super::*;
     use crate::color::Rgb8;
+    use crate::view::View;
 
     #[test]
     fn coplanar_overlap_goes_to_the_later_polygon_without_double_counting() {
@@ -718,9 +718,9 @@ mod ties {
 mod sweep {
     use super::super::visible::subtract_pairwise;
     use super::super::{project, reference, render, Aa, Cull};
-    use crate::view::View;
     use super::*;
     use crate::color::Rgb8;
+    use crate::view::View;
     use glam::DVec3;
     use proptest::prelude::*;
 

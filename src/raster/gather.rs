@@ -175,9 +175,9 @@ impl TileGeom {
 mod tests {
     use super::super::tests::poly2;
     use super::super::{reference, render, Aa, Background};
-    use crate::view::View;
     use super::*;
     use crate::color::Rgb8;
+    use crate::view::View;
 
     /// A regular `n`-gon of radius `r` about `(c, c)`.
     fn ngon(n: usize, c: f64, r: f64) -> Vec<[f64; 2]> {

@@ -40,8 +40,8 @@ pub mod scan;
 mod visible;
 
 use crate::color::{linear_to_srgb, srgb_to_linear_f64, Rgb8};
-use crate::io::Image;
 use crate::geom::polygon::{area2, ear_clip, is_convex, newell_plane, GRID_SNAP_PX};
+use crate::io::Image;
 use crate::pat::Pattern;
 use crate::texture::Texels;
 use crate::view::{clip, View};
@@ -679,8 +679,8 @@ pub(crate) mod tests {
 #[cfg(test)]
 mod determinism {
     use super::scan::tests::Rng;
-    use crate::view::tests::perspective;
     use super::*;
+    use crate::view::tests::perspective;
 
     #[test]
     fn output_is_identical_for_any_thread_count() {
@@ -725,10 +725,10 @@ mod determinism {
 #[cfg(test)]
 mod clip_tests {
     use super::{project, Cull};
+    use crate::color::Rgb8;
     use crate::view::clip::clip_polygon;
     use crate::view::tests::perspective;
     use crate::view::W_EPSILON_REL;
-    use crate::color::Rgb8;
     use glam::DVec3;
 
     #[test]

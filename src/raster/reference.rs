@@ -694,10 +694,10 @@ fn line_colour(
 mod tests {
     use super::super::scan::tests::Rng;
     use super::super::tests::poly2;
-    use crate::view::tests::perspective;
     use super::super::{project, render as render_fast, Aa, Cull};
     use super::*;
     use crate::color::Rgb8;
+    use crate::view::tests::perspective;
     use glam::DVec3;
 
     #[test]

@@ -235,9 +235,9 @@ pub fn render_tile(
 pub(crate) mod tests {
     use super::super::tests::poly2;
     use super::super::{render, Aa};
-    use crate::view::View;
     use super::*;
     use crate::color::Rgb8;
+    use crate::view::View;
 
     pub use crate::test_util::Rng;
 

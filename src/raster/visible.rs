@@ -4,12 +4,10 @@
 //! ([`subtract_pairwise`]), and the convex geometry both stand on
 //! ([`subtract`], [`disjoint`]).
 
-use crate::geom::polygon::{area2, clip_axis, clip_line, pixel_square, AREA_EPS};
-use super::coverage::{
-    deferred_filter, Frag, EDGE_EPS, FILTER_LATER, POLY_COLOR, SEPARATION_EPS,
-};
+use super::coverage::{deferred_filter, Frag, EDGE_EPS, FILTER_LATER, POLY_COLOR, SEPARATION_EPS};
 use super::gather::Local;
 use super::{tie_tolerance, Background, ScreenPoly};
+use crate::geom::polygon::{area2, clip_axis, clip_line, pixel_square, AREA_EPS};
 use glam::DVec2;
 
 /// Where a pixel stands in the tile-order sweep of

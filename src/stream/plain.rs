@@ -17,8 +17,8 @@
 //! only when a tool asks for it.
 
 use super::{Fields, Record, MAX_VERTICES};
-use crate::geom::Shape;
 use crate::color::Rgb8;
+use crate::geom::Shape;
 use glam::DVec3;
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde_json::Value;

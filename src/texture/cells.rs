@@ -28,8 +28,8 @@
 
 use super::PolyTexture;
 use crate::geom::polygon::area2;
-use crate::geom::polygon::{clip_axis, clip_line};
 use crate::geom::polygon::AREA_EPS;
+use crate::geom::polygon::{clip_axis, clip_line};
 use glam::DVec2;
 
 /// Most texel cells of a fragment's bounding box in texel space that are cut
@@ -329,8 +329,8 @@ fn sub_squares(
 mod tests {
     use super::*;
     use crate::color::{srgb_to_linear_f64, Rgb8};
-    use crate::pat::TRANSPARENT;
     use crate::geom::polygon::pixel_square;
+    use crate::pat::TRANSPARENT;
     use crate::texture::filter::tests::{pattern, placed};
     use crate::texture::filter::Filter;
     use proptest::prelude::*;

@@ -315,10 +315,10 @@ pub(crate) mod tests {
     use super::*;
     use crate::color::Rgb8;
     use crate::pat::{Pattern, TRANSPARENT};
-    use crate::texture::Texels;
     use crate::texture::boundary::{Boundary, Bounds};
     use crate::texture::compose::Compose;
     use crate::texture::map::TexMap;
+    use crate::texture::Texels;
     use std::sync::Arc;
 
     pub const ALL: [Filter; 8] = [
@@ -333,15 +333,9 @@ pub(crate) mod tests {
     ];
 
     /// A pattern of side `s` from a texel → palette index function.
-    pub fn pattern(
-        s: u32,
-        colors: &[Rgb8],
-        mut f: impl FnMut(u32, u32) -> u16,
-    ) -> Arc<Texels> {
+    pub fn pattern(s: u32, colors: &[Rgb8], mut f: impl FnMut(u32, u32) -> u16) -> Arc<Texels> {
         let t = (0..s * s).map(|i| f(i % s, i / s)).collect();
-        Arc::new(Texels::new(
-            &Pattern::new(s, colors.to_vec(), t).unwrap(),
-        ))
+        Arc::new(Texels::new(&Pattern::new(s, colors.to_vec(), t).unwrap()))
     }
 
     /// The pattern seen head-on at `scale` texels per pixel (u = scale x,

@@ -12,9 +12,9 @@ use super::PolyTexture;
 use crate::color::{srgb_to_linear_f64, Rgb8};
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::geom::Placement;
+use crate::stream::{PatternMode, PatternRef};
 use crate::texture::Texels;
 use crate::view::View;
-use crate::stream::{PatternMode, PatternRef};
 use glam::{DVec2, DVec3};
 use std::sync::Arc;
 

@@ -50,9 +50,8 @@ impl Texels {
                 );
             }
         }
-        let runs = super::skip::OpaqueRuns::new(size, |c, r| {
-            texels[(r * size + c) as usize].is_some()
-        });
+        let runs =
+            super::skip::OpaqueRuns::new(size, |c, r| texels[(r * size + c) as usize].is_some());
         Texels {
             size,
             transparent: texels.iter().any(|t| t.is_none()),
@@ -112,4 +111,3 @@ impl Texels {
         &self.runs
     }
 }
-

@@ -1,0 +1,536 @@
+//! The scene stage: between "the stream was read" and "screen polygons go to
+//! the rasterizer".
+//!
+//! [`Scene::read`] keeps a stream as drawable parts: every record with its one
+//! texture source resolved (patterns and stripe files loaded once each), and
+//! objects defined once and shared by their instances (the thesis's
+//! `makeobj`/`callobj`, Fig. 5.1). [`Scene::project`] turns the parts into one
+//! frame's [`ScreenPoly`]s through a [`View`]: instance transforms (animated
+//! ones at that frame) multiply the view's matrix, curves are flattened for
+//! the view's scale, quadrics tessellated for it, and each face's texture is
+//! placed on the screen. [`render`] resolves them into an image.
+//!
+//! [`polyfill`] is the other consumer of the stream: the partition of
+//! patterned polygons into texture point polygons (`polyfill3`).
+
+pub mod polyfill;
+pub mod stripe;
+
+use crate::color::Rgb8;
+use crate::geom::transform::Transform;
+use crate::geom::Shape;
+use crate::io::Image;
+use crate::pat::Pattern;
+use crate::raster::{self, Aa, Background, Cull, ScreenPoly};
+use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, PatternRef, Record};
+use crate::stripe::record::StripeLoader;
+use crate::stripe::LodMode;
+use crate::texture::place::TextureSettings;
+use crate::texture::Texels;
+use crate::view::View;
+use anyhow::{Context, Result};
+use glam::DVec3;
+use std::collections::HashMap;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+use std::sync::Arc;
+
+/// Where a face's colour comes from. A face has exactly one source (a record
+/// with both `"pattern"` and `"stripe"` is refused when read); shading, when
+/// it comes, is a separate axis that modulates whichever source it is.
+#[derive(Clone, Debug)]
+pub enum TextureSource {
+    /// The record's `"color"` alone.
+    Flat,
+    /// A screen-mode pattern (SPEC §2, the IRIS `setpattern`): pixel (x, y)
+    /// shows texel (x mod SIZE, y mod SIZE).
+    Screen(Arc<Texels>),
+    /// An "object" or "uv" pattern, placed through its screen → texel map
+    /// when the face is projected.
+    Placed {
+        pattern: PatternRef,
+        mode: PatternMode,
+        texels: Arc<Texels>,
+    },
+    /// A stripe texture (seed 001), given its screen mapping when the face
+    /// is projected.
+    Stripe(stripe::RecordStripe),
+}
+
+/// One record ready to draw, in its own coordinates (world coordinates at the
+/// top level, the object's inside a definition). Only the geometry is kept,
+/// not the record's JSON.
+struct Drawable {
+    index: usize,
+    shape: Shape,
+    color: Rgb8,
+    texture: TextureSource,
+    /// Texture coordinates per vertex, in texels (uv mode).
+    uv: Option<Vec<[f64; 2]>>,
+    /// A quadric's "transform" when its numbers vary per frame.
+    animated: Option<serde_json::Value>,
+}
+
+/// A stream element as the scene keeps it.
+enum Part {
+    Draw(Drawable),
+    /// An instance (the thesis's `callobj`): the object's parts are shared,
+    /// never copied; they are projected through the instance's transform.
+    Place {
+        index: usize,
+        name: String,
+        object: Rc<Vec<Part>>,
+        transform: Transform,
+        /// The transform's JSON when its numbers vary per frame.
+        animated: Option<serde_json::Value>,
+    },
+}
+
+/// A polygon stream read into drawable parts, objects defined once.
+#[derive(Default)]
+pub struct Scene {
+    parts: Vec<Part>,
+}
+
+/// How every record of a frame is drawn.
+#[derive(Clone, Copy, Debug)]
+pub struct DrawOptions {
+    /// Which faces to drop. Default value: [`Cull::None`].
+    pub cull: Cull,
+    /// How placed patterns are filtered and composed. Default value:
+    /// [`TextureSettings::DEFAULT`].
+    pub texture: TextureSettings,
+    /// The level-of-detail rule of stripe textures. Default value:
+    /// [`LodMode::Blend`].
+    pub stripe_lod: LodMode,
+    /// Pixels per stripe evaluation ([`crate::stripe::StripeTexture::footprint`]):
+    /// see [`stripe_footprint`]. Default value: 1.
+    pub stripe_footprint: f64,
+    /// Largest distance, in pixels, of a quadric's chords from its surface,
+    /// for quadric records that leave out slices or stacks. Default value:
+    /// [`crate::geom::quadric::DEFAULT_TOLERANCE_PX`].
+    pub quadric_tolerance: f64,
+}
+
+impl Default for DrawOptions {
+    fn default() -> Self {
+        DrawOptions {
+            cull: Cull::None,
+            texture: TextureSettings::DEFAULT,
+            stripe_lod: LodMode::Blend,
+            stripe_footprint: 1.0,
+            quadric_tolerance: crate::geom::quadric::DEFAULT_TOLERANCE_PX,
+        }
+    }
+}
+
+/// The pixels one stripe evaluation stands for under a resolver: `1/k` for
+/// k x k supersampling (each sample is a `1/k` pixel), else 1 (the exact
+/// resolver evaluates per fragment, point sampling per pixel).
+pub fn stripe_footprint(aa: Aa) -> f64 {
+    match aa {
+        Aa::Ss(k) => 1.0 / k as f64,
+        Aa::None | Aa::Exact => 1.0,
+    }
+}
+
+impl Scene {
+    /// Reads the stream at `input` (`-` is standard input). Patterns and
+    /// stripe files resolve against the stream's directory.
+    pub fn load(input: &str) -> Result<Scene> {
+        let reader: Box<dyn BufRead> = if input == crate::io::STDIO {
+            Box::new(std::io::stdin().lock())
+        } else {
+            let path = Path::new(input);
+            if path.is_dir() {
+                anyhow::bail!("{input}: is a directory, not a file");
+            }
+            Box::new(BufReader::with_capacity(
+                1 << 16,
+                std::fs::File::open(path).with_context(|| input.to_string())?,
+            ))
+        };
+        let name = crate::io::display_name(input).to_string();
+        Scene::read(reader, &name, &crate::stream::base_dir(input))
+    }
+
+    /// Reads a stream, keeping objects and instances. `name` is the stream as
+    /// errors show it, `base` the directory its files resolve against.
+    /// Patterns are drawn directly: screen mode (the IRIS hardware patterns
+    /// of the thesis's demo 1) per pixel, object and uv placement through
+    /// their screen → texel map, computed when each record is projected (in
+    /// the object's own coordinates for an instance, so the pattern stays
+    /// fixed to the object as in the thesis's Fig. 5.1).
+    pub fn read(reader: Box<dyn BufRead>, name: &str, base: &Path) -> Result<Scene> {
+        let mut patterns: HashMap<PathBuf, Arc<Texels>> = HashMap::new();
+        let mut stripes = StripeLoader::new(base);
+        read_items(reader, name, |rec| {
+            let stripe = stripe::read(&mut stripes, &rec.fields, rec.color)
+                .with_context(|| format!("{name}: record {}", rec.index))?;
+            if stripe.is_some() && rec.pattern.is_some() {
+                anyhow::bail!(
+                    "{name}: record {}: has both \"pattern\" and \"stripe\": a face takes one texture",
+                    rec.index
+                );
+            }
+            let mut texture = TextureSource::Flat;
+            if let Some(pref) = &rec.pattern {
+                let quadric = matches!(rec.shape, Shape::Quadric(_));
+                let mode = pref.mode.unwrap_or(if rec.uv.is_some() || quadric {
+                    PatternMode::Uv
+                } else {
+                    PatternMode::Object
+                });
+                let Some(file) = &pref.file else {
+                    anyhow::bail!("{name}: record {}: pattern.file is missing", rec.index);
+                };
+                // Only patterns the scene references are read, each once.
+                let path = crate::stream::resolve(base, file);
+                let texels = match patterns.get(&path) {
+                    Some(p) => p.clone(),
+                    None => {
+                        let pat = Pattern::read_file(&path)
+                            .with_context(|| format!("{name}: record {}", rec.index))?;
+                        let p = Arc::new(Texels::new(&pat));
+                        patterns.insert(path, p.clone());
+                        p
+                    }
+                };
+                texture = match mode {
+                    PatternMode::Screen => TextureSource::Screen(texels),
+                    PatternMode::Object | PatternMode::Uv => TextureSource::Placed {
+                        pattern: pref.clone(),
+                        mode,
+                        texels,
+                    },
+                };
+            }
+            let animated = match rec.shape {
+                Shape::Quadric(_) => rec
+                    .fields
+                    .get("transform")
+                    .filter(|t| Transform::is_animated(t))
+                    .cloned(),
+                _ => None,
+            };
+            let color = match &stripe {
+                Some(st) => st.face,
+                None => rec.color.unwrap_or(Rgb8::BLACK),
+            };
+            if let Some(st) = stripe {
+                texture = TextureSource::Stripe(st);
+            }
+            Ok(Drawable {
+                animated,
+                index: rec.index,
+                shape: rec.shape,
+                color,
+                texture,
+                uv: rec.uv,
+            })
+        })
+    }
+
+    /// Frame `frame`'s screen polygons through `view`, in stream order (an
+    /// instance's polygons draw at the instance's place). Numbers of animated
+    /// transforms are taken at `frame` (docs/objects.md).
+    pub fn project(&self, view: &View, how: &DrawOptions, frame: u64) -> Result<Vec<ScreenPoly>> {
+        let mut out = Vec::new();
+        project_parts(&self.parts, view, None, None, how, frame, &mut out)?;
+        Ok(out)
+    }
+}
+
+/// Reads the stream, keeping objects and instances (the thesis's
+/// `makeobj`/`callobj`, Fig. 5.1): every record, inside an object or not, goes
+/// through `each` once; an instance refers to its object's parts.
+fn read_items(
+    reader: Box<dyn BufRead>,
+    name: &str,
+    mut each: impl FnMut(Record) -> Result<Drawable>,
+) -> Result<Scene> {
+    let mut checks = Objects::default();
+    let mut objects: HashMap<String, Rc<Vec<Part>>> = HashMap::new();
+    let mut scene = Scene::default();
+    let named = |mut e: crate::stream::StreamError| {
+        e.source = name.to_string();
+        e
+    };
+    let place = |inst: Instance, objects: &HashMap<String, Rc<Vec<Part>>>| Part::Place {
+        index: inst.index,
+        object: objects[&inst.object].clone(),
+        transform: inst.transform,
+        animated: inst
+            .fields
+            .get("transform")
+            .filter(|t| Transform::is_animated(t))
+            .cloned(),
+        name: inst.object,
+    };
+    for_each_item(reader, name, |item| {
+        match item {
+            Item::Record(rec) => scene.parts.push(Part::Draw(each(rec)?)),
+            Item::Object(def) => {
+                checks.define(def.skeleton()).map_err(named)?;
+                let mut parts = Vec::with_capacity(def.items.len());
+                for it in def.items {
+                    parts.push(match it {
+                        Item::Record(rec) => Part::Draw(each(rec)?),
+                        Item::Instance(inst) => place(inst, &objects),
+                        Item::Object(_) => {
+                            unreachable!("Objects::define rejects nested definitions")
+                        }
+                    });
+                }
+                objects.insert(def.name, Rc::new(parts));
+            }
+            Item::Instance(inst) => {
+                checks.check_instance(&inst).map_err(named)?;
+                scene.parts.push(place(inst, &objects));
+            }
+        }
+        Ok(())
+    })?;
+    Ok(scene)
+}
+
+/// Clips and projects parts into screen polygons. `placed` is the transform
+/// of the instance being drawn (object to world) and `order` its position in
+/// the stream: every polygon of an instance draws at the instance's place, as
+/// when the instance is expanded. An instance's polygons are never copied:
+/// the view's matrix is multiplied by the instance's, so the clip-space
+/// vertices the clipper makes anyway are the only transformed buffer.
+fn project_parts(
+    parts: &[Part],
+    base: &View,
+    placed: Option<Transform>,
+    order: Option<u32>,
+    how: &DrawOptions,
+    frame: u64,
+    out: &mut Vec<ScreenPoly>,
+) -> Result<()> {
+    let moved;
+    let view = match placed {
+        Some(t) => {
+            moved = View {
+                world_to_clip: base.world_to_clip * t.matrix(),
+                ..base.clone()
+            };
+            &moved
+        }
+        None => base,
+    };
+    for part in parts {
+        match part {
+            Part::Draw(d) => {
+                let order = match order {
+                    Some(o) => o,
+                    None => u32::try_from(d.index).context("more than 2^32 records")?,
+                };
+                if let Shape::Quadric(q) = &d.shape {
+                    project_quadric(d, q, view, order, how, frame, out)
+                        .with_context(|| format!("record {}", d.index))?;
+                    continue;
+                }
+                let outline = match &d.shape {
+                    Shape::Polygon(v) => std::borrow::Cow::Borrowed(v.as_slice()),
+                    other => std::borrow::Cow::Owned(crate::geom::outline(
+                        other,
+                        curve_tolerance(other, view),
+                    )),
+                };
+                draw_polygon(d, view, &outline, d.uv.as_deref(), order, how, out)
+                    .with_context(|| format!("record {}", d.index))?;
+            }
+            Part::Place {
+                index,
+                name,
+                object,
+                transform,
+                animated,
+            } => {
+                let transform = match animated {
+                    Some(v) => &Transform::from_json_at(v, frame).with_context(|| {
+                        format!("record {index}: instance of `{name}` at frame {frame}")
+                    })?,
+                    None => transform,
+                };
+                let order = match order {
+                    Some(o) => o,
+                    None => u32::try_from(*index).context("more than 2^32 records")?,
+                };
+                let total = match placed {
+                    Some(outer) => transform.then(outer),
+                    None => *transform,
+                };
+                project_parts(object, base, Some(total), Some(order), how, frame, out)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Projects one polygon of a record and gives it its texture: `outline` in
+/// the record's coordinates, `uv` its texture coordinates in texels (uv mode).
+fn draw_polygon(
+    d: &Drawable,
+    view: &View,
+    outline: &[DVec3],
+    uv: Option<&[[f64; 2]]>,
+    order: u32,
+    how: &DrawOptions,
+    out: &mut Vec<ScreenPoly>,
+) -> Result<()> {
+    let Some(mut p) = raster::try_project(view, outline, d.color, order, how.cull)? else {
+        return Ok(());
+    };
+    match &d.texture {
+        TextureSource::Flat => {}
+        TextureSource::Screen(texels) => p.screen = Some(texels.clone()),
+        TextureSource::Stripe(st) => match stripe::shader(st, view, outline, how.stripe_lod)? {
+            Some(t) => p.stripe = Some(Arc::new(t.with_footprint(how.stripe_footprint))),
+            // Edge-on: a sliver of rounding; nothing to draw.
+            None => return Ok(()),
+        },
+        TextureSource::Placed {
+            pattern,
+            mode,
+            texels,
+        } => {
+            let tex = crate::texture::place::place(
+                &how.texture,
+                d.color,
+                view,
+                outline,
+                pattern,
+                *mode,
+                uv,
+                texels.clone(),
+            )?;
+            match tex {
+                Some(t) => p.texture = Some(Arc::new(t)),
+                // Visible by the projection but not by the fit: rounding at a
+                // sliver; nothing to draw.
+                None => return Ok(()),
+            }
+        }
+    }
+    out.push(p);
+    Ok(())
+}
+
+/// Tessellates a quadric record for this view (`geom::quadric`: the slices
+/// and stacks it leaves out come from the quadric tolerance at this camera
+/// and this instance's placement, so every instance and frame is as fine as
+/// it needs) and draws its triangles with their texel coordinates.
+fn project_quadric(
+    d: &Drawable,
+    q: &crate::geom::quadric::QuadricShape,
+    view: &View,
+    order: u32,
+    how: &DrawOptions,
+    frame: u64,
+    out: &mut Vec<ScreenPoly>,
+) -> Result<()> {
+    let moved;
+    let q = match &d.animated {
+        Some(v) => {
+            let mut m = q.clone();
+            m.transform = Transform::from_json_at(v, frame)
+                .with_context(|| format!("{}: transform at frame {}", q.kind, frame))?;
+            moved = m;
+            &moved
+        }
+        None => q,
+    };
+    let own_to_clip = view.world_to_clip * q.transform.matrix();
+    let tolerance = crate::geom::quadric::tolerance_at(
+        &q.quadric,
+        own_to_clip,
+        view.width,
+        view.height,
+        how.quadric_tolerance,
+    );
+    let size = match &d.texture {
+        TextureSource::Placed { texels, .. } => texels.size(),
+        _ => 1,
+    };
+    let tris = q
+        .texel_triangles(tolerance, size)
+        .map_err(anyhow::Error::msg)?;
+    for t in &tris {
+        draw_polygon(d, view, &t.v, Some(&t.uv), order, how, out)?;
+    }
+    Ok(())
+}
+
+/// World-space chord tolerance for a curved record, from the view's scale at
+/// the curve's centre, so chords stay within [`raster::CURVE_TOLERANCE_PX`].
+fn curve_tolerance(shape: &Shape, view: &View) -> f64 {
+    let (center, radius) = match *shape {
+        Shape::Circle { center, radius } | Shape::Arc { center, radius, .. } => (center, radius),
+        _ => return 1.0,
+    };
+    let c = DVec3::new(center[0], center[1], 0.0);
+    let at = |p: DVec3| {
+        let q = view.to_clip(p);
+        glam::DVec2::new(
+            q.x / q.w * view.width as f64,
+            q.y / q.w * view.height as f64,
+        ) * 0.5
+    };
+    let (p0, px, py) = (at(c), at(c + DVec3::X * radius), at(c + DVec3::Y * radius));
+    let px_per_unit = (px - p0).length().max((py - p0).length()) / radius;
+    if px_per_unit.is_finite() && px_per_unit > 0.0 {
+        raster::CURVE_TOLERANCE_PX / px_per_unit
+    } else {
+        // Behind the eye or degenerate: fall back to a fine relative tolerance.
+        radius * 1e-4
+    }
+}
+
+/// How a frame's polygons are resolved into pixels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Resolve {
+    /// One anti-aliasing method for the whole frame.
+    Aa(Aa),
+    /// The cheapest methods expected to keep the frame's RMSE (8-bit sRGB)
+    /// within this budget, chosen per region ([`raster::budget`]).
+    WithinError(f64),
+}
+
+/// Renders one frame's polygons: one method for all, or the `--max-error`
+/// plan (which it also returns). With the `mip` skip off (benchmarks), every
+/// textured polygon's MIP pyramid is built first.
+pub fn render(
+    polys: &[ScreenPoly],
+    bg: &Background,
+    width: u32,
+    height: u32,
+    how: Resolve,
+) -> (Image, Option<raster::budget::Plan>) {
+    build_mips_eagerly(polys);
+    match how {
+        Resolve::WithinError(e) => {
+            let (frame, plan) = raster::budget::render_within(polys, bg, width, height, e);
+            (frame.to_image(), Some(plan))
+        }
+        Resolve::Aa(aa) => (
+            raster::render(polys, bg, width, height, aa).to_image(),
+            None,
+        ),
+    }
+}
+
+/// `--no-skip mip` (benchmarks): every textured polygon's MIP pyramid is
+/// built before rendering, whether or not any pixel minifies, instead of on
+/// the first minified sample. Each pattern's pyramid is still built once
+/// (it is shared), so this costs what the lazy build saves.
+fn build_mips_eagerly(polys: &[ScreenPoly]) {
+    for tex in polys.iter().filter_map(|p| p.texture.as_ref()) {
+        if !tex.skips.mip {
+            tex.texels.pyramid(tex.mip_key());
+        }
+    }
+}

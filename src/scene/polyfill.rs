@@ -1,0 +1,742 @@
+//! The partition job of `polyfill3` (the thesis's `polcolorf3`, ch. IV, with
+//! SPEC §2 "object" placement): a stream's patterned polygons cut into texture
+//! point polygons, one per texel cell, written as NDJSON records by
+//! [`CellWriter`]. Objects stay objects (a face is partitioned once and
+//! placed by its instances, Fig. 5.1); records without an object-mode pattern
+//! pass through unchanged.
+
+use crate::geom::cull::ViewVolume;
+use crate::geom::merge::RunMerger;
+use crate::geom::partition::{estimate_cells, thesis_partition};
+use crate::geom::plane::DEFAULT_PLANARITY_TOL;
+use crate::geom::{map_to_plane, outline, CellSink, Grid, Partitioner, Placement, Shape};
+use crate::pat::Pattern;
+use crate::stream::{self, Instance, Item, ObjectDef, Objects, PatternMode, Record};
+use crate::texture::map::object_uv;
+use anyhow::{anyhow, Context, Result};
+use glam::DVec3;
+use serde_json::Value;
+use std::collections::HashMap;
+use std::io::{BufRead, Write};
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+
+/// Which algorithm partitions the polygons.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+pub enum Compat {
+    /// The thesis's loop (Fig. 4.7): accumulated grid, inclusive bounds,
+    /// degenerate polygons along the far edges.
+    Thesis,
+}
+
+/// What the partition does with each record. The placement fields are the
+/// defaults for records whose `"pattern"` leaves them out.
+#[derive(Clone, Debug)]
+pub struct PartitionOptions {
+    /// Pattern file for records whose "pattern" names no "file". Default
+    /// value: none (such records are an error).
+    pub pattern: Option<PathBuf>,
+    /// Side of one texel in world units. Default value: 1.
+    pub incr: f64,
+    /// Degrees counter-clockwise of the pattern's x from the first edge.
+    /// Default value: 0.
+    pub rotate: f64,
+    /// Shift of the pattern right, in texels. Default value: 0.
+    pub horz: f64,
+    /// Shift of the pattern up, in texels. Default value: 0.
+    pub vert: f64,
+    /// Join runs of same-coloured whole cells of a row into one polygon.
+    /// Default value: false.
+    pub merge: bool,
+    /// Reproduce another algorithm. Default value: none (the exact partition).
+    pub compat: Option<Compat>,
+    /// Largest distance of a vertex from the polygon's plane, relative to its
+    /// size. Default value: [`DEFAULT_PLANARITY_TOL`].
+    pub planarity_tol: f64,
+    /// Most polygons the job may write (estimated from each polygon's area /
+    /// incr² before its cells are written). Default value: 50,000,000.
+    pub max_polygons: u64,
+    /// Largest distance of a circle's or arc's chords from the true curve, in
+    /// world units; also the quadric tessellation's. Default value: 0.01.
+    pub tolerance: f64,
+    /// Drop polygons facing away from this view volume, and cells wholly
+    /// outside it. Default value: none.
+    pub volume: Option<ViewVolume>,
+    /// Do not partition: write each object-mode polygon whole with its
+    /// placement as per-vertex "uv" texel coordinates. Default value: false.
+    pub uv: bool,
+}
+
+impl Default for PartitionOptions {
+    fn default() -> Self {
+        PartitionOptions {
+            pattern: None,
+            incr: 1.0,
+            rotate: 0.0,
+            horz: 0.0,
+            vert: 0.0,
+            merge: false,
+            compat: None,
+            planarity_tol: DEFAULT_PLANARITY_TOL,
+            max_polygons: DEFAULT_MAX_POLYGONS,
+            tolerance: DEFAULT_TOLERANCE,
+            volume: None,
+            uv: false,
+        }
+    }
+}
+
+/// The default [`PartitionOptions::max_polygons`].
+pub const DEFAULT_MAX_POLYGONS: u64 = 50_000_000;
+
+/// The default [`PartitionOptions::tolerance`], world units.
+pub const DEFAULT_TOLERANCE: f64 = 0.01;
+
+/// What a partition job did (`polyfill3 --json`).
+#[derive(Default, Debug, Clone, PartialEq, Eq)]
+pub struct Summary {
+    /// Records read, inside objects included.
+    pub records: u64,
+    /// Records passed through unchanged (no object-mode pattern).
+    pub passed: u64,
+    /// Records partitioned (or written whole with "uv").
+    pub partitioned: u64,
+    /// Records dropped by the view volume.
+    pub culled: u64,
+    /// Polygons written.
+    pub polygons: u64,
+    /// Object definitions.
+    pub objects: u64,
+    /// Instances.
+    pub instances: u64,
+}
+
+/// Partitions the stream `reader` (named `source` in errors, its files
+/// resolved against `base`) into `out`. `warn` receives each warning once, as
+/// it happens (records whose pattern mode is not partitioned). Returns the
+/// output, flushed, and the counts.
+pub fn partition_stream<W: Write>(
+    reader: Box<dyn BufRead>,
+    source: &str,
+    base: &Path,
+    out: W,
+    options: &PartitionOptions,
+    warn: &mut dyn FnMut(String),
+) -> Result<(W, Summary)> {
+    let mut job = Job {
+        args: options,
+        base: base.to_path_buf(),
+        patterns: HashMap::new(),
+        partitioner: Partitioner::new(),
+        writer: CellWriter::new(out),
+        volume: options.volume,
+        summary: Summary::default(),
+        warned_mode: false,
+        warn,
+    };
+    // Objects and instances are kept as they are (Fig. 5.1: a face is
+    // partitioned once and placed four times), not expanded into copies.
+    let mut objects = Objects::default();
+    let named = |mut e: stream::StreamError| {
+        e.source = source.to_string();
+        e
+    };
+    stream::for_each_item(reader, source, |item| match item {
+        Item::Record(rec) => {
+            let index = rec.index;
+            job.record(rec)
+                .with_context(|| format!("{source}: record {index}"))
+        }
+        Item::Object(def) => {
+            objects.define(def.skeleton()).map_err(named)?;
+            job.object(def, source)
+        }
+        Item::Instance(inst) => {
+            objects.check_instance(&inst).map_err(named)?;
+            job.instance(&inst)
+        }
+    })?;
+    let summary = job.summary.clone();
+    Ok((job.writer.into_inner()?, summary))
+}
+
+struct Job<'a, W: Write> {
+    args: &'a PartitionOptions,
+    base: PathBuf,
+    patterns: HashMap<PathBuf, Rc<Pattern>>,
+    partitioner: Partitioner,
+    writer: CellWriter<W>,
+    volume: Option<ViewVolume>,
+    summary: Summary,
+    warned_mode: bool,
+    warn: &'a mut dyn FnMut(String),
+}
+
+impl<W: Write> Job<'_, W> {
+    /// Where a record's pattern file is: its "file" resolved against the
+    /// stream's directory, else --pattern.
+    fn pattern_path(&self, file: Option<&str>) -> Result<PathBuf> {
+        match (file, &self.args.pattern) {
+            (Some(f), _) => Ok(stream::resolve(&self.base, f)),
+            (None, Some(p)) => Ok(p.clone()),
+            (None, None) => Err(anyhow!(
+                "pattern: no \"file\" in the record and no --pattern given"
+            )),
+        }
+    }
+
+    fn pattern(&mut self, file: Option<&str>) -> Result<Rc<Pattern>> {
+        let path = self.pattern_path(file)?;
+        if let Some(p) = self.patterns.get(&path) {
+            return Ok(p.clone());
+        }
+        let p = Rc::new(Pattern::read_file(&path).map_err(|e| anyhow!("pattern: {e}"))?);
+        self.patterns.insert(path, p.clone());
+        Ok(p)
+    }
+
+    /// Writes an object definition back as an object whose `"records"` are
+    /// its records partitioned (once, however many instances it gets), and
+    /// its instances unchanged; the definition's other fields keep their
+    /// order. `--cull` does not apply inside objects: where an instance puts
+    /// them is not known here.
+    fn object(&mut self, def: ObjectDef, source: &str) -> Result<()> {
+        self.summary.objects += 1;
+        self.writer.capture()?;
+        let volume = self.volume.take();
+        let result = self.object_items(&def, source);
+        self.volume = volume;
+        let body = self.writer.end_capture();
+        result?;
+        let mut line = Vec::with_capacity(body.len() + 64);
+        line.push(b'{');
+        for (i, (k, v)) in def.fields.iter().enumerate() {
+            if i > 0 {
+                line.push(b',');
+            }
+            serde_json::to_writer(&mut line, k)?;
+            line.push(b':');
+            if k == "records" {
+                line.push(b'[');
+                let mut first = true;
+                for rec in body.split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
+                    if !first {
+                        line.push(b',');
+                    }
+                    first = false;
+                    line.extend_from_slice(rec);
+                }
+                line.push(b']');
+            } else {
+                serde_json::to_writer(&mut line, v)?;
+            }
+        }
+        line.extend_from_slice(b"}\n");
+        self.writer.pass_raw(&line)
+    }
+
+    fn object_items(&mut self, def: &ObjectDef, source: &str) -> Result<()> {
+        for (i, item) in def.items.iter().enumerate() {
+            match item {
+                Item::Record(rec) => self.record(rec.clone()).with_context(|| {
+                    format!(
+                        "{source}: record {}: object `{}` records[{i}]",
+                        def.index, def.name
+                    )
+                })?,
+                Item::Instance(inst) => self.instance(inst)?,
+                Item::Object(_) => unreachable!("Objects::define rejects nested definitions"),
+            }
+        }
+        Ok(())
+    }
+
+    /// A quadric record becomes its triangles, each a uv-mode record (texture
+    /// coordinates in texels of its pattern) that passes through like any
+    /// uv record: the texture is placed by coordinates, not cut into texel
+    /// polygons. Slices and stacks the record leaves out come from
+    /// --tolerance (world units; there is no camera). The triangles count
+    /// towards --max-polygons; --cull does not apply. A quadric whose
+    /// transform varies per frame passes through unchanged.
+    fn quadric(&mut self, rec: &Record) -> Result<()> {
+        // A transform that varies per frame is scene-render's to evaluate:
+        // expanding frame 0 here would freeze the animation, so the record
+        // passes through unchanged (scene-render draws quadrics directly).
+        if rec
+            .fields
+            .get("transform")
+            .is_some_and(crate::geom::transform::Transform::is_animated)
+        {
+            self.summary.passed += 1;
+            return self.writer.pass(&rec.fields);
+        }
+        let size = match &rec.pattern {
+            Some(p) if p.mode != Some(PatternMode::Screen) => {
+                Some(self.pattern(p.file.as_deref())?.size())
+            }
+            _ => None,
+        };
+        let tris = stream::quadric_triangles(rec, self.args.tolerance, size)
+            .expect("a quadric record")
+            .map_err(|e| anyhow!(e))?;
+        let total = self.summary.polygons + tris.len() as u64;
+        if total > self.args.max_polygons {
+            return Err(anyhow!(
+                "{} triangles of the quadric would take the output past --max-polygons {} ({} written so far)",
+                tris.len(),
+                self.args.max_polygons,
+                self.summary.polygons
+            ));
+        }
+        for t in &tris {
+            self.writer.pass(t)?;
+        }
+        self.summary.polygons = total;
+        self.summary.passed += 1;
+        Ok(())
+    }
+
+    /// `--uv`: writes the record whole, its SPEC §2 object placement turned
+    /// into per-vertex texel coordinates by the same [`object_uv`] that
+    /// `scene-render` uses for direct texturing, so both draw the same texture
+    /// (texture coordinates are affine over a planar polygon, so the vertex
+    /// values determine the whole map). The pattern "file" becomes an
+    /// absolute path: the output may be read from another directory than the
+    /// input's, against which a relative "file" resolved.
+    fn forward_uv(
+        &mut self,
+        rec: &Record,
+        pref: &stream::PatternRef,
+        vertices: &[DVec3],
+        place: Placement,
+        rotate: f64,
+    ) -> Result<()> {
+        // Loaded (once) only to report a missing or bad pattern here rather
+        // than in the renderer.
+        self.pattern(pref.file.as_deref())?;
+        let uv = object_uv(vertices, place, rotate, self.args.planarity_tol)?;
+        let uv = serde_json::json!(uv.iter().map(|t| [t.x, t.y]).collect::<Vec<_>>());
+        let fields = self.whole(rec, vertices, Some(uv))?;
+        self.summary.partitioned += 1;
+        self.summary.polygons += 1;
+        self.writer.pass(&fields)
+    }
+
+    /// A record that is not partitioned: unchanged, except under `--uv`,
+    /// where every record comes out as a polygon (rect, circle and arc
+    /// flattened within --tolerance) with an absolute pattern path, so that a
+    /// renderer that only draws polygons can take the stream anywhere.
+    fn pass_record(&mut self, rec: &Record) -> Result<()> {
+        if !self.args.uv {
+            return self.writer.pass(&rec.fields);
+        }
+        let vertices = outline(&rec.shape, self.args.tolerance);
+        let fields = self.whole(rec, &vertices, None)?;
+        self.writer.pass(&fields)
+    }
+
+    /// `rec`'s fields for `--uv` output: "vertices" set to `vertices` (curves
+    /// dropped), the pattern "file" made absolute, and with `uv` given, the
+    /// "uv" field set and the pattern put in "uv" mode (its object placement
+    /// fields dropped: they no longer apply). Other fields, in the pattern
+    /// too, are kept (SPEC §2).
+    fn whole(
+        &self,
+        rec: &Record,
+        vertices: &[DVec3],
+        uv: Option<Value>,
+    ) -> Result<serde_json::Map<String, Value>> {
+        let mut fields = serde_json::Map::with_capacity(rec.fields.len() + 2);
+        for (k, v) in &rec.fields {
+            match k.as_str() {
+                "rect" | "circle" | "arc" | "vertices" => {}
+                "uv" if uv.is_some() => {}
+                "pattern" => {
+                    let mut p = v.as_object().cloned().unwrap_or_default();
+                    let file = p.get("file").and_then(Value::as_str);
+                    if file.is_some() || self.args.pattern.is_some() {
+                        let path = self.pattern_path(file)?;
+                        let path = std::path::absolute(&path)
+                            .with_context(|| format!("pattern: {}", path.display()))?;
+                        p.insert("file".into(), Value::String(path.display().to_string()));
+                    }
+                    if uv.is_some() {
+                        for key in ["incr", "rotate", "horz", "vert"] {
+                            p.remove(key);
+                        }
+                        p.insert("mode".into(), Value::String("uv".into()));
+                    }
+                    fields.insert(k.clone(), Value::Object(p));
+                }
+                _ => {
+                    fields.insert(k.clone(), v.clone());
+                }
+            }
+        }
+        fields.insert(
+            "vertices".into(),
+            serde_json::json!(vertices.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>()),
+        );
+        if let Some(uv) = uv {
+            fields.insert("uv".into(), uv);
+        }
+        Ok(fields)
+    }
+
+    /// An instance passes through unchanged: its object is partitioned once.
+    fn instance(&mut self, inst: &Instance) -> Result<()> {
+        self.summary.instances += 1;
+        self.writer.pass(&inst.fields)
+    }
+
+    fn record(&mut self, rec: Record) -> Result<()> {
+        self.summary.records += 1;
+        if let Shape::Quadric(_) = rec.shape {
+            return self.quadric(&rec);
+        }
+        let Some(pref) = rec.pattern.clone() else {
+            self.summary.passed += 1;
+            return self.pass_record(&rec);
+        };
+        let mode = pref.mode.unwrap_or(if rec.uv.is_some() {
+            PatternMode::Uv
+        } else {
+            PatternMode::Object
+        });
+        if mode != PatternMode::Object || rec.uv.is_some() {
+            // Under --uv nothing is partitioned: no surprise to warn about.
+            if !self.warned_mode && !self.args.uv {
+                (self.warn)(format!(
+                    "record {}: patterns in \"screen\" or \"uv\" mode are not partitioned; \
+                     such records pass through unchanged",
+                    rec.index
+                ));
+                self.warned_mode = true;
+            }
+            self.summary.passed += 1;
+            return self.pass_record(&rec);
+        }
+        let pattern = self.pattern(pref.file.as_deref())?;
+        let a = self.args;
+        let place = Placement {
+            incr: pref.incr.unwrap_or(a.incr),
+            horz: pref.horz.unwrap_or(a.horz),
+            vert: pref.vert.unwrap_or(a.vert),
+        };
+        let rotate = pref.rotate.unwrap_or(a.rotate);
+        let vertices = match &rec.shape {
+            Shape::Polygon(v) => v.clone(),
+            other => outline(other, a.tolerance),
+        };
+        let poly = map_to_plane(&vertices, rotate, a.planarity_tol)?;
+        if let Some(vol) = &self.volume {
+            if vol.back_facing(poly.frame.normal, poly.frame.origin) || vol.outside(&vertices) {
+                self.summary.culled += 1;
+                return Ok(());
+            }
+        }
+        if a.uv {
+            return self.forward_uv(&rec, &pref, &vertices, place, rotate);
+        }
+        let grid = Grid::new(&poly.points, place)?;
+        let estimate = (poly.area / (place.incr * place.incr)).min(estimate_cells(
+            grid.xmax - grid.xmin,
+            grid.ymax - grid.ymin,
+            place.incr,
+        ));
+        if self.summary.polygons as f64 + estimate > a.max_polygons as f64 {
+            return Err(anyhow!(
+                "about {estimate:.0} polygons at incr {} would take the output past \
+                 --max-polygons {} ({} written so far)",
+                place.incr,
+                a.max_polygons,
+                self.summary.polygons
+            ));
+        }
+        self.writer.begin(
+            &rec,
+            pattern,
+            a.merge,
+            a.max_polygons - self.summary.polygons,
+        );
+        self.writer.volume = self.volume;
+        match a.compat {
+            None => self.partitioner.run(&poly, &grid, &mut self.writer),
+            Some(Compat::Thesis) => {
+                let (h, v) = (place.horz, place.vert);
+                if h.fract() != 0.0 || v.fract() != 0.0 {
+                    return Err(anyhow!(
+                        "--compat thesis: horz {h} and vert {v} must be integers, as in the thesis"
+                    ));
+                }
+                let size = self.writer.pattern_size();
+                thesis_partition(
+                    &poly,
+                    place.incr,
+                    h as i64,
+                    v as i64,
+                    size,
+                    &mut self.writer,
+                )
+            }
+        }
+        self.writer.finish()?;
+        self.summary.partitioned += 1;
+        self.summary.polygons += self.writer.written;
+        Ok(())
+    }
+}
+
+/// The output side of a partition: turns cells into NDJSON records.
+///
+/// Serialization is hand-written (floats by `zmij`, the formatter serde_json
+/// itself uses, so the text is the same): each record is
+/// `{"vertices":[...],"color":[r,g,b],"texel":[c,r]` followed by the input's
+/// other fields, serialized once per input polygon.
+pub struct CellWriter<W: Write> {
+    out: W,
+    /// With `--cull`: cells wholly outside this volume are not written.
+    pub volume: Option<ViewVolume>,
+    pattern: Option<Rc<Pattern>>,
+    /// `,"key":value` for every field carried over, serialized once.
+    rest: Vec<u8>,
+    buf: Vec<u8>,
+    merger: Option<RunMerger>,
+    /// Polygons written for the current input polygon.
+    written: u64,
+    /// Most polygons this input polygon may still write.
+    budget: u64,
+    error: Option<std::io::Error>,
+    float: zmij::Buffer,
+    /// While set, output stays in `buf` (an object's records, gathered to be
+    /// written inside its definition).
+    capturing: bool,
+}
+
+/// Fields an output record does not carry over: the geometry, the colour and
+/// the pattern are replaced by the cell's.
+const REPLACED: [&str; 8] = [
+    "vertices", "rect", "circle", "arc", "color", "pattern", "uv", "texel",
+];
+
+/// Bytes of output gathered before they are handed to the output stream.
+const FLUSH_BYTES: usize = 1 << 16;
+
+impl<W: Write> CellWriter<W> {
+    pub fn new(out: W) -> Self {
+        CellWriter {
+            out,
+            volume: None,
+            pattern: None,
+            rest: Vec::new(),
+            buf: Vec::with_capacity(2 * FLUSH_BYTES),
+            merger: None,
+            written: 0,
+            budget: 0,
+            error: None,
+            float: zmij::Buffer::new(),
+            capturing: false,
+        }
+    }
+
+    /// Writes a record unchanged.
+    pub fn pass(&mut self, fields: &serde_json::Map<String, Value>) -> Result<()> {
+        stream::write_ndjson(&mut self.buf, fields)?;
+        if self.buf.len() >= FLUSH_BYTES {
+            self.drain()?;
+        }
+        Ok(())
+    }
+
+    /// Writes already serialized NDJSON (one or more whole lines).
+    pub fn pass_raw(&mut self, line: &[u8]) -> Result<()> {
+        self.buf.extend_from_slice(line);
+        if self.buf.len() >= FLUSH_BYTES {
+            self.drain()?;
+        }
+        Ok(())
+    }
+
+    /// From now on keeps every record written in memory instead of sending it
+    /// to the output, until [`CellWriter::end_capture`].
+    pub fn capture(&mut self) -> Result<()> {
+        self.drain()?;
+        self.capturing = true;
+        Ok(())
+    }
+
+    /// The NDJSON lines written since [`CellWriter::capture`].
+    pub fn end_capture(&mut self) -> Vec<u8> {
+        self.capturing = false;
+        std::mem::replace(&mut self.buf, Vec::with_capacity(2 * FLUSH_BYTES))
+    }
+
+    /// Writes what is buffered and returns the output.
+    pub fn into_inner(mut self) -> Result<W> {
+        self.drain()?;
+        Ok(self.out)
+    }
+
+    /// Prepares for the cells of one input record.
+    pub fn begin(&mut self, rec: &Record, pattern: Rc<Pattern>, merge: bool, budget: u64) {
+        self.rest.clear();
+        for (k, v) in &rec.fields {
+            if REPLACED.contains(&k.as_str()) {
+                continue;
+            }
+            self.rest.push(b',');
+            serde_json::to_writer(&mut self.rest, &Value::String(k.clone()))
+                .expect("writing to a Vec cannot fail");
+            self.rest.push(b':');
+            serde_json::to_writer(&mut self.rest, v).expect("writing to a Vec cannot fail");
+        }
+        self.pattern = Some(pattern);
+        self.merger = merge.then(|| self.merger.take().unwrap_or_default());
+        self.written = 0;
+        self.budget = budget;
+        self.error = None;
+    }
+
+    fn pattern_size(&self) -> i64 {
+        self.pattern.as_ref().map_or(16, |p| p.size() as i64)
+    }
+
+    fn texel(&self, k: i64, j: i64) -> (u32, u32, Option<u16>) {
+        let p = self.pattern.as_ref().expect("begin() sets the pattern");
+        let s = p.size() as i64;
+        let (c, r) = (k.rem_euclid(s) as u32, j.rem_euclid(s) as u32);
+        (c, r, p.index_at(c, r))
+    }
+
+    fn write_record(&mut self, col: u32, row: u32, index: u16, world: &[DVec3], cells: usize) {
+        if self.written >= self.budget {
+            self.error.get_or_insert_with(|| {
+                std::io::Error::other("the output would exceed --max-polygons")
+            });
+            return;
+        }
+        let color = self
+            .pattern
+            .as_ref()
+            .expect("begin() sets the pattern")
+            .palette()[index as usize];
+        let b = &mut self.buf;
+        b.extend_from_slice(b"{\"vertices\":[");
+        for (i, p) in world.iter().enumerate() {
+            if i > 0 {
+                b.push(b',');
+            }
+            b.push(b'[');
+            for (n, x) in [p.x, p.y, p.z].into_iter().enumerate() {
+                if n > 0 {
+                    b.push(b',');
+                }
+                // -0.0 is written as 0.0: the same point, and stabler text.
+                b.extend_from_slice(self.float.format_finite(x + 0.0).as_bytes());
+            }
+            b.push(b']');
+        }
+        let [r, g, bl] = color.0;
+        b.extend_from_slice(b"],\"color\":[");
+        push_uint(b, r as u64);
+        b.push(b',');
+        push_uint(b, g as u64);
+        b.push(b',');
+        push_uint(b, bl as u64);
+        b.extend_from_slice(b"],\"texel\":[");
+        push_uint(b, col as u64);
+        b.push(b',');
+        push_uint(b, row as u64);
+        b.push(b']');
+        if cells > 1 {
+            b.extend_from_slice(b",\"cells\":");
+            push_uint(b, cells as u64);
+        }
+        b.extend_from_slice(&self.rest);
+        b.extend_from_slice(b"}\n");
+        self.written += 1;
+        if self.buf.len() >= FLUSH_BYTES {
+            if let Err(e) = self.drain() {
+                self.error.get_or_insert(e);
+            }
+        }
+    }
+
+    fn flush_run(&mut self) {
+        let Some(mut m) = self.merger.take() else {
+            return;
+        };
+        if let Some(run) = m.take() {
+            let (c, r, _) = self.texel(run.first, run.row);
+            let (key, cells) = (run.key as u16, run.cells);
+            let verts = run.vertices.to_vec();
+            self.write_record(c, r, key, &verts, cells);
+        }
+        self.merger = Some(m);
+    }
+
+    fn drain(&mut self) -> std::io::Result<()> {
+        if self.capturing {
+            return Ok(());
+        }
+        self.out.write_all(&self.buf)?;
+        self.buf.clear();
+        Ok(())
+    }
+
+    /// Writes what is pending for the current record.
+    pub fn finish(&mut self) -> Result<()> {
+        self.flush_run();
+        if let Some(e) = self.error.take() {
+            self.buf.clear();
+            return Err(e.into());
+        }
+        if self.buf.len() >= FLUSH_BYTES {
+            self.drain()?;
+        }
+        Ok(())
+    }
+}
+
+/// Appends an unsigned integer in decimal (`write!` costs more than the rest
+/// of a record's integers together).
+fn push_uint(b: &mut Vec<u8>, mut n: u64) {
+    let mut d = [0u8; 20];
+    let mut i = d.len();
+    loop {
+        i -= 1;
+        d[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    b.extend_from_slice(&d[i..]);
+}
+
+impl<W: Write> CellSink for CellWriter<W> {
+    fn wants(&mut self, k: i64, j: i64) -> bool {
+        self.error.is_none() && self.texel(k, j).2.is_some()
+    }
+
+    fn cell(&mut self, k: i64, j: i64, world: &[DVec3], _plane: &[glam::DVec2], full: bool) {
+        let (c, r, idx) = self.texel(k, j);
+        let Some(idx) = idx else { return };
+        if self.volume.is_some_and(|v| v.outside(world)) {
+            return;
+        }
+        if let Some(m) = self.merger.as_mut() {
+            if full {
+                if !m.continues(k, j, idx as u32) {
+                    self.flush_run();
+                }
+                let m = self.merger.as_mut().expect("merging");
+                m.push(k, j, idx as u32, world);
+                return;
+            }
+            self.flush_run();
+        }
+        self.write_record(c, r, idx, world, 1);
+    }
+}
