@@ -28,7 +28,7 @@
 //! The choice depends only on the scene, never on timings or on the number of
 //! threads, so the output stays byte-identical for any `--threads`.
 
-use super::{bin, coverage, scan, tiles, Aa, Background, Frame, ScreenPoly};
+use super::{bin, coverage, scan, tiles, Aa, Background, Frame, ScreenPoly, Shader};
 use crate::color::linear_to_srgb;
 
 /// The methods to choose from, cheapest first: one sample, 2x2
@@ -134,7 +134,7 @@ fn region_of(polys: &[ScreenPoly], bin: &[u32]) -> Region {
         Region::Empty
     } else if bin.iter().any(|&i| {
         let p = &polys[i as usize];
-        p.texture.is_some() || p.stripe.is_some()
+        matches!(p.shader, Shader::Texture(_) | Shader::Stripe(_))
     }) {
         Region::Textured
     } else {

@@ -74,8 +74,7 @@ pub(super) const FILTER_LATER: u32 = u32::MAX - 1;
 /// [`FILTER_LATER`] fragment of `l`, computed once it is known to show.
 pub(super) fn deferred_filter(polys: &[ScreenPoly], l: &Local, px: u32, py: u32) -> [f64; 3] {
     let tex = polys[l.global as usize]
-        .texture
-        .as_ref()
+        .texture()
         .expect("FILTER_LATER fragments are textured");
     match tex.eval(px as f64 + 0.5, py as f64 + 0.5) {
         crate::texture::filter::Eval::Color(Some(c)) => c,
@@ -110,13 +109,13 @@ fn push_frag(
     t: &mut TexScratch,
 ) {
     use crate::texture::cells::{split, Split};
-    if let Some(stripe) = &p.stripe {
+    if let Some(stripe) = p.stripe() {
         t.colors
             .push(stripe.fragment_linear(px, py, verts).map(f64::from));
         push_piece(frags, arena, pixel, pi, verts, (t.colors.len() - 1) as u32);
         return;
     }
-    let Some(tex) = &p.texture else {
+    let Some(tex) = p.texture() else {
         push_piece(frags, arena, pixel, pi, verts, POLY_COLOR);
         return;
     };
@@ -182,9 +181,8 @@ fn push_frag(
 /// Whether [`push_full_run`] applies to `p`: a pattern under the exact box
 /// filter (no stripe), with the magnification fast path on.
 fn box_magnified(p: &ScreenPoly) -> bool {
-    p.stripe.is_none()
-        && p.texture
-            .as_ref()
+    p.stripe().is_none()
+        && p.texture()
             .is_some_and(|t| t.filters.is_box() && t.skips.magnify)
 }
 
@@ -218,7 +216,7 @@ fn push_full_run(
     t: &mut TexScratch,
 ) {
     let pixel = |x: u32| ((row.py - row.ty0) as usize * row.tw + (x - row.tx0) as usize) as u32;
-    let tex = p.texture.as_ref().expect("box_magnified");
+    let tex = p.texture().expect("box_magnified");
     if xb - xa == 1 {
         push_frag(p, pi, pixel(xa), (xa, row.py), &[], frags, arena, t);
         return;

@@ -16,7 +16,7 @@
 //! the cache and took 16% of the tile's time.
 
 use super::visible::bounds;
-use super::ScreenPoly;
+use super::{ScreenPoly, Shader};
 use glam::DVec2;
 
 /// What visibility needs of a polygon. Fragments name it by its index in
@@ -46,9 +46,9 @@ impl Local {
             tie_floor: p.tie_floor,
             order: p.order,
             global,
-            color: p.screen.is_none().then_some(p.color),
-            plain: p.texture.is_none() && p.stripe.is_none(),
-            cullable: p.texture.as_ref().map_or(true, |t| t.skips.hidden),
+            color: p.screen().is_none().then_some(p.color),
+            plain: matches!(p.shader, Shader::Flat | Shader::Screen(_)),
+            cullable: p.texture().map_or(true, |t| t.skips.hidden),
         }
     }
 

@@ -43,9 +43,11 @@ use crate::color::{linear_to_srgb, srgb_to_linear_f64, Rgb8};
 use crate::geom::polygon::{area2, ear_clip, is_convex, newell_plane, GRID_SNAP_PX};
 use crate::io::Image;
 use crate::pat::Pattern;
-use crate::texture::Texels;
+use crate::stripe::StripeTexture;
+use crate::texture::{PolyTexture, Texels};
 use crate::view::{clip, View};
 use glam::{DVec2, DVec3, DVec4};
+use std::sync::Arc;
 
 /// Side of the square tiles work is split into. 32 keeps a tile's sample
 /// buffers in cache for up to 16x16 supersampling while leaving a 1024x768
@@ -88,6 +90,29 @@ pub enum Cull {
     Front,
 }
 
+/// The per-pixel colour source of a [`ScreenPoly`]: the projected form of the
+/// scene's texture source (`crate::scene::TextureSource`).
+#[derive(Clone, Debug, PartialEq, Default)]
+pub enum Shader {
+    /// `color` everywhere.
+    #[default]
+    Flat,
+    /// A screen-mode pattern (SPEC §2, the IRIS `setpattern`) that replaces
+    /// `color`: pixel (x, y) from the lower-left shows texel (x mod SIZE,
+    /// y mod SIZE), and the polygon is absent where that texel is transparent.
+    Screen(Arc<Texels>),
+    /// A pattern in "object" or "uv" placement (SPEC §2), sampled per pixel
+    /// through its screen → texel map (`crate::texture`). Each resolver
+    /// integrates it exactly over texel cells; transparent texels leave the
+    /// polygon absent there.
+    Texture(Arc<PolyTexture>),
+    /// A stripe texture (seed 001, `crate::stripe`): its colour replaces
+    /// `color` (which then holds the face colour). Point samplers evaluate it
+    /// at each sample, `--aa exact` at each fragment's centroid, the
+    /// reference integrates its crisp function. Always opaque.
+    Stripe(Arc<StripeTexture>),
+}
+
 /// A polygon ready for a resolver: clipped, projected, counter-clockwise on
 /// screen (back faces are reversed when not culled).
 #[derive(Clone, Debug, PartialEq)]
@@ -98,21 +123,9 @@ pub struct ScreenPoly {
     pub plane: [f64; 3],
     /// Linear-light colour.
     pub color: [f64; 3],
-    /// A screen-mode pattern (SPEC §2, the IRIS `setpattern`) that replaces
-    /// `color`: pixel (x, y) from the lower-left shows texel (x mod SIZE,
-    /// y mod SIZE), and the polygon is absent where that texel is transparent.
-    pub screen: Option<std::sync::Arc<Texels>>,
-    /// A pattern in "object" or "uv" placement (SPEC §2), sampled per pixel
-    /// through its screen → texel map (`crate::texture`). Each resolver
-    /// integrates it exactly over texel cells; transparent texels leave the
-    /// polygon absent there.
-    pub texture: Option<std::sync::Arc<crate::texture::PolyTexture>>,
-    /// A stripe texture (seed 001, `crate::stripe`), the other per-pixel
-    /// shader: its colour replaces `color` (which then holds the face colour).
-    /// Point samplers evaluate it at each sample, `--aa exact` at each
-    /// fragment's centroid, the reference integrates its crisp function.
-    /// Always opaque.
-    pub stripe: Option<std::sync::Arc<crate::stripe::StripeTexture>>,
+    /// What colours the polygon instead of `color`, if anything: one
+    /// source per polygon, so no precedence between sources is needed.
+    pub shader: Shader,
     /// Position in the stream: draw order, for visibility ties.
     pub order: u32,
     /// Convex pieces that tile the polygon exactly: none when it is convex
@@ -143,11 +156,38 @@ impl ScreenPoly {
         }
     }
 
+    /// The screen-mode pattern, if that is the shader.
+    #[inline]
+    pub fn screen(&self) -> Option<&Arc<Texels>> {
+        match &self.shader {
+            Shader::Screen(t) => Some(t),
+            _ => None,
+        }
+    }
+
+    /// The placed texture, if that is the shader.
+    #[inline]
+    pub fn texture(&self) -> Option<&Arc<PolyTexture>> {
+        match &self.shader {
+            Shader::Texture(t) => Some(t),
+            _ => None,
+        }
+    }
+
+    /// The stripe texture, if that is the shader.
+    #[inline]
+    pub fn stripe(&self) -> Option<&Arc<StripeTexture>> {
+        match &self.shader {
+            Shader::Stripe(t) => Some(t),
+            _ => None,
+        }
+    }
+
     /// The polygon's linear colour at pixel (x, y); `None` where a screen-mode
     /// pattern is transparent.
     #[inline]
     pub fn color_at(&self, x: u32, y: u32) -> Option<[f64; 3]> {
-        match &self.screen {
+        match self.screen() {
             None => Some(self.color),
             Some(p) => p.at(x, y),
         }
@@ -159,10 +199,10 @@ impl ScreenPoly {
     /// filtered), else [`ScreenPoly::color_at`].
     #[inline]
     pub fn color_at_point(&self, x: u32, y: u32, sx: f64, sy: f64) -> Option<[f64; 3]> {
-        if let Some(s) = &self.stripe {
+        if let Some(s) = self.stripe() {
             return Some(s.linear_at(sx, sy).map(f64::from));
         }
-        match &self.texture {
+        match self.texture() {
             None => self.color_at(x, y),
             Some(t) => {
                 let uv = t.map.uv(sx, sy);
@@ -178,7 +218,7 @@ impl ScreenPoly {
     #[inline]
     pub fn sample_color(&self, x: u32, y: u32, sx: f64, sy: f64) -> Option<[f64; 3]> {
         use crate::texture::filter::Eval;
-        match &self.texture {
+        match self.texture() {
             Some(t) => match t.eval(sx, sy) {
                 Eval::Box => self.color_at_point(x, y, sx, sy),
                 Eval::Color(c) => c,
@@ -195,10 +235,9 @@ impl ScreenPoly {
     /// textured before its depth test, hidden or not.
     #[inline]
     pub fn may_be_transparent(&self) -> bool {
-        self.screen.is_some()
+        self.screen().is_some()
             || self
-                .texture
-                .as_ref()
+                .texture()
                 .is_some_and(|t| !t.always_opaque() || !t.skips.hidden)
     }
 
@@ -336,9 +375,7 @@ pub fn try_project(
         verts,
         plane,
         color: c,
-        screen: None,
-        texture: None,
-        stripe: None,
+        shader: Shader::Flat,
         order,
         pieces,
         tie_floor: DEPTH_TIE_REL * view.nearness_scale(),

@@ -235,7 +235,7 @@ fn pixel(
         // A textured polygon's colour varies over the square (and may be
         // transparent): always integrated. A stripe's is integrated exactly
         // over the square below.
-        if f.texture.is_some() || !covers_square(&f.verts, x, y) {
+        if f.texture().is_some() || !covers_square(&f.verts, x, y) {
             continue;
         }
         let hides_all = cands.iter().all(|&gi| {
@@ -245,7 +245,7 @@ fn pixel(
                     .all(|&(cx, cy)| !in_front(&polys[gi as usize], f, cx, cy))
         });
         if hides_all {
-            let c = match &f.stripe {
+            let c = match f.stripe() {
                 // The stripe's exact box integral over the square (its own
                 // error is f64 rounding); where it declines (too many
                 // stripes), the pixel is integrated below like any other.
@@ -406,10 +406,10 @@ fn events(
     // changes at them, so its visible lengths stop being linear in y where
     // they cross anything.
     for &ci in cands {
-        if let Some(t) = &polys[ci as usize].texture {
+        if let Some(t) = polys[ci as usize].texture() {
             texel_lines(&t.map, x, y, centre, prims);
         }
-        if let Some(st) = &polys[ci as usize].stripe {
+        if let Some(st) = polys[ci as usize].stripe() {
             stripe_lines(st, x, y, centre, prims);
         }
     }
@@ -641,11 +641,11 @@ fn line_colour(
     }
     // Texel boundaries of textured spans.
     for &(a, b, ci) in &s.spans {
-        if let Some(t) = &polys[cands[ci] as usize].texture {
+        if let Some(t) = polys[cands[ci] as usize].texture() {
             texel_breaks(t.map.u, t.map.d, a, b, y, &mut s.breaks);
             texel_breaks(t.map.v, t.map.d, a, b, y, &mut s.breaks);
         }
-        if let Some(st) = &polys[cands[ci] as usize].stripe {
+        if let Some(st) = polys[cands[ci] as usize].stripe() {
             // Map-sample boundaries: P N crosses an integer.
             let (c, n) = (st.mapping.c, st.modulation.len() as f64);
             let num = [c[0] * n, c[1] * n, c[2] * n];
@@ -668,7 +668,7 @@ fn line_colour(
                 continue;
             }
             let p = &polys[cands[ci] as usize];
-            let colour = match &p.stripe {
+            let colour = match p.stripe() {
                 // The crisp stripe function, constant between the breaks.
                 Some(st) => Some(st.crisp_linear(mid, y)),
                 None => p.color_at_point(x as u32, y as u32, mid, y),
@@ -800,7 +800,7 @@ mod tests {
             Rgb8([255, 200, 100]),
             LodMode::Blend,
         );
-        p.stripe = Some(std::sync::Arc::new(st.clone()));
+        p.shader = super::super::Shader::Stripe(std::sync::Arc::new(st.clone()));
         let bg = Background::color(Rgb8([0, 0, 80]));
         let r = render(std::slice::from_ref(&p), &bg, w, h, 24);
         let bgl = bg.at(0, 0);

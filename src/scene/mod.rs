@@ -21,7 +21,7 @@ use crate::geom::transform::Transform;
 use crate::geom::Shape;
 use crate::io::Image;
 use crate::pat::Pattern;
-use crate::raster::{self, Aa, Background, Cull, ScreenPoly};
+use crate::raster::{self, Aa, Background, Cull, ScreenPoly, Shader};
 use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, PatternRef, Record};
 use crate::stripe::record::StripeLoader;
 use crate::stripe::LodMode;
@@ -387,9 +387,9 @@ fn draw_polygon(
     };
     match &d.texture {
         TextureSource::Flat => {}
-        TextureSource::Screen(texels) => p.screen = Some(texels.clone()),
+        TextureSource::Screen(texels) => p.shader = Shader::Screen(texels.clone()),
         TextureSource::Stripe(st) => match stripe::shader(st, view, outline, how.stripe_lod)? {
-            Some(t) => p.stripe = Some(Arc::new(t.with_footprint(how.stripe_footprint))),
+            Some(t) => p.shader = Shader::Stripe(Arc::new(t.with_footprint(how.stripe_footprint))),
             // Edge-on: a sliver of rounding; nothing to draw.
             None => return Ok(()),
         },
@@ -409,7 +409,7 @@ fn draw_polygon(
                 texels.clone(),
             )?;
             match tex {
-                Some(t) => p.texture = Some(Arc::new(t)),
+                Some(t) => p.shader = Shader::Texture(Arc::new(t)),
                 // Visible by the projection but not by the fit: rounding at a
                 // sliver; nothing to draw.
                 None => return Ok(()),
@@ -528,7 +528,7 @@ pub fn render(
 /// the first minified sample. Each pattern's pyramid is still built once
 /// (it is shared), so this costs what the lazy build saves.
 fn build_mips_eagerly(polys: &[ScreenPoly]) {
-    for tex in polys.iter().filter_map(|p| p.texture.as_ref()) {
+    for tex in polys.iter().filter_map(ScreenPoly::texture) {
         if !tex.skips.mip {
             tex.texels.pyramid(tex.mip_key());
         }
