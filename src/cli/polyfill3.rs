@@ -2,13 +2,13 @@
 //! `polcolorf3`, ch. IV, with SPEC §2 "object" placement).
 
 use crate::cli::usage_bail;
-use crate::geom::cull::ViewVolume;
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::io::{display_name, Output, STDIO};
 use crate::scene::polyfill::{
     partition_stream, Compat, PartitionOptions, DEFAULT_MAX_POLYGONS, DEFAULT_TOLERANCE,
 };
 use crate::stream;
+use crate::view::ViewVolume;
 use anyhow::{Context, Result};
 use clap::Parser;
 use std::io::{BufRead, BufReader};
@@ -154,7 +154,7 @@ pub fn run(args: Args) -> Result<()> {
     let volume = match &args.camera {
         Some(path) => {
             let cam = crate::camera::Camera::load(path)?;
-            Some(ViewVolume::new(cam.view, cam.projection, cam.near, cam.far))
+            Some(ViewVolume::new(&cam))
         }
         None => None,
     };

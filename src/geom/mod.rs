@@ -1,13 +1,15 @@
-//! Planes, clipping and partition of polygons into texture point polygons.
+//! Geometry in world and plane coordinates, below every stage that draws.
 //!
-//! This file holds what every geometric consumer shares: turning the thesis's
-//! 2D records (`rect`, `circle`, `arc`) into polygons. [`plane`] maps a 3D
-//! polygon to its plane, [`clip`] holds the clipping primitives, [`partition`]
-//! cuts a polygon into texture point polygons (`polyfill3`), [`merge`] joins
-//! runs of equal cells and [`cull`] drops what a camera cannot see.
+//! This file holds the record shapes ([`Shape`]) and turns the thesis's 2D
+//! records (`rect`, `circle`, `arc`) into polygons. [`polygon`] is the 2D
+//! polygon kernel (area, half-plane clipping, convexity, triangulation and
+//! their named tolerances), [`transform`] the affine transforms of records
+//! and instances, [`plane`] maps a 3D polygon to its plane, [`clip`] holds
+//! the tagged clipping of the partition, [`partition`] cuts a polygon into
+//! texture point polygons (`polyfill3`), [`merge`] joins runs of equal cells,
+//! and [`quadric`] tessellates GLU's quadrics with texture coordinates.
 
 pub mod clip;
-pub mod cull;
 pub mod merge;
 pub mod partition;
 pub mod plane;

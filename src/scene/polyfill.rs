@@ -5,7 +5,6 @@
 //! placed by its instances, Fig. 5.1); records without an object-mode pattern
 //! pass through unchanged.
 
-use crate::geom::cull::ViewVolume;
 use crate::geom::merge::RunMerger;
 use crate::geom::partition::{estimate_cells, thesis_partition};
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
@@ -13,6 +12,7 @@ use crate::geom::{map_to_plane, outline, CellSink, Grid, Partitioner, Placement,
 use crate::pat::Pattern;
 use crate::stream::{self, Instance, Item, ObjectDef, Objects, PatternMode, Record};
 use crate::texture::map::object_uv;
+use crate::view::ViewVolume;
 use anyhow::{anyhow, Context, Result};
 use glam::DVec3;
 use serde_json::Value;

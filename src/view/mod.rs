@@ -4,6 +4,9 @@
 //! [`View`], so it stands between the camera and them.
 
 pub mod clip;
+pub mod volume;
+
+pub use volume::ViewVolume;
 
 use crate::camera::Camera;
 use glam::{DMat4, DVec2, DVec3, DVec4};

@@ -4,8 +4,10 @@
 //!
 //! Written against the two matrices of a camera (world→eye looking down -z,
 //! eye→clip) and its near/far distances, so it does not depend on how the
-//! camera was specified (SPEC §3 has two models).
+//! camera was specified (SPEC §3 has two models). Unlike [`super::View`] it
+//! needs no image: it decides in world space.
 
+use crate::camera::Camera;
 use glam::{DMat4, DVec3, DVec4};
 
 /// A camera's view volume.
@@ -22,33 +24,18 @@ pub struct ViewVolume {
 }
 
 impl ViewVolume {
-    /// `view`: world→eye (looking down -z); `projection`: eye→clip, a point is
-    /// visible iff -w <= x, y <= w and near <= -z_eye <= far. A projection whose
-    /// last row is (0, 0, 0, 1) is parallel; any other is perspective.
-    pub fn new(view: DMat4, projection: DMat4, near: f64, far: f64) -> ViewVolume {
-        let inv = view.inverse();
-        let parallel = projection.row(3) == DVec4::new(0.0, 0.0, 0.0, 1.0);
-        // For a parallel view the rays run along the eye direction d (d.z = -1)
-        // that the x and y rows of the projection leave unchanged: -z for an
-        // orthographic view, slanted for an oblique one (cavalier, cabinet).
-        let eye_dir = if parallel {
-            let (r0, r1) = (projection.row(0), projection.row(1));
-            let det = r0.x * r1.y - r0.y * r1.x;
-            DVec3::new(
-                (r0.z * r1.y - r0.y * r1.z) / det,
-                (r0.x * r1.z - r0.z * r1.x) / det,
-                -1.0,
-            )
-        } else {
-            -DVec3::Z
-        };
+    /// The volume a camera sees: a point is visible iff -w <= x, y <= w and
+    /// near <= -z_eye <= far (the camera contract). Rays come from the
+    /// camera's eye, or for parallel views along its direction of projection
+    /// (slanted for an oblique view: cavalier, cabinet).
+    pub fn new(camera: &Camera) -> ViewVolume {
         ViewVolume {
-            view,
-            projection,
-            near,
-            far,
-            eye: (!parallel).then(|| inv.transform_point3(DVec3::ZERO)),
-            direction: inv.transform_vector3(eye_dir).normalize(),
+            view: camera.view,
+            projection: camera.projection,
+            near: camera.near,
+            far: camera.far,
+            eye: camera.eye_position(),
+            direction: camera.view_direction(),
         }
     }
 
@@ -104,7 +91,13 @@ mod tests {
         } else {
             DMat4::orthographic_rh_gl(-500.0, 500.0, -400.0, 400.0, 1.0, 1000.0)
         };
-        ViewVolume::new(view, proj, 1.0, 1000.0)
+        ViewVolume::new(&Camera {
+            view,
+            projection: proj,
+            near: 1.0,
+            far: 1000.0,
+            perspective,
+        })
     }
 
     #[test]
@@ -121,7 +114,13 @@ mod tests {
         // Cavalier-like shear: x_clip = x + z (rays along (1, 0, -1) in the eye frame).
         let mut proj = DMat4::IDENTITY;
         proj.z_axis.x = 1.0;
-        let v = ViewVolume::new(DMat4::IDENTITY, proj, -10.0, 10.0);
+        let v = ViewVolume::new(&Camera {
+            view: DMat4::IDENTITY,
+            projection: proj,
+            near: -10.0,
+            far: 10.0,
+            perspective: false,
+        });
         // A plane facing +x is seen by rays travelling -x... here rays travel +x: back.
         assert!(v.back_facing(DVec3::X, DVec3::ZERO));
         assert!(!v.back_facing(-DVec3::X + DVec3::Z * 0.1, DVec3::ZERO));
