@@ -746,7 +746,7 @@ mod tests {
 
     #[test]
     fn reference_of_a_half_pixel_is_exact() {
-        let v = super::super::View::ortho2(0.0, 2.0, 0.0, 1.0, 2, 1);
+        let v = crate::view::View::ortho2(0.0, 2.0, 0.0, 1.0, 2, 1);
         let p = poly2(
             &v,
             &[[0.0, 0.0], [2.0, 0.0], [1.0, 1.0], [0.0, 1.0]],

@@ -1,0 +1,104 @@
+//! The two ends of a resolver: what lies behind every polygon
+//! ([`Background`]) and the linear-light pixels it fills ([`Frame`]), encoded
+//! to 8-bit sRGB once, rounding, by [`Frame::to_image`].
+
+use crate::color::{linear_to_srgb, srgb_to_linear_f64, Rgb8};
+use crate::io::Image;
+use crate::pat::Pattern;
+use crate::texture::Texels;
+
+/// What lies behind every polygon: a colour, or the thesis's `colorclear`
+/// pattern tiled in screen mode (pixel (x, y) from the lower-left takes texel
+/// (x mod SIZE, y mod SIZE); transparent texels show the colour).
+#[derive(Clone, Debug)]
+pub struct Background {
+    /// Linear light of the colour, decoded once (it is read for every pixel
+    /// not fully covered).
+    color: [f64; 3],
+    pattern: Option<Texels>,
+}
+
+impl Background {
+    pub fn color(color: Rgb8) -> Background {
+        Background::new(color, None)
+    }
+
+    /// A colour, with a pattern tiled over it in screen mode.
+    pub fn new(color: Rgb8, pattern: Option<&Pattern>) -> Background {
+        Background {
+            color: color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0)),
+            pattern: pattern.map(Texels::new),
+        }
+    }
+
+    /// Linear-light colour of pixel (x, y), y counted from the bottom.
+    #[inline]
+    pub fn at(&self, x: u32, y: u32) -> [f64; 3] {
+        match &self.pattern {
+            Some(p) => p.at(x, y).unwrap_or(self.color),
+            None => self.color,
+        }
+    }
+}
+
+/// A frame of linear-light pixels, rows from the bottom (y up).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    /// Linear RGB, `(y * width + x)`, y from the bottom.
+    pub pixels: Vec<[f32; 3]>,
+}
+
+impl Frame {
+    /// Assembles a frame from per-tile results (each a row-major block of the
+    /// tile's pixels, in [`tiles`] order).
+    pub(crate) fn from_tiles(
+        width: u32,
+        height: u32,
+        tiles: &[[u32; 4]],
+        blocks: Vec<Vec<[f32; 3]>>,
+    ) -> Frame {
+        let mut pixels = vec![[0.0f32; 3]; width as usize * height as usize];
+        for (t, block) in tiles.iter().zip(blocks) {
+            let tw = (t[2] - t[0]) as usize;
+            for (r, row) in block.chunks_exact(tw).enumerate() {
+                let y = t[1] as usize + r;
+                let start = y * width as usize + t[0] as usize;
+                pixels[start..start + tw].copy_from_slice(row);
+            }
+        }
+        Frame {
+            width,
+            height,
+            pixels,
+        }
+    }
+
+    /// Encodes to 8-bit sRGB, rounding once; row 0 of the image is the top.
+    ///
+    /// Rows are encoded in parallel (on the current rayon pool): a serial
+    /// pass over a 1024x768 frame costs as much as rendering a light scene.
+    pub fn to_image(&self) -> Image {
+        use rayon::prelude::*;
+        let (w, h) = (self.width as usize, self.height as usize);
+        let mut data = vec![0u8; w * h * 3];
+        if w > 0 {
+            data.par_chunks_mut(w * 3).enumerate().for_each(|(r, out)| {
+                let y = h - 1 - r;
+                for (o, p) in out
+                    .chunks_exact_mut(3)
+                    .zip(&self.pixels[y * w..(y + 1) * w])
+                {
+                    o.copy_from_slice(&p.map(linear_to_srgb));
+                }
+            });
+        }
+        Image {
+            width: self.width,
+            height: self.height,
+            channels: 3,
+            data,
+        }
+    }
+}
