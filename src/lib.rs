@@ -1,27 +1,68 @@
 //! patkit: texture patterns (`.pat`) and textured-polygon rendering.
 //!
-//! One module per idea: [`pat`] is the file format, [`color`] sRGB and linear
-//! light, [`io`] streams and images, [`cli`] the shared command-line plumbing
-//! and each tool's arguments. The binaries in `src/bin/` are one-line shims.
+//! The modules are layers, listed here in the order the data flows; each uses
+//! only those above it in this list (a test, `layering`, keeps the rule), and
+//! none knows the command line. `docs/architecture.md` draws the pipeline.
+//!
+//! **Foundations**
+//! - [`color`]: sRGB and linear light, exactly rounded encoding.
+//! - [`text`]: the whitespace tokenizer of the text formats and their
+//!   [`ParseError`].
+//! - [`io`]: standard streams, atomic output files, image decoding and encoding.
+//!
+//! **Patterns**
+//! - [`pat`]: the `.pat` format of the thesis (a [`Pattern`]).
+//! - [`quantize`]: a picture turned into a pattern (`pat-from-image`).
+//!
+//! **Geometry and the stream**
+//! - [`geom`]: record shapes, the 2D polygon kernel, transforms, planes, the
+//!   partition into texture point polygons, quadrics.
+//! - [`stream`]: the polygon stream of records, objects and instances.
+//!
+//! **Seeing**
+//! - [`camera`]: the IRIS GL / GLU and textbook cameras, reduced to matrices.
+//! - [`view`]: a camera on an image of a given size; view-volume clipping.
+//!
+//! **Colour sources**
+//! - [`texture`]: placed patterns: texel maps, filters, MIP maps, composition.
+//! - [`stripe`]: the flight simulator's level-of-detail stripe textures.
+//!
+//! **Drawing**
+//! - [`raster`]: screen polygons resolved into pixels (point sampling, exact
+//!   area, the reference).
+//! - [`scene`]: a stream loaded as a scene and projected frame by frame; the
+//!   partition job of `polyfill3`.
+//!
+//! **The tools** (cargo feature `cli`, on by default)
+//! - `cli`: each tool's flags and `run`, over the library. The binaries in
+//!   `src/bin/` are one-line shims.
 
-pub mod camera;
-#[cfg(feature = "cli")]
-pub mod cli;
 pub mod color;
-pub mod geom;
+pub mod text;
+
 pub mod io;
+
 pub mod pat;
 pub mod quantize;
-pub mod raster;
-pub mod scene;
+
+pub mod geom;
 pub mod stream;
-pub mod stripe;
-mod text;
-pub mod texture;
+
+pub mod camera;
 pub mod view;
 
+pub mod stripe;
+pub mod texture;
+
+pub mod raster;
+pub mod scene;
+
+#[cfg(feature = "cli")]
+pub mod cli;
+
 pub use color::Rgb8;
-pub use pat::{ParseError, Pattern, TRANSPARENT};
+pub use pat::{Pattern, TRANSPARENT};
+pub use text::ParseError;
 
 #[cfg(test)]
 mod layering;
