@@ -1,0 +1,94 @@
+//! Forced palettes (`--palette`): the palette of a `.pat` file, or a text list
+//! of colours. A list's `#` is both the comment sign and the `#rrggbb` prefix;
+//! a hex digit after it decides, so a mistyped colour is an error rather than
+//! a silently ignored comment.
+
+use super::MAX_QUANT_COLORS;
+use crate::color::Rgb8;
+use crate::pat::Pattern;
+use anyhow::{bail, Context, Result};
+
+/// A forced palette: the palette of a `.pat` file, or a text list with one
+/// colour per line as `r,g,b` or `#rrggbb`, blank lines and `#` comments allowed.
+/// A file whose first meaningful line holds a comma or starts with `#` is a list.
+pub fn parse_palette_file(bytes: &[u8], name: &str) -> Result<Vec<Rgb8>> {
+    let text = std::str::from_utf8(bytes).map_err(|_| {
+        anyhow::anyhow!("{name}: not a palette: neither a .pat file nor a text list of colours")
+    })?;
+    let first = text.lines().map(str::trim).find(|l| !l.is_empty());
+    let is_list = first.is_some_and(|l| l.contains(',') || l.starts_with('#'));
+    let palette = if is_list {
+        let mut out = Vec::new();
+        for (i, line) in text.lines().enumerate() {
+            if let Some(c) = parse_list_line(line).with_context(|| format!("{name}:{}", i + 1))? {
+                out.push(c);
+            }
+        }
+        out
+    } else {
+        Pattern::parse(bytes, name)?.palette().to_vec()
+    };
+    if palette.is_empty() {
+        bail!("{name}: the palette has no colours");
+    }
+    if palette.len() > MAX_QUANT_COLORS {
+        bail!(
+            "{name}: the palette has {} colours, at most {MAX_QUANT_COLORS} are allowed",
+            palette.len()
+        );
+    }
+    Ok(palette)
+}
+
+/// One line of a colour list: a colour, or `None` for a blank or comment line.
+/// A `#` followed by a hex digit begins a colour (`#rrggbb`, so a mistyped `#fff`
+/// is an error, not a comment); any other `#` begins a comment.
+fn parse_list_line(line: &str) -> Result<Option<Rgb8>> {
+    let t = line.trim();
+    let colour = if t.starts_with('#') && t[1..].starts_with(|c: char| c.is_ascii_hexdigit()) {
+        let (colour, rest) = t.split_once(char::is_whitespace).unwrap_or((t, ""));
+        let rest = rest.trim();
+        if !rest.is_empty() && !rest.starts_with('#') {
+            bail!("unexpected `{rest}` after the colour");
+        }
+        colour
+    } else {
+        t.split('#').next().unwrap_or("").trim()
+    };
+    if colour.is_empty() {
+        return Ok(None);
+    }
+    Ok(Some(colour.parse::<Rgb8>()?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn palette_files_parse_as_lists_or_patterns() {
+        let list =
+            b"# my palette\n\n#ff0000  # red\n 0, 255 ,0\n#00f # not a colour: a comment? no\n";
+        let e = parse_palette_file(list, "p.txt").unwrap_err();
+        assert!(format!("{e:#}").contains("p.txt:5"), "{e:#}");
+        let list = b"# my palette\n\n#ff0000  # red\n 0, 255 ,0 # green\n#0000FF\n";
+        assert_eq!(
+            parse_palette_file(list, "p.txt").unwrap(),
+            vec![Rgb8([255, 0, 0]), Rgb8([0, 255, 0]), Rgb8([0, 0, 255])]
+        );
+        let pat = Pattern::new(16, vec![Rgb8([1, 2, 3]), Rgb8([4, 5, 6])], vec![0; 256]).unwrap();
+        assert_eq!(
+            parse_palette_file(pat.to_canonical().as_bytes(), "p.pat").unwrap(),
+            pat.palette()
+        );
+        for bad in [&b""[..], b"# nothing\n", b"16 1\n", b"\xff\xfe", b"1,2\n"] {
+            let e = format!("{:#}", parse_palette_file(bad, "bad.pal").unwrap_err());
+            assert!(e.contains("bad.pal"), "{e}");
+        }
+        let e = format!(
+            "{:#}",
+            parse_palette_file(b"#ff0000 junk\n", "j").unwrap_err()
+        );
+        assert!(e.contains("j:1") && e.contains("junk"), "{e}");
+    }
+}

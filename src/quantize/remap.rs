@@ -1,0 +1,221 @@
+//! Step 3: each pixel takes a palette index, with no dithering, Floyd–Steinberg
+//! error diffusion or an 8x8 Bayer ordered dither.
+//!
+//! Nearest colours are found in the clustering space (8-bit sRGB codes, the
+//! metric's space), but the error that Floyd–Steinberg diffuses is light, so it
+//! is computed and spread in linear light, along a serpentine scan, and never
+//! into transparent pixels. The ordered dither offsets each pixel by a Bayer
+//! threshold scaled to the palette's typical step ([`ordered_spread`]); its
+//! regular texture tiles cleanly.
+
+use super::space::{dist2, point, Nearest, Point};
+use crate::color::{decode_table, linear_to_srgb, Rgb8};
+use crate::pat::TRANSPARENT;
+
+/// The classic 8x8 Bayer threshold matrix (values 0..64).
+const BAYER8: [[u8; 8]; 8] = [
+    [0, 32, 8, 40, 2, 34, 10, 42],
+    [48, 16, 56, 24, 50, 18, 58, 26],
+    [12, 44, 4, 36, 14, 46, 6, 38],
+    [60, 28, 52, 20, 62, 30, 54, 22],
+    [3, 35, 11, 43, 1, 33, 9, 41],
+    [51, 19, 59, 27, 49, 17, 57, 25],
+    [15, 47, 7, 39, 13, 45, 5, 37],
+    [63, 31, 55, 23, 61, 29, 53, 21],
+];
+/// Cells of the Bayer matrix.
+const BAYER_LEVELS: f32 = 64.0;
+
+/// Floyd–Steinberg weights (sixteenths): ahead, behind-below, below, ahead-below.
+const FS_AHEAD: f32 = 7.0 / 16.0;
+const FS_BEHIND_BELOW: f32 = 3.0 / 16.0;
+const FS_BELOW: f32 = 5.0 / 16.0;
+const FS_AHEAD_BELOW: f32 = 1.0 / 16.0;
+
+/// How pixels are assigned palette colours.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+pub enum Dither {
+    /// Each pixel takes its nearest palette colour: crisp texels, best PSNR.
+    #[default]
+    None,
+    /// Error diffusion in linear light, serpentine scan.
+    FloydSteinberg,
+    /// 8x8 Bayer threshold matrix: a regular texture that tiles cleanly.
+    Ordered,
+}
+
+/// Palette indices for each pixel (row 0 at the top, like `colors`);
+/// [`TRANSPARENT`] where `opaque` is false or the palette is empty.
+pub fn remap(
+    colors: &[[u8; 3]],
+    opaque: &[bool],
+    size: u32,
+    palette: &[Rgb8],
+    dither: Dither,
+) -> Vec<u16> {
+    let n = size as usize;
+    let mut out = vec![TRANSPARENT; colors.len()];
+    if palette.is_empty() {
+        return out;
+    }
+    let centres: Vec<Point> = palette.iter().map(|c| point(c.0)).collect();
+    let nearest = Nearest::new(&centres);
+    match dither {
+        Dither::None => {
+            let mut hint = 0;
+            for i in 0..colors.len() {
+                if opaque[i] {
+                    hint = nearest.find(point(colors[i]), hint).0;
+                    out[i] = hint as u16;
+                }
+            }
+        }
+        Dither::Ordered => {
+            let spread = ordered_spread(&centres);
+            let mut hint = 0;
+            for y in 0..n {
+                for x in 0..n {
+                    let i = y * n + x;
+                    if !opaque[i] {
+                        continue;
+                    }
+                    let t = (BAYER8[y % 8][x % 8] as f32 + 0.5) / BAYER_LEVELS - 0.5;
+                    let p = point(colors[i]).map(|v| v + t * spread);
+                    hint = nearest.find(p, hint).0;
+                    out[i] = hint as u16;
+                }
+            }
+        }
+        Dither::FloydSteinberg => {
+            let lut = decode_table();
+            let pal_lin: Vec<[f32; 3]> = palette.iter().map(|c| c.to_linear()).collect();
+            let mut cur = vec![[0f32; 3]; n + 2];
+            let mut next = vec![[0f32; 3]; n + 2];
+            let mut hint = 0;
+            for y in 0..n {
+                let rtl = y % 2 == 1;
+                for step in 0..n {
+                    let x = if rtl { n - 1 - step } else { step };
+                    let i = y * n + x;
+                    if !opaque[i] {
+                        continue;
+                    }
+                    // Buffers are offset by one so x-1 and x+1 always exist.
+                    let e = cur[x + 1];
+                    let want =
+                        [0, 1, 2].map(|c| (lut[colors[i][c] as usize] + e[c]).clamp(0.0, 1.0));
+                    let code = want.map(|v| linear_to_srgb(v) as f32);
+                    hint = nearest.find(code, hint).0;
+                    out[i] = hint as u16;
+                    let err = [0, 1, 2].map(|c| want[c] - pal_lin[hint][c]);
+                    let (ahead, behind) = if rtl { (x, x + 2) } else { (x + 2, x) };
+                    let spread = |buf: &mut [[f32; 3]], at: usize, f: f32| {
+                        for c in 0..3 {
+                            buf[at][c] += err[c] * f;
+                        }
+                    };
+                    if (rtl && x > 0) || (!rtl && x + 1 < n) {
+                        spread(&mut cur, ahead, FS_AHEAD);
+                    }
+                    if y + 1 < n {
+                        let below_ok = |xx: usize| opaque[(y + 1) * n + xx - 1];
+                        if (1..=n).contains(&behind) && below_ok(behind) {
+                            spread(&mut next, behind, FS_BEHIND_BELOW);
+                        }
+                        if below_ok(x + 1) {
+                            spread(&mut next, x + 1, FS_BELOW);
+                        }
+                        if (1..=n).contains(&ahead) && below_ok(ahead) {
+                            spread(&mut next, ahead, FS_AHEAD_BELOW);
+                        }
+                    }
+                }
+                std::mem::swap(&mut cur, &mut next);
+                next.iter_mut().for_each(|e| *e = [0.0; 3]);
+            }
+        }
+    }
+    out
+}
+
+/// The amplitude of the ordered dither: the mean distance from each palette
+/// colour to its nearest neighbour, the step between adjacent levels.
+fn ordered_spread(centres: &[Point]) -> f32 {
+    if centres.len() < 2 {
+        return 0.0;
+    }
+    let total: f32 = centres
+        .iter()
+        .enumerate()
+        .map(|(i, &c)| {
+            centres
+                .iter()
+                .enumerate()
+                .filter(|&(j, _)| j != i)
+                .map(|(_, &d)| dist2(c, d))
+                .fold(f32::INFINITY, f32::min)
+                .sqrt()
+        })
+        .sum();
+    total / centres.len() as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::quantize::resample::SquareImage;
+    use crate::quantize::test_data::square;
+    use crate::quantize::{psnr, quantize, Options};
+
+    fn white_share(img: &SquareImage, dither: Dither) -> f64 {
+        let opts = Options {
+            palette: Some(vec![Rgb8::BLACK, Rgb8::WHITE]),
+            dither,
+            ..Options::default()
+        };
+        let pat = quantize(img, &opts).unwrap();
+        let (counts, _) = pat.histogram();
+        counts[1] as f64 / (img.size * img.size) as f64
+    }
+
+    #[test]
+    fn dithering_preserves_average_light() {
+        // sRGB 188 is 50% linear light: Floyd–Steinberg (linear light) gives half
+        // white; no dithering gives all white.
+        let img = square(64, |_, _| [188, 188, 188, 255]);
+        assert!((white_share(&img, Dither::FloydSteinberg) - 0.5).abs() < 0.02);
+        assert_eq!(white_share(&img, Dither::None), 1.0);
+        // Ordered dithering of mid-code grey mixes both, roughly evenly.
+        let img = square(64, |_, _| [128, 128, 128, 255]);
+        let share = white_share(&img, Dither::Ordered);
+        assert!((0.4..=0.6).contains(&share), "{share}");
+    }
+
+    #[test]
+    fn dithering_skips_transparent_pixels_and_everything_transparent_is_empty() {
+        let img = square(16, |x, _| {
+            if x % 2 == 0 {
+                [100, 50, 20, 255]
+            } else {
+                [0, 0, 0, 0]
+            }
+        });
+        for d in [Dither::None, Dither::FloydSteinberg, Dither::Ordered] {
+            let pat = quantize(
+                &img,
+                &Options {
+                    dither: d,
+                    ..Options::default()
+                },
+            )
+            .unwrap();
+            assert_eq!(pat.palette(), &[Rgb8([100, 50, 20])]);
+            assert_eq!(pat.histogram(), (vec![128], 128));
+        }
+        let img = square(16, |_, _| [1, 2, 3, 0]);
+        let pat = quantize(&img, &Options::default()).unwrap();
+        assert!(pat.palette().is_empty());
+        assert_eq!(psnr(&pat, &img), None);
+    }
+}
