@@ -26,13 +26,24 @@ use super::{tie_tolerance, Background, ScreenPoly};
 /// [`super::MAX_SS_SIDE`]).
 pub const SUBPIXEL: i64 = 256;
 
-/// One polygon on the integer sample lattice: its edges with the lower endpoint
-/// first (so both polygons sharing an edge compute the same crossings) and its
-/// direction.
+/// One edge on the integer sample lattice, lower endpoint first (so both
+/// polygons sharing an edge compute the same crossings).
+#[derive(Clone, Copy, Debug)]
+struct LatticeEdge {
+    /// The lower endpoint.
+    ax: i64,
+    ay: i64,
+    /// The upper endpoint: `by > ay` (horizontal edges are dropped).
+    bx: i64,
+    by: i64,
+    /// The winding it adds: +1 when the polygon runs up along it, -1 down.
+    dir: i8,
+}
+
+/// One polygon on the integer sample lattice: its non-horizontal edges.
 #[derive(Clone, Debug)]
 pub struct FixedPoly {
-    /// `(ax, ay, bx, by, dir)` with `ay < by`; horizontal edges are dropped.
-    edges: Vec<(i64, i64, i64, i64, i8)>,
+    edges: Vec<LatticeEdge>,
     /// Lowest and highest y (lattice units).
     ymin: i64,
     ymax: i64,
@@ -52,8 +63,20 @@ impl FixedPoly {
             ymin = ymin.min(a.1);
             ymax = ymax.max(a.1);
             match a.1.cmp(&b.1) {
-                std::cmp::Ordering::Less => edges.push((a.0, a.1, b.0, b.1, 1)),
-                std::cmp::Ordering::Greater => edges.push((b.0, b.1, a.0, a.1, -1)),
+                std::cmp::Ordering::Less => edges.push(LatticeEdge {
+                    ax: a.0,
+                    ay: a.1,
+                    bx: b.0,
+                    by: b.1,
+                    dir: 1,
+                }),
+                std::cmp::Ordering::Greater => edges.push(LatticeEdge {
+                    ax: b.0,
+                    ay: b.1,
+                    bx: a.0,
+                    by: a.1,
+                    dir: -1,
+                }),
                 std::cmp::Ordering::Equal => {}
             }
         }
@@ -71,7 +94,14 @@ impl FixedPoly {
         let mut events: [(i64, i8); 8] = [(0, 0); 8];
         let mut heap: Vec<(i64, i8)> = Vec::new();
         let mut n_ev = 0;
-        for &(ax, ay, bx, by, dir) in &self.edges {
+        for &LatticeEdge {
+            ax,
+            ay,
+            bx,
+            by,
+            dir,
+        } in &self.edges
+        {
             if y < ay || y >= by {
                 continue;
             }
