@@ -6,8 +6,9 @@
 //! "no window", "no projection" or "two projections", because the JSON file and
 //! the flags can, and those must be reported as the same errors, in the same
 //! order, whatever the camera was written in. Everything that can be wrong with
-//! values of the right type is found here; the readers only find wrong types and
-//! wrong keys.
+//! values of the right type is found here; the readers only find what their
+//! syntax can get wrong (a JSON value of the wrong type, an unknown key, a number
+//! missing from `lookat` or a projection, both models at once).
 //!
 //! The checks run in the order the textbook's algorithms read their inputs (the
 //! viewing parameters of Alg. 8.14–8.17, the window, the view depth of Alg. 8.23,
