@@ -588,7 +588,7 @@ mod tests {
         let pos = DVec3::new(10.0, 50.0, -20.0);
         let far_away = DVec3::new(1e7, -1e7, 1e7);
         let cases = [
-            // The module docs and docs/camera.md; tests/cli (the thesis's demo 2).
+            // The module docs and docs/camera.md; the tools' tests (the thesis's demo 2).
             (
                 demo2(),
                 iris(

@@ -364,7 +364,7 @@ impl Camera {
     }
 }
 
-/// Helpers shared by the camera tests here and in `cli::camera`.
+/// Helpers shared by the camera tests, here and in the tools' flag tests.
 #[cfg(test)]
 pub(crate) mod test_support {
     use super::*;
