@@ -9,6 +9,7 @@ use clap::CommandFactory;
 use std::fmt;
 use std::str::FromStr;
 
+pub mod camera;
 pub mod pat_from_image;
 pub mod pat_info;
 pub mod pat_tile;

@@ -1,8 +1,9 @@
 //! `scene-render`: the polygon stream through a camera to an image, with exact
 //! anti-aliasing, the SPEC §4 reference image, and image comparison.
 
+use super::camera::CameraArgs;
 use super::Size;
-use crate::camera::{Camera, CameraArgs};
+use crate::camera::Camera;
 use crate::cli::usage_bail;
 use crate::color::Rgb8;
 use crate::io::{decode_image, display_name, read_input, Image, ImageFormat, PngOptions};

@@ -145,4 +145,23 @@ mod tests {
             DVec3::new(5001.0, 0.0, -401.0)
         ]));
     }
+
+    #[test]
+    fn faces_turned_towards_the_camera_are_kept_and_edge_on_ones_dropped() {
+        let c = Camera::from_json(
+            &serde_json::json!({"lookat": {"eye": [0, 100, -5], "center": [0, 0, -900]},
+                                "perspective": {"fovy": 55, "aspect": 1, "near": 0, "far": 1000}}),
+            "t",
+        )
+        .unwrap();
+        let v = ViewVolume::new(&c);
+        // The floor's normal +y faces the camera above it; -y does not.
+        let p = DVec3::new(0.0, 0.0, -400.0);
+        assert!(!v.back_facing(DVec3::Y, p));
+        assert!(v.back_facing(DVec3::NEG_Y, p));
+        let o = ViewVolume::new(&Camera::ortho2(0.0, 10.0, 0.0, 10.0));
+        assert!(!o.back_facing(DVec3::Z, DVec3::ZERO));
+        assert!(o.back_facing(DVec3::NEG_Z, DVec3::ZERO));
+        assert!(o.back_facing(DVec3::X, DVec3::ZERO), "edge-on");
+    }
 }
