@@ -150,7 +150,7 @@ impl TextureArgs {
             filters: self.filters()?,
             perspective_correction: !self.no_perspective_correction,
             skips: match &self.no_skip {
-                Some(list) => Skips::all_but(list)?,
+                Some(list) => Skips::all_but(list).map_err(|e| format!("--no-skip {list}: {e}"))?,
                 None => Skips::ALL,
             },
         })
