@@ -1,6 +1,7 @@
 //! Streams and images: `-` for standard input/output, atomic output files,
 //! and the three image formats every tool writes (SPEC §5).
 
+use crate::error::OptionError;
 use anyhow::{bail, Context, Result};
 use std::io::{self, BufWriter, IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
@@ -215,10 +216,20 @@ impl ImageFormat {
             Some("png") => Ok(ImageFormat::Png),
             Some("ppm") | Some("pnm") => Ok(ImageFormat::Ppm),
             Some("pam") => Ok(ImageFormat::Pam),
-            Some(other) => bail!(
-                "{output}: unknown image extension `.{other}`: expected .png, .ppm or .pam, or give --format"
-            ),
-            None => bail!("{output}: no extension: expected .png, .ppm or .pam, or give --format"),
+            Some(other) => Err(OptionError::new(
+                format!(
+                    "{output}: unknown image extension `.{other}`: expected .png, .ppm or .pam, or give "
+                ),
+                "format",
+                "",
+            )
+            .into()),
+            None => Err(OptionError::new(
+                format!("{output}: no extension: expected .png, .ppm or .pam, or give "),
+                "format",
+                "",
+            )
+            .into()),
         }
     }
 

@@ -6,6 +6,7 @@
 //!
 //! **Foundations**
 //! - [`color`]: sRGB and linear light, exactly rounded encoding.
+//! - [`error`]: errors every layer may raise (an option named by its field).
 //! - [`text`]: the whitespace tokenizer of the text formats and their
 //!   [`ParseError`].
 //! - [`io`]: standard streams, atomic output files, image decoding and encoding.
@@ -38,6 +39,7 @@
 //!   `src/bin/` are one-line shims.
 
 pub mod color;
+pub mod error;
 pub mod text;
 
 pub mod io;

@@ -5,6 +5,8 @@
 //! Each tool module holds `Args` (clap) and `run(Args) -> anyhow::Result<()>`;
 //! its file in `src/bin/` is one line that hands both to [`main`].
 
+use crate::error::OptionError;
+use crate::texture::place::PlaceError;
 use clap::CommandFactory;
 use std::fmt;
 use std::str::FromStr;
@@ -91,7 +93,7 @@ pub fn report(tool: &str, result: anyhow::Result<()>) -> i32 {
         Err(e) if is_broken_pipe(&e) => EXIT_OK,
         Err(e) if e.downcast_ref::<AlreadyReported>().is_some() => EXIT_FAILURE,
         Err(e) => {
-            eprintln!("{tool}: error: {e:#}");
+            eprintln!("{tool}: error: {}", in_flag_words(&e));
             if e.downcast_ref::<UsageError>().is_some() {
                 EXIT_USAGE
             } else {
@@ -99,6 +101,34 @@ pub fn report(tool: &str, result: anyhow::Result<()>) -> i32 {
             }
         }
     }
+}
+
+/// The error chain as `a: b: c` (anyhow's `{:#}`), with every library
+/// [`OptionError`] naming its option by the flag that sets it: the field
+/// `max_polygons` is `--max-polygons`.
+fn in_flag_words(e: &anyhow::Error) -> String {
+    e.chain()
+        .map(|layer| match option_error(layer) {
+            Some(o) => o.worded(&format!("--{}", o.option.replace('_', "-"))),
+            None => layer.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join(": ")
+}
+
+/// The [`OptionError`] a chain layer is, or carries as its whole message
+/// (inside an I/O error, or a pattern that cannot be placed).
+fn option_error<'a>(layer: &'a (dyn std::error::Error + 'static)) -> Option<&'a OptionError> {
+    if let Some(o) = layer.downcast_ref::<OptionError>() {
+        return Some(o);
+    }
+    if let Some(PlaceError::Compose(o)) = layer.downcast_ref::<PlaceError>() {
+        return Some(o);
+    }
+    layer
+        .downcast_ref::<std::io::Error>()
+        .and_then(|io| io.get_ref())
+        .and_then(|inner| inner.downcast_ref::<OptionError>())
 }
 
 /// Prints a warning in the SPEC §5 form.
@@ -207,6 +237,20 @@ mod tests {
         let e = anyhow::Error::new(std::io::Error::from(std::io::ErrorKind::BrokenPipe))
             .context("writing standard output");
         assert_eq!(report("t", Err(e)), EXIT_OK);
+    }
+
+    #[test]
+    fn library_option_errors_name_the_flag() {
+        let inner = std::io::Error::other(OptionError::new("past ", "max_polygons", " 5"));
+        let e = anyhow::Error::new(inner).context("scene.json: record 3");
+        assert_eq!(
+            in_flag_words(&e),
+            "scene.json: record 3: past --max-polygons 5"
+        );
+        let e = anyhow::Error::new(OptionError::new("", "compat", " thesis: no"));
+        assert_eq!(in_flag_words(&e), "--compat thesis: no");
+        let plain = anyhow::anyhow!("root").context("outer");
+        assert_eq!(in_flag_words(&plain), format!("{plain:#}"));
     }
 
     #[test]

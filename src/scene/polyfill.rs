@@ -5,6 +5,7 @@
 //! placed by its instances, Fig. 5.1); records without an object-mode pattern
 //! pass through unchanged.
 
+use crate::error::OptionError;
 use crate::geom::merge::RunMerger;
 use crate::geom::partition::{estimate_cells, thesis_partition};
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
@@ -93,7 +94,7 @@ pub const DEFAULT_MAX_POLYGONS: u64 = 50_000_000;
 /// The default [`PartitionOptions::tolerance`], world units.
 pub const DEFAULT_TOLERANCE: f64 = 0.01;
 
-/// What a partition job did (`polyfill3 --json`).
+/// What a partition job did (`polyfill3 --json` prints it).
 #[derive(Default, Debug, Clone, PartialEq, Eq)]
 pub struct Summary {
     /// Records read, inside objects included.
@@ -175,14 +176,17 @@ struct Job<'a, W: Write> {
 
 impl<W: Write> Job<'_, W> {
     /// Where a record's pattern file is: its "file" resolved against the
-    /// stream's directory, else --pattern.
+    /// stream's directory, else [`PartitionOptions::pattern`].
     fn pattern_path(&self, file: Option<&str>) -> Result<PathBuf> {
         match (file, &self.args.pattern) {
             (Some(f), _) => Ok(stream::resolve(&self.base, f)),
             (None, Some(p)) => Ok(p.clone()),
-            (None, None) => Err(anyhow!(
-                "pattern: no \"file\" in the record and no --pattern given"
-            )),
+            (None, None) => Err(OptionError::new(
+                "pattern: no \"file\" in the record and no ",
+                "pattern",
+                " given",
+            )
+            .into()),
         }
     }
 
@@ -199,7 +203,7 @@ impl<W: Write> Job<'_, W> {
     /// Writes an object definition back as an object whose `"records"` are
     /// its records partitioned (once, however many instances it gets), and
     /// its instances unchanged; the definition's other fields keep their
-    /// order. `--cull` does not apply inside objects: where an instance puts
+    /// order. Culling does not apply inside objects: where an instance puts
     /// them is not known here.
     fn object(&mut self, def: ObjectDef, source: &str) -> Result<()> {
         self.summary.objects += 1;
@@ -255,9 +259,9 @@ impl<W: Write> Job<'_, W> {
     /// A quadric record becomes its triangles, each a uv-mode record (texture
     /// coordinates in texels of its pattern) that passes through like any
     /// uv record: the texture is placed by coordinates, not cut into texel
-    /// polygons. Slices and stacks the record leaves out come from
-    /// --tolerance (world units; there is no camera). The triangles count
-    /// towards --max-polygons; --cull does not apply. A quadric whose
+    /// polygons. Slices and stacks the record leaves out come from the
+    /// tolerance (world units; there is no camera). The triangles count
+    /// towards the polygon limit; culling does not apply. A quadric whose
     /// transform varies per frame passes through unchanged.
     fn quadric(&mut self, rec: &Record) -> Result<()> {
         // A transform that varies per frame is scene-render's to evaluate:
@@ -282,12 +286,18 @@ impl<W: Write> Job<'_, W> {
             .map_err(|e| anyhow!(e))?;
         let total = self.summary.polygons + tris.len() as u64;
         if total > self.args.max_polygons {
-            return Err(anyhow!(
-                "{} triangles of the quadric would take the output past --max-polygons {} ({} written so far)",
-                tris.len(),
-                self.args.max_polygons,
-                self.summary.polygons
-            ));
+            return Err(OptionError::new(
+                format!(
+                    "{} triangles of the quadric would take the output past ",
+                    tris.len()
+                ),
+                "max_polygons",
+                format!(
+                    " {} ({} written so far)",
+                    self.args.max_polygons, self.summary.polygons
+                ),
+            )
+            .into());
         }
         for t in &tris {
             self.writer.pass(t)?;
@@ -297,7 +307,7 @@ impl<W: Write> Job<'_, W> {
         Ok(())
     }
 
-    /// `--uv`: writes the record whole, its SPEC §2 object placement turned
+    /// [`PartitionOptions::uv`]: writes the record whole, its SPEC §2 object placement turned
     /// into per-vertex texel coordinates by the same [`object_uv`] that
     /// `scene-render` uses for direct texturing, so both draw the same texture
     /// (texture coordinates are affine over a planar polygon, so the vertex
@@ -323,9 +333,9 @@ impl<W: Write> Job<'_, W> {
         self.writer.pass(&fields)
     }
 
-    /// A record that is not partitioned: unchanged, except under `--uv`,
+    /// A record that is not partitioned: unchanged, except with `uv` set,
     /// where every record comes out as a polygon (rect, circle and arc
-    /// flattened within --tolerance) with an absolute pattern path, so that a
+    /// flattened within the tolerance) with an absolute pattern path, so that a
     /// renderer that only draws polygons can take the stream anywhere.
     fn pass_record(&mut self, rec: &Record) -> Result<()> {
         if !self.args.uv {
@@ -336,7 +346,7 @@ impl<W: Write> Job<'_, W> {
         self.writer.pass(&fields)
     }
 
-    /// `rec`'s fields for `--uv` output: "vertices" set to `vertices` (curves
+    /// `rec`'s fields for `uv` output: "vertices" set to `vertices` (curves
     /// dropped), the pattern "file" made absolute, and with `uv` given, the
     /// "uv" field set and the pattern put in "uv" mode (its object placement
     /// fields dropped: they no longer apply). Other fields, in the pattern
@@ -405,7 +415,7 @@ impl<W: Write> Job<'_, W> {
             PatternMode::Object
         });
         if mode != PatternMode::Object || rec.uv.is_some() {
-            // Under --uv nothing is partitioned: no surprise to warn about.
+            // With `uv` nothing is partitioned: no surprise to warn about.
             if !self.warned_mode && !self.args.uv {
                 (self.warn)(format!(
                     "record {}: patterns in \"screen\" or \"uv\" mode are not partitioned; \
@@ -446,13 +456,18 @@ impl<W: Write> Job<'_, W> {
             place.incr,
         ));
         if self.summary.polygons as f64 + estimate > a.max_polygons as f64 {
-            return Err(anyhow!(
-                "about {estimate:.0} polygons at incr {} would take the output past \
-                 --max-polygons {} ({} written so far)",
-                place.incr,
-                a.max_polygons,
-                self.summary.polygons
-            ));
+            return Err(OptionError::new(
+                format!(
+                    "about {estimate:.0} polygons at incr {} would take the output past ",
+                    place.incr
+                ),
+                "max_polygons",
+                format!(
+                    " {} ({} written so far)",
+                    a.max_polygons, self.summary.polygons
+                ),
+            )
+            .into());
         }
         self.writer.begin(
             &rec,
@@ -466,9 +481,14 @@ impl<W: Write> Job<'_, W> {
             Some(Compat::Thesis) => {
                 let (h, v) = (place.horz, place.vert);
                 if h.fract() != 0.0 || v.fract() != 0.0 {
-                    return Err(anyhow!(
-                        "--compat thesis: horz {h} and vert {v} must be integers, as in the thesis"
-                    ));
+                    return Err(OptionError::new(
+                        "",
+                        "compat",
+                        format!(
+                            " thesis: horz {h} and vert {v} must be integers, as in the thesis"
+                        ),
+                    )
+                    .into());
                 }
                 let size = self.writer.pattern_size();
                 thesis_partition(
@@ -496,7 +516,7 @@ impl<W: Write> Job<'_, W> {
 /// other fields, serialized once per input polygon.
 pub struct CellWriter<W: Write> {
     out: W,
-    /// With `--cull`: cells wholly outside this volume are not written.
+    /// With culling: cells wholly outside this volume are not written.
     pub volume: Option<ViewVolume>,
     pattern: Option<Rc<Pattern>>,
     /// `,"key":value` for every field carried over, serialized once.
@@ -612,7 +632,11 @@ impl<W: Write> CellWriter<W> {
     fn write_record(&mut self, col: u32, row: u32, index: u16, world: &[DVec3], cells: usize) {
         if self.written >= self.budget {
             self.error.get_or_insert_with(|| {
-                std::io::Error::other("the output would exceed --max-polygons")
+                std::io::Error::other(OptionError::new(
+                    "the output would exceed ",
+                    "max_polygons",
+                    "",
+                ))
             });
             return;
         }

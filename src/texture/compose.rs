@@ -7,6 +7,8 @@
 //! four-channel texture map is used"; a pattern without transparent texels
 //! carries no alpha, so decal with it is an error.
 
+use crate::error::OptionError;
+
 /// The composition method.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
@@ -34,15 +36,19 @@ pub enum Compose {
 impl Compose {
     /// XGL's restriction: decal needs a map with alpha (a pattern with
     /// transparent texels). The error names the method.
-    pub fn check(self, has_alpha: bool) -> Result<(), String> {
+    pub fn check(self, has_alpha: bool) -> Result<(), OptionError> {
         match self {
-            Compose::Decal | Compose::DecalIntrinsic if !has_alpha => Err(format!(
-                "--compose {}: XGL's decal methods need a four-channel map, and this \
-                 pattern has no transparent texels (no alpha)",
-                match self {
-                    Compose::Decal => "decal",
-                    _ => "decal-intrinsic",
-                }
+            Compose::Decal | Compose::DecalIntrinsic if !has_alpha => Err(OptionError::new(
+                "",
+                "compose",
+                format!(
+                    " {}: XGL's decal methods need a four-channel map, and this \
+                     pattern has no transparent texels (no alpha)",
+                    match self {
+                        Compose::Decal => "decal",
+                        _ => "decal-intrinsic",
+                    }
+                ),
             )),
             _ => Ok(()),
         }
@@ -178,7 +184,11 @@ mod tests {
 
     #[test]
     fn decal_without_alpha_is_refused() {
-        assert!(Compose::Decal.check(false).unwrap_err().contains("decal"));
+        assert!(Compose::Decal
+            .check(false)
+            .unwrap_err()
+            .to_string()
+            .contains("decal"));
         assert!(Compose::DecalIntrinsic.check(false).is_err());
         assert!(Compose::Decal.check(true).is_ok());
         assert!(Compose::Modulate.check(false).is_ok());

@@ -10,6 +10,7 @@ use super::map::{object_uv, ObjectUvError, TexMap};
 use super::skip::Skips;
 use super::PolyTexture;
 use crate::color::{srgb_to_linear_f64, Rgb8};
+use crate::error::OptionError;
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::geom::Placement;
 use crate::stream::{PatternMode, PatternRef};
@@ -79,7 +80,7 @@ pub enum PlaceError {
     /// Object placement failed (no plane, or no grid).
     Object(ObjectUvError),
     /// The composition needs texels with alpha (XGL's decal rules).
-    Compose(String),
+    Compose(OptionError),
 }
 
 impl std::fmt::Display for PlaceError {
@@ -95,7 +96,7 @@ impl std::fmt::Display for PlaceError {
                 write!(f, "{uv} texture coordinates for {vertices} vertices")
             }
             PlaceError::Object(e) => e.fmt(f),
-            PlaceError::Compose(e) => f.write_str(e),
+            PlaceError::Compose(e) => e.fmt(f),
         }
     }
 }
