@@ -3,7 +3,7 @@
 //! modulation colour select; face colour code) as JSON that users edit with
 //! ordinary tools, the way the seed's TRA/PVA commands examined and modified it.
 //!
-//! `src/stream.rs` keeps every field of a record in [`Record::fields`]; this
+//! `src/stream/` keeps every field of a record in [`Record::fields`]; this
 //! module reads `fields["stripe"]` from there, so the stream's typed API is
 //! unchanged and tools that forward records pass the object through.
 

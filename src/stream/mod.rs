@@ -1,0 +1,89 @@
+//! The polygon stream (SPEC §2): one JSON array of records, or NDJSON.
+//!
+//! Records are read one at a time whichever form the input takes, so memory does
+//! not grow with the number of records. Every record keeps its full JSON object
+//! ([`Record::fields`]) so tools that forward records pass unknown fields through
+//! unchanged; the typed view ([`Record::shape`], [`Record::pattern`], ...) is
+//! what the geometry and the renderer use.
+//!
+//! One file per idea; every public name is re-exported here, so callers write
+//! `stream::Record`, `stream::for_each_record`, ...:
+//!
+//! - `record.rs`: one record, its typed view ([`Record`], [`PatternRef`],
+//!   [`PatternMode`], the lazily parsed [`Fields`]) and the field parsers
+//!   (vertices, colour, pattern, uv, quadric parameters).
+//! - `objects.rs`: object definitions and instances ([`Item`], [`Objects`]),
+//!   and moving a record by an instance's transform ([`transform_record`]).
+//! - `triangles.rs`: a quadric record as triangle records, for tools that
+//!   forward polygons ([`quadric_triangles`]).
+//! - `read.rs`: the streaming reader of both forms ([`for_each_record`],
+//!   [`for_each_item`]) and its JSON error messages.
+//! - `plain.rs`: the reader's fast path for plain NDJSON polygon lines.
+//! - `write.rs`: writing records as NDJSON ([`write_ndjson`]).
+//! - `paths.rs`: resolving the file names records hold ([`base_dir`],
+//!   [`resolve`]).
+//!
+//! This file keeps what they all share: [`StreamError`] and [`MAX_VERTICES`].
+
+use std::fmt;
+
+mod objects;
+mod paths;
+mod plain;
+mod read;
+mod record;
+mod triangles;
+mod write;
+
+pub use objects::{transform_record, Instance, Item, ObjectDef, Objects, INSTANCE_CURVE_TOLERANCE};
+pub use paths::{base_dir, resolve};
+pub use read::{for_each_item, for_each_record};
+pub use record::{parse_color, Fields, PatternMode, PatternRef, Record, QUADRIC_KEYS};
+pub use triangles::quadric_triangles;
+pub use write::write_ndjson;
+
+/// A stream error, naming the input and the record.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StreamError {
+    /// The input's name as the user gave it (`-` for standard input). Empty
+    /// when [`Objects`] raises the error: the reader fills it in.
+    pub source: String,
+    /// 0-based record index, when the error belongs to one record.
+    pub record: Option<usize>,
+    /// What is wrong, without the input and record, which `Display` adds.
+    pub message: String,
+}
+
+impl fmt::Display for StreamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.record {
+            Some(i) => write!(f, "{}: record {i}: {}", self.source, self.message),
+            None => write!(f, "{}: {}", self.source, self.message),
+        }
+    }
+}
+
+impl std::error::Error for StreamError {}
+
+/// The most vertices one polygon may have: 2^24 (16.7 million). Past that a
+/// record is certainly a mistake, and the limit keeps memory bounded.
+pub const MAX_VERTICES: usize = 1 << 24;
+
+/// Reading a whole stream from text, for the tests of every file.
+#[cfg(test)]
+mod testing {
+    use super::*;
+
+    pub(super) fn read_all(text: &str) -> anyhow::Result<Vec<Record>> {
+        let mut out = Vec::new();
+        for_each_record(text.as_bytes(), "s.json", |r| {
+            out.push(r);
+            Ok(())
+        })?;
+        Ok(out)
+    }
+
+    pub(super) fn err(text: &str) -> String {
+        format!("{:#}", read_all(text).unwrap_err())
+    }
+}

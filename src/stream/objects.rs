@@ -1,0 +1,441 @@
+//! Objects and instances (the thesis's `makeobj`/`callobj`, Fig. 5.1): the
+//! stream's two elements beside drawable records, kept as definitions and
+//! expanded into moved records. Apart from the record parsers because an
+//! instance changes records after they are read (their vertices, their
+//! pattern's scale) and checks the order of definitions across the stream.
+
+use super::record::{field_err, short, PatternMode, Record};
+use super::StreamError;
+use crate::geom::transform::Transform;
+use crate::geom::Shape;
+use glam::DVec3;
+use serde_json::{Map, Value};
+
+/// One element of the stream: a drawable record, a named object definition, or
+/// an instance of an object (the thesis's `makeobj`/`callobj`, Fig. 5.1).
+///
+/// ```json
+/// {"object": "face", "records": [{"vertices": [...], "pattern": {...}}]}
+/// {"instance": "face", "transform": [{"rotate": 90, "axis": "y"}]}
+/// ```
+///
+/// An object must be defined before it is placed, once; its records may place
+/// instances of objects defined earlier, so instances nest but never form a
+/// cycle. Unknown fields are kept on all three.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Item {
+    /// A drawable record.
+    Record(Record),
+    /// `{"object": name, "records": [...]}`: a definition, drawn only
+    /// through instances.
+    Object(ObjectDef),
+    /// `{"instance": name, "transform": ...}`: a placed copy of an object.
+    Instance(Instance),
+}
+
+/// A named group of items, drawn only through instances.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ObjectDef {
+    /// 0-based position of the definition in the stream, which its records'
+    /// parse errors name too (the records it expands into take the index of
+    /// the instance that places them).
+    pub index: usize,
+    /// The object's name (`"object"`), never empty.
+    pub name: String,
+    /// Its `"records"`, typed: records and instances of objects defined
+    /// earlier (definitions inside definitions are rejected by
+    /// [`Objects::define`]).
+    pub items: Vec<Item>,
+    /// The definition's JSON object, including `"records"`.
+    pub fields: Map<String, Value>,
+}
+
+/// An object placed with a transform.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Instance {
+    /// 0-based position of the instance in the stream, which the records it
+    /// expands into take as their own.
+    pub index: usize,
+    /// The name of the object placed (`"instance"`), never empty.
+    pub object: String,
+    /// Applied to the object's coordinates (identity when absent).
+    pub transform: Transform,
+    /// The instance's JSON object, kept whole so that tools forwarding
+    /// instances pass unknown fields through.
+    pub fields: Map<String, Value>,
+}
+
+impl ObjectDef {
+    /// What [`Objects::define`] needs to check a definition (its name, index
+    /// and the instances inside it), without its records: for tools that
+    /// keep the records in their own form.
+    pub fn skeleton(&self) -> ObjectDef {
+        ObjectDef {
+            index: self.index,
+            name: self.name.clone(),
+            items: self
+                .items
+                .iter()
+                .filter(|it| !matches!(it, Item::Record(_)))
+                .cloned()
+                .collect(),
+            fields: Map::new(),
+        }
+    }
+}
+
+impl Item {
+    /// Builds the typed view of one JSON stream element.
+    pub fn from_value(index: usize, value: Value) -> Result<Item, (usize, String)> {
+        match &value {
+            Value::Object(m) if m.contains_key("object") => {
+                let Value::Object(fields) = value else {
+                    unreachable!()
+                };
+                let name = match &fields["object"] {
+                    Value::String(s) if !s.is_empty() => s.clone(),
+                    other => {
+                        return Err(field_err(
+                            index,
+                            format!("object: expected a non-empty name, found {}", short(other)),
+                        ))
+                    }
+                };
+                let records = fields
+                    .get("records")
+                    .and_then(Value::as_array)
+                    .ok_or_else(|| {
+                        field_err(
+                            index,
+                            format!("object `{name}`: expected \"records\": [...]"),
+                        )
+                    })?;
+                let items = records
+                    .iter()
+                    .enumerate()
+                    .map(|(i, v)| {
+                        Item::from_value(index, v.clone()).map_err(|(_, m)| {
+                            field_err(index, format!("object `{name}` records[{i}]: {m}"))
+                        })
+                    })
+                    .collect::<Result<Vec<_>, _>>()?;
+                Ok(Item::Object(ObjectDef {
+                    index,
+                    name,
+                    items,
+                    fields,
+                }))
+            }
+            Value::Object(m) if m.contains_key("instance") => {
+                let Value::Object(fields) = value else {
+                    unreachable!()
+                };
+                let object = match &fields["instance"] {
+                    Value::String(s) if !s.is_empty() => s.clone(),
+                    other => {
+                        return Err(field_err(
+                            index,
+                            format!("instance: expected an object name, found {}", short(other)),
+                        ))
+                    }
+                };
+                let transform = fields
+                    .get("transform")
+                    .map(Transform::from_json)
+                    .transpose()
+                    .map_err(|e| field_err(index, format!("instance of `{object}`: {e}")))?
+                    .unwrap_or_default();
+                Ok(Item::Instance(Instance {
+                    index,
+                    object,
+                    transform,
+                    fields,
+                }))
+            }
+            _ => Record::from_value(index, value).map(Item::Record),
+        }
+    }
+}
+
+/// Tolerance, relative to the radius, of the polygon that replaces a circle or
+/// arc moved by an instance transform: 1e-4 keeps the chord error below a
+/// hundredth of a pixel for any circle under 100 pixels across.
+pub const INSTANCE_CURVE_TOLERANCE: f64 = 1e-4;
+
+/// The object definitions seen so far, and the expansion of instances.
+#[derive(Default)]
+pub struct Objects {
+    defs: std::collections::HashMap<String, std::rc::Rc<ObjectDef>>,
+}
+
+impl Objects {
+    /// Records a definition after checking its name is new and every instance
+    /// inside it names an object defined before it.
+    pub fn define(&mut self, def: ObjectDef) -> Result<(), StreamError> {
+        let err = |m: String| StreamError {
+            source: String::new(),
+            record: Some(def.index),
+            message: m,
+        };
+        if self.defs.contains_key(&def.name) {
+            return Err(err(format!("object `{}` is defined twice", def.name)));
+        }
+        fn check(objs: &Objects, name: &str, items: &[Item]) -> Result<(), String> {
+            for it in items {
+                match it {
+                    Item::Instance(i) if i.object == name => {
+                        return Err(format!(
+                            "object `{name}` places an instance of itself: a cycle"
+                        ))
+                    }
+                    Item::Instance(i) if !objs.defs.contains_key(&i.object) => {
+                        return Err(format!(
+                            "object `{name}` places unknown object `{}` (define it first)",
+                            i.object
+                        ))
+                    }
+                    Item::Object(o) => {
+                        return Err(format!(
+                            "object `{name}` defines object `{}` inside it: definitions are top-level only",
+                            o.name
+                        ))
+                    }
+                    _ => {}
+                }
+            }
+            Ok(())
+        }
+        check(self, &def.name, &def.items).map_err(err)?;
+        self.defs.insert(def.name.clone(), std::rc::Rc::new(def));
+        Ok(())
+    }
+
+    /// Checks that a top-level instance names an object defined before it.
+    pub fn check_instance(&self, inst: &Instance) -> Result<(), StreamError> {
+        if self.defs.contains_key(&inst.object) {
+            return Ok(());
+        }
+        Err(StreamError {
+            source: String::new(),
+            record: Some(inst.index),
+            message: format!(
+                "instance of unknown object `{}` (define it first)",
+                inst.object
+            ),
+        })
+    }
+
+    /// The definition of object `name`, if one was defined.
+    pub fn get(&self, name: &str) -> Option<&ObjectDef> {
+        self.defs.get(name).map(|d| &**d)
+    }
+
+    /// Feeds one stream item through: records go to `each`, definitions are
+    /// stored, instances are expanded into moved records.
+    pub fn expand(
+        &mut self,
+        item: Item,
+        each: &mut dyn FnMut(Record) -> anyhow::Result<()>,
+    ) -> anyhow::Result<()> {
+        match item {
+            Item::Record(r) => each(r),
+            Item::Object(def) => Ok(self.define(def)?),
+            Item::Instance(inst) => {
+                self.check_instance(&inst)?;
+                let def = self.defs[&inst.object].clone();
+                self.place(&def, inst.transform, inst.index, each)
+            }
+        }
+    }
+
+    fn place(
+        &self,
+        def: &ObjectDef,
+        transform: Transform,
+        index: usize,
+        each: &mut dyn FnMut(Record) -> anyhow::Result<()>,
+    ) -> anyhow::Result<()> {
+        for item in &def.items {
+            match item {
+                Item::Record(r) => {
+                    let moved =
+                        transform_record(r, &transform, index).map_err(|m| StreamError {
+                            source: String::new(),
+                            record: Some(index),
+                            message: format!("object `{}`: {m}", def.name),
+                        })?;
+                    each(moved)?;
+                }
+                Item::Instance(inner) => {
+                    let inner_def = &self.defs[&inner.object];
+                    // The inner placement applies first, then this one.
+                    self.place(inner_def, inner.transform.then(transform), index, each)?;
+                }
+                Item::Object(_) => unreachable!("rejected by define"),
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A record moved by `t`: vertices transformed (2D records become polygons),
+/// an object-mode pattern's `incr` scaled with the transform, which must then
+/// be a similarity. Windings are kept as listed, so a mirroring transform turns
+/// the record's front face away (as in GL).
+pub fn transform_record(r: &Record, t: &Transform, index: usize) -> Result<Record, String> {
+    if let Shape::Quadric(q) = &r.shape {
+        // A quadric stays a quadric: its own placement is followed by `t`,
+        // and its JSON "transform" becomes the combined matrix.
+        let mut moved = (**q).clone();
+        moved.transform = q.transform.then(*t);
+        let mut fields: Map<String, Value> = (*r.fields).clone();
+        fields.insert(
+            "transform".into(),
+            serde_json::json!({"matrix": moved.transform.row_matrix()}),
+        );
+        return Ok(Record {
+            index,
+            shape: Shape::Quadric(Box::new(moved)),
+            fields: fields.into(),
+            ..r.clone()
+        });
+    }
+    let tol = match r.shape {
+        Shape::Circle { radius, .. } | Shape::Arc { radius, .. } => {
+            radius * INSTANCE_CURVE_TOLERANCE
+        }
+        _ => 0.0,
+    };
+    let verts: Vec<DVec3> = crate::geom::outline(&r.shape, tol)
+        .into_iter()
+        .map(|p| t.apply(p))
+        .collect();
+    if !verts.iter().all(|p| p.is_finite()) {
+        return Err("the transform moves a vertex out of the finite numbers".into());
+    }
+    let mut fields = Map::clone(&r.fields);
+    for k in ["rect", "circle", "arc"] {
+        fields.remove(k);
+    }
+    fields.insert(
+        "vertices".into(),
+        Value::Array(
+            verts
+                .iter()
+                .map(|p| serde_json::json!([p.x, p.y, p.z]))
+                .collect(),
+        ),
+    );
+    let mut pattern = r.pattern.clone();
+    if let Some(p) = pattern.as_mut() {
+        let object_mode = r.uv.is_none() && p.mode.unwrap_or_default() == PatternMode::Object;
+        if object_mode {
+            let s = t.similarity_scale().ok_or_else(|| {
+                "the instance transform stretches unevenly, which an object-mode pattern cannot follow: partition the object with polyfill3 first".to_string()
+            })?;
+            if (s - 1.0).abs() > crate::geom::transform::SIMILARITY_TOLERANCE {
+                let incr = p.incr.ok_or_else(|| {
+                    format!("the instance transform scales by {s}: give the pattern an explicit \"incr\" so it can scale too")
+                })?;
+                p.incr = Some(incr * s);
+                if let Some(Value::Object(pf)) = fields.get_mut("pattern") {
+                    pf.insert("incr".into(), serde_json::json!(incr * s));
+                }
+            }
+        }
+    }
+    Ok(Record {
+        index,
+        shape: Shape::Polygon(verts),
+        color: r.color,
+        pattern,
+        uv: r.uv.clone(),
+        fields: fields.into(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testing::{err, read_all};
+    use super::*;
+
+    #[test]
+    fn instances_expand_moved_and_nested_in_order() {
+        let text = r#"
+            {"object": "tri", "records": [{"vertices": [[0,0,0],[1,0,0],[0,1,0]], "color": [1,2,3], "id": "t"}]}
+            {"object": "pair", "records": [
+                {"instance": "tri"},
+                {"instance": "tri", "transform": {"translate": [10, 0, 0]}}]}
+            {"instance": "pair", "transform": [{"rotate": 90, "axis": "z"}], "id": "p"}
+            {"rect": [0,0,1,1], "color": [0,0,0]}"#;
+        let recs = read_all(text).unwrap();
+        assert_eq!(recs.len(), 3);
+        let v = |r: &Record| match &r.shape {
+            Shape::Polygon(v) => v.clone(),
+            _ => panic!(),
+        };
+        // The second copy moved to x = 10, then the whole pair turned 90° about z.
+        let second = v(&recs[1]);
+        assert!((second[0] - DVec3::new(0.0, 10.0, 0.0)).length() < 1e-12);
+        assert_eq!(recs[0].index, 2);
+        assert_eq!(recs[0].fields["id"], "t");
+        assert_eq!(recs[0].fields["vertices"].as_array().unwrap().len(), 3);
+        assert_eq!(recs[2].index, 3);
+    }
+
+    #[test]
+    fn object_errors_name_the_record() {
+        assert!(err(r#"{"instance": "ghost"}"#)
+            .contains("record 0: instance of unknown object `ghost`"));
+        assert!(err(r#"{"object": "a", "records": [{"instance": "a"}]}"#)
+            .contains("record 0: object `a` places an instance of itself: a cycle"));
+        assert!(
+            err("{\"object\": \"a\", \"records\": []}\n{\"object\": \"a\", \"records\": []}")
+                .contains("record 1: object `a` is defined twice")
+        );
+        assert!(err(r#"{"object": "a", "records": [{"rect": [0,0,1,1]}]}"#)
+            .contains("object `a` records[0]: no \"color\""));
+        assert!(err(
+            r#"{"object": "a", "records": []} {"instance": "a", "transform": {"scale": 0}}"#
+        )
+        .contains("record 1: instance of `a`: transform step 0: scale: singular"));
+        assert!(err(r#"{"object": "a"}"#).contains("expected \"records\""));
+    }
+
+    #[test]
+    fn object_mode_patterns_scale_with_similarities_and_refuse_stretching() {
+        let def = r#"{"object": "a", "records": [{"vertices": [[0,0],[1,0],[0,1]], "pattern": {"file": "p.pat", "incr": 2}}]}"#;
+        let recs = read_all(&format!(
+            "{def}\n{{\"instance\": \"a\", \"transform\": {{\"scale\": 3}}}}"
+        ))
+        .unwrap();
+        assert_eq!(recs[0].pattern.as_ref().unwrap().incr, Some(6.0));
+        assert_eq!(recs[0].fields["pattern"]["incr"], 6.0);
+        let e = err(&format!(
+            "{def}\n{{\"instance\": \"a\", \"transform\": {{\"scale\": [1, 2, 1]}}}}"
+        ));
+        assert!(
+            e.contains("record 1: object `a`: the instance transform stretches unevenly"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn an_instance_moves_a_quadric_by_composing_transforms() {
+        let recs = read_all(
+            r#"{"object": "o", "records": [{"sphere": {"radius": 1}, "transform": {"scale": 2}, "color": [0,0,0], "id": "s"}]}
+               {"instance": "o", "transform": {"translate": [5, 0, 0]}}"#,
+        )
+        .unwrap();
+        let Shape::Quadric(q) = &recs[0].shape else {
+            panic!("{:?}", recs[0].shape)
+        };
+        // Scale first, then the instance's translation.
+        assert_eq!(q.transform.apply(DVec3::X), DVec3::new(7.0, 0.0, 0.0));
+        assert_eq!(recs[0].fields["id"], "s");
+        assert!(recs[0].fields["transform"].get("matrix").is_some());
+        // The written matrix reads back as the same transform.
+        let again = Record::from_value(0, Value::Object((*recs[0].fields).clone())).unwrap();
+        assert_eq!(again.shape, recs[0].shape);
+    }
+}

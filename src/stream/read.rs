@@ -1,0 +1,285 @@
+//! The streaming reader: a JSON array or NDJSON, one element at a time, so
+//! memory does not grow with the number of records. It tells the two forms
+//! apart, words JSON syntax errors with their positions in the whole input,
+//! and hands each element to the record and object parsers; plain polygon
+//! lines take the fast path ([`super::plain`]).
+
+use super::objects::{Item, Objects};
+use super::record::Record;
+use super::{plain, StreamError};
+use serde::de::{Deserializer as _, SeqAccess, Visitor};
+use serde_json::Value;
+use std::fmt;
+use std::io::BufRead;
+
+/// Reads records one at a time from a JSON array or an NDJSON stream, calling
+/// `each` for every drawable record in order. Object definitions are kept and
+/// their instances expanded here, each record moved by its instance's
+/// transform (see [`Objects`]); a tool that must keep objects intact uses
+/// [`for_each_item`] instead. Stops at the first error, which names the input
+/// and the record. Memory stays bounded by the largest single record plus the
+/// object definitions.
+pub fn for_each_record<R: BufRead>(
+    reader: R,
+    source: &str,
+    mut each: impl FnMut(Record) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    let mut objects = Objects::default();
+    for_each_item(reader, source, |item| {
+        objects
+            .expand(item, &mut each)
+            .map_err(|e| match e.downcast::<StreamError>() {
+                Ok(mut se) => {
+                    se.source = source.to_string();
+                    anyhow::Error::new(se)
+                }
+                Err(other) => other,
+            })
+    })
+}
+
+/// Like [`for_each_record`], but hands over object definitions and instances
+/// as they are, for tools that forward them.
+pub fn for_each_item<R: BufRead>(
+    mut reader: R,
+    source: &str,
+    mut each: impl FnMut(Item) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    let stream_err = |record: Option<usize>, message: String| StreamError {
+        source: source.to_string(),
+        record,
+        message,
+    };
+    // Peek at the first non-blank byte to tell an array from NDJSON.
+    let first = loop {
+        let buf = reader
+            .fill_buf()
+            .map_err(|e| stream_err(None, e.to_string()))?;
+        if buf.is_empty() {
+            break None;
+        }
+        match buf.iter().position(|b| !b.is_ascii_whitespace()) {
+            Some(i) => {
+                let b = buf[i];
+                reader.consume(i);
+                break Some(b);
+            }
+            None => {
+                let n = buf.len();
+                reader.consume(n);
+            }
+        }
+    };
+    let mut index = 0usize;
+    let mut handle = |value: Parsed, index: &mut usize| -> anyhow::Result<()> {
+        let item = match value {
+            Parsed::Value(value) => {
+                Item::from_value(*index, value).map_err(|(i, m)| stream_err(Some(i), m))?
+            }
+            Parsed::Item(item) => item,
+        };
+        *index += 1;
+        each(item)
+    };
+    match first {
+        None => Ok(()),
+        Some(b'[') => {
+            let mut de = serde_json::Deserializer::from_reader(reader);
+            let mut failure: Option<anyhow::Error> = None;
+            let visitor = ArrayVisitor {
+                each: &mut |v: Value| -> bool {
+                    match handle(Parsed::Value(v), &mut index) {
+                        Ok(()) => true,
+                        Err(e) => {
+                            failure = Some(e);
+                            false
+                        }
+                    }
+                },
+            };
+            let res = (&mut de).deserialize_seq(visitor);
+            if let Some(f) = failure {
+                return Err(f);
+            }
+            res.map_err(|e| stream_err(Some(index), json_message(&e)))?;
+            de.end()
+                .map_err(|e| stream_err(None, format!("after the array: {}", json_message(&e))))?;
+            Ok(())
+        }
+        Some(_) => {
+            // NDJSON is read a line at a time and each line parsed from
+            // memory: serde_json reading an `io::Read` goes byte by byte, and
+            // a plain polygon on a line of its own skips the `Value` tree too
+            // (`plain`). A line that is not one whole JSON value (a value
+            // spread over lines, two on one line, a syntax error) hands the
+            // rest of the input, from the start of that line, to serde_json's
+            // own stream reader, behind as many newlines as were read before
+            // it so that its error positions are those of the whole input.
+            let mut line = Vec::new();
+            let mut newlines = 0u64;
+            loop {
+                line.clear();
+                if let Err(e) = reader.read_until(b'\n', &mut line) {
+                    // serde_json words a read error as the error itself.
+                    return Err(stream_err(Some(index), format!("invalid JSON: {e}")).into());
+                }
+                if line.is_empty() {
+                    return Ok(());
+                }
+                let body = trim_json_whitespace(&line);
+                if !body.is_empty() {
+                    if let Some(rec) = plain::record(body, index) {
+                        handle(Parsed::Item(Item::Record(rec)), &mut index)?;
+                    } else if let Ok(v) = serde_json::from_slice::<Value>(body) {
+                        handle(Parsed::Value(v), &mut index)?;
+                    } else {
+                        use std::io::Read as _;
+                        let rest = std::io::repeat(b'\n')
+                            .take(newlines)
+                            .chain(&line[..])
+                            .chain(reader);
+                        let de = serde_json::Deserializer::from_reader(rest).into_iter::<Value>();
+                        for v in de {
+                            let v = v.map_err(|e| stream_err(Some(index), json_message(&e)))?;
+                            handle(Parsed::Value(v), &mut index)?;
+                        }
+                        return Ok(());
+                    }
+                }
+                if line.last() == Some(&b'\n') {
+                    newlines += 1;
+                }
+            }
+        }
+    }
+}
+
+/// A stream element as the readers hand it on: parsed JSON, or an item the
+/// NDJSON fast path has already typed. Moved once per record straight into
+/// the handler, so its size costs nothing, where boxing the item would cost
+/// an allocation per record.
+#[allow(clippy::large_enum_variant)]
+enum Parsed {
+    Value(Value),
+    Item(Item),
+}
+
+/// `s` without JSON's whitespace (space, tab, newline, carriage return; RFC
+/// 8259 §2) at either end.
+fn trim_json_whitespace(s: &[u8]) -> &[u8] {
+    let ws = |b: &u8| matches!(b, b' ' | b'\t' | b'\n' | b'\r');
+    let start = s.iter().position(|b| !ws(b)).unwrap_or(s.len());
+    let end = s.iter().rposition(|b| !ws(b)).map_or(start, |i| i + 1);
+    &s[start..end]
+}
+
+/// serde_json's message with its position, phrased for a user.
+fn json_message(e: &serde_json::Error) -> String {
+    format!("invalid JSON: {e}")
+}
+
+/// Streams the elements of a JSON array to a callback without collecting them.
+struct ArrayVisitor<'a> {
+    each: &'a mut dyn FnMut(Value) -> bool,
+}
+
+impl<'de> Visitor<'de> for ArrayVisitor<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("an array of records")
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        while let Some(v) = seq.next_element::<Value>()? {
+            if !(self.each)(v) {
+                // Stop early: the caller reports its own error.
+                return Ok(());
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testing::{err, read_all};
+    use super::*;
+    use crate::geom::Shape;
+    use glam::DVec3;
+
+    #[test]
+    fn array_and_ndjson_give_the_same_records() {
+        let a = r#"[{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"id":"a"},
+                    {"rect":[0,0,2,2],"color":[0,0,0]}]"#;
+        let n = "{\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3],\"id\":\"a\"}\n{\"rect\":[0,0,2,2],\"color\":[0,0,0]}\n";
+        assert_eq!(read_all(a).unwrap(), read_all(n).unwrap());
+        let r = read_all(a).unwrap();
+        assert_eq!(r[0].fields["id"], "a");
+        assert_eq!(r[1].index, 1);
+        assert!(matches!(r[0].shape, Shape::Polygon(ref v) if v[2] == DVec3::new(0.0, 1.0, 0.0)));
+    }
+
+    #[test]
+    fn ndjson_syntax_errors_keep_the_positions_of_the_whole_input() {
+        // Plain lines, a blank line, a value spread over lines, then an error
+        // on line 6: the line reader hands over to serde_json's own stream
+        // reader, whose message must name the same line and column as when
+        // it read the whole input itself.
+        let text = "  {\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]}\n\n\
+                    {\"rect\":[0,0,1,1],\n \"color\":[1,2,3]}\n\
+                    {\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]}\n\
+                    {\"vertices\": [[0,0]] x\n";
+        let mut seen = 0;
+        let whole = serde_json::Deserializer::from_str(text.trim_start())
+            .into_iter::<Value>()
+            .find_map(|v| match v {
+                Ok(_) => {
+                    seen += 1;
+                    None
+                }
+                Err(e) => Some(e),
+            })
+            .unwrap();
+        assert_eq!(seen, 3);
+        assert_eq!(whole.line(), 6);
+        assert_eq!(
+            err(text),
+            format!("s.json: record 3: {}", json_message(&whole))
+        );
+    }
+
+    #[test]
+    fn empty_input_is_an_empty_stream() {
+        assert!(read_all("").unwrap().is_empty());
+        assert!(read_all(" \n ").unwrap().is_empty());
+        assert!(read_all("[]").unwrap().is_empty());
+    }
+
+    #[test]
+    fn nan_huge_numbers_truncation_and_deep_nesting_are_errors_not_panics() {
+        assert!(
+            err(r#"{"vertices":[[NaN,0],[1,0],[0,1]],"color":[0,0,0]}"#).contains("invalid JSON")
+        );
+        assert!(
+            err(r#"{"vertices":[[1e999,0],[1,0],[0,1]],"color":[0,0,0]}"#).contains("record 0")
+        );
+        assert!(err(r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[0,0,0]"#).contains("invalid JSON"));
+        assert!(err(r#"[{"vertices":[[0,0],[1,0],[0,1]],"color":[0,0,0]}"#)
+            .contains("record 1: invalid JSON"));
+        let deep = format!("{}{}", "[".repeat(100_000), "]".repeat(100_000));
+        assert!(err(&deep).contains("invalid JSON"));
+        let deep_obj = format!("{{\"x\":{}1{}}}", "[".repeat(100_000), "]".repeat(100_000));
+        assert!(err(&deep_obj).contains("record 0: invalid JSON"));
+    }
+
+    #[test]
+    fn an_error_in_the_callback_stops_the_array_stream() {
+        let text = r#"[{"rect":[0,0,1,1],"color":[0,0,0]},{"rect":[0,0,1,1],"color":[0,0,0]}]"#;
+        let mut seen = 0;
+        let r = for_each_record(text.as_bytes(), "s", |_| {
+            seen += 1;
+            anyhow::bail!("stop")
+        });
+        assert_eq!(seen, 1);
+        assert_eq!(r.unwrap_err().to_string(), "stop");
+    }
+}
