@@ -327,39 +327,16 @@ fn map_preview(m: &ModulationMap, max: u32) -> String {
     s
 }
 
-/// Stops the record scan once record `n` has been found.
-#[derive(Debug)]
-struct Found;
-impl std::fmt::Display for Found {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("found")
-    }
-}
-impl std::error::Error for Found {}
-
 /// `--record N`: the record's stripe texture in the seed's terms.
 fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
     let name = display_name(file);
     let bytes = read_input(file)?;
-    let mut found = None;
-    let mut count = 0usize;
-    let scan = crate::stream::for_each_record(bytes.as_slice(), name, |r| {
-        count += 1;
-        if r.index == n {
-            found = Some(r);
-            return Err(Found.into());
-        }
-        Ok(())
-    });
-    match scan {
-        Err(e) if e.downcast_ref::<Found>().is_none() => return Err(e),
-        _ => {}
-    }
-    let Some(record) = found else {
-        anyhow::bail!(
+    let record = match crate::stream::nth_record(bytes.as_slice(), name, n)? {
+        Ok(record) => record,
+        Err(count) => anyhow::bail!(
             "{name}: record {n} does not exist: the stream has {count} record{} (numbered from 0)",
             if count == 1 { "" } else { "s" }
-        );
+        ),
     };
     let spec = StripeSpec::from_fields(&record.fields)
         .map_err(|m| anyhow::anyhow!("{name}: record {n}: {m}"))?

@@ -38,6 +38,40 @@ pub fn for_each_record<R: BufRead>(
     })
 }
 
+/// Record `n` (0-based, counted as [`for_each_record`] counts: instances
+/// expanded) of a stream, read no further than that record; `Err(count)`
+/// when the stream has only `count` records.
+pub fn nth_record<R: BufRead>(
+    reader: R,
+    source: &str,
+    n: usize,
+) -> anyhow::Result<Result<Record, usize>> {
+    /// Stops the scan once record `n` has been found.
+    #[derive(Debug)]
+    struct Found;
+    impl fmt::Display for Found {
+        fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str("found")
+        }
+    }
+    impl std::error::Error for Found {}
+
+    let mut found = None;
+    let mut count = 0usize;
+    let scan = for_each_record(reader, source, |r| {
+        count += 1;
+        if r.index == n {
+            found = Some(r);
+            return Err(Found.into());
+        }
+        Ok(())
+    });
+    match scan {
+        Err(e) if e.downcast_ref::<Found>().is_none() => Err(e),
+        _ => Ok(found.ok_or(count)),
+    }
+}
+
 /// Like [`for_each_record`], but hands over object definitions and instances
 /// as they are, for tools that forward them.
 pub fn for_each_item<R: BufRead>(
@@ -205,6 +239,17 @@ mod tests {
     use super::*;
     use crate::geom::Shape;
     use glam::DVec3;
+
+    #[test]
+    fn nth_record_stops_at_the_record_or_counts_them() {
+        // Record 1 is found although the stream breaks after it.
+        let text = "{\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]}\n{\"rect\":[0,0,1,1],\"color\":[1,2,3],\"id\":7}\n{broken";
+        let r = nth_record(text.as_bytes(), "t", 1).unwrap().unwrap();
+        assert_eq!(r.fields["id"], 7);
+        let good = "{\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]}\n";
+        assert_eq!(nth_record(good.as_bytes(), "t", 5).unwrap().unwrap_err(), 1);
+        assert!(nth_record(text.as_bytes(), "t", 2).is_err());
+    }
 
     #[test]
     fn array_and_ndjson_give_the_same_records() {
