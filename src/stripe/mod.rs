@@ -514,6 +514,13 @@ fn centroid(poly: &[DVec2]) -> Option<(f64, f64)> {
 }
 
 /// Unsigned area of a simple polygon (shoelace).
+///
+/// This is the plain shoelace on screen coordinates, not the kernel's
+/// anchored [`crate::geom::polygon::area2`]: the two differ in the last bits
+/// far from the origin, and switching would move stripe pixels that sit on a
+/// rounding boundary. It stays until the stripe path is verified against an
+/// exact reference (the "exact means exact, stripes included" issue), so that
+/// the layering change moved no output byte.
 fn polygon_area(poly: &[DVec2]) -> f64 {
     let n = poly.len();
     let twice: f64 = (0..n)
