@@ -148,7 +148,7 @@ impl TileGeom {
     }
 
     /// Replaces the contents with the geometry of one tile's bin (see
-    /// [`super::bin`]), in the order [`super::coverage::render_tile`]
+    /// [`super::bin`]), in the order `coverage::render_tile`
     /// sweeps it: nearest first by the greatest nearness of the polygon's
     /// box in the tile; on a tie the later polygon first, as the tie rule
     /// decides; then the stream, so that the order is total. (Gathering in

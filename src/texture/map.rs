@@ -78,8 +78,8 @@ impl TexMap {
     }
 
     /// Fits the map of a world polygon with texture coordinates `uv` at its
-    /// vertices: the polygon is clipped exactly as [`crate::raster::project`]
-    /// clips it, carrying (u, v), and `U`, `V`, `D` are fitted through the
+    /// vertices: the polygon is clipped to the view volume exactly as the
+    /// rasterizer clips it ([`crate::view::clip::clip_carrying`]), carrying (u, v), and `U`, `V`, `D` are fitted through the
     /// clipped vertices. `None` when nothing is visible or the fit degenerates.
     ///
     /// `perspective_correct = false` interpolates (u, v) linearly over the
