@@ -171,14 +171,6 @@ impl Write for Output {
     }
 }
 
-/// Writes `data` to `name` atomically (or to standard output).
-pub fn write_output(name: &str, binary: bool, data: &[u8]) -> Result<()> {
-    let mut out = Output::create(name, binary)?;
-    out.write_all(data)
-        .with_context(|| format!("writing {}", display_out(name)))?;
-    out.commit()
-}
-
 fn display_out(name: &str) -> &str {
     if name == STDIO {
         "standard output"

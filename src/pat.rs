@@ -117,9 +117,10 @@ impl Pattern {
     }
 
     /// Colour at any integer texel coordinate, the pattern repeating in both
-    /// directions (SPEC §2: `floor(u) mod SIZE`).
-    #[inline]
-    pub fn color_wrapped(&self, col: i64, row: i64) -> Option<Rgb8> {
+    /// directions (SPEC §2: `floor(u) mod SIZE`): the plain formula the tests
+    /// check the fast paths against.
+    #[cfg(test)]
+    pub(crate) fn color_wrapped(&self, col: i64, row: i64) -> Option<Rgb8> {
         let s = self.size as i64;
         self.color_at(col.rem_euclid(s) as u32, row.rem_euclid(s) as u32)
     }

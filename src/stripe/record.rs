@@ -3,7 +3,7 @@
 //! modulation colour select; face colour code) as JSON that users edit with
 //! ordinary tools, the way the seed's TRA/PVA commands examined and modified it.
 //!
-//! `src/stream/` keeps every field of a record in [`Record::fields`]; this
+//! `src/stream/` keeps every field of a record in [`crate::stream::Record::fields`]; this
 //! module reads `fields["stripe"]` from there, so the stream's typed API is
 //! unchanged and tools that forward records pass the object through.
 
@@ -11,10 +11,9 @@ use super::map::ModulationMap;
 use super::tables::{ColourTable, Select, Translation};
 use super::vector::{Orientation, PatternVector, RefPlane};
 use super::{LodMode, Modulation, ScreenMapping, StripeTexture};
-use crate::camera::Camera;
 use crate::color::Rgb8;
 use crate::geom::Shape;
-use crate::stream::{resolve, Record};
+use crate::stream::resolve;
 use anyhow::{Context, Result};
 use glam::{DMat4, DVec3};
 use serde_json::{Map, Value};
@@ -247,29 +246,6 @@ impl LoadedStripe {
             Some(c) => self.colours.get(c),
             None => record_colour.unwrap_or(default),
         }
-    }
-
-    /// The per-pixel shader of `record`'s face for `camera` and a
-    /// `width` x `height` image. Fails for shapes with no plane (degenerate
-    /// polygons) and faces seen edge-on.
-    pub fn texture_for(
-        &self,
-        record: &Record,
-        camera: &Camera,
-        width: u32,
-        height: u32,
-        mode: LodMode,
-        default_colour: Rgb8,
-    ) -> Result<StripeTexture> {
-        self.texture_on(
-            &record.shape,
-            camera.world_to_clip(),
-            width,
-            height,
-            mode,
-            self.face_colour(record.color, default_colour),
-        )
-        .with_context(|| format!("record {}", record.index))
     }
 
     /// The per-pixel shader of a face of `shape` seen through `world_to_clip`

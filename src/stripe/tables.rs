@@ -115,7 +115,8 @@ impl Translation {
         s
     }
 
-    pub fn is_identity(&self) -> bool {
+    #[cfg(test)]
+    pub(crate) fn is_identity(&self) -> bool {
         *self == Translation::identity()
     }
 }

@@ -211,8 +211,10 @@ impl PatternVector {
         self.phase / n as f64
     }
 
-    /// `P(X) = P0 + K_p N_p · X`, in map periods.
-    pub fn p_at(&self, x: DVec3, n: usize) -> f64 {
+    /// `P(X) = P0 + K_p N_p · X`, in map periods: the seed's formula, which
+    /// the screen mapping evaluates incrementally and the tests check it by.
+    #[cfg(test)]
+    pub(crate) fn p_at(&self, x: DVec3, n: usize) -> f64 {
         self.p0(n) + self.gradient(n).dot(x)
     }
 
