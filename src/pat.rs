@@ -5,6 +5,22 @@
 //! file boundary, in [`Pattern::parse`] and [`Pattern::write_canonical`].
 //!
 //! Orientation: row 0 is the BOTTOM row (IRIS GL, y up), exactly as in the file.
+//!
+//! A pattern written in the canonical form and read back:
+//!
+//! ```
+//! use patkit::{Pattern, Rgb8};
+//!
+//! // A 16x16 checker of two colours; texel (col, row) is at index row * 16 + col.
+//! let texels: Vec<u16> = (0..256).map(|i| ((i % 16 + i / 16) % 2) as u16).collect();
+//! let red_white = vec![Rgb8([200, 40, 40]), Rgb8([240, 240, 240])];
+//! let pattern = Pattern::new(16, red_white, texels)?;
+//! let text = pattern.to_canonical();
+//! let back = Pattern::parse(text.as_bytes(), "checker.pat")?;
+//! assert_eq!(back, pattern);
+//! assert_eq!(back.color_at(1, 0), Some(Rgb8([240, 240, 240])));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 use crate::color::Rgb8;
 pub use crate::text::ParseError;

@@ -8,6 +8,33 @@
 //! the tagged clipping of the partition, [`partition`] cuts a polygon into
 //! texture point polygons (`polyfill3`), [`merge`] joins runs of equal cells,
 //! and [`quadric`] tessellates GLU's quadrics with texture coordinates.
+//!
+//! A 3 x 2 rectangle partitioned at one texel per unit gives six cells whose
+//! areas add up to the rectangle's:
+//!
+//! ```
+//! use glam::{DVec2, DVec3};
+//! use patkit::geom::plane::DEFAULT_PLANARITY_TOL;
+//! use patkit::geom::polygon::area2;
+//! use patkit::geom::{map_to_plane, CellSink, Grid, Partitioner, Placement};
+//!
+//! struct Tally { cells: usize, area: f64 }
+//! impl CellSink for Tally {
+//!     fn wants(&mut self, _k: i64, _j: i64) -> bool { true }
+//!     fn cell(&mut self, _k: i64, _j: i64, _world: &[DVec3], plane: &[DVec2], _full: bool) {
+//!         self.cells += 1;
+//!         self.area += area2(plane) / 2.0;
+//!     }
+//! }
+//! let rect = [(0.0, 0.0), (3.0, 0.0), (3.0, 2.0), (0.0, 2.0)].map(|(x, y)| DVec3::new(x, y, 0.0));
+//! let polygon = map_to_plane(&rect, 0.0, DEFAULT_PLANARITY_TOL)?;
+//! let grid = Grid::new(&polygon.points, Placement { incr: 1.0, horz: 0.0, vert: 0.0 })?;
+//! let mut tally = Tally { cells: 0, area: 0.0 };
+//! Partitioner::new().run(&polygon, &grid, &mut tally);
+//! assert_eq!(tally.cells, 6);
+//! assert!((tally.area - 6.0).abs() < 1e-12);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 pub mod clip;
 pub mod merge;

@@ -2,6 +2,20 @@
 //! the R, G and B channels of every pixel, PSNR, the largest channel error, and
 //! the share of pixels with some channel off by more than [`OFF_THRESHOLD`].
 //! Alpha, if any, is ignored (both images are compared as opaque RGB).
+//!
+//! ```
+//! use patkit::io::Image;
+//! use patkit::raster::compare::compare;
+//!
+//! let reference = Image { width: 2, height: 1, channels: 3, data: vec![0, 0, 0, 255, 255, 255] };
+//! let mut image = reference.clone();
+//! image.data[0] = 6; // one channel of one pixel off by 6
+//! let m = compare(&image, &reference)?;
+//! assert_eq!(m.max_error, 6);
+//! assert_eq!(m.pixels_off, 1);
+//! assert!((m.rmse - 6.0 / 6f64.sqrt()).abs() < 1e-12); // sqrt(36 / 6 channel values)
+//! # Ok::<(), anyhow::Error>(())
+//! ```
 
 use crate::io::Image;
 use anyhow::{bail, Result};

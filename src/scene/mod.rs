@@ -12,6 +12,28 @@
 //!
 //! [`polyfill`] is the other consumer of the stream: the partition of
 //! patterned polygons into texture point polygons (`polyfill3`).
+//!
+//! A stream of one triangle, rendered through IRIS GL's `ortho2` with exact
+//! anti-aliasing, as `scene-render` does:
+//!
+//! ```
+//! use patkit::camera::Camera;
+//! use patkit::raster::{Aa, Background};
+//! use patkit::scene::{self, DrawOptions, Resolve, Scene};
+//! use patkit::view::View;
+//! use patkit::Rgb8;
+//!
+//! let stream = r#"{"vertices": [[1, 1], [7, 1], [4, 6]], "color": [255, 128, 0]}"#;
+//! let scene = Scene::read(Box::new(stream.as_bytes()), "triangle.json", ".".as_ref())?;
+//! let view = View::new(&Camera::ortho2(0.0, 8.0, 0.0, 8.0), 8, 8);
+//! let polygons = scene.project(&view, &DrawOptions::default(), 0)?;
+//! let background = Background::color(Rgb8::BLACK);
+//! let (image, _) = scene::render(&polygons, &background, 8, 8, Resolve::Aa(Aa::Exact));
+//! // Pixel (4, 3) from the lower-left (row 4 from the top) lies inside the triangle.
+//! let at = (4 * 8 + 4) * image.channels as usize;
+//! assert_eq!(image.data[at..at + 3], [255, 128, 0]);
+//! # Ok::<(), anyhow::Error>(())
+//! ```
 
 pub mod polyfill;
 pub mod stripe;
