@@ -135,15 +135,20 @@ pub struct DrawOptions {
     pub quadric_tolerance: f64,
 }
 
+impl DrawOptions {
+    /// Every field at its default value (see each field).
+    pub const DEFAULT: DrawOptions = DrawOptions {
+        cull: Cull::None,
+        texture: TextureSettings::DEFAULT,
+        stripe_lod: LodMode::Blend,
+        stripe_footprint: 1.0,
+        quadric_tolerance: crate::geom::quadric::DEFAULT_TOLERANCE_PX,
+    };
+}
+
 impl Default for DrawOptions {
     fn default() -> Self {
-        DrawOptions {
-            cull: Cull::None,
-            texture: TextureSettings::DEFAULT,
-            stripe_lod: LodMode::Blend,
-            stripe_footprint: 1.0,
-            quadric_tolerance: crate::geom::quadric::DEFAULT_TOLERANCE_PX,
-        }
+        DrawOptions::DEFAULT
     }
 }
 
