@@ -12,7 +12,9 @@ use std::str::FromStr;
 pub struct Rgb8(pub [u8; 3]);
 
 impl Rgb8 {
+    /// sRGB code (0, 0, 0): zero in linear light as well.
     pub const BLACK: Rgb8 = Rgb8([0, 0, 0]);
+    /// sRGB code (255, 255, 255): one in linear light as well.
     pub const WHITE: Rgb8 = Rgb8([255, 255, 255]);
 
     /// `#rrggbb`, lowercase.
@@ -146,7 +148,7 @@ static ENCODE_START: std::sync::LazyLock<[u8; ENCODE_BUCKETS]> = std::sync::Lazy
 
 /// Linear light to the nearest sRGB code. NaN maps to 0; values are clamped to 0..=1.
 ///
-/// The result is the number of [`ENCODE_EDGES`] at or below `l`, exactly as
+/// The result is the number of `ENCODE_EDGES` at or below `l`, exactly as
 /// a binary search would count them (tested against one): the bucket of `l`
 /// gives the count up to the bucket's lower end (`l * 4096` is exact in f32,
 /// so that end is never above `l`), and the edges between it and `l` are

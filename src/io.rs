@@ -225,6 +225,7 @@ impl ImageFormat {
         }
     }
 
+    /// Whether the format stores an alpha channel: PNG and PAM do, PPM does not.
     pub fn supports_alpha(self) -> bool {
         !matches!(self, ImageFormat::Ppm)
     }
@@ -233,7 +234,9 @@ impl ImageFormat {
 /// How PNG output trades time against size.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PngOptions {
+    /// The zlib (deflate) level.
     pub compression: image::codecs::png::CompressionType,
+    /// The PNG row filter applied before deflate.
     pub filter: image::codecs::png::FilterType,
 }
 
@@ -256,10 +259,14 @@ impl PngOptions {
 /// An 8-bit sRGB image, row 0 at the top, 3 or 4 channels interleaved.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Image {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
     /// 3 (RGB) or 4 (RGBA, straight alpha).
     pub channels: u8,
+    /// `width * height * channels` bytes: rows top to bottom, pixels left to
+    /// right, channels interleaved, sRGB-encoded.
     pub data: Vec<u8>,
 }
 

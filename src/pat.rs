@@ -110,6 +110,7 @@ impl Pattern {
         self.size
     }
 
+    /// The colours in file order; an opaque texel's value indexes this slice.
     pub fn palette(&self) -> &[Rgb8] {
         &self.palette
     }

@@ -89,6 +89,9 @@ pub struct Args {
     /// Anti-aliasing: none (pixel centres), ss<N> (N = k*k samples on a k x k
     /// grid, N up to 256), or exact (the exact visible area of every polygon in
     /// each pixel, box filter).
+    // This doc comment is the flag's --help text, where `ss<N>` is meant
+    // literally; rustdoc would read `<N>` as an unclosed HTML tag.
+    #[allow(rustdoc::invalid_html_tags)]
     #[arg(long, value_name = "none|ssN|exact", default_value = "exact")]
     pub aa: Aa,
 

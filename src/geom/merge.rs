@@ -24,8 +24,9 @@ pub struct RunMerger {
 
 /// A finished run.
 pub struct Run<'a> {
-    /// Column and row of the run's first (leftmost) cell.
+    /// Column k of the run's first (leftmost) cell.
     pub first: i64,
+    /// Row j of every cell of the run.
     pub row: i64,
     /// The colour key the run was built with.
     pub key: u32,
@@ -36,6 +37,7 @@ pub struct Run<'a> {
 }
 
 impl RunMerger {
+    /// A merger with no run open.
     pub fn new() -> Self {
         Self::default()
     }

@@ -36,8 +36,10 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+#[allow(missing_docs)] // documented in a following change
 pub mod clip;
 pub mod merge;
+#[allow(missing_docs)] // documented in a following change
 pub mod partition;
 pub mod plane;
 pub mod polygon;
@@ -58,12 +60,21 @@ pub enum Shape {
     /// `{"rect": [x1,y1,x2,y2]}` in the z = 0 plane.
     Rect([f64; 4]),
     /// `{"circle": {"center": [x,y], "radius": r}}` in the z = 0 plane.
-    Circle { center: [f64; 2], radius: f64 },
+    Circle {
+        /// Centre `[x, y]` in record coordinates.
+        center: [f64; 2],
+        /// Radius in record units.
+        radius: f64,
+    },
     /// `{"arc": {...}}`: a filled sector drawn counter-clockwise from `start` to `end` degrees.
     Arc {
+        /// Centre `[x, y]` in record coordinates; the sector's apex.
         center: [f64; 2],
+        /// Radius in record units.
         radius: f64,
+        /// First angle of the sector, in degrees counter-clockwise from +x.
         start: f64,
+        /// Last angle of the sector, in degrees counter-clockwise from +x.
         end: f64,
     },
     /// `{"sphere": {...}}`, `"cylinder"`, `"cone"` or `"disk"` with an

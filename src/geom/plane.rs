@@ -71,6 +71,8 @@ impl Frame {
 /// A polygon mapped to its plane.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlanePolygon {
+    /// The plane's frame: origin at the vertices' centroid, +x along the first
+    /// edge with length (turned by `rotate`), the normal towards the front.
     pub frame: Frame,
     /// The vertices in plane coordinates, counter-clockwise (positive area).
     pub points: Vec<DVec2>,
@@ -83,16 +85,28 @@ pub struct PlanePolygon {
 /// Why a polygon has no plane frame.
 #[derive(Clone, Debug, PartialEq)]
 pub enum PlaneError {
+    /// Fewer than 3 vertices (the number found).
     TooFewVertices(usize),
+    /// A vertex coordinate is NaN or infinite.
     NotFinite,
+    /// The vertices are collinear or repeated: the area is at most
+    /// [`ZERO_AREA_REL`] × size², or no edge from vertex 0 has length in the plane.
     ZeroArea {
+        /// The polygon's area from Newell's normal, in world units².
         area: f64,
+        /// Bounding-box diagonal, in world units.
         size: f64,
     },
+    /// A vertex lies farther from the plane than `tolerance` × `size`.
     NonPlanar {
+        /// Distance of the farthest vertex from the plane through the
+        /// centroid, in world units.
         deviation: f64,
+        /// Bounding-box diagonal, in world units.
         size: f64,
+        /// Index of the farthest vertex.
         vertex: usize,
+        /// The planarity tolerance applied, relative to `size` (`--planarity-tol`).
         tolerance: f64,
     },
 }

@@ -47,15 +47,38 @@ pub const FALLBACK_RELATIVE_TOLERANCE: f64 = 1e-3;
 /// A quadric in its own coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Quadric {
-    Sphere { radius: f64 },
-    Cylinder { base: f64, top: f64, height: f64 },
-    Disk { inner: f64, outer: f64 },
+    /// `gluSphere`: centred on the origin, poles on the z axis.
+    Sphere {
+        /// Radius, in own units (> 0).
+        radius: f64,
+    },
+    /// `gluCylinder`: axis along +z from z = 0; a cone when `top` is 0.
+    Cylinder {
+        /// Radius at z = 0, in own units (>= 0; not 0 with `top` also 0).
+        base: f64,
+        /// Radius at z = `height`, in own units (>= 0).
+        top: f64,
+        /// Length along +z, in own units (> 0).
+        height: f64,
+    },
+    /// `gluDisk`: an annulus in the z = 0 plane about the origin, facing +z.
+    Disk {
+        /// Radius of the hole, in own units (>= 0 and below `outer`; 0 is a
+        /// full disk).
+        inner: f64,
+        /// Outer radius, in own units (> 0).
+        outer: f64,
+    },
 }
 
 /// One triangle: positions and GLU texture coordinates (s, t) in 0..=1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
+    /// Vertex positions in the quadric's own coordinates, counter-clockwise
+    /// seen from outside (`GLU_OUTSIDE`).
     pub v: [DVec3; 3],
+    /// GLU texture coordinates `[s, t]` of each vertex, in 0..=1 (the module
+    /// doc gives the mapping of each quadric).
     pub st: [[f64; 2]; 3],
 }
 
@@ -282,6 +305,7 @@ pub fn tolerance_at(
 /// pattern wrap it, and its placement.
 #[derive(Clone, Debug, PartialEq)]
 pub struct QuadricShape {
+    /// The quadric and its dimensions, in own coordinates.
     pub quadric: Quadric,
     /// The record's key (`sphere`, `cylinder`, `cone`, `disk`), for messages.
     pub kind: &'static str,
@@ -302,7 +326,10 @@ pub struct QuadricShape {
 /// placement applied) and texture coordinates in texels.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TexelTriangle {
+    /// Vertex positions in the record's space (the record's transform applied).
     pub v: [DVec3; 3],
+    /// Texture coordinates `[u, v]` of each vertex in texels: GLU's (s, t)
+    /// times the pattern size times `repeat`, v = 0 at the pattern's bottom row.
     pub uv: [[f64; 2]; 3],
 }
 

@@ -64,6 +64,7 @@ impl Default for Transform {
 }
 
 impl Transform {
+    /// The transform that moves nothing: a record's or instance's default.
     pub const IDENTITY: Transform = Transform(DMat4::IDENTITY);
 
     /// Alg. 8.8 TRANSLATE-3.
@@ -146,6 +147,7 @@ impl Transform {
         self.0
     }
 
+    /// The point `p` moved by the transform (an affine map: w = 1, no divide).
     pub fn apply(&self, p: DVec3) -> DVec3 {
         self.0.transform_point3(p)
     }

@@ -24,7 +24,9 @@ const MITCHELL_SUPPORT: f64 = 2.0;
 /// A SIZE x SIZE image in 8-bit sRGB with straight alpha, row 0 at the TOP.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SquareImage {
+    /// Side in pixels (the pattern's SIZE).
     pub size: u32,
+    /// `size * size` RGBA pixels, row-major, row 0 at the top.
     pub pixels: Vec<[u8; 4]>,
 }
 

@@ -30,7 +30,9 @@ pub const DIFF_GAIN: u32 = 16;
 /// The error of an image against a reference.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Metrics {
+    /// Width in pixels of both images.
     pub width: u32,
+    /// Height in pixels of both images.
     pub height: u32,
     /// Root mean square error over all RGB channel values, 8-bit units.
     pub rmse: f64,

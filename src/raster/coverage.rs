@@ -12,11 +12,11 @@
 //!    `q_G - q_F > 0`): a convex polygon. The visible part of F is F minus the
 //!    union of those pieces over every other G, by convex subtraction (the
 //!    remainder stays a list of convex polygons): exact for interpenetrating
-//!    polygons too ([`super::visible::subtract_pairwise`]).
+//!    polygons too (`raster::visible::subtract_pairwise`).
 //! 3. **Tile sweep.** The same areas, found front to back: the tile's
 //!    polygons come nearest first, and each fragment is cut out of its
 //!    pixel's uncovered part as it is made, its visible area being what it
-//!    removed ([`super::visible::PixelStates`]). That holds where no fragment is in front of
+//!    removed (`raster::visible::PixelStates`). That holds where no fragment is in front of
 //!    one that showed before it, which is checked; a pixel where the check
 //!    fails is resolved again pairwise. A covered pixel drops what comes
 //!    behind everything that showed in it before it is clipped, and a pixel

@@ -19,6 +19,7 @@ pub struct Background {
 }
 
 impl Background {
+    /// A plain colour (8-bit sRGB) behind every pixel, no pattern.
     pub fn color(color: Rgb8) -> Background {
         Background::new(color, None)
     }
@@ -44,7 +45,9 @@ impl Background {
 /// A frame of linear-light pixels, rows from the bottom (y up).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Frame {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
     /// Linear RGB, `(y * width + x)`, y from the bottom.
     pub pixels: Vec<[f32; 3]>,

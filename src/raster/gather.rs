@@ -25,7 +25,10 @@ use glam::DVec2;
 pub struct Local {
     /// Nearness `q = a*x + b*y + c`, as [`ScreenPoly::plane`].
     pub plane: [f64; 3],
+    /// Absolute part of the tie tolerance, as [`ScreenPoly::tie_floor`].
     pub tie_floor: f64,
+    /// Position in the stream, as [`ScreenPoly::order`]: on a depth tie the
+    /// later polygon wins.
     pub order: u32,
     /// Index in the frame's polygon list, for its texture or screen pattern.
     pub global: u32,
@@ -40,6 +43,7 @@ pub struct Local {
 }
 
 impl Local {
+    /// The copy of `p`, which is polygon `global` of the frame's list.
     pub fn new(p: &ScreenPoly, global: u32) -> Local {
         Local {
             plane: p.plane,
@@ -73,12 +77,16 @@ impl Local {
 pub const GATHER_MAX_VERTS: usize = 64;
 
 /// One convex piece of a polygon in a tile: `len` vertices from `start` in
-/// [`TileGeom::verts`], or, when `len` is [`IN_PLACE`], piece `start` of
+/// [`TileGeom::verts`], or, when `len` is `IN_PLACE` (`u32::MAX`), piece `start` of
 /// the polygon itself (a large one, see [`GATHER_MAX_VERTS`]).
 #[derive(Clone, Copy, Debug)]
 pub struct PieceRef {
+    /// The piece's polygon: its index in [`TileGeom::locals`].
     pub local: u32,
+    /// First vertex in [`TileGeom::verts`]; for a piece read in place, the
+    /// piece's index in its polygon (see [`ScreenPoly::piece`]).
     pub start: u32,
+    /// Number of vertices, or `IN_PLACE` (`u32::MAX`) for a piece read in place.
     pub len: u32,
     /// Bounding box `[x0, y0, x1, y1]` of the piece.
     pub bb: [f64; 4],
@@ -91,8 +99,11 @@ const IN_PLACE: u32 = u32::MAX;
 /// [`TileGeom::gather`]).
 #[derive(Default, Debug)]
 pub struct TileGeom {
+    /// The bin's polygons, nearest first (the sweep order).
     pub locals: Vec<Local>,
+    /// Their convex pieces, polygon by polygon in the order of `locals`.
     pub pieces: Vec<PieceRef>,
+    /// The copied vertices of the small pieces, screen pixels, y up.
     pub verts: Vec<DVec2>,
     /// The bin in sweep order: nearness bound, stream order, polygon.
     keyed: Vec<(f64, u32, u32)>,

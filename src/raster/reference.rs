@@ -43,6 +43,7 @@ pub const DEFAULT_LINES: u32 = 24;
 
 /// A reference frame and its error estimate.
 pub struct Reference {
+    /// The integrated image, linear light, rows from the bottom.
     pub frame: Frame,
     /// Per pixel, the largest error estimate over the three channels, linear light.
     pub error: Vec<f32>,

@@ -35,6 +35,7 @@
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
+#[allow(missing_docs)] // documented in a following change
 pub mod polyfill;
 pub mod stripe;
 
@@ -71,8 +72,12 @@ pub enum TextureSource {
     /// An "object" or "uv" pattern, placed through its screen → texel map
     /// when the face is projected.
     Placed {
+        /// The record's `"pattern"` object (placement: incr, rotate, shifts).
         pattern: PatternRef,
+        /// The placement in effect, with the tool's default applied:
+        /// [`PatternMode::Object`] or [`PatternMode::Uv`], never `Screen`.
         mode: PatternMode,
+        /// The pattern, decoded once and shared by every face that uses it.
         texels: Arc<Texels>,
     },
     /// A stripe texture (seed 001), given its screen mapping when the face

@@ -68,7 +68,7 @@ pub struct Record {
 
 /// A record's whole JSON object, as a map (`Deref`). The general reader
 /// builds the map as it reads; the fast path for plain NDJSON polygons
-/// ([`super::plain`]) keeps the record's line instead and parses it on first use,
+/// (`stream::plain`) keeps the record's line instead and parses it on first use,
 /// so a tool that never looks (scene-render) never pays for the map.
 #[derive(Clone)]
 pub struct Fields {

@@ -54,6 +54,8 @@ pub enum LodMode {
 /// The levels a pixel reads: `m = (1 − a) level[k] + a level[k + 1]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Lod {
+    /// The finer level read, `k` (level `k` has `N / 2^k` entries; 0 is the
+    /// full map).
     pub level: usize,
     /// Weight of level `level + 1`, in `[0, 1)`; 0 when only `level` is read.
     pub a: f32,

@@ -68,6 +68,7 @@ pub enum Fade {
 }
 
 impl Fade {
+    /// The fade's word in a map file's header (`linear` or `none`).
     pub fn word(self) -> &'static str {
         match self {
             Fade::Linear => "linear",
@@ -116,15 +117,19 @@ pub struct ModulationMap {
 }
 
 impl ModulationMap {
+    /// A map of `values` (sRGB-coded intensities, 0 darkest) and its fade;
+    /// refused unless the length is a power of two from 1 to [`MAX_LEN`].
     pub fn new(values: Vec<u8>, fade: Fade) -> Result<Self, InvalidMap> {
         check_len(values.len() as u64)?;
         Ok(ModulationMap { values, fade })
     }
 
+    /// The level-0 entries as modelled, sRGB-coded 0..=255, in map order.
     pub fn values(&self) -> &[u8] {
         &self.values
     }
 
+    /// Number of level-0 entries, `N` (a power of two).
     pub fn len(&self) -> usize {
         self.values.len()
     }
@@ -134,6 +139,7 @@ impl ModulationMap {
         self.values.is_empty()
     }
 
+    /// How the contrast of the coarser levels decreases.
     pub fn fade(&self) -> Fade {
         self.fade
     }
@@ -268,10 +274,15 @@ impl ModulationMap {
 /// One level's summary, in 8-bit sRGB units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LevelStats {
+    /// The level `k` (0 is the map as modelled).
     pub level: usize,
+    /// Its number of entries, `N / 2^k`.
     pub entries: usize,
+    /// Darkest entry, encoded back to sRGB (unrounded, 0..=255).
     pub min: f64,
+    /// Brightest entry, encoded back to sRGB (unrounded, 0..=255).
     pub max: f64,
+    /// Mean taken in linear light, then encoded to sRGB (unrounded, 0..=255).
     pub mean: f64,
 }
 

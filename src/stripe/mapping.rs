@@ -97,6 +97,8 @@ impl std::error::Error for EdgeOn {}
 /// `P(x, y) = (c[0] x + c[1] y + c[2]) / (c[3] x + c[4] y + c[5])` (module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ScreenMapping {
+    /// `C1..C6` of the module docs, screen pixels with y up, scaled so that
+    /// the largest of the denominator's `c[3..6]` has magnitude 1.
     pub c: [f64; 6],
 }
 
@@ -215,6 +217,7 @@ impl ScreenMapping {
         self.c[3] * x + self.c[4] * y + self.c[5]
     }
 
+    /// The numerator at `(x, y)`: `P` times [`ScreenMapping::denominator`].
     #[inline]
     pub fn numerator(&self, x: f64, y: f64) -> f64 {
         self.c[0] * x + self.c[1] * y + self.c[2]

@@ -86,14 +86,17 @@ impl Modulation {
         }
     }
 
+    /// Number of level-0 samples, `N` (a power of two).
     pub fn len(&self) -> usize {
         self.n
     }
 
+    /// Never true: a map has at least one sample. (For clippy's `len` rule.)
     pub fn is_empty(&self) -> bool {
         self.n == 0
     }
 
+    /// Number of levels, `log2 N + 1` (the last has one sample).
     pub fn levels(&self) -> usize {
         self.offsets.len()
     }
@@ -196,11 +199,17 @@ pub const MAX_REFERENCE_CROSSINGS: u64 = 1 << 20;
 /// face's screen mapping, the colour select and the face colour.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StripeTexture {
+    /// The translated map's linear-light pyramid, shared by every face
+    /// that uses the same map and translation.
     pub modulation: Arc<Modulation>,
+    /// `P` as a function of the screen position (pixels, y up).
     pub mapping: ScreenMapping,
+    /// Which of R, G, B the modulation multiplies; the others keep the
+    /// face colour.
     pub select: Select,
     /// The face colour in linear light.
     pub face: [f32; 3],
+    /// How each evaluation's levels of detail are chosen.
     pub mode: LodMode,
     /// The width, in pixels, of the screen area one evaluation stands for:
     /// the screen-space derivatives of `P` are scaled by it before the LOD is
@@ -212,6 +221,8 @@ pub struct StripeTexture {
 }
 
 impl StripeTexture {
+    /// A face's texture with the face colour `face` (8-bit sRGB, decoded to
+    /// linear light here) and a footprint of one pixel.
     pub fn new(
         modulation: Arc<Modulation>,
         mapping: ScreenMapping,

@@ -38,8 +38,13 @@ pub const KEYS: [&str; 11] = [
 /// How the record names its translation map.
 #[derive(Clone, Debug, PartialEq)]
 pub enum TranslationSpec {
+    /// `"identity"` (or no `"translation"`): map values used as they are.
     Identity,
+    /// `{"brightness": b}`: every intensity shifted by `b` sRGB codes
+    /// (−255..=255, checked when loaded).
     Brightness(f64),
+    /// `{"contrast": c}`: intensities scaled about the middle by `c`
+    /// (0..=255, 1 the identity; checked when loaded).
     Contrast(f64),
     /// A translation map file, as written in the record.
     File(String),
@@ -52,7 +57,9 @@ pub struct StripeSpec {
     pub map: String,
     /// Orientation, spacing and phase. The phase is in map samples.
     pub vector: PatternVector,
+    /// The translation map applied to each map value before modulating.
     pub translation: TranslationSpec,
+    /// Which of R, G, B are modulated. Default value: all three.
     pub select: Select,
     /// Face colour code into the colour-code table; without it the record's
     /// `"color"` is the face colour.
@@ -231,10 +238,16 @@ fn spec_table(spec: &TranslationSpec, base: &Path) -> Result<Translation> {
 /// A stripe spec with its files read and its pyramid built.
 #[derive(Clone, Debug)]
 pub struct LoadedStripe {
+    /// The record's stripe object, as checked.
     pub spec: StripeSpec,
+    /// The modulation map read from `spec.map`.
     pub map: ModulationMap,
+    /// The translation map `spec.translation` names, built or read.
     pub translation: Translation,
+    /// The default colour-code table with `spec.colours`' entries applied.
     pub colours: ColourTable,
+    /// The translated map's linear-light pyramid, shared by the faces
+    /// that draw it.
     pub modulation: Arc<Modulation>,
 }
 

@@ -143,6 +143,7 @@ impl Default for ColourTable {
 }
 
 impl ColourTable {
+    /// The sRGB colour of colour code `code`.
     pub fn get(&self, code: u8) -> Rgb8 {
         self.0[code as usize]
     }

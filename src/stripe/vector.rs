@@ -49,6 +49,8 @@ pub enum RefPlane {
 }
 
 impl RefPlane {
+    /// The plane a record's `"plane"` names: `zx`, `yz` or `xy`, either
+    /// letter order; `None` for anything else.
     pub fn parse(s: &str) -> Option<RefPlane> {
         match s {
             "zx" | "xz" => Some(RefPlane::Zx),
@@ -58,6 +60,7 @@ impl RefPlane {
         }
     }
 
+    /// The plane's canonical name, as [`RefPlane::parse`] reads it.
     pub fn name(self) -> &'static str {
         match self {
             RefPlane::Zx => "zx",
@@ -80,9 +83,20 @@ impl RefPlane {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Orientation {
     /// Degrees; see the module docs for ranges and axes.
-    YawPitch { yaw: f64, pitch: f64 },
+    YawPitch {
+        /// Counter-clockwise from East (+x) seen from above, 0..=360.
+        yaw: f64,
+        /// Elevation above the horizontal, −90..=90.
+        pitch: f64,
+    },
     /// A reference plane and the angle θ in it, degrees.
-    Plane { plane: RefPlane, theta: f64 },
+    Plane {
+        /// The plane `N_p` lies in.
+        plane: RefPlane,
+        /// Angle of `N_p` from the plane's zero direction, −360..=360
+        /// (zero and sense per plane in the module docs).
+        theta: f64,
+    },
 }
 
 /// The seed's yaw range, degrees.
@@ -168,6 +182,7 @@ impl Orientation {
 /// A pattern vector: orientation, spacing `w` and start sample point `p`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PatternVector {
+    /// The direction `N_p` across the stripes.
     pub orientation: Orientation,
     /// World units per map sample, > 0.
     pub spacing: f64,

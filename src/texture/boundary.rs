@@ -52,7 +52,9 @@ pub enum Lookup {
 /// The boundary conditions of one pattern placement.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct Bounds {
+    /// The condition along u (texel columns `k`, left to right).
     pub u: Boundary,
+    /// The condition along v (texel rows `j`, row 0 at the bottom).
     pub v: Boundary,
 }
 
@@ -82,6 +84,7 @@ fn special(mode: Boundary) -> Lookup {
 }
 
 impl Bounds {
+    /// The same condition along both axes.
     pub fn both(b: Boundary) -> Bounds {
         Bounds { u: b, v: b }
     }

@@ -70,8 +70,13 @@ pub enum Split {
 /// One opaque piece: `len` vertices from `start` in the vertex arena.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Piece {
+    /// Index of its first vertex in the `verts` arena of [`split`].
     pub start: u32,
+    /// Number of vertices: a convex counter-clockwise polygon in screen
+    /// pixels, y up.
     pub len: u32,
+    /// Linear-light colour of the texel cell it lies in (boundary conditions
+    /// and composition applied).
     pub color: [f64; 3],
 }
 
@@ -153,7 +158,7 @@ fn cell_box(frag: &[DVec2], tex: &PolyTexture) -> Option<CellBox> {
 }
 
 /// The texel cell `(k, j)` holding the whole screen rectangle of pixels
-/// `xa..xb` of row `py`, if there is one: by the rule of [`cell_box`] on
+/// `xa..xb` of row `py`, if there is one: by the rule of `cell_box` on
 /// the rectangle's corners (the magnification fast path of a run of full
 /// pixels, `raster::coverage`).
 pub fn single_cell(tex: &PolyTexture, xa: u32, xb: u32, py: u32) -> Option<(i64, i64)> {

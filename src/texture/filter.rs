@@ -40,9 +40,21 @@ use super::mip::{Extend, MipBuild, MipKey};
 use super::PolyTexture;
 use glam::DVec2;
 
-/// A filter method.
+/// A filter method (the module docs describe each).
+///
+/// - [`Filter::Box`]: the exact area integral over texel cells.
+/// - [`Filter::Point`], [`Filter::Bilinear`]: the nearest texel, or the four
+///   nearest texel centres weighted linearly, on the base level.
+/// - [`Filter::MipPoint`], [`Filter::MipBilinear`]: the same on the nearest
+///   MIP level.
+/// - [`Filter::MipPointLinear`], [`Filter::Trilinear`]: point or bilinear on
+///   the two levels around the footprint, mixed by the fractional level.
+/// - [`Filter::Ewa`]: Heckbert's elliptical weighted average.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+// The variants are documented above, not one by one: clap's `ValueEnum`
+// turns a variant's doc comment into its `--filter` help text and man page.
+#[allow(missing_docs)]
 pub enum Filter {
     /// The exact area integral over texel cells.
     #[default]
@@ -106,6 +118,8 @@ pub struct Filters {
 }
 
 impl Filters {
+    /// The exact box filter for both minification and magnification, no LOD
+    /// bias, Mitchell MIP build (unused by the box filter): every default.
     pub const BOX: Filters = Filters {
         min: Filter::Box,
         mag: Filter::Box,

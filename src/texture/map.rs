@@ -141,8 +141,11 @@ impl TexMap {
 /// images of the pixel's x and y steps (the Jacobian's columns).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Footprint {
+    /// Texel coordinates `(u, v)` of the screen point.
     pub uv: DVec2,
+    /// `d(u, v)/dx`: the image of one pixel step right, in texels.
     pub dx: DVec2,
+    /// `d(u, v)/dy`: the image of one pixel step up, in texels.
     pub dy: DVec2,
 }
 
@@ -168,7 +171,9 @@ fn side(n: [f64; 3], d: [f64; 3], k: f64, keep_above: bool) -> [f64; 3] {
 /// plane, or the placement no grid.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ObjectUvError {
+    /// The polygon has no plane frame (too few vertices, no area, not planar).
     Plane(PlaneError),
+    /// The placement gives no texel grid on the polygon's plane.
     Grid(GridError),
 }
 

@@ -42,13 +42,18 @@ pub enum MipBuild {
 /// How the build extends a level past one of its edges.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Extend {
+    /// Wrap around to the opposite edge (the repeat boundary).
     Repeat,
+    /// Reflect about the edge, the edge texel repeated once (the mirror
+    /// boundary).
     Mirror,
     /// The nearest edge texel (transparent, clamp and edge boundaries).
     Edge,
 }
 
 impl Extend {
+    /// The extension that matches boundary condition `b`: a level is built
+    /// from the texels a lookup past the edge would read.
     pub fn of(b: super::boundary::Boundary) -> Extend {
         use super::boundary::Boundary;
         match b {
@@ -79,8 +84,11 @@ impl Extend {
 /// uses with the same key.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MipKey {
+    /// The filter that built each level from the one above.
     pub build: MipBuild,
+    /// How the build extended past the left and right edges (columns).
     pub u: Extend,
+    /// How the build extended past the bottom and top edges (rows).
     pub v: Extend,
 }
 
@@ -89,11 +97,15 @@ pub struct MipKey {
 /// and keeps 24 bits, far below what 8-bit output shows.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Level {
+    /// Side in texels: half the finer level's, rounded down.
     pub size: u32,
+    /// `size * size` texels, row-major, row 0 at the bottom.
     pub texels: Vec<[f32; 4]>,
 }
 
 impl Level {
+    /// Texel (column `c`, row `r` from the bottom), premultiplied linear RGBA;
+    /// both must be below `size`.
     #[inline]
     pub fn at(&self, c: u32, r: u32) -> [f64; 4] {
         self.texels[(r * self.size + c) as usize].map(|x| x as f64)
@@ -103,7 +115,10 @@ impl Level {
 /// Levels 1.. of a pattern (level 0 is the pattern itself).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pyramid {
+    /// How the levels were built.
     pub key: MipKey,
+    /// Levels 1, 2, ... in order, down to a side of 1 texel
+    /// (`levels[i]` is level `i + 1`; sides as [`level_sizes`]).
     pub levels: Vec<Level>,
 }
 

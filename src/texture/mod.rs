@@ -35,7 +35,10 @@ use std::sync::Arc;
 /// texels (linear light, shared between polygons) and the screen → texel map.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PolyTexture {
+    /// The pattern decoded to linear light, shared by every polygon that
+    /// uses it.
     pub texels: Arc<Texels>,
+    /// Screen (pixels, y up) → texel coordinates of this polygon.
     pub map: map::TexMap,
     /// What lies outside the pattern's bounds (default: repeat, SPEC §2).
     pub bounds: boundary::Bounds,
@@ -82,6 +85,8 @@ pub struct ScreenTiling {
 }
 
 impl ScreenTiling {
+    /// One pixel per texel, texel (0, 0) at the lower-left pixel: the IRIS
+    /// hardware pattern.
     pub const DEFAULT: ScreenTiling = ScreenTiling {
         scale: 1,
         offset: (0, 0),

@@ -50,6 +50,8 @@ pub struct TextureSettings {
 }
 
 impl TextureSettings {
+    /// Every field's default value (listed on the fields): repeat, replace,
+    /// the exact box filter, perspective correction, every skip on.
     pub const DEFAULT: TextureSettings = TextureSettings {
         bounds: Bounds {
             u: Boundary::Repeat,
@@ -76,7 +78,12 @@ pub enum PlaceError {
     /// `pattern.mode` is "uv" but the record has no "uv" field.
     MissingUv,
     /// The "uv" field has a different length from the outline.
-    UvCount { uv: usize, vertices: usize },
+    UvCount {
+        /// Number of `[u, v]` pairs in the record's `"uv"`.
+        uv: usize,
+        /// Number of vertices of the outline.
+        vertices: usize,
+    },
     /// Object placement failed (no plane, or no grid).
     Object(ObjectUvError),
     /// The composition needs texels with alpha (XGL's decal rules).

@@ -34,6 +34,8 @@ pub struct Skips {
 }
 
 impl Skips {
+    /// Every skip on: the default, and the only setting outside benchmarks
+    /// (each skip leaves the image unchanged).
     pub const ALL: Skips = Skips {
         hidden: true,
         mip: true,

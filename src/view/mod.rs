@@ -28,13 +28,17 @@ pub struct View {
     /// World → clip, column vectors: the camera's `projection * view`, or
     /// that times an instance's transform for the instance's own coordinates.
     pub world_to_clip: DMat4,
-    /// Distances along the view direction that bound the volume (`z_clip`).
+    /// Distance along the view direction of the volume's near bound:
+    /// visible iff `z_clip >= near`.
     pub near: f64,
+    /// Distance along the view direction of the volume's far bound:
+    /// visible iff `z_clip <= far`.
     pub far: f64,
     /// Whether `w = -z_eye` (perspective) rather than 1 (parallel).
     pub perspective: bool,
-    /// The image in pixels; the window fills it.
+    /// Width of the image in pixels; the window fills it.
     pub width: u32,
+    /// Height of the image in pixels.
     pub height: u32,
 }
 
