@@ -82,24 +82,35 @@ pub const MIN_INCR_REL: f64 = 1.0 / (1u64 << 36) as f64;
 /// pattern's size (at most 4096): the placement repeats every SIZE texels.
 pub const MAX_SHIFT_TEXELS: f64 = (1u64 << 31) as f64;
 
-/// The smallest area of a written piece, relative to `incr * max(incr, E)`
-/// where E is the largest plane coordinate of the polygon: 1e-12.
+/// The smallest area of a written piece, relative to `min(incr, E) * E`
+/// where E is the largest plane coordinate of the polygon: 1e-13.
 ///
 /// A piece of a cell is cut from the polygon by crossings computed in f64:
-/// each of its points is off by a few ulps of E (about E * 1e-16), so a piece
-/// whose true area is zero (the polygon touching a cell at a corner, an edge
-/// running along a grid line a rounding error away from it) comes out as a
-/// polygon at most `incr * sqrt(2)` across with an area of rounding noise, up
-/// to a few `incr * E * 1e-16`, of either sign; written to world coordinates,
-/// such a piece can even come out reversed. "Only pieces with positive area"
-/// has to mean "with more area than the noise": 1e-12 is four orders of
-/// magnitude above it, and what it can drop is negligible: at most
-/// `1e-12 * incr * E` per boundary cell, and over the about E/incr boundary
-/// cells of a polygon about 1e-12 of its area, far below the 1e-9 the tests
-/// ask of the areas' sum. The test applies both to the piece in the plane and
-/// to the world polygon written (its area along the polygon's normal), so that
-/// what is written has the input's winding.
-pub const MIN_PIECE_AREA_REL: f64 = 1e-12;
+/// each of its points is off by a few ulps of E (about E * 2.2e-16 each), so
+/// a piece whose true area is zero (the polygon touching a cell at a corner,
+/// an edge running along a grid line a rounding error away from it) comes out
+/// as a polygon at most `min(incr, E) * sqrt(2)` or so across with an area of
+/// rounding noise, up to about `1.2e-15 * min(incr, E) * E`, of either sign;
+/// written to world coordinates, such a piece can even come out reversed.
+/// "Only pieces with positive area" has to mean "with more area than the
+/// noise": 1e-13 is about 100 times above it, and what it can drop is
+/// negligible: at most `1e-13 * incr * E` per boundary cell, and over the
+/// about E/incr boundary cells of a polygon about 1e-13 of E², far below the
+/// 1e-9 the tests ask of the areas' sum (a polygon needs an area above 1e-12
+/// of its size² to have a plane at all: `plane::ZERO_AREA_REL`). The test
+/// applies both to the piece in the plane and to the world polygon written
+/// (its area along the polygon's normal), so that what is written has the
+/// input's winding.
+pub const MIN_PIECE_AREA_REL: f64 = 1e-13;
+
+/// The floor of [`MIN_PIECE_AREA_REL`] never exceeds this fraction of the
+/// polygon's own area: a sliver (area 1e-10 of its size², say) has real
+/// pieces below the noise floor at its thin end, and dropping them would
+/// break the areas' sum (1e-9 of the polygon's, `tests/stress/geometry.rs`).
+/// At 1e-12 of the area per piece, the pieces dropped cost the sum at most
+/// 1e-12 per boundary cell; pieces of noise above this lower floor can then
+/// be written for such slivers, but never with the wrong winding.
+pub const MIN_PIECE_AREA_OF_POLYGON: f64 = 1e-12;
 
 /// A placement that cannot be laid over a polygon as a grid of cells.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -301,7 +312,8 @@ impl Partitioner {
             .iter()
             .fold(0.0f64, |m, v| m.max(v.abs()));
         let incr = grid.place.incr;
-        let min_area = MIN_PIECE_AREA_REL * incr * incr.max(extent);
+        let min_area = (MIN_PIECE_AREA_REL * incr.min(extent) * extent)
+            .min(MIN_PIECE_AREA_OF_POLYGON * signed_area(orig));
         for j in grid.j0..=grid.j1 {
             let (ylo, yhi) = (grid.gy(j), grid.gy(j + 1));
             clip_tagged(

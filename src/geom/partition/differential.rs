@@ -113,7 +113,8 @@ fn check(c: &DiffCase) -> Result<(), String> {
     let extent = [grid.xmin, grid.xmax, grid.ymin, grid.ymax]
         .iter()
         .fold(0.0f64, |m, v| m.max(v.abs()));
-    let min_area = MIN_PIECE_AREA_REL * incr * incr.max(extent);
+    let min_area = (MIN_PIECE_AREA_REL * incr.min(extent) * extent)
+        .min(MIN_PIECE_AREA_OF_POLYGON * ref_area(&poly.points));
     let mut ours: BTreeMap<(i64, i64), f64> = BTreeMap::new();
     for (k, j, w, p) in &out.cells {
         let a = ref_area(p);
@@ -328,7 +329,7 @@ fn case_strategy() -> impl Strategy<Value = DiffCase> {
             Just(30.0),
             -360.0f64..360.0
         ],
-        prop_oneof![Just(1.0), Just(0.5), Just(2.0), 0.3f64..5.0],
+        prop_oneof![Just(1.0), Just(0.5), Just(2.0), 0.3f64..5.0, 10.0f64..1e6],
         prop_oneof![Just(0.0), (-3i32..3).prop_map(f64::from), -3.0f64..3.0],
         prop_oneof![Just(0.0), (-3i32..3).prop_map(f64::from), -3.0f64..3.0],
     )
@@ -421,6 +422,16 @@ fn regression_notches_at_rotate_90_and_270() {
     for rotate in [90.0, 180.0, 270.0] {
         check(&int_case(&shape, rotate)).unwrap();
     }
+}
+
+/// A cell far larger than the polygon: its one piece is the whole polygon,
+/// which the noise floor must not take for noise (its scale is
+/// `min(incr, E) * E`, not `incr * E`; the stress test at incr 1e6 caught it).
+#[test]
+fn a_cell_a_million_times_the_polygon_keeps_it() {
+    let mut c = int_case(&[(0, 0), (1, 0), (1, 1), (0, 1)], 0.0);
+    c.incr = 1e6;
+    check(&c).unwrap();
 }
 
 /// Bug 2: the triangle (0,0),(2,0),(0,2) touches cell (1,1) at a point only;
