@@ -191,6 +191,52 @@ pub fn clip_tagged(
     }
 }
 
+/// A point's position along a cell's border, counter-clockwise from the
+/// lower-left corner: the side (0 bottom, 1 right, 2 top, 3 left) and a
+/// coordinate that grows counter-clockwise along it (x, y, -x, -y). Compared
+/// lexicographically, positions order border points exactly as the walk
+/// around the border meets them.
+///
+/// Why not a perimeter parameter `t` in `[0, 2(w+h))` (as this once was): `t`
+/// is a sum such as `w + h + (xr - x)`, rounded to the spacing of floats near
+/// `2(w+h)`. Two distinct points of a side closer than that got the same `t`.
+/// With the plane frame rotated by 90°, `cos 90°` is 6e-17, not 0, so integer
+/// input lands a few 1e-16 beside the grid lines: a concave polygon's reflex
+/// vertex at (15, 31) lay 2e-16 left of a column line, the top of the cell
+/// below it was cut by a sliver, and the chain that entered at the cell's
+/// top-right corner left through the top side 2e-16 further on. Its exit and
+/// entry then had the same `t`: "the next entry counter-clockwise from the
+/// exit" was found at distance 0 instead of once round the border, the piece
+/// was rebuilt as the two-point chain alone, and the whole cell was dropped
+/// (area 479 of 480). The side's own coordinate has no such rounding: the
+/// comparison is of the points' own bits.
+#[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
+struct BorderPos(u8, f64);
+
+impl BorderPos {
+    /// The position of `p`, a point on the border of `[xl,xr] x [ylo,yhi]`
+    /// (a corner counts on the side it begins).
+    fn of(p: DVec2, (xl, ylo, xr, yhi): (f64, f64, f64, f64)) -> BorderPos {
+        if p.y == ylo {
+            BorderPos(0, p.x)
+        } else if p.x == xr {
+            BorderPos(1, p.y)
+        } else if p.y == yhi {
+            BorderPos(2, -p.x)
+        } else {
+            debug_assert!(p.x == xl, "{p} is not on the border of the cell");
+            BorderPos(3, -p.y)
+        }
+    }
+
+    /// A key ordering border points as a counter-clockwise walk from `self`
+    /// meets them: `self` itself first (distance 0), then the points after
+    /// it on the border, then, once round the lower-left corner, those before.
+    fn ahead(self, to: BorderPos) -> (bool, BorderPos) {
+        (to < self, to)
+    }
+}
+
 /// Splits the clip of a polygon to a cell into its separate parts.
 ///
 /// Sutherland–Hodgman gives one ring even when a concave polygon's piece of
@@ -216,20 +262,7 @@ pub fn split_on_border(
     rings.clear();
     let n = q.len();
     let is_edge = |i: usize| matches!(q[i % n].tag, Tag::Edge(_));
-    let (w, h) = (xr - xl, yhi - ylo);
-    let per = 2.0 * (w + h);
-    // Position along the border, counter-clockwise from the lower-left corner.
-    let t = |p: DVec2| {
-        if p.y == ylo {
-            p.x - xl
-        } else if p.x == xr {
-            w + (p.y - ylo)
-        } else if p.y == yhi {
-            w + h + (xr - p.x)
-        } else {
-            2.0 * w + h + (yhi - p.y)
-        }
-    };
+    let pos = |p: DVec2| BorderPos::of(p, (xl, ylo, xr, yhi));
     // The common case, without allocating: one chain, and the way back along
     // the border runs counter-clockwise from its exit to its entry without
     // turning back. Then `q` is already right.
@@ -248,15 +281,15 @@ pub fn split_on_border(
         while is_edge(e) {
             e = (e + 1) % n;
         }
-        let te = t(q[e].p);
-        let to_entry = (t(q[s0].p) - te).rem_euclid(per);
-        let (mut i, mut prev, mut monotone) = (e, 0.0, true);
+        let te = pos(q[e].p);
+        let to_entry = te.ahead(pos(q[s0].p));
+        let (mut i, mut prev, mut monotone) = (e, te.ahead(te), true);
         loop {
             i = (i + 1) % n;
             if i == s0 {
                 break;
             }
-            let d = (t(q[i].p) - te).rem_euclid(per);
+            let d = te.ahead(pos(q[i].p));
             if d < prev || d > to_entry {
                 monotone = false;
                 break;
@@ -271,25 +304,25 @@ pub fn split_on_border(
         .filter(|&i| is_edge(i) && !is_edge(i + n - 1))
         .collect();
     // Each chain: vertices s..=e (cyclically), entering at s, leaving at e.
-    let chains: Vec<(usize, usize, f64, f64)> = starts
+    let chains: Vec<(usize, usize, BorderPos, BorderPos)> = starts
         .iter()
         .map(|&s| {
             let mut e = s;
             while is_edge(e) {
                 e = (e + 1) % n;
             }
-            (s, e, t(q[s].p), t(q[e].p))
+            (s, e, pos(q[s].p), pos(q[e].p))
         })
         .collect();
     // The next chain after each one: the first entry counter-clockwise from its exit.
-    let next: Vec<(usize, f64)> = chains
+    let next: Vec<(usize, (bool, BorderPos))> = chains
         .iter()
         .map(|&(_, _, _, te)| {
             chains
                 .iter()
                 .enumerate()
-                .map(|(i, c)| (i, (c.2 - te).rem_euclid(per)))
-                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|(i, c)| (i, te.ahead(c.2)))
+                .min_by(|a, b| a.1.partial_cmp(&b.1).expect("finite border positions"))
                 .expect("one chain or more")
         })
         .collect();
@@ -300,10 +333,10 @@ pub fn split_on_border(
         }
     }
     let corners = [
-        (0.0, DVec2::new(xl, ylo)),
-        (w, DVec2::new(xr, ylo)),
-        (w + h, DVec2::new(xr, yhi)),
-        (2.0 * w + h, DVec2::new(xl, yhi)),
+        DVec2::new(xl, ylo),
+        DVec2::new(xr, ylo),
+        DVec2::new(xr, yhi),
+        DVec2::new(xl, yhi),
     ];
     let mut used = vec![false; chains.len()];
     for c0 in 0..chains.len() {
@@ -326,12 +359,12 @@ pub fn split_on_border(
                 i = (i + 1) % n;
             }
             let (nx, d) = next[c];
-            let mut passed: Vec<(f64, DVec2)> = corners
+            let mut passed: Vec<((bool, BorderPos), DVec2)> = corners
                 .iter()
-                .map(|&(tc, p)| ((tc - te).rem_euclid(per), p))
-                .filter(|&(dc, _)| dc > 0.0 && dc < d)
+                .map(|&p| (te.ahead(pos(p)), p))
+                .filter(|&(dc, _)| dc > te.ahead(te) && dc < d)
                 .collect();
-            passed.sort_by(|a, b| a.0.total_cmp(&b.0));
+            passed.sort_by(|a, b| a.0.partial_cmp(&b.0).expect("finite border positions"));
             for (_, p) in passed {
                 if ring.last() != Some(&p) {
                     ring.push(p);

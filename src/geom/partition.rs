@@ -32,7 +32,7 @@
 //! planar polygons; the result is then the clip of the signed regions).
 
 use super::clip::{clip_closed, clip_tagged, split_on_border, Axis, TVertex, Tag};
-use super::plane::{signed_area, PlanePolygon};
+use super::plane::{newell_normal, signed_area, PlanePolygon};
 use glam::{DVec2, DVec3};
 
 /// Pattern placement in a polygon's plane (SPEC §2): texel side and shifts.
@@ -81,6 +81,36 @@ pub const MIN_INCR_REL: f64 = 1.0 / (1u64 << 36) as f64;
 /// at 1e19 the column index overflowed i64. Shifts that matter are below the
 /// pattern's size (at most 4096): the placement repeats every SIZE texels.
 pub const MAX_SHIFT_TEXELS: f64 = (1u64 << 31) as f64;
+
+/// The smallest area of a written piece, relative to `min(incr, E) * E`
+/// where E is the largest plane coordinate of the polygon: 1e-13.
+///
+/// A piece of a cell is cut from the polygon by crossings computed in f64:
+/// each of its points is off by a few ulps of E (about E * 2.2e-16 each), so
+/// a piece whose true area is zero (the polygon touching a cell at a corner,
+/// an edge running along a grid line a rounding error away from it) comes out
+/// as a polygon at most `min(incr, E) * sqrt(2)` or so across with an area of
+/// rounding noise, up to about `1.2e-15 * min(incr, E) * E`, of either sign;
+/// written to world coordinates, such a piece can even come out reversed.
+/// "Only pieces with positive area" has to mean "with more area than the
+/// noise": 1e-13 is about 100 times above it, and what it can drop is
+/// negligible: at most `1e-13 * incr * E` per boundary cell, and over the
+/// about E/incr boundary cells of a polygon about 1e-13 of E², far below the
+/// 1e-9 the tests ask of the areas' sum (a polygon needs an area above 1e-12
+/// of its size² to have a plane at all: `plane::ZERO_AREA_REL`). The test
+/// applies both to the piece in the plane and to the world polygon written
+/// (its area along the polygon's normal), so that what is written has the
+/// input's winding.
+pub const MIN_PIECE_AREA_REL: f64 = 1e-13;
+
+/// The floor of [`MIN_PIECE_AREA_REL`] never exceeds this fraction of the
+/// polygon's own area: a sliver (area 1e-10 of its size², say) has real
+/// pieces below the noise floor at its thin end, and dropping them would
+/// break the areas' sum (1e-9 of the polygon's, `tests/stress/geometry.rs`).
+/// At 1e-12 of the area per piece, the pieces dropped cost the sum at most
+/// 1e-12 per boundary cell; pieces of noise above this lower floor can then
+/// be written for such slivers, but never with the wrong winding.
+pub const MIN_PIECE_AREA_OF_POLYGON: f64 = 1e-12;
 
 /// A placement that cannot be laid over a polygon as a grid of cells.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -278,6 +308,12 @@ impl Partitioner {
         // A convex polygon's strips and cells are single pieces without
         // bridges: the rebuild of `split_on_border` can be skipped.
         let convex = is_convex(orig);
+        let extent = [grid.xmin, grid.xmax, grid.ymin, grid.ymax]
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        let incr = grid.place.incr;
+        let min_area = (MIN_PIECE_AREA_REL * incr.min(extent) * extent)
+            .min(MIN_PIECE_AREA_OF_POLYGON * signed_area(orig));
         for j in grid.j0..=grid.j1 {
             let (ylo, yhi) = (grid.gy(j), grid.gy(j + 1));
             clip_tagged(
@@ -436,15 +472,17 @@ impl Partitioner {
                     // bridges, and a concave polygon's piece that falls apart
                     // gives one polygon per part.
                     self.pts.clear();
-                    if !convex && split_on_border(&self.cell_b, (xl, ylo, xr, yhi), &mut self.rings)
+                    if !convex
+                        && split_on_border(&self.cell_b, (xl, ylo, xr, yhi), &mut self.rings)
+                        && rebuild_kept_the_area(&self.cell_b, &self.rings, min_area)
                     {
                         if self.rings.len() > 1 {
                             for ring in &self.rings {
-                                if ring.len() < 3 || signed_area(ring) <= 0.0 {
-                                    continue;
-                                }
                                 self.world.clear();
                                 self.world.extend(ring.iter().map(|&p| frame.to_world(p)));
+                                if !has_area(ring, &self.world, frame.normal, min_area) {
+                                    continue;
+                                }
                                 sink.cell(k, j, &self.world, ring, false);
                             }
                             continue;
@@ -454,9 +492,6 @@ impl Partitioner {
                         self.pts.extend(self.cell_b.iter().map(|v| v.p));
                     }
                     if self.pts.len() < 3 {
-                        continue;
-                    }
-                    if signed_area(&self.pts) <= 0.0 {
                         continue;
                     }
                     // A clipped cell that is the whole square (an input edge
@@ -477,6 +512,9 @@ impl Partitioner {
                     } else {
                         self.world
                             .extend(self.pts.iter().map(|&p| frame.to_world(p)));
+                        if !has_area(&self.pts, &self.world, frame.normal, min_area) {
+                            continue;
+                        }
                     }
                     if full {
                         self.pts.clear();
@@ -488,6 +526,34 @@ impl Partitioner {
             }
         }
     }
+}
+
+/// Whether the parts `split_on_border` rebuilt (`rings`) cover the
+/// area of the clipped piece they were rebuilt from (`q`).
+///
+/// Sutherland–Hodgman's ring has the piece's area whatever its bridges
+/// and spikes (they have none); the rebuild only decides how the ring
+/// falls apart, by the order of its chains' entries and exits along the
+/// cell's border. Each of those points is a crossing rounded on its own,
+/// so when a polygon vertex lies within rounding of the border (a notch's
+/// apex 2e-16 inside a cell, as integer input rotated by 90° or 270°
+/// gives), the two crossings of its edges can coincide or come out in the
+/// wrong order. The chain is then a spike of no area, and whether the
+/// walk from its exit to its entry is nothing or the whole border cannot
+/// be told from the points: the rebuild took nothing and lost the whole
+/// cell. A rebuild that does not keep the area (beyond `min_area`, the
+/// rounding noise of [`MIN_PIECE_AREA_REL`]) is refused, and the piece is
+/// written as the clipped ring itself, spike included, which has the
+/// right area and winding.
+fn rebuild_kept_the_area(q: &[TVertex], rings: &[Vec<DVec2>], min_area: f64) -> bool {
+    let o = q[0].p;
+    let whole = 0.5
+        * q.windows(2)
+            .skip(1)
+            .map(|w| (w[0].p - o).perp_dot(w[1].p - o))
+            .sum::<f64>();
+    let parts: f64 = rings.iter().map(|r| signed_area(r)).sum();
+    (whole - parts).abs() <= min_area
 }
 
 /// Whether a counter-clockwise polygon turns left (or goes straight) at
@@ -514,6 +580,16 @@ fn is_convex(p: &[DVec2]) -> bool {
         (Some(a), Some(b)) => a.perp_dot(b) >= 0.0,
         _ => true,
     }
+}
+
+/// Whether a piece has more area than rounding noise ([`MIN_PIECE_AREA_REL`],
+/// `min_area` is its absolute value for this grid): in the plane, and as the
+/// world polygon written, along the polygon's `normal` (so that it keeps the
+/// input's winding).
+fn has_area(plane: &[DVec2], world: &[DVec3], normal: DVec3, min_area: f64) -> bool {
+    plane.len() >= 3
+        && signed_area(plane) > min_area
+        && newell_normal(world, world[0]).dot(normal) > 2.0 * min_area
 }
 
 /// Even-odd test of `p` against the non-horizontal segments of a polygon.
@@ -776,3 +852,6 @@ mod table51 {
 
 #[cfg(test)]
 mod props;
+
+#[cfg(test)]
+mod differential;
