@@ -30,6 +30,7 @@ pub enum Tag {
 /// A vertex of a polygon being clipped.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TVertex {
+    /// The position, in plane coordinates.
     pub p: DVec2,
     /// What the segment to the next vertex lies on.
     pub tag: Tag,
@@ -38,7 +39,9 @@ pub struct TVertex {
 /// Which coordinate a clip line fixes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Axis {
+    /// A vertical line `x = c` (a column border).
     X,
+    /// A horizontal line `y = c` (a row border).
     Y,
 }
 

@@ -36,10 +36,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-#[allow(missing_docs)] // documented in a following change
 pub mod clip;
 pub mod merge;
-#[allow(missing_docs)] // documented in a following change
 pub mod partition;
 pub mod plane;
 pub mod polygon;

@@ -51,16 +51,24 @@ pub struct Placement {
 /// v = j..j+1; its texel is `(k mod SIZE, j mod SIZE)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Grid {
+    /// The polygon's bounding box in plane coordinates (the origin of the
+    /// placement: SPEC §2 counts u from `xmin`, v from `ymin`).
     pub xmin: f64,
+    /// See [`Grid::xmin`].
     pub ymin: f64,
+    /// The far corner of the bounding box.
     pub xmax: f64,
+    /// See [`Grid::xmax`].
     pub ymax: f64,
+    /// The placement the cells follow.
     pub place: Placement,
-    /// First and last column that can overlap the polygon.
+    /// First column that can overlap the polygon.
     pub k0: i64,
+    /// Last column that can overlap the polygon (inclusive).
     pub k1: i64,
-    /// First and last row that can overlap the polygon.
+    /// First row that can overlap the polygon.
     pub j0: i64,
+    /// Last row that can overlap the polygon (inclusive).
     pub j1: i64,
 }
 
@@ -116,9 +124,19 @@ pub const MIN_PIECE_AREA_OF_POLYGON: f64 = 1e-12;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum GridError {
     /// `incr` is below [`MIN_INCR_REL`] of the polygon's coordinates.
-    TooFine { incr: f64, extent: f64 },
+    TooFine {
+        /// The texel side asked for, world units.
+        incr: f64,
+        /// The polygon's largest plane coordinate.
+        extent: f64,
+    },
     /// `horz` or `vert` exceeds [`MAX_SHIFT_TEXELS`] in magnitude.
-    ShiftTooLarge { name: &'static str, shift: f64 },
+    ShiftTooLarge {
+        /// Which shift: `horz` or `vert`.
+        name: &'static str,
+        /// Its value, texels.
+        shift: f64,
+    },
 }
 
 impl std::fmt::Display for GridError {
@@ -282,6 +300,8 @@ pub struct Partitioner {
 }
 
 impl Partitioner {
+    /// A partitioner with empty scratch buffers (they grow to the largest
+    /// polygon it sees and are reused).
     pub fn new() -> Self {
         Self::default()
     }

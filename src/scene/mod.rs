@@ -35,7 +35,6 @@
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
-#[allow(missing_docs)] // documented in a following change
 pub mod polyfill;
 pub mod stripe;
 

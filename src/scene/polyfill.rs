@@ -544,6 +544,7 @@ const REPLACED: [&str; 8] = [
 const FLUSH_BYTES: usize = 1 << 16;
 
 impl<W: Write> CellWriter<W> {
+    /// A writer of NDJSON records to `out`, buffered in blocks of 64 KiB.
     pub fn new(out: W) -> Self {
         CellWriter {
             out,
