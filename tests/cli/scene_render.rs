@@ -307,6 +307,22 @@ fn closed_pipe_ends_quietly() {
 const GOLDEN_MAX_ERROR: u8 = 1;
 const GOLDEN_RMSE: f64 = 0.01;
 
+/// `scene-render` with the thesis's demo 2 camera and background (App. C):
+/// perspective(550, 1.0, 0.0, 1000.0), lookat(0,100,-5, 0,0,-900), back faces
+/// culled, bkgrnd.pat behind; the caller adds the input.
+fn demo2_render(dir: &crate::util::Dir) -> assert_cmd::Command {
+    let mut c = dir.cmd("scene-render");
+    c.args([
+        "--perspective",
+        "55,1,0,1000",
+        "--lookat",
+        "0,100,-5,0,0,-900",
+    ])
+    .args(["--cull", "back", "--background-pattern"])
+    .arg(crate::util::repo("fixtures/patterns/bkgrnd.pat"));
+    c
+}
+
 pub(crate) fn assert_matches_golden(rendered: &[u8], golden: &str) {
     let load = |bytes: &[u8], name: &str| {
         let rgba = patkit::io::decode_image(bytes, name).unwrap();
@@ -351,20 +367,7 @@ clitest!(
             .args(["-o", "demo2.ndjson"])
             .assert()
             .success();
-        let bkgrnd = crate::util::repo("fixtures/patterns/bkgrnd.pat");
-        let out = dir
-            .cmd("scene-render")
-            .args([
-                "--perspective",
-                "55,1,0,1000",
-                "--lookat",
-                "0,100,-5,0,0,-900",
-            ])
-            .args(["--cull", "back", "--background-pattern"])
-            .arg(&bkgrnd)
-            .arg("demo2.ndjson")
-            .assert()
-            .success();
+        let out = demo2_render(&dir).arg("demo2.ndjson").assert().success();
         assert_matches_golden(&out.get_output().stdout, "examples/golden/demo2.png");
     }
 );
@@ -388,17 +391,7 @@ clitest!(
             .status()
             .unwrap();
         assert!(status.success());
-        let bkgrnd = crate::util::repo("fixtures/patterns/bkgrnd.pat");
-        let out = dir
-            .cmd("scene-render")
-            .args([
-                "--perspective",
-                "55,1,0,1000",
-                "--lookat",
-                "0,100,-5,0,0,-900",
-            ])
-            .args(["--cull", "back", "--background-pattern"])
-            .arg(&bkgrnd)
+        let out = demo2_render(&dir)
             .arg(crate::util::repo("fixtures/scenes/demo2-fig51.json"))
             .assert()
             .success();
@@ -468,20 +461,7 @@ clitest!(
             "one object line, four instances, the plain's cells"
         );
         dir.write("fig51.ndjson", &cells);
-        let bkgrnd = crate::util::repo("fixtures/patterns/bkgrnd.pat");
-        let out = dir
-            .cmd("scene-render")
-            .args([
-                "--perspective",
-                "55,1,0,1000",
-                "--lookat",
-                "0,100,-5,0,0,-900",
-            ])
-            .args(["--cull", "back", "--background-pattern"])
-            .arg(&bkgrnd)
-            .arg("fig51.ndjson")
-            .assert()
-            .success();
+        let out = demo2_render(&dir).arg("fig51.ndjson").assert().success();
         assert_matches_golden(&out.get_output().stdout, "examples/golden/demo2.png");
     }
 );

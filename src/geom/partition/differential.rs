@@ -21,18 +21,7 @@ use std::collections::BTreeMap;
 /// Relative tolerance of the comparisons.
 const REL: f64 = 1e-9;
 
-#[derive(Default)]
-struct Cells {
-    cells: Vec<(i64, i64, Vec<DVec3>, Vec<DVec2>)>,
-}
-impl CellSink for Cells {
-    fn wants(&mut self, _: i64, _: i64) -> bool {
-        true
-    }
-    fn cell(&mut self, k: i64, j: i64, w: &[DVec3], p: &[DVec2], _: bool) {
-        self.cells.push((k, j, w.to_vec(), p.to_vec()));
-    }
-}
+use super::props::Cells;
 
 /// The reference's shoelace (plain, about the first vertex).
 fn ref_area(p: &[DVec2]) -> f64 {

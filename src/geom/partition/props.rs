@@ -20,9 +20,10 @@ const REL: f64 = 1e-9;
 /// those per operation of `(origin + ey*y) + ex*x`.
 const ULP_SLACK: f64 = 8.0 * f64::EPSILON;
 
+/// Collects every cell a partition hands over (shared with `differential`).
 #[derive(Default)]
-struct Cells {
-    cells: Vec<(i64, i64, Vec<DVec3>, Vec<DVec2>)>,
+pub(super) struct Cells {
+    pub(super) cells: Vec<(i64, i64, Vec<DVec3>, Vec<DVec2>)>,
 }
 impl CellSink for Cells {
     fn wants(&mut self, _: i64, _: i64) -> bool {
