@@ -2,7 +2,6 @@
 //! and the three image formats every tool writes (SPEC §5).
 
 use crate::error::OptionError;
-use anyhow::{bail, Context, Result};
 use std::io::{self, BufWriter, IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
 
@@ -18,29 +17,177 @@ pub const MAX_IMAGE_SIDE: u32 = 65_535;
 /// The most pixels any tool will allocate for one image: 2^28 is 1 GiB of RGBA.
 pub const MAX_IMAGE_PIXELS: u64 = 1 << 28;
 
+/// Why an input could not be read or an output written. `Display` says what
+/// was being done and to which file; [`std::error::Error::source`] gives the
+/// operating system's (or the decoder's) cause, so the tools' `context: cause`
+/// chain reads `out.png: cannot create a file in /ro: Permission denied`.
+#[derive(Debug, thiserror::Error)]
+pub enum IoError {
+    /// An input could not be read.
+    #[error("{}", if input == STDIO { "reading standard input" } else { input })]
+    Read {
+        /// The input's name as given; `-` is standard input.
+        input: String,
+        /// The cause.
+        #[source]
+        error: io::Error,
+    },
+    /// Binary output (an image, a pattern) was about to go to a terminal.
+    #[error("refusing to write binary output to a terminal: use -o FILE or a pipe")]
+    BinaryToTerminal,
+    /// The output name is a directory.
+    #[error("{output}: is a directory, expected an output file name")]
+    OutputIsDirectory {
+        /// The output's name as given.
+        output: String,
+    },
+    /// An output could not be opened, written or moved into place.
+    #[error("{}", step.describe(output))]
+    Write {
+        /// The output's name (`-` is standard output).
+        output: String,
+        /// Which step failed.
+        step: WriteStep,
+        /// The cause.
+        #[source]
+        error: io::Error,
+    },
+    /// An input is not an image the `image` crate decodes.
+    #[error("{input}: not an image this tool can read")]
+    NotAnImage {
+        /// The input's name, as errors show it.
+        input: String,
+        /// The decoder's complaint.
+        #[source]
+        error: image::ImageError,
+    },
+    /// An animation frame of another size than the animation's.
+    #[error(
+        "{}: frame of {}x{} with {} channels in an animation of {}x{} with {}",
+        display_out(output), frame.0, frame.1, frame.2, animation.0, animation.1, animation.2
+    )]
+    FrameMismatch {
+        /// The output's name.
+        output: String,
+        /// The frame's width, height and channels.
+        frame: (u32, u32, u8),
+        /// The animation's width, height and channels.
+        animation: (u32, u32, u8),
+    },
+}
+
+/// The step of writing an output that failed, for [`IoError::Write`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum WriteStep {
+    /// Opening a device or pipe named as the output.
+    Open,
+    /// Following a symbolic link to the file it names.
+    ResolveLink,
+    /// Creating the temporary file, in this directory, that becomes the output.
+    CreateIn(PathBuf),
+    /// Writing (or flushing) the data.
+    Write,
+    /// Flushing the data to a device named as the output.
+    WriteDevice,
+    /// Moving the finished temporary file to the output's name.
+    Rename,
+}
+
+impl WriteStep {
+    fn describe(&self, output: &str) -> String {
+        match self {
+            WriteStep::Open => format!("{output}: cannot open for writing"),
+            WriteStep::ResolveLink => format!("{output}: cannot resolve the link"),
+            WriteStep::CreateIn(dir) => {
+                format!("{output}: cannot create a file in {}", dir.display())
+            }
+            WriteStep::Write => format!("writing {}", display_out(output)),
+            WriteStep::WriteDevice => "writing the output device".to_string(),
+            WriteStep::Rename => format!("renaming the output to {output}"),
+        }
+    }
+}
+
+/// An image size that no tool will make: see [`Image::check_size`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum SizeError {
+    /// A side is 0.
+    #[error("image size {0}x{1} is empty: both sides must be at least 1")]
+    Empty(u32, u32),
+    /// A side is over [`MAX_IMAGE_SIDE`].
+    #[error("image size {0}x{1} is too large: each side at most {MAX_IMAGE_SIDE}")]
+    SideTooLarge(u32, u32),
+    /// The area is over [`MAX_IMAGE_PIXELS`].
+    #[error("image size {0}x{1} is too large: at most {MAX_IMAGE_PIXELS} pixels")]
+    TooManyPixels(u32, u32),
+}
+
+/// [`IoError::Write`] at `step` of writing `output`.
+fn write_error(output: impl Into<String>, step: WriteStep) -> impl FnOnce(io::Error) -> IoError {
+    let output = output.into();
+    move |error| IoError::Write {
+        output,
+        step,
+        error,
+    }
+}
+
+/// An encoder's error as the I/O error it carries, or as an I/O error that
+/// wraps it: a closed pipe then reads as `BrokenPipe` whichever encoder met it.
+fn image_io_error(e: image::ImageError) -> io::Error {
+    match e {
+        image::ImageError::IoError(io) => io,
+        other => io::Error::other(other),
+    }
+}
+
+/// [`image_io_error`] for the `png` crate's encoder.
+fn png_io_error(e: png::EncodingError) -> io::Error {
+    match e {
+        png::EncodingError::IoError(io) => io,
+        other => io::Error::other(other),
+    }
+}
+
 /// Reads a whole file, with a clear error for a directory.
 pub fn read_path(path: &Path) -> io::Result<Vec<u8>> {
     if path.is_dir() {
-        return Err(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            "is a directory, not a file",
-        ));
+        return Err(is_a_directory());
     }
     std::fs::read(path)
 }
 
-/// Reads a file by name, or standard input for `-`. Errors carry the name.
-pub fn read_input(name: &str) -> Result<Vec<u8>> {
-    if name == STDIO {
-        let mut buf = Vec::new();
-        io::stdin()
-            .lock()
-            .read_to_end(&mut buf)
-            .context("reading standard input")?;
-        Ok(buf)
+/// Opens a file to read by name, with a clear error for a directory.
+pub fn open_file(name: &str) -> Result<std::fs::File, IoError> {
+    let path = Path::new(name);
+    let opened = if path.is_dir() {
+        Err(is_a_directory())
     } else {
-        read_path(Path::new(name)).with_context(|| name.to_string())
-    }
+        std::fs::File::open(path)
+    };
+    opened.map_err(|error| IoError::Read {
+        input: name.to_string(),
+        error,
+    })
+}
+
+/// The error for a directory named as an input file.
+fn is_a_directory() -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidInput, "is a directory, not a file")
+}
+
+/// Reads a file by name, or standard input for `-`. Errors carry the name.
+pub fn read_input(name: &str) -> Result<Vec<u8>, IoError> {
+    let read = if name == STDIO {
+        let mut buf = Vec::new();
+        io::stdin().lock().read_to_end(&mut buf).map(|_| buf)
+    } else {
+        read_path(Path::new(name))
+    };
+    read.map_err(|error| IoError::Read {
+        input: name.to_string(),
+        error,
+    })
 }
 
 /// The name to show in errors for an input argument.
@@ -71,11 +218,11 @@ enum OutputInner {
 
 impl Output {
     /// Opens `name` (`-` for standard output). `binary` output is refused on a terminal.
-    pub fn create(name: &str, binary: bool) -> Result<Output> {
+    pub fn create(name: &str, binary: bool) -> Result<Output, IoError> {
         if name == STDIO {
             let stdout = io::stdout();
             if binary && stdout.is_terminal() {
-                bail!("refusing to write binary output to a terminal: use -o FILE or a pipe");
+                return Err(IoError::BinaryToTerminal);
             }
             return Ok(Output {
                 inner: OutputInner::Stdout(BufWriter::with_capacity(1 << 16, stdout)),
@@ -83,7 +230,9 @@ impl Output {
         }
         let mut path = PathBuf::from(name);
         if path.is_dir() {
-            bail!("{name}: is a directory, expected an output file name");
+            return Err(IoError::OutputIsDirectory {
+                output: name.to_string(),
+            });
         }
         if let Ok(meta) = std::fs::metadata(&path) {
             if !meta.file_type().is_file() {
@@ -93,7 +242,7 @@ impl Output {
                 let f = std::fs::OpenOptions::new()
                     .write(true)
                     .open(&path)
-                    .with_context(|| format!("{name}: cannot open for writing"))?;
+                    .map_err(write_error(name, WriteStep::Open))?;
                 return Ok(Output {
                     inner: OutputInner::Device(BufWriter::with_capacity(1 << 16, f)),
                 });
@@ -101,8 +250,8 @@ impl Output {
         }
         if std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink()) {
             // Replace the file the link points to, not the link.
-            path = std::fs::canonicalize(&path)
-                .with_context(|| format!("{name}: cannot resolve the link"))?;
+            path =
+                std::fs::canonicalize(&path).map_err(write_error(name, WriteStep::ResolveLink))?;
         }
         let dir = match path.parent() {
             Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
@@ -119,7 +268,7 @@ impl Output {
         }
         let tmp = builder
             .tempfile_in(&dir)
-            .with_context(|| format!("{name}: cannot create a file in {}", dir.display()))?;
+            .map_err(write_error(name, WriteStep::CreateIn(dir.clone())))?;
         Ok(Output {
             inner: OutputInner::File {
                 tmp: BufWriter::with_capacity(1 << 16, tmp),
@@ -129,18 +278,21 @@ impl Output {
     }
 
     /// Flushes and, for a file, moves it to its final name.
-    pub fn commit(self) -> Result<()> {
+    pub fn commit(self) -> Result<(), IoError> {
         match self.inner {
-            OutputInner::Stdout(mut w) => w.flush().context("writing standard output"),
-            OutputInner::Device(mut w) => w.flush().context("writing the output device"),
+            OutputInner::Stdout(mut w) => w.flush().map_err(write_error(STDIO, WriteStep::Write)),
+            OutputInner::Device(mut w) => {
+                w.flush().map_err(write_error("", WriteStep::WriteDevice))
+            }
             OutputInner::File { tmp, path } => {
+                let shown = path.display().to_string();
                 let tmp = tmp
                     .into_inner()
                     .map_err(|e| e.into_error())
-                    .with_context(|| format!("writing {}", path.display()))?;
+                    .map_err(write_error(shown.clone(), WriteStep::Write))?;
                 tmp.persist(&path)
                     .map_err(|e| e.error)
-                    .with_context(|| format!("renaming the output to {}", path.display()))?;
+                    .map_err(write_error(shown, WriteStep::Rename))?;
                 Ok(())
             }
         }
@@ -193,7 +345,7 @@ pub enum ImageFormat {
 
 impl ImageFormat {
     /// The format named by `--format`, else by the output's extension, else PNG.
-    pub fn choose(explicit: Option<ImageFormat>, output: &str) -> Result<ImageFormat> {
+    pub fn choose(explicit: Option<ImageFormat>, output: &str) -> Result<ImageFormat, OptionError> {
         if let Some(f) = explicit {
             return Ok(f);
         }
@@ -214,14 +366,12 @@ impl ImageFormat {
                 ),
                 "format",
                 "",
-            )
-            .into()),
+            )),
             None => Err(OptionError::new(
                 format!("{output}: no extension: expected .png, .ppm or .pam, or give "),
                 "format",
                 "",
-            )
-            .into()),
+            )),
         }
     }
 
@@ -272,21 +422,22 @@ pub struct Image {
 
 impl Image {
     /// Checks a requested size against [`MAX_IMAGE_SIDE`] and [`MAX_IMAGE_PIXELS`].
-    pub fn check_size(width: u32, height: u32) -> Result<()> {
+    pub fn check_size(width: u32, height: u32) -> Result<(), SizeError> {
         if width == 0 || height == 0 {
-            bail!("image size {width}x{height} is empty: both sides must be at least 1");
+            return Err(SizeError::Empty(width, height));
         }
         if width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE {
-            bail!("image size {width}x{height} is too large: each side at most {MAX_IMAGE_SIDE}");
+            return Err(SizeError::SideTooLarge(width, height));
         }
         if width as u64 * height as u64 > MAX_IMAGE_PIXELS {
-            bail!("image size {width}x{height} is too large: at most {MAX_IMAGE_PIXELS} pixels");
+            return Err(SizeError::TooManyPixels(width, height));
         }
         Ok(())
     }
 
     /// Encodes the image in `format`. PPM drops alpha (callers flatten first).
-    pub fn encode<W: Write>(&self, format: ImageFormat, w: &mut W) -> Result<()> {
+    /// An encoder's own complaint comes back as an [`io::Error`] that wraps it.
+    pub fn encode<W: Write>(&self, format: ImageFormat, w: &mut W) -> io::Result<()> {
         self.encode_with(format, PngOptions::GENERAL, w)
     }
 
@@ -296,7 +447,7 @@ impl Image {
         format: ImageFormat,
         png: PngOptions,
         w: &mut W,
-    ) -> Result<()> {
+    ) -> io::Result<()> {
         let (wd, ht) = (self.width, self.height);
         match format {
             ImageFormat::Ppm => {
@@ -333,22 +484,28 @@ impl Image {
                     image::ExtendedColorType::Rgb8
                 };
                 PngEncoder::new_with_quality(&mut *w, png.compression, png.filter)
-                    .write_image(&self.data, wd, ht, color)?;
+                    .write_image(&self.data, wd, ht, color)
+                    .map_err(image_io_error)?;
             }
         }
         Ok(())
     }
 
     /// Writes the image to `name` (`-` = standard output) atomically.
-    pub fn save(&self, name: &str, format: ImageFormat) -> Result<()> {
+    pub fn save(&self, name: &str, format: ImageFormat) -> Result<(), IoError> {
         self.save_with(name, format, PngOptions::GENERAL)
     }
 
     /// [`Image::save`] with a choice of PNG settings.
-    pub fn save_with(&self, name: &str, format: ImageFormat, png: PngOptions) -> Result<()> {
+    pub fn save_with(
+        &self,
+        name: &str,
+        format: ImageFormat,
+        png: PngOptions,
+    ) -> Result<(), IoError> {
         let mut out = Output::create(name, true)?;
         self.encode_with(format, png, &mut out)
-            .with_context(|| format!("writing {}", display_out(name)))?;
+            .map_err(write_error(name, WriteStep::Write))?;
         out.commit()
     }
 }
@@ -380,9 +537,9 @@ impl ApngWriter {
         channels: u8,
         frames: u32,
         fps: u16,
-    ) -> Result<ApngWriter> {
+    ) -> Result<ApngWriter, IoError> {
         let out = std::rc::Rc::new(std::cell::RefCell::new(Output::create(name, true)?));
-        let ctx = || format!("writing {}", display_out(name));
+        let ctx = |e| write_error(name, WriteStep::Write)(png_io_error(e));
         let mut enc = png::Encoder::new(SharedOutput(out.clone()), width, height);
         enc.set_color(if channels == 4 {
             png::ColorType::Rgba
@@ -390,9 +547,9 @@ impl ApngWriter {
             png::ColorType::Rgb
         });
         enc.set_depth(png::BitDepth::Eight);
-        enc.set_animated(frames, 0).with_context(ctx)?;
-        enc.set_frame_delay(1, fps).with_context(ctx)?;
-        let writer = enc.write_header().with_context(ctx)?;
+        enc.set_animated(frames, 0).map_err(ctx)?;
+        enc.set_frame_delay(1, fps).map_err(ctx)?;
+        let writer = enc.write_header().map_err(ctx)?;
         Ok(ApngWriter {
             writer: Some(writer),
             out,
@@ -405,35 +562,31 @@ impl ApngWriter {
 
     /// Appends the next frame; it must have the size and channels given to
     /// [`ApngWriter::create`].
-    pub fn push(&mut self, img: &Image) -> Result<()> {
-        if (img.width, img.height, img.channels) != (self.width, self.height, self.channels) {
-            bail!(
-                "{}: frame of {}x{} with {} channels in an animation of {}x{} with {}",
-                display_out(&self.name),
-                img.width,
-                img.height,
-                img.channels,
-                self.width,
-                self.height,
-                self.channels
-            );
+    pub fn push(&mut self, img: &Image) -> Result<(), IoError> {
+        let frame = (img.width, img.height, img.channels);
+        let animation = (self.width, self.height, self.channels);
+        if frame != animation {
+            return Err(IoError::FrameMismatch {
+                output: self.name.clone(),
+                frame,
+                animation,
+            });
         }
         let w = self.writer.as_mut().expect("not finished");
         w.write_image_data(&img.data)
-            .with_context(|| format!("writing {}", display_out(&self.name)))
+            .map_err(|e| write_error(&*self.name, WriteStep::Write)(png_io_error(e)))
     }
 
     /// Ends the file (all frames must have been pushed) and moves it into place.
-    pub fn finish(mut self) -> Result<()> {
+    pub fn finish(mut self) -> Result<(), IoError> {
         let w = self.writer.take().expect("not finished");
-        let ctx = || format!("writing {}", display_out(&self.name));
-        w.finish().with_context(ctx)?;
-        let out = std::rc::Rc::try_unwrap(self.out)
-            .map_err(|_| {
-                anyhow::anyhow!("{}: the output is still in use", display_out(&self.name))
-            })?
-            .into_inner();
-        out.commit()
+        w.finish()
+            .map_err(|e| write_error(&*self.name, WriteStep::Write)(png_io_error(e)))?;
+        // `finish` consumed the writer and with it the only other handle.
+        let Ok(out) = std::rc::Rc::try_unwrap(self.out) else {
+            unreachable!("the PNG writer, the output's only other owner, is gone")
+        };
+        out.into_inner().commit()
     }
 }
 
@@ -451,9 +604,11 @@ impl Write for SharedOutput {
 
 /// Decodes any image the `image` crate reads (PNG, JPEG, GIF, BMP, TIFF, WebP,
 /// PNM/PAM) into RGBA8.
-pub fn decode_image(bytes: &[u8], name: &str) -> Result<image::RgbaImage> {
-    let img = image::load_from_memory(bytes)
-        .with_context(|| format!("{name}: not an image this tool can read"))?;
+pub fn decode_image(bytes: &[u8], name: &str) -> Result<image::RgbaImage, IoError> {
+    let img = image::load_from_memory(bytes).map_err(|error| IoError::NotAnImage {
+        input: name.to_string(),
+        error,
+    })?;
     Ok(img.into_rgba8())
 }
 

@@ -204,7 +204,7 @@ fn run_stripe(args: &Args) -> Result<()> {
             }
         )
     })?;
-    out.commit()
+    Ok(out.commit()?)
 }
 
 fn write_pattern(pattern: &Pattern, output: &str) -> Result<()> {
@@ -219,7 +219,7 @@ fn write_pattern(pattern: &Pattern, output: &str) -> Result<()> {
             }
         )
     })?;
-    out.commit()
+    Ok(out.commit()?)
 }
 
 #[cfg(test)]

@@ -110,6 +110,7 @@ pub fn run(args: Args) -> Result<()> {
             }
         }
         let result = bytes
+            .map_err(anyhow::Error::new)
             .and_then(|bytes| Pattern::parse(&bytes, name).map_err(anyhow::Error::new))
             .and_then(|p| texel(&p, args.at).map(|t| (p, t)));
         let (pattern, at) = match result {
@@ -343,7 +344,7 @@ fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
         .ok_or_else(|| anyhow::anyhow!("{name}: record {n} has no \"stripe\" texture"))?;
     let loaded = spec
         .load(&crate::stream::base_dir(file))
-        .map_err(|e| e.context(format!("{name}: record {n}")))?;
+        .map_err(|e| anyhow::Error::new(e).context(format!("{name}: record {n}")))?;
     let mut stdout = std::io::stdout().lock();
     if as_json {
         serde_json::to_writer_pretty(&mut stdout, &record_json(name, n, &loaded, record.color))?;

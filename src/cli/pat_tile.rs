@@ -98,7 +98,7 @@ pub fn run(args: Args) -> Result<()> {
         tiled
             .write_canonical(&mut out)
             .with_context(|| format!("writing {}", args.output))?;
-        return out.commit();
+        return Ok(out.commit()?);
     };
 
     let mut background = args.background;
@@ -116,5 +116,5 @@ pub fn run(args: Args) -> Result<()> {
         tiling,
         background,
     );
-    image.save_with(&args.output, format, PngOptions::FLAT_REPEATING)
+    Ok(image.save_with(&args.output, format, PngOptions::FLAT_REPEATING)?)
 }

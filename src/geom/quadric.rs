@@ -82,42 +82,125 @@ pub struct Triangle {
     pub st: [[f64; 2]; 3],
 }
 
+/// Why a quadric cannot be tessellated. Fields are named as records spell
+/// them, `sphere.radius`, `cone.base`.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum QuadricError {
+    /// A radius or height that must be positive is not.
+    #[error("{kind}.{field} {value} is not a positive number")]
+    NotPositive {
+        /// `sphere`, `cylinder`, `cone` or `disk`.
+        kind: &'static str,
+        /// The field: `radius`, `height`, `outer`.
+        field: &'static str,
+        /// Its value (maybe NaN or infinite).
+        value: f64,
+    },
+    /// A radius that may be 0 is negative or not a number.
+    #[error("{kind}.{field} {value} is not a number >= 0")]
+    Negative {
+        /// `cylinder`, `cone` or `disk`.
+        kind: &'static str,
+        /// The field: `base`, `top`, `inner`.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// A cylinder with neither a base nor a top radius.
+    #[error("{kind}: base and top radius are both 0")]
+    NoRadius {
+        /// `cylinder` or `cone`.
+        kind: &'static str,
+    },
+    /// A disk whose hole is as large as the disk.
+    #[error("disk: inner radius {inner} is not below outer radius {outer}")]
+    InnerNotBelowOuter {
+        /// `disk.inner`.
+        inner: f64,
+        /// `disk.outer`.
+        outer: f64,
+    },
+    /// Slices or stacks out of range.
+    #[error("{kind}: {what} {value}: expected {min} to {MAX_SEGMENTS}")]
+    Segments {
+        /// The quadric.
+        kind: &'static str,
+        /// `slices` or `stacks`.
+        what: &'static str,
+        /// The count asked for.
+        value: u32,
+        /// The least this quadric takes.
+        min: u32,
+    },
+    /// The record's transform sends a vertex to infinity or NaN.
+    #[error("{kind}: the transform moves a vertex out of the finite numbers")]
+    NotFinite {
+        /// The quadric.
+        kind: &'static str,
+    },
+}
+
+impl QuadricError {
+    /// The error with the quadric named `kind`: a cone's record names its
+    /// fields `cone.base`, although the cone is checked as the cylinder it is.
+    pub fn for_kind(mut self, name: &'static str) -> QuadricError {
+        match &mut self {
+            QuadricError::NotPositive { kind, .. }
+            | QuadricError::Negative { kind, .. }
+            | QuadricError::NoRadius { kind }
+            | QuadricError::Segments { kind, .. }
+            | QuadricError::NotFinite { kind } => *kind = name,
+            QuadricError::InnerNotBelowOuter { .. } => {}
+        }
+        self
+    }
+}
+
 impl Quadric {
+    /// The quadric's GLU name, as records and errors spell it (a cone is a
+    /// cylinder with a zero top: [`QuadricError::for_kind`] renames it).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Quadric::Sphere { .. } => "sphere",
+            Quadric::Cylinder { .. } => "cylinder",
+            Quadric::Disk { .. } => "disk",
+        }
+    }
+
     /// Checks the radii and height: every one positive (an inner disk radius
     /// or a cone's top may be 0).
-    pub fn check(&self) -> Result<(), String> {
-        let pos = |name: &str, x: f64| {
-            if x.is_finite() && x > 0.0 {
+    pub fn check(&self) -> Result<(), QuadricError> {
+        let kind = self.kind();
+        let pos = |field: &'static str, value: f64| {
+            if value.is_finite() && value > 0.0 {
                 Ok(())
             } else {
-                Err(format!("{name} {x} is not a positive number"))
+                Err(QuadricError::NotPositive { kind, field, value })
             }
         };
-        let nonneg = |name: &str, x: f64| {
-            if x.is_finite() && x >= 0.0 {
+        let nonneg = |field: &'static str, value: f64| {
+            if value.is_finite() && value >= 0.0 {
                 Ok(())
             } else {
-                Err(format!("{name} {x} is not a number >= 0"))
+                Err(QuadricError::Negative { kind, field, value })
             }
         };
         match *self {
-            Quadric::Sphere { radius } => pos("sphere.radius", radius),
+            Quadric::Sphere { radius } => pos("radius", radius),
             Quadric::Cylinder { base, top, height } => {
-                nonneg("cylinder.base", base)?;
-                nonneg("cylinder.top", top)?;
-                pos("cylinder.height", height)?;
+                nonneg("base", base)?;
+                nonneg("top", top)?;
+                pos("height", height)?;
                 if base == 0.0 && top == 0.0 {
-                    return Err("cylinder: base and top radius are both 0".into());
+                    return Err(QuadricError::NoRadius { kind });
                 }
                 Ok(())
             }
             Quadric::Disk { inner, outer } => {
-                nonneg("disk.inner", inner)?;
-                pos("disk.outer", outer)?;
+                nonneg("inner", inner)?;
+                pos("outer", outer)?;
                 if inner >= outer {
-                    return Err(format!(
-                        "disk: inner radius {inner} is not below outer radius {outer}"
-                    ));
+                    return Err(QuadricError::InnerNotBelowOuter { inner, outer });
                 }
                 Ok(())
             }
@@ -181,22 +264,26 @@ impl Quadric {
     /// The quadric as triangles, counter-clockwise seen from outside, with
     /// GLU texture coordinates. Triangles that collapse at a pole or a cone's
     /// apex are left out.
-    pub fn tessellate(&self, slices: u32, stacks: u32) -> Result<Vec<Triangle>, String> {
+    pub fn tessellate(&self, slices: u32, stacks: u32) -> Result<Vec<Triangle>, QuadricError> {
         self.check()?;
         let min_stacks = match self {
             Quadric::Sphere { .. } => MIN_SPHERE_STACKS,
             _ => 1,
         };
-        if !(MIN_SLICES..=MAX_SEGMENTS).contains(&slices) {
-            return Err(format!(
-                "slices {slices}: expected {MIN_SLICES} to {MAX_SEGMENTS}"
-            ));
-        }
-        if !(min_stacks..=MAX_SEGMENTS).contains(&stacks) {
-            return Err(format!(
-                "stacks {stacks}: expected {min_stacks} to {MAX_SEGMENTS}"
-            ));
-        }
+        let segments = |what: &'static str, value: u32, min: u32| {
+            if (min..=MAX_SEGMENTS).contains(&value) {
+                Ok(())
+            } else {
+                Err(QuadricError::Segments {
+                    kind: self.kind(),
+                    what,
+                    value,
+                    min,
+                })
+            }
+        };
+        segments("slices", slices, MIN_SLICES)?;
+        segments("stacks", stacks, min_stacks)?;
         // Angle from +y towards +x, so s = 0.25 lands on +x (GLU).
         let around = |s: f64| {
             let a = 2.0 * PI * s;
@@ -347,13 +434,17 @@ impl QuadricShape {
     /// pattern: `u = s * size * repeat[0]`, `v = t * size * repeat[1]`, so
     /// t = 0 (GLU's first texture row, the sphere's -z pole) is the pattern's
     /// bottom row 0.
-    pub fn texel_triangles(&self, tolerance: f64, size: u32) -> Result<Vec<TexelTriangle>, String> {
+    pub fn texel_triangles(
+        &self,
+        tolerance: f64,
+        size: u32,
+    ) -> Result<Vec<TexelTriangle>, QuadricError> {
         let (slices, stacks) = self.segments(tolerance);
         let (su, sv) = (size as f64 * self.repeat[0], size as f64 * self.repeat[1]);
         let tris = self
             .quadric
             .tessellate(slices, stacks)
-            .map_err(|e| format!("{}: {e}", self.kind))?;
+            .map_err(|e| e.for_kind(self.kind))?;
         let out: Vec<TexelTriangle> = tris
             .iter()
             .map(|t| TexelTriangle {
@@ -362,10 +453,7 @@ impl QuadricShape {
             })
             .collect();
         if out.iter().any(|t| t.v.iter().any(|p| !p.is_finite())) {
-            return Err(format!(
-                "{}: the transform moves a vertex out of the finite numbers",
-                self.kind
-            ));
+            return Err(QuadricError::NotFinite { kind: self.kind });
         }
         Ok(out)
     }
@@ -469,7 +557,7 @@ mod tests {
 
     #[test]
     fn bad_quadrics_are_errors() {
-        let e = |q: Quadric, sl, st| q.tessellate(sl, st).unwrap_err();
+        let e = |q: Quadric, sl, st| q.tessellate(sl, st).unwrap_err().to_string();
         assert!(
             e(Quadric::Sphere { radius: 0.0 }, 8, 8).contains("sphere.radius 0 is not a positive")
         );

@@ -58,8 +58,7 @@ pub use self::remap::{remap, Dither};
 pub use self::resample::{crop_square, resample_square, SquareImage};
 
 use crate::color::Rgb8;
-use crate::pat::{Pattern, TRANSPARENT};
-use anyhow::{Context, Result};
+use crate::pat::{InvalidPattern, Pattern, TRANSPARENT};
 
 /// The default palette size (the classic 16-colour `.pat` of the thesis).
 pub const DEFAULT_COLORS: usize = 16;
@@ -110,7 +109,10 @@ impl Default for Options {
 
 /// Quantizes a square image to a pattern. The pattern's row 0 is the image's
 /// bottom row (SPEC §1).
-pub fn quantize(img: &SquareImage, opts: &Options) -> Result<Pattern> {
+///
+/// Fails only if the options break the `.pat` limits: a forced palette of
+/// more colours than a pattern holds.
+pub fn quantize(img: &SquareImage, opts: &Options) -> Result<Pattern, InvalidPattern> {
     let opaque = opaque_mask(img, opts);
     let colors: Vec<[u8; 3]> = img.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
     let palette = match &opts.palette {
@@ -136,7 +138,7 @@ pub fn quantize(img: &SquareImage, opts: &Options) -> Result<Pattern> {
     } else {
         drop_unused(palette, texels)
     };
-    Pattern::new(img.size, palette, texels).context("building the pattern")
+    Pattern::new(img.size, palette, texels)
 }
 
 /// Which pixels become coloured texels: alpha at or above the threshold and not

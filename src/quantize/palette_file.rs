@@ -4,23 +4,72 @@
 //! a silently ignored comment.
 
 use super::MAX_QUANT_COLORS;
+use crate::color::ColorParseError;
 use crate::color::Rgb8;
 use crate::pat::Pattern;
-use anyhow::{bail, Context, Result};
+use crate::text::ParseError;
+
+/// Why a forced palette file cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum PaletteError {
+    /// The file is neither UTF-8 text nor a pattern.
+    #[error("{0}: not a palette: neither a .pat file nor a text list of colours")]
+    NotAPalette(String),
+    /// A line of a colour list is not a colour.
+    #[error("{file}:{line}")]
+    Line {
+        /// The file's name.
+        file: String,
+        /// The line, from 1.
+        line: usize,
+        /// What is wrong with it.
+        #[source]
+        error: LineError,
+    },
+    /// The file looks like a pattern and is not a valid one.
+    #[error(transparent)]
+    Pattern(#[from] ParseError),
+    /// The file holds no colour.
+    #[error("{0}: the palette has no colours")]
+    Empty(String),
+    /// The file holds more colours than a quantized pattern may have.
+    #[error("{file}: the palette has {colours} colours, at most {MAX_QUANT_COLORS} are allowed")]
+    TooMany {
+        /// The file's name.
+        file: String,
+        /// How many it holds.
+        colours: usize,
+    },
+}
+
+/// What is wrong with one line of a colour list.
+#[derive(Debug, thiserror::Error)]
+pub enum LineError {
+    /// Text after a `#rrggbb` colour that is not a comment.
+    #[error("unexpected `{0}` after the colour")]
+    Trailing(String),
+    /// Not a colour.
+    #[error(transparent)]
+    Colour(#[from] ColorParseError),
+}
 
 /// A forced palette: the palette of a `.pat` file, or a text list with one
 /// colour per line as `r,g,b` or `#rrggbb`, blank lines and `#` comments allowed.
 /// A file whose first meaningful line holds a comma or starts with `#` is a list.
-pub fn parse_palette_file(bytes: &[u8], name: &str) -> Result<Vec<Rgb8>> {
-    let text = std::str::from_utf8(bytes).map_err(|_| {
-        anyhow::anyhow!("{name}: not a palette: neither a .pat file nor a text list of colours")
-    })?;
+pub fn parse_palette_file(bytes: &[u8], name: &str) -> Result<Vec<Rgb8>, PaletteError> {
+    let text =
+        std::str::from_utf8(bytes).map_err(|_| PaletteError::NotAPalette(name.to_string()))?;
     let first = text.lines().map(str::trim).find(|l| !l.is_empty());
     let is_list = first.is_some_and(|l| l.contains(',') || l.starts_with('#'));
     let palette = if is_list {
         let mut out = Vec::new();
         for (i, line) in text.lines().enumerate() {
-            if let Some(c) = parse_list_line(line).with_context(|| format!("{name}:{}", i + 1))? {
+            let colour = parse_list_line(line).map_err(|error| PaletteError::Line {
+                file: name.to_string(),
+                line: i + 1,
+                error,
+            })?;
+            if let Some(c) = colour {
                 out.push(c);
             }
         }
@@ -29,13 +78,13 @@ pub fn parse_palette_file(bytes: &[u8], name: &str) -> Result<Vec<Rgb8>> {
         Pattern::parse(bytes, name)?.palette().to_vec()
     };
     if palette.is_empty() {
-        bail!("{name}: the palette has no colours");
+        return Err(PaletteError::Empty(name.to_string()));
     }
     if palette.len() > MAX_QUANT_COLORS {
-        bail!(
-            "{name}: the palette has {} colours, at most {MAX_QUANT_COLORS} are allowed",
-            palette.len()
-        );
+        return Err(PaletteError::TooMany {
+            file: name.to_string(),
+            colours: palette.len(),
+        });
     }
     Ok(palette)
 }
@@ -43,13 +92,13 @@ pub fn parse_palette_file(bytes: &[u8], name: &str) -> Result<Vec<Rgb8>> {
 /// One line of a colour list: a colour, or `None` for a blank or comment line.
 /// A `#` followed by a hex digit begins a colour (`#rrggbb`, so a mistyped `#fff`
 /// is an error, not a comment); any other `#` begins a comment.
-fn parse_list_line(line: &str) -> Result<Option<Rgb8>> {
+fn parse_list_line(line: &str) -> Result<Option<Rgb8>, LineError> {
     let t = line.trim();
     let colour = if t.starts_with('#') && t[1..].starts_with(|c: char| c.is_ascii_hexdigit()) {
         let (colour, rest) = t.split_once(char::is_whitespace).unwrap_or((t, ""));
         let rest = rest.trim();
         if !rest.is_empty() && !rest.starts_with('#') {
-            bail!("unexpected `{rest}` after the colour");
+            return Err(LineError::Trailing(rest.to_string()));
         }
         colour
     } else {
@@ -64,13 +113,14 @@ fn parse_list_line(line: &str) -> Result<Option<Rgb8>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_util::chain;
 
     #[test]
     fn palette_files_parse_as_lists_or_patterns() {
         let list =
             b"# my palette\n\n#ff0000  # red\n 0, 255 ,0\n#00f # not a colour: a comment? no\n";
-        let e = parse_palette_file(list, "p.txt").unwrap_err();
-        assert!(format!("{e:#}").contains("p.txt:5"), "{e:#}");
+        let e = chain(&parse_palette_file(list, "p.txt").unwrap_err());
+        assert!(e.contains("p.txt:5"), "{e}");
         let list = b"# my palette\n\n#ff0000  # red\n 0, 255 ,0 # green\n#0000FF\n";
         assert_eq!(
             parse_palette_file(list, "p.txt").unwrap(),
@@ -82,13 +132,10 @@ mod tests {
             pat.palette()
         );
         for bad in [&b""[..], b"# nothing\n", b"16 1\n", b"\xff\xfe", b"1,2\n"] {
-            let e = format!("{:#}", parse_palette_file(bad, "bad.pal").unwrap_err());
+            let e = chain(&parse_palette_file(bad, "bad.pal").unwrap_err());
             assert!(e.contains("bad.pal"), "{e}");
         }
-        let e = format!(
-            "{:#}",
-            parse_palette_file(b"#ff0000 junk\n", "j").unwrap_err()
-        );
+        let e = chain(&parse_palette_file(b"#ff0000 junk\n", "j").unwrap_err());
         assert!(e.contains("j:1") && e.contains("junk"), "{e}");
     }
 }

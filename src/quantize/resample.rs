@@ -12,7 +12,6 @@
 
 use crate::color::{decode_table, linear_to_srgb};
 use crate::error::OptionError;
-use anyhow::Result;
 
 /// Mitchell–Netravali parameters B = C = 1/3: the pair its authors recommend,
 /// balancing blur against ringing.
@@ -156,15 +155,18 @@ fn mitchell(x: f64) -> f64 {
 }
 
 /// The central `size` x `size` region of `img`, pixel for pixel.
-pub fn crop_square(img: &image::RgbaImage, size: u32, name: &str) -> Result<SquareImage> {
+pub fn crop_square(
+    img: &image::RgbaImage,
+    size: u32,
+    name: &str,
+) -> Result<SquareImage, OptionError> {
     let (w, h) = img.dimensions();
     if w < size || h < size {
         return Err(OptionError::new(
             format!("{name}: the image is {w}x{h}, smaller than the {size}x{size} that "),
             "crop",
             " needs",
-        )
-        .into());
+        ));
     }
     let (x0, y0) = ((w - size) / 2, (h - size) / 2);
     let mut pixels = Vec::with_capacity((size as usize).pow(2));

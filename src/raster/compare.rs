@@ -14,11 +14,30 @@
 //! assert_eq!(m.max_error, 6);
 //! assert_eq!(m.pixels_off, 1);
 //! assert!((m.rmse - 6.0 / 6f64.sqrt()).abs() < 1e-12); // sqrt(36 / 6 channel values)
-//! # Ok::<(), anyhow::Error>(())
+//! # Ok::<(), patkit::raster::compare::SizeMismatch>(())
 //! ```
 
 use crate::io::Image;
-use anyhow::{bail, Result};
+
+/// Two images compared must have the same size.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("image is {}x{} but the reference is {}x{}", image.0, image.1, reference.0, reference.1)]
+pub struct SizeMismatch {
+    /// Width and height of the image.
+    pub image: (u32, u32),
+    /// Width and height of the reference.
+    pub reference: (u32, u32),
+}
+
+/// [`SizeMismatch`] unless the two images have the same size.
+fn same_size(img: &Image, reference: &Image) -> Result<(), SizeMismatch> {
+    let (image, reference) = ((img.width, img.height), (reference.width, reference.height));
+    if image == reference {
+        Ok(())
+    } else {
+        Err(SizeMismatch { image, reference })
+    }
+}
 
 /// A pixel is "off" when some channel differs by more than this many codes.
 pub const OFF_THRESHOLD: u8 = 4;
@@ -53,16 +72,8 @@ fn rgb(img: &Image) -> impl Iterator<Item = [u8; 3]> + '_ {
 }
 
 /// Compares `img` with `reference`; they must have the same size.
-pub fn compare(img: &Image, reference: &Image) -> Result<Metrics> {
-    if (img.width, img.height) != (reference.width, reference.height) {
-        bail!(
-            "image is {}x{} but the reference is {}x{}",
-            img.width,
-            img.height,
-            reference.width,
-            reference.height
-        );
-    }
+pub fn compare(img: &Image, reference: &Image) -> Result<Metrics, SizeMismatch> {
+    same_size(img, reference)?;
     let mut sum_sq = 0u64;
     let mut max_error = 0u8;
     let mut pixels_off = 0u64;
@@ -93,10 +104,8 @@ pub fn compare(img: &Image, reference: &Image) -> Result<Metrics> {
 
 /// The amplified difference: each channel `min(255, gain * |a - b|)`, so black
 /// means equal.
-pub fn diff_image(img: &Image, reference: &Image, gain: u32) -> Result<Image> {
-    if (img.width, img.height) != (reference.width, reference.height) {
-        bail!("images differ in size");
-    }
+pub fn diff_image(img: &Image, reference: &Image, gain: u32) -> Result<Image, SizeMismatch> {
+    same_size(img, reference)?;
     let data = rgb(img)
         .zip(rgb(reference))
         .flat_map(|(a, b)| [0, 1, 2].map(|ch| (a[ch].abs_diff(b[ch]) as u32 * gain).min(255) as u8))

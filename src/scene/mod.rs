@@ -32,11 +32,15 @@
 //! // Pixel (4, 3) from the lower-left (row 4 from the top) lies inside the triangle.
 //! let at = (4 * 8 + 4) * image.channels as usize;
 //! assert_eq!(image.data[at..at + 3], [255, 128, 0]);
-//! # Ok::<(), anyhow::Error>(())
+//! # Ok::<(), patkit::scene::SceneError>(())
 //! ```
 
+mod error;
 pub mod polyfill;
 pub mod stripe;
+
+use error::InRecord;
+pub use error::{CellsError, PartitionError, RecordError, SceneError};
 
 use crate::color::Rgb8;
 use crate::geom::transform::Transform;
@@ -50,7 +54,6 @@ use crate::stripe::LodMode;
 use crate::texture::place::TextureSettings;
 use crate::texture::Texels;
 use crate::view::View;
-use anyhow::{Context, Result};
 use glam::DVec3;
 use std::collections::HashMap;
 use std::io::{BufRead, BufReader};
@@ -169,17 +172,13 @@ pub fn stripe_footprint(aa: Aa) -> f64 {
 impl Scene {
     /// Reads the stream at `input` (`-` is standard input). Patterns and
     /// stripe files resolve against the stream's directory.
-    pub fn load(input: &str) -> Result<Scene> {
+    pub fn load(input: &str) -> Result<Scene, SceneError> {
         let reader: Box<dyn BufRead> = if input == crate::io::STDIO {
             Box::new(std::io::stdin().lock())
         } else {
-            let path = Path::new(input);
-            if path.is_dir() {
-                anyhow::bail!("{input}: is a directory, not a file");
-            }
             Box::new(BufReader::with_capacity(
                 1 << 16,
-                std::fs::File::open(path).with_context(|| input.to_string())?,
+                crate::io::open_file(input)?,
             ))
         };
         let name = crate::io::display_name(input).to_string();
@@ -193,17 +192,15 @@ impl Scene {
     /// their screen → texel map, computed when each record is projected (in
     /// the object's own coordinates for an instance, so the pattern stays
     /// fixed to the object as in the thesis's Fig. 5.1).
-    pub fn read(reader: Box<dyn BufRead>, name: &str, base: &Path) -> Result<Scene> {
+    pub fn read(reader: Box<dyn BufRead>, name: &str, base: &Path) -> Result<Scene, SceneError> {
         let mut patterns: HashMap<PathBuf, Arc<Texels>> = HashMap::new();
         let mut stripes = StripeLoader::new(base);
         read_items(reader, name, |rec| {
-            let stripe = stripe::read(&mut stripes, &rec.fields, rec.color)
-                .with_context(|| format!("{name}: record {}", rec.index))?;
+            let at = (Some(name), rec.index);
+            let stripe =
+                stripe::read(&mut stripes, &rec.fields, rec.color).in_record(at.0, at.1)?;
             if stripe.is_some() && rec.pattern.is_some() {
-                anyhow::bail!(
-                    "{name}: record {}: has both \"pattern\" and \"stripe\": a face takes one texture",
-                    rec.index
-                );
+                return Err(RecordError::PatternAndStripe).in_record(at.0, at.1);
             }
             let mut texture = TextureSource::Flat;
             if let Some(pref) = &rec.pattern {
@@ -214,15 +211,14 @@ impl Scene {
                     PatternMode::Object
                 });
                 let Some(file) = &pref.file else {
-                    anyhow::bail!("{name}: record {}: pattern.file is missing", rec.index);
+                    return Err(RecordError::NoPatternFile).in_record(at.0, at.1);
                 };
                 // Only patterns the scene references are read, each once.
                 let path = crate::stream::resolve(base, file);
                 let texels = match patterns.get(&path) {
                     Some(p) => p.clone(),
                     None => {
-                        let pat = Pattern::read_file(&path)
-                            .with_context(|| format!("{name}: record {}", rec.index))?;
+                        let pat = Pattern::read_file(&path).in_record(at.0, at.1)?;
                         let p = Arc::new(Texels::new(&pat));
                         patterns.insert(path, p.clone());
                         p
@@ -266,7 +262,12 @@ impl Scene {
     /// Frame `frame`'s screen polygons through `view`, in stream order (an
     /// instance's polygons draw at the instance's place). Numbers of animated
     /// transforms are taken at `frame` (docs/objects.md).
-    pub fn project(&self, view: &View, how: &DrawOptions, frame: u64) -> Result<Vec<ScreenPoly>> {
+    pub fn project(
+        &self,
+        view: &View,
+        how: &DrawOptions,
+        frame: u64,
+    ) -> Result<Vec<ScreenPoly>, SceneError> {
         let mut out = Vec::new();
         project_parts(&self.parts, view, None, None, how, frame, &mut out)?;
         Ok(out)
@@ -279,15 +280,11 @@ impl Scene {
 fn read_items(
     reader: Box<dyn BufRead>,
     name: &str,
-    mut each: impl FnMut(Record) -> Result<Drawable>,
-) -> Result<Scene> {
+    mut each: impl FnMut(Record) -> Result<Drawable, SceneError>,
+) -> Result<Scene, SceneError> {
     let mut checks = Objects::default();
     let mut objects: HashMap<String, Rc<Vec<Part>>> = HashMap::new();
     let mut scene = Scene::default();
-    let named = |mut e: crate::stream::StreamError| {
-        e.source = name.to_string();
-        e
-    };
     let place = |inst: Instance, objects: &HashMap<String, Rc<Vec<Part>>>| Part::Place {
         index: inst.index,
         object: objects[&inst.object].clone(),
@@ -303,7 +300,7 @@ fn read_items(
         match item {
             Item::Record(rec) => scene.parts.push(Part::Draw(each(rec)?)),
             Item::Object(def) => {
-                checks.define(def.skeleton()).map_err(named)?;
+                checks.define(def.skeleton()).map_err(|e| e.named(name))?;
                 let mut parts = Vec::with_capacity(def.items.len());
                 for it in def.items {
                     parts.push(match it {
@@ -317,11 +314,11 @@ fn read_items(
                 objects.insert(def.name, Rc::new(parts));
             }
             Item::Instance(inst) => {
-                checks.check_instance(&inst).map_err(named)?;
+                checks.check_instance(&inst).map_err(|e| e.named(name))?;
                 scene.parts.push(place(inst, &objects));
             }
         }
-        Ok(())
+        Ok::<(), SceneError>(())
     })?;
     Ok(scene)
 }
@@ -340,7 +337,7 @@ fn project_parts(
     how: &DrawOptions,
     frame: u64,
     out: &mut Vec<ScreenPoly>,
-) -> Result<()> {
+) -> Result<(), SceneError> {
     let moved;
     let view = match placed {
         Some(t) => {
@@ -357,11 +354,10 @@ fn project_parts(
             Part::Draw(d) => {
                 let order = match order {
                     Some(o) => o,
-                    None => u32::try_from(d.index).context("more than 2^32 records")?,
+                    None => draw_order(d.index)?,
                 };
                 if let Shape::Quadric(q) = &d.shape {
-                    project_quadric(d, q, view, order, how, frame, out)
-                        .with_context(|| format!("record {}", d.index))?;
+                    project_quadric(d, q, view, order, how, frame, out).in_record(None, d.index)?;
                     continue;
                 }
                 let outline = match &d.shape {
@@ -372,7 +368,7 @@ fn project_parts(
                     )),
                 };
                 draw_polygon(d, view, &outline, d.uv.as_deref(), order, how, out)
-                    .with_context(|| format!("record {}", d.index))?;
+                    .in_record(None, d.index)?;
             }
             Part::Place {
                 index,
@@ -382,14 +378,18 @@ fn project_parts(
                 animated,
             } => {
                 let transform = match animated {
-                    Some(v) => &Transform::from_json_at(v, frame).with_context(|| {
-                        format!("record {index}: instance of `{name}` at frame {frame}")
-                    })?,
+                    Some(v) => &Transform::from_json_at(v, frame)
+                        .map_err(|error| RecordError::InstanceTransform {
+                            object: name.clone(),
+                            frame,
+                            error,
+                        })
+                        .in_record(None, *index)?,
                     None => transform,
                 };
                 let order = match order {
                     Some(o) => o,
-                    None => u32::try_from(*index).context("more than 2^32 records")?,
+                    None => draw_order(*index)?,
                 };
                 let total = match placed {
                     Some(outer) => transform.then(outer),
@@ -402,6 +402,11 @@ fn project_parts(
     Ok(())
 }
 
+/// A record's index as its draw order.
+fn draw_order(index: usize) -> Result<u32, SceneError> {
+    u32::try_from(index).map_err(|_| SceneError::TooManyRecords)
+}
+
 /// Projects one polygon of a record and gives it its texture: `outline` in
 /// the record's coordinates, `uv` its texture coordinates in texels (uv mode).
 fn draw_polygon(
@@ -412,7 +417,7 @@ fn draw_polygon(
     order: u32,
     how: &DrawOptions,
     out: &mut Vec<ScreenPoly>,
-) -> Result<()> {
+) -> Result<(), RecordError> {
     let Some(mut p) = raster::try_project(view, outline, d.color, order, how.cull)? else {
         return Ok(());
     };
@@ -463,13 +468,18 @@ fn project_quadric(
     how: &DrawOptions,
     frame: u64,
     out: &mut Vec<ScreenPoly>,
-) -> Result<()> {
+) -> Result<(), RecordError> {
     let moved;
     let q = match &d.animated {
         Some(v) => {
             let mut m = q.clone();
-            m.transform = Transform::from_json_at(v, frame)
-                .with_context(|| format!("{}: transform at frame {}", q.kind, frame))?;
+            m.transform = Transform::from_json_at(v, frame).map_err(|error| {
+                RecordError::QuadricTransform {
+                    kind: q.kind,
+                    frame,
+                    error,
+                }
+            })?;
             moved = m;
             &moved
         }
@@ -487,9 +497,7 @@ fn project_quadric(
         TextureSource::Placed { texels, .. } => texels.size(),
         _ => 1,
     };
-    let tris = q
-        .texel_triangles(tolerance, size)
-        .map_err(anyhow::Error::msg)?;
+    let tris = q.texel_triangles(tolerance, size)?;
     for t in &tris {
         draw_polygon(d, view, &t.v, Some(&t.uv), order, how, out)?;
     }

@@ -5,6 +5,7 @@
 //! placed by its instances, Fig. 5.1); records without an object-mode pattern
 //! pass through unchanged.
 
+use super::error::{CellsError, PartitionError};
 use crate::error::OptionError;
 use crate::geom::merge::RunMerger;
 use crate::geom::partition::{estimate_cells, thesis_partition};
@@ -14,7 +15,6 @@ use crate::pat::Pattern;
 use crate::stream::{self, Instance, Item, ObjectDef, Objects, PatternMode, Record};
 use crate::texture::map::object_uv;
 use crate::view::ViewVolume;
-use anyhow::{anyhow, Context, Result};
 use glam::DVec3;
 use serde_json::Value;
 use std::collections::HashMap;
@@ -124,7 +124,7 @@ pub fn partition_stream<W: Write>(
     out: W,
     options: &PartitionOptions,
     warn: &mut dyn FnMut(String),
-) -> Result<(W, Summary)> {
+) -> Result<(W, Summary), PartitionError> {
     let mut job = Job {
         args: options,
         base: base.to_path_buf(),
@@ -139,23 +139,25 @@ pub fn partition_stream<W: Write>(
     // Objects and instances are kept as they are (Fig. 5.1: a face is
     // partitioned once and placed four times), not expanded into copies.
     let mut objects = Objects::default();
-    let named = |mut e: stream::StreamError| {
-        e.source = source.to_string();
-        e
-    };
     stream::for_each_item(reader, source, |item| match item {
         Item::Record(rec) => {
             let index = rec.index;
-            job.record(rec)
-                .with_context(|| format!("{source}: record {index}"))
+            job.record(rec).map_err(|error| PartitionError::Record {
+                input: source.to_string(),
+                index,
+                within: None,
+                error: Box::new(error),
+            })
         }
         Item::Object(def) => {
-            objects.define(def.skeleton()).map_err(named)?;
+            objects
+                .define(def.skeleton())
+                .map_err(|e| e.named(source))?;
             job.object(def, source)
         }
         Item::Instance(inst) => {
-            objects.check_instance(&inst).map_err(named)?;
-            job.instance(&inst)
+            objects.check_instance(&inst).map_err(|e| e.named(source))?;
+            Ok(job.instance(&inst)?)
         }
     })?;
     let summary = job.summary.clone();
@@ -177,7 +179,7 @@ struct Job<'a, W: Write> {
 impl<W: Write> Job<'_, W> {
     /// Where a record's pattern file is: its "file" resolved against the
     /// stream's directory, else [`PartitionOptions::pattern`].
-    fn pattern_path(&self, file: Option<&str>) -> Result<PathBuf> {
+    fn pattern_path(&self, file: Option<&str>) -> Result<PathBuf, OptionError> {
         match (file, &self.args.pattern) {
             (Some(f), _) => Ok(stream::resolve(&self.base, f)),
             (None, Some(p)) => Ok(p.clone()),
@@ -185,17 +187,16 @@ impl<W: Write> Job<'_, W> {
                 "pattern: no \"file\" in the record and no ",
                 "pattern",
                 " given",
-            )
-            .into()),
+            )),
         }
     }
 
-    fn pattern(&mut self, file: Option<&str>) -> Result<Rc<Pattern>> {
+    fn pattern(&mut self, file: Option<&str>) -> Result<Rc<Pattern>, CellsError> {
         let path = self.pattern_path(file)?;
         if let Some(p) = self.patterns.get(&path) {
             return Ok(p.clone());
         }
-        let p = Rc::new(Pattern::read_file(&path).map_err(|e| anyhow!("pattern: {e}"))?);
+        let p = Rc::new(Pattern::read_file(&path).map_err(CellsError::Pattern)?);
         self.patterns.insert(path, p.clone());
         Ok(p)
     }
@@ -205,7 +206,7 @@ impl<W: Write> Job<'_, W> {
     /// its instances unchanged; the definition's other fields keep their
     /// order. Culling does not apply inside objects: where an instance puts
     /// them is not known here.
-    fn object(&mut self, def: ObjectDef, source: &str) -> Result<()> {
+    fn object(&mut self, def: ObjectDef, source: &str) -> Result<(), PartitionError> {
         self.summary.objects += 1;
         self.writer.capture()?;
         let volume = self.volume.take();
@@ -219,7 +220,7 @@ impl<W: Write> Job<'_, W> {
             if i > 0 {
                 line.push(b',');
             }
-            serde_json::to_writer(&mut line, k)?;
+            serde_json::to_writer(&mut line, k).map_err(std::io::Error::from)?;
             line.push(b':');
             if k == "records" {
                 line.push(b'[');
@@ -233,22 +234,25 @@ impl<W: Write> Job<'_, W> {
                 }
                 line.push(b']');
             } else {
-                serde_json::to_writer(&mut line, v)?;
+                serde_json::to_writer(&mut line, v).map_err(std::io::Error::from)?;
             }
         }
         line.extend_from_slice(b"}\n");
-        self.writer.pass_raw(&line)
+        Ok(self.writer.pass_raw(&line)?)
     }
 
-    fn object_items(&mut self, def: &ObjectDef, source: &str) -> Result<()> {
+    fn object_items(&mut self, def: &ObjectDef, source: &str) -> Result<(), PartitionError> {
         for (i, item) in def.items.iter().enumerate() {
             match item {
-                Item::Record(rec) => self.record(rec.clone()).with_context(|| {
-                    format!(
-                        "{source}: record {}: object `{}` records[{i}]",
-                        def.index, def.name
-                    )
-                })?,
+                Item::Record(rec) => {
+                    self.record(rec.clone())
+                        .map_err(|error| PartitionError::Record {
+                            input: source.to_string(),
+                            index: def.index,
+                            within: Some((def.name.clone(), i)),
+                            error: Box::new(error),
+                        })?
+                }
                 Item::Instance(inst) => self.instance(inst)?,
                 Item::Object(_) => unreachable!("Objects::define rejects nested definitions"),
             }
@@ -263,7 +267,7 @@ impl<W: Write> Job<'_, W> {
     /// tolerance (world units; there is no camera). The triangles count
     /// towards the polygon limit; culling does not apply. A quadric whose
     /// transform varies per frame passes through unchanged.
-    fn quadric(&mut self, rec: &Record) -> Result<()> {
+    fn quadric(&mut self, rec: &Record) -> Result<(), CellsError> {
         // A transform that varies per frame is scene-render's to evaluate:
         // expanding frame 0 here would freeze the animation, so the record
         // passes through unchanged (scene-render draws quadrics directly).
@@ -273,7 +277,7 @@ impl<W: Write> Job<'_, W> {
             .is_some_and(crate::geom::transform::Transform::is_animated)
         {
             self.summary.passed += 1;
-            return self.writer.pass(&rec.fields);
+            return Ok(self.writer.pass(&rec.fields)?);
         }
         let size = match &rec.pattern {
             Some(p) if p.mode != Some(PatternMode::Screen) => {
@@ -281,9 +285,8 @@ impl<W: Write> Job<'_, W> {
             }
             _ => None,
         };
-        let tris = stream::quadric_triangles(rec, self.args.tolerance, size)
-            .expect("a quadric record")
-            .map_err(|e| anyhow!(e))?;
+        let tris =
+            stream::quadric_triangles(rec, self.args.tolerance, size).expect("a quadric record")?;
         let total = self.summary.polygons + tris.len() as u64;
         if total > self.args.max_polygons {
             return Err(OptionError::new(
@@ -321,7 +324,7 @@ impl<W: Write> Job<'_, W> {
         vertices: &[DVec3],
         place: Placement,
         rotate: f64,
-    ) -> Result<()> {
+    ) -> Result<(), CellsError> {
         // Loaded (once) only to report a missing or bad pattern here rather
         // than in the renderer.
         self.pattern(pref.file.as_deref())?;
@@ -330,20 +333,20 @@ impl<W: Write> Job<'_, W> {
         let fields = self.whole(rec, vertices, Some(uv))?;
         self.summary.partitioned += 1;
         self.summary.polygons += 1;
-        self.writer.pass(&fields)
+        Ok(self.writer.pass(&fields)?)
     }
 
     /// A record that is not partitioned: unchanged, except with `uv` set,
     /// where every record comes out as a polygon (rect, circle and arc
     /// flattened within the tolerance) with an absolute pattern path, so that a
     /// renderer that only draws polygons can take the stream anywhere.
-    fn pass_record(&mut self, rec: &Record) -> Result<()> {
+    fn pass_record(&mut self, rec: &Record) -> Result<(), CellsError> {
         if !self.args.uv {
-            return self.writer.pass(&rec.fields);
+            return Ok(self.writer.pass(&rec.fields)?);
         }
         let vertices = outline(&rec.shape, self.args.tolerance);
         let fields = self.whole(rec, &vertices, None)?;
-        self.writer.pass(&fields)
+        Ok(self.writer.pass(&fields)?)
     }
 
     /// `rec`'s fields for `uv` output: "vertices" set to `vertices` (curves
@@ -356,7 +359,7 @@ impl<W: Write> Job<'_, W> {
         rec: &Record,
         vertices: &[DVec3],
         uv: Option<Value>,
-    ) -> Result<serde_json::Map<String, Value>> {
+    ) -> Result<serde_json::Map<String, Value>, CellsError> {
         let mut fields = serde_json::Map::with_capacity(rec.fields.len() + 2);
         for (k, v) in &rec.fields {
             match k.as_str() {
@@ -368,7 +371,7 @@ impl<W: Write> Job<'_, W> {
                     if file.is_some() || self.args.pattern.is_some() {
                         let path = self.pattern_path(file)?;
                         let path = std::path::absolute(&path)
-                            .with_context(|| format!("pattern: {}", path.display()))?;
+                            .map_err(|error| CellsError::PatternPath { path, error })?;
                         p.insert("file".into(), Value::String(path.display().to_string()));
                     }
                     if uv.is_some() {
@@ -395,12 +398,12 @@ impl<W: Write> Job<'_, W> {
     }
 
     /// An instance passes through unchanged: its object is partitioned once.
-    fn instance(&mut self, inst: &Instance) -> Result<()> {
+    fn instance(&mut self, inst: &Instance) -> std::io::Result<()> {
         self.summary.instances += 1;
         self.writer.pass(&inst.fields)
     }
 
-    fn record(&mut self, rec: Record) -> Result<()> {
+    fn record(&mut self, rec: Record) -> Result<(), CellsError> {
         self.summary.records += 1;
         if let Shape::Quadric(_) = rec.shape {
             return self.quadric(&rec);
@@ -562,7 +565,7 @@ impl<W: Write> CellWriter<W> {
     }
 
     /// Writes a record unchanged.
-    pub fn pass(&mut self, fields: &serde_json::Map<String, Value>) -> Result<()> {
+    pub fn pass(&mut self, fields: &serde_json::Map<String, Value>) -> std::io::Result<()> {
         stream::write_ndjson(&mut self.buf, fields)?;
         if self.buf.len() >= FLUSH_BYTES {
             self.drain()?;
@@ -571,7 +574,7 @@ impl<W: Write> CellWriter<W> {
     }
 
     /// Writes already serialized NDJSON (one or more whole lines).
-    pub fn pass_raw(&mut self, line: &[u8]) -> Result<()> {
+    pub fn pass_raw(&mut self, line: &[u8]) -> std::io::Result<()> {
         self.buf.extend_from_slice(line);
         if self.buf.len() >= FLUSH_BYTES {
             self.drain()?;
@@ -581,7 +584,7 @@ impl<W: Write> CellWriter<W> {
 
     /// From now on keeps every record written in memory instead of sending it
     /// to the output, until [`CellWriter::end_capture`].
-    pub fn capture(&mut self) -> Result<()> {
+    pub fn capture(&mut self) -> std::io::Result<()> {
         self.drain()?;
         self.capturing = true;
         Ok(())
@@ -594,7 +597,7 @@ impl<W: Write> CellWriter<W> {
     }
 
     /// Writes what is buffered and returns the output.
-    pub fn into_inner(mut self) -> Result<W> {
+    pub fn into_inner(mut self) -> std::io::Result<W> {
         self.drain()?;
         Ok(self.out)
     }
@@ -711,11 +714,11 @@ impl<W: Write> CellWriter<W> {
     }
 
     /// Writes what is pending for the current record.
-    pub fn finish(&mut self) -> Result<()> {
+    pub fn finish(&mut self) -> std::io::Result<()> {
         self.flush_run();
         if let Some(e) = self.error.take() {
             self.buf.clear();
-            return Err(e.into());
+            return Err(e);
         }
         if self.buf.len() >= FLUSH_BYTES {
             self.drain()?;

@@ -4,10 +4,9 @@
 
 use crate::color::Rgb8;
 use crate::geom::Shape;
-use crate::stripe::record::{LoadedStripe, NoMapping, StripeLoader, StripeSpec};
+use crate::stripe::record::{LoadedStripe, NoMapping, StripeError, StripeLoader, StripeSpec};
 use crate::stripe::{LodMode, StripeTexture};
 use crate::view::View;
-use anyhow::Result;
 use std::sync::Arc;
 
 /// The face colour of a stripe record with neither a colour code nor a
@@ -31,8 +30,8 @@ pub fn read(
     loader: &mut StripeLoader,
     fields: &serde_json::Map<String, serde_json::Value>,
     colour: Option<Rgb8>,
-) -> Result<Option<RecordStripe>> {
-    let Some(spec) = StripeSpec::from_fields(fields).map_err(anyhow::Error::msg)? else {
+) -> Result<Option<RecordStripe>, StripeError> {
+    let Some(spec) = StripeSpec::from_fields(fields)? else {
         return Ok(None);
     };
     let loaded = loader.load(&spec)?;
@@ -52,7 +51,7 @@ pub fn shader(
     view: &View,
     outline: &[glam::DVec3],
     mode: LodMode,
-) -> Result<Option<StripeTexture>> {
+) -> Result<Option<StripeTexture>, NoMapping> {
     match s.loaded.texture_on(
         &Shape::Polygon(outline.to_vec()),
         view.world_to_clip,
@@ -63,6 +62,6 @@ pub fn shader(
     ) {
         Ok(t) => Ok(Some(t)),
         Err(NoMapping::EdgeOn) => Ok(None),
-        Err(e) => Err(e.into()),
+        Err(e) => Err(e),
     }
 }

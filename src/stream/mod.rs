@@ -65,6 +65,26 @@ impl fmt::Display for StreamError {
 
 impl std::error::Error for StreamError {}
 
+impl StreamError {
+    /// An error of record `index`, its input not yet named: the reader, which
+    /// knows the input, names it ([`StreamError::named`]).
+    pub fn in_record(index: usize, message: impl Into<String>) -> StreamError {
+        StreamError {
+            source: String::new(),
+            record: Some(index),
+            message: message.into(),
+        }
+    }
+
+    /// The error with its input named `source`, unless it names one already.
+    pub fn named(mut self, source: &str) -> StreamError {
+        if self.source.is_empty() {
+            self.source = source.to_string();
+        }
+        self
+    }
+}
+
 /// The most vertices one polygon may have: 2^24 (16.7 million). Past that a
 /// record is certainly a mistake, and the limit keeps memory bounded.
 pub const MAX_VERTICES: usize = 1 << 24;
@@ -74,16 +94,16 @@ pub const MAX_VERTICES: usize = 1 << 24;
 mod testing {
     use super::*;
 
-    pub(super) fn read_all(text: &str) -> anyhow::Result<Vec<Record>> {
+    pub(super) fn read_all(text: &str) -> Result<Vec<Record>, StreamError> {
         let mut out = Vec::new();
         for_each_record(text.as_bytes(), "s.json", |r| {
             out.push(r);
-            Ok(())
+            Ok::<(), StreamError>(())
         })?;
         Ok(out)
     }
 
     pub(super) fn err(text: &str) -> String {
-        format!("{:#}", read_all(text).unwrap_err())
+        read_all(text).unwrap_err().to_string()
     }
 }

@@ -86,7 +86,7 @@ impl ObjectDef {
 
 impl Item {
     /// Builds the typed view of one JSON stream element.
-    pub fn from_value(index: usize, value: Value) -> Result<Item, (usize, String)> {
+    pub fn from_value(index: usize, value: Value) -> Result<Item, StreamError> {
         match &value {
             Value::Object(m) if m.contains_key("object") => {
                 let Value::Object(fields) = value else {
@@ -114,7 +114,8 @@ impl Item {
                     .iter()
                     .enumerate()
                     .map(|(i, v)| {
-                        Item::from_value(index, v.clone()).map_err(|(_, m)| {
+                        Item::from_value(index, v.clone()).map_err(|e| {
+                            let m = e.message;
                             field_err(index, format!("object `{name}` records[{i}]: {m}"))
                         })
                     })
@@ -172,11 +173,7 @@ impl Objects {
     /// Records a definition after checking its name is new and every instance
     /// inside it names an object defined before it.
     pub fn define(&mut self, def: ObjectDef) -> Result<(), StreamError> {
-        let err = |m: String| StreamError {
-            source: String::new(),
-            record: Some(def.index),
-            message: m,
-        };
+        let err = |m: String| StreamError::in_record(def.index, m);
         if self.defs.contains_key(&def.name) {
             return Err(err(format!("object `{}` is defined twice", def.name)));
         }
@@ -215,14 +212,13 @@ impl Objects {
         if self.defs.contains_key(&inst.object) {
             return Ok(());
         }
-        Err(StreamError {
-            source: String::new(),
-            record: Some(inst.index),
-            message: format!(
+        Err(StreamError::in_record(
+            inst.index,
+            format!(
                 "instance of unknown object `{}` (define it first)",
                 inst.object
             ),
-        })
+        ))
     }
 
     /// The definition of object `name`, if one was defined.
@@ -231,45 +227,47 @@ impl Objects {
     }
 
     /// Feeds one stream item through: records go to `each`, definitions are
-    /// stored, instances are expanded into moved records.
-    pub fn expand(
+    /// stored, instances are expanded into moved records. `source` names the
+    /// input in the errors raised here; `each`'s own errors pass unchanged.
+    pub fn expand<E: From<StreamError>>(
         &mut self,
         item: Item,
-        each: &mut dyn FnMut(Record) -> anyhow::Result<()>,
-    ) -> anyhow::Result<()> {
+        source: &str,
+        each: &mut dyn FnMut(Record) -> Result<(), E>,
+    ) -> Result<(), E> {
         match item {
             Item::Record(r) => each(r),
-            Item::Object(def) => Ok(self.define(def)?),
+            Item::Object(def) => Ok(self.define(def).map_err(|e| e.named(source))?),
             Item::Instance(inst) => {
-                self.check_instance(&inst)?;
+                self.check_instance(&inst).map_err(|e| e.named(source))?;
                 let def = self.defs[&inst.object].clone();
-                self.place(&def, inst.transform, inst.index, each)
+                self.place(&def, inst.transform, inst.index, source, each)
             }
         }
     }
 
-    fn place(
+    fn place<E: From<StreamError>>(
         &self,
         def: &ObjectDef,
         transform: Transform,
         index: usize,
-        each: &mut dyn FnMut(Record) -> anyhow::Result<()>,
-    ) -> anyhow::Result<()> {
+        source: &str,
+        each: &mut dyn FnMut(Record) -> Result<(), E>,
+    ) -> Result<(), E> {
         for item in &def.items {
             match item {
                 Item::Record(r) => {
-                    let moved =
-                        transform_record(r, &transform, index).map_err(|m| StreamError {
-                            source: String::new(),
-                            record: Some(index),
-                            message: format!("object `{}`: {m}", def.name),
-                        })?;
+                    let moved = transform_record(r, &transform, index).map_err(|m| {
+                        StreamError::in_record(index, format!("object `{}`: {m}", def.name))
+                            .named(source)
+                    })?;
                     each(moved)?;
                 }
                 Item::Instance(inner) => {
                     let inner_def = &self.defs[&inner.object];
                     // The inner placement applies first, then this one.
-                    self.place(inner_def, inner.transform.then(transform), index, each)?;
+                    let placed = inner.transform.then(transform);
+                    self.place(inner_def, placed, index, source, each)?;
                 }
                 Item::Object(_) => unreachable!("rejected by define"),
             }

@@ -19,22 +19,17 @@ use std::io::BufRead;
 /// [`for_each_item`] instead. Stops at the first error, which names the input
 /// and the record. Memory stays bounded by the largest single record plus the
 /// object definitions.
-pub fn for_each_record<R: BufRead>(
+///
+/// `each` may fail with an error of its own type `E`, which ends the reading
+/// and comes back unchanged; the stream's own errors come back as `E` too.
+pub fn for_each_record<R: BufRead, E: From<StreamError>>(
     reader: R,
     source: &str,
-    mut each: impl FnMut(Record) -> anyhow::Result<()>,
-) -> anyhow::Result<()> {
+    mut each: impl FnMut(Record) -> Result<(), E>,
+) -> Result<(), E> {
     let mut objects = Objects::default();
     for_each_item(reader, source, |item| {
-        objects
-            .expand(item, &mut each)
-            .map_err(|e| match e.downcast::<StreamError>() {
-                Ok(mut se) => {
-                    se.source = source.to_string();
-                    anyhow::Error::new(se)
-                }
-                Err(other) => other,
-            })
+        objects.expand(item, source, &mut each)
     })
 }
 
@@ -45,16 +40,17 @@ pub fn nth_record<R: BufRead>(
     reader: R,
     source: &str,
     n: usize,
-) -> anyhow::Result<Result<Record, usize>> {
-    /// Stops the scan once record `n` has been found.
-    #[derive(Debug)]
-    struct Found;
-    impl fmt::Display for Found {
-        fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-            f.write_str("found")
+) -> Result<Result<Record, usize>, StreamError> {
+    /// How the scan ended early: record `n` was found, or the stream failed.
+    enum Stop {
+        Found,
+        Failed(StreamError),
+    }
+    impl From<StreamError> for Stop {
+        fn from(e: StreamError) -> Stop {
+            Stop::Failed(e)
         }
     }
-    impl std::error::Error for Found {}
 
     let mut found = None;
     let mut count = 0usize;
@@ -62,23 +58,23 @@ pub fn nth_record<R: BufRead>(
         count += 1;
         if r.index == n {
             found = Some(r);
-            return Err(Found.into());
+            return Err(Stop::Found);
         }
         Ok(())
     });
     match scan {
-        Err(e) if e.downcast_ref::<Found>().is_none() => Err(e),
-        _ => Ok(found.ok_or(count)),
+        Err(Stop::Failed(e)) => Err(e),
+        Err(Stop::Found) | Ok(()) => Ok(found.ok_or(count)),
     }
 }
 
 /// Like [`for_each_record`], but hands over object definitions and instances
 /// as they are, for tools that forward them.
-pub fn for_each_item<R: BufRead>(
+pub fn for_each_item<R: BufRead, E: From<StreamError>>(
     mut reader: R,
     source: &str,
-    mut each: impl FnMut(Item) -> anyhow::Result<()>,
-) -> anyhow::Result<()> {
+    mut each: impl FnMut(Item) -> Result<(), E>,
+) -> Result<(), E> {
     let stream_err = |record: Option<usize>, message: String| StreamError {
         source: source.to_string(),
         record,
@@ -105,11 +101,9 @@ pub fn for_each_item<R: BufRead>(
         }
     };
     let mut index = 0usize;
-    let mut handle = |value: Parsed, index: &mut usize| -> anyhow::Result<()> {
+    let mut handle = |value: Parsed, index: &mut usize| -> Result<(), E> {
         let item = match value {
-            Parsed::Value(value) => {
-                Item::from_value(*index, value).map_err(|(i, m)| stream_err(Some(i), m))?
-            }
+            Parsed::Value(value) => Item::from_value(*index, value).map_err(|e| e.named(source))?,
             Parsed::Item(item) => item,
         };
         *index += 1;
@@ -119,7 +113,7 @@ pub fn for_each_item<R: BufRead>(
         None => Ok(()),
         Some(b'[') => {
             let mut de = serde_json::Deserializer::from_reader(reader);
-            let mut failure: Option<anyhow::Error> = None;
+            let mut failure: Option<E> = None;
             let visitor = ArrayVisitor {
                 each: &mut |v: Value| -> bool {
                     match handle(Parsed::Value(v), &mut index) {
@@ -322,9 +316,9 @@ mod tests {
         let mut seen = 0;
         let r = for_each_record(text.as_bytes(), "s", |_| {
             seen += 1;
-            anyhow::bail!("stop")
+            Err(StreamError::in_record(7, "stop"))
         });
         assert_eq!(seen, 1);
-        assert_eq!(r.unwrap_err().to_string(), "stop");
+        assert_eq!(r.unwrap_err().to_string(), ": record 7: stop");
     }
 }

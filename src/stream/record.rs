@@ -4,7 +4,7 @@
 //! a record may hold, and the wording of every field error, live in one place
 //! whichever form (array, NDJSON, object definition) the record came in.
 
-use super::MAX_VERTICES;
+use super::{StreamError, MAX_VERTICES};
 use crate::color::Rgb8;
 use crate::geom::transform::Transform;
 use crate::geom::Shape;
@@ -132,7 +132,7 @@ impl PartialEq for Fields {
 
 impl Record {
     /// Builds the typed view of one JSON record.
-    pub fn from_value(index: usize, value: Value) -> Result<Record, (usize, String)> {
+    pub fn from_value(index: usize, value: Value) -> Result<Record, StreamError> {
         let Value::Object(fields) = value else {
             return Err(field_err(
                 index,
@@ -458,14 +458,7 @@ fn parse_quadric(
             outer: num("outer")?,
         },
     };
-    quadric.check().map_err(|e| {
-        // The check names a cone's radii as the cylinder's it is.
-        if kind == "cone" {
-            e.replace("cylinder", "cone")
-        } else {
-            e
-        }
-    })?;
+    quadric.check().map_err(|e| e.for_kind(kind).to_string())?;
     let repeat = match obj.get("repeat") {
         None => [1.0, 1.0],
         Some(r) => {
@@ -494,9 +487,9 @@ fn parse_quadric(
 }
 
 /// A record error as [`Record::from_value`] returns it: the record's index
-/// and the message.
-pub(super) fn field_err(index: usize, msg: impl Into<String>) -> (usize, String) {
-    (index, msg.into())
+/// and the message; the reader names the input.
+pub(super) fn field_err(index: usize, msg: impl Into<String>) -> StreamError {
+    StreamError::in_record(index, msg)
 }
 
 /// A finite number, naming the field `what` on error.

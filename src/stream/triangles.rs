@@ -18,7 +18,7 @@ pub fn quadric_triangles(
     r: &Record,
     tolerance: f64,
     pattern_size: Option<u32>,
-) -> Option<Result<Vec<Map<String, Value>>, String>> {
+) -> Option<Result<Vec<Map<String, Value>>, crate::geom::quadric::QuadricError>> {
     let Shape::Quadric(q) = &r.shape else {
         return None;
     };

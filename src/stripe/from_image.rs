@@ -12,9 +12,23 @@
 //! (fully transparent pixels) take the linear interpolation of their
 //! neighbours.
 
+use super::map::InvalidMap;
 use super::map::{check_len, Fade, ModulationMap};
 use crate::color::{linear_to_srgb, srgb_to_linear};
-use anyhow::{bail, Result};
+
+/// Why an image gives no stripe map.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FromImageError {
+    /// The map length asked for is not a power of two in range.
+    #[error(transparent)]
+    Map(#[from] InvalidMap),
+    /// The stripes' angle is NaN or infinite.
+    #[error("the stripe angle {0} is not a finite number")]
+    Angle(f64),
+    /// Every pixel has alpha 0.
+    #[error("the image is fully transparent: there is nothing to average")]
+    Transparent,
+}
 
 /// Rec. 709 luminance weights of linear R, G, B.
 const LUMA: [f64; 3] = [0.2126, 0.7152, 0.0722];
@@ -25,10 +39,10 @@ pub fn map_from_image(
     angle: f64,
     len: u64,
     fade: Fade,
-) -> Result<ModulationMap> {
+) -> Result<ModulationMap, FromImageError> {
     let len = check_len(len)?;
     if !angle.is_finite() {
-        bail!("the stripe angle {angle} is not a finite number");
+        return Err(FromImageError::Angle(angle));
     }
     let (w, h) = img.dimensions();
     let (s, c) = angle.to_radians().sin_cos();
@@ -57,7 +71,7 @@ pub fn map_from_image(
         weight[b] += a;
     }
     if weight.iter().all(|&wt| wt == 0.0) {
-        bail!("the image is fully transparent: there is nothing to average");
+        return Err(FromImageError::Transparent);
     }
     let mut profile: Vec<Option<f64>> = sum
         .iter()

@@ -7,14 +7,16 @@
 //! module reads `fields["stripe"]` from there, so the stream's typed API is
 //! unchanged and tools that forward records pass the object through.
 
+use super::map::InvalidMap;
 use super::map::ModulationMap;
+use super::tables::TableError;
 use super::tables::{ColourTable, Select, Translation};
 use super::vector::{Orientation, PatternVector, RefPlane};
 use super::{LodMode, Modulation, ScreenMapping, StripeTexture};
 use crate::color::Rgb8;
 use crate::geom::Shape;
 use crate::stream::resolve;
-use anyhow::{Context, Result};
+use crate::text::ParseError;
 use glam::{DMat4, DVec3};
 use serde_json::{Map, Value};
 use std::path::Path;
@@ -34,6 +36,45 @@ pub const KEYS: [&str; 11] = [
     "code",
     "colours",
 ];
+
+/// Why a record's stripe texture cannot be used. Errors of the `"stripe"`
+/// object name its field (`stripe.spacing: ...`), errors of its files the
+/// file; the caller adds the record.
+#[derive(Debug, thiserror::Error)]
+pub enum StripeError {
+    /// A field of the `"stripe"` object is wrong: the message names it.
+    #[error("{0}")]
+    Field(String),
+    /// A file the object names could not be read.
+    #[error("{}", path.display())]
+    Read {
+        /// The file, resolved against the stream's directory.
+        path: std::path::PathBuf,
+        /// The cause.
+        #[source]
+        error: std::io::Error,
+    },
+    /// A map, translation or colour-table file is malformed.
+    #[error(transparent)]
+    Parse(#[from] ParseError),
+    /// A brightness or contrast out of range.
+    #[error(transparent)]
+    Table(#[from] TableError),
+    /// A map that breaks the map rules.
+    #[error(transparent)]
+    Map(#[from] InvalidMap),
+    /// The face gives the stripes no mapping.
+    #[error(transparent)]
+    Mapping(#[from] NoMapping),
+}
+
+/// Reads a file the `"stripe"` object names.
+fn read_file(path: &Path) -> Result<Vec<u8>, StripeError> {
+    crate::io::read_path(path).map_err(|error| StripeError::Read {
+        path: path.to_path_buf(),
+        error,
+    })
+}
 
 /// How the record names its translation map.
 #[derive(Clone, Debug, PartialEq)]
@@ -93,8 +134,9 @@ fn string<'a>(
 impl StripeSpec {
     /// The record's stripe texture, if it has a `"stripe"` field. Errors name
     /// the field as `stripe.KEY`.
-    pub fn from_fields(fields: &Map<String, Value>) -> Result<Option<StripeSpec>, String> {
-        fields.get("stripe").map(StripeSpec::from_value).transpose()
+    pub fn from_fields(fields: &Map<String, Value>) -> Result<Option<StripeSpec>, StripeError> {
+        let spec = fields.get("stripe").map(StripeSpec::from_value).transpose();
+        spec.map_err(StripeError::Field)
     }
 
     /// Parses a `"stripe"` object.
@@ -198,7 +240,7 @@ impl StripeSpec {
 
     /// Reads the files the spec names, resolving relative paths against `base`
     /// (the stream's directory, [`crate::stream::base_dir`]).
-    pub fn load(&self, base: &Path) -> Result<LoadedStripe> {
+    pub fn load(&self, base: &Path) -> Result<LoadedStripe, StripeError> {
         let map_path = resolve(base, &self.map);
         let map = ModulationMap::read_file(&map_path)?;
         let translation = spec_table(&self.translation, base)?;
@@ -206,8 +248,7 @@ impl StripeSpec {
             None => ColourTable::default(),
             Some(f) => {
                 let path = resolve(base, f);
-                let bytes =
-                    crate::io::read_path(&path).with_context(|| path.display().to_string())?;
+                let bytes = read_file(&path)?;
                 ColourTable::parse(&bytes, &path.display().to_string())?
             }
         };
@@ -222,14 +263,14 @@ impl StripeSpec {
     }
 }
 
-fn spec_table(spec: &TranslationSpec, base: &Path) -> Result<Translation> {
+fn spec_table(spec: &TranslationSpec, base: &Path) -> Result<Translation, StripeError> {
     Ok(match spec {
         TranslationSpec::Identity => Translation::identity(),
         TranslationSpec::Brightness(b) => Translation::brightness(*b)?,
         TranslationSpec::Contrast(c) => Translation::contrast(*c)?,
         TranslationSpec::File(f) => {
             let path = resolve(base, f);
-            let bytes = crate::io::read_path(&path).with_context(|| path.display().to_string())?;
+            let bytes = read_file(&path)?;
             Translation::parse(&bytes, &path.display().to_string())?
         }
     })
@@ -344,7 +385,7 @@ impl StripeLoader {
 
     /// `spec` with its files read, from the cache when another record named
     /// the same files.
-    pub fn load(&mut self, spec: &StripeSpec) -> Result<LoadedStripe> {
+    pub fn load(&mut self, spec: &StripeSpec) -> Result<LoadedStripe, StripeError> {
         let key = (
             resolve(&self.base, &spec.map),
             format!("{:?}", spec.translation),
@@ -482,10 +523,10 @@ mod tests {
     #[test]
     fn records_without_stripe_have_none() {
         let fields = json!({"vertices": [[0,0],[1,0],[0,1]]});
-        assert_eq!(
+        assert!(matches!(
             StripeSpec::from_fields(fields.as_object().unwrap()),
             Ok(None)
-        );
+        ));
     }
 
     #[test]

@@ -411,7 +411,7 @@ clitest!(
         let mut expanded = Vec::new();
         patkit::stream::for_each_record(text.as_bytes(), "out", |r| {
             expanded.push(r);
-            Ok(())
+            Ok::<(), patkit::stream::StreamError>(())
         })
         .unwrap();
         assert_eq!(expanded.len(), 17928 + 1280);
