@@ -20,7 +20,20 @@ use std::hint::black_box;
 use std::rc::Rc;
 use std::time::{Duration, Instant};
 
-use patkit::geom::partition::APP_C_PYRAMID as FACES;
+/// The four faces of the thesis's App. C pyramid (demo2.c): the geometry of
+/// Table 5.1, from the fixture the tests read too.
+fn app_c_pyramid() -> Vec<[[f64; 3]; 3]> {
+    let text = include_str!("../fixtures/scenes/demo2-faces.json");
+    let mut faces = Vec::new();
+    patkit::stream::for_each_record(text.as_bytes(), "demo2-faces.json", |r| {
+        if let patkit::geom::Shape::Polygon(v) = r.shape {
+            faces.push([v[0].to_array(), v[1].to_array(), v[2].to_array()]);
+        }
+        Ok::<(), patkit::stream::StreamError>(())
+    })
+    .expect("the fixture reads");
+    faces
+}
 
 /// Fastest of at least `reps` runs, repeated until `BUDGET` has been spent:
 /// the machine is shared, and the fastest run is the least disturbed one.
@@ -179,7 +192,8 @@ fn opaque(size: u32) -> Rc<Pattern> {
 }
 
 fn main() {
-    let faces: Vec<Vec<DVec3>> = FACES
+    let pyramid = app_c_pyramid();
+    let faces: Vec<Vec<DVec3>> = pyramid
         .iter()
         .map(|f| f.iter().map(|a| DVec3::from_array(*a)).collect())
         .collect();
@@ -229,7 +243,7 @@ fn main() {
         pat += "ffff ffff ffff ffff\n";
     }
     std::fs::write(dir.path().join("pyr.pat"), pat).unwrap();
-    let scene: String = FACES
+    let scene: String = pyramid
         .iter()
         .map(|f| {
             format!(

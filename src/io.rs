@@ -384,10 +384,18 @@ impl ImageFormat {
 /// How PNG output trades time against size.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PngOptions {
-    /// The zlib (deflate) level.
+    /// The zlib (deflate) level. Default value: zlib's default level.
     pub compression: image::codecs::png::CompressionType,
-    /// The PNG row filter applied before deflate.
+    /// The PNG row filter applied before deflate. Default value: adaptive
+    /// (chosen per row).
     pub filter: image::codecs::png::FilterType,
+}
+
+impl Default for PngOptions {
+    /// [`PngOptions::GENERAL`].
+    fn default() -> Self {
+        PngOptions::GENERAL
+    }
 }
 
 impl PngOptions {

@@ -361,6 +361,30 @@ mod tests {
         assert!(bad.is_empty(), "{}", bad.join("\n"));
     }
 
+    /// The library's errors are typed (issue 21): `anyhow`, a front end's way
+    /// of gathering any error, belongs to the command line. (`cargo check
+    /// --lib --no-default-features` in `.ci/run` proves it for the non-test
+    /// code, where anyhow is not even a dependency; this covers the tests too.)
+    #[test]
+    fn anyhow_is_only_used_by_the_command_line() {
+        let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+        let mut files = Vec::new();
+        rust_files(&src, &mut files);
+        let users: Vec<String> = files
+            .iter()
+            .filter(|f| {
+                let rel = f.strip_prefix(&src).expect("below src");
+                !rel.starts_with("cli") && !rel.starts_with("bin")
+            })
+            .filter(|f| {
+                let text = std::fs::read_to_string(f).expect("readable source");
+                code_only(&text).contains("anyhow")
+            })
+            .map(|f| f.display().to_string())
+            .collect();
+        assert!(users.is_empty(), "anyhow outside src/cli: {users:?}");
+    }
+
     #[test]
     fn benches_and_examples_use_the_library_not_the_command_line() {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));

@@ -37,6 +37,25 @@
 //! **The tools** (cargo feature `cli`, on by default)
 //! - `cli`: each tool's flags and `run`, over the library. The binaries in
 //!   `src/bin/` are one-line shims.
+//!
+//! **First steps.** The types a program meets first are also at the crate
+//! root: read a scene with [`Scene::load`], point a [`Camera`] at it through a
+//! [`View`] of the image's size, [`Scene::project`] a frame and
+//! [`scene::render`] it into an [`Image`] (the `scene` module's example, and
+//! `examples/render_scene.rs`, do exactly that); read and write patterns with
+//! [`Pattern`].
+//!
+//! **Errors.** Each stage has its own error type, an enum (or a struct) that
+//! keeps what a program may act on — the record's index, the field, the
+//! value, the file — and implements [`std::error::Error`]: `Display` is this
+//! stage's words and `source()` the cause, so printing the chain
+//! (`anyhow`'s `{:#}`, as the tools do) reads
+//! `scene.json: record 3: ./pyr.pat: No such file or directory (os error 2)`. The
+//! main ones: [`StreamError`] (the stream), [`CameraError`], [`IoError`] (files,
+//! images), [`ParseError`] (the text formats), [`SceneError`] (reading and
+//! projecting a scene), [`scene::PartitionError`] (`polyfill3`'s job). Option
+//! errors ([`error::OptionError`]) name the option by its field, so that a
+//! front end can name it its own way. The library does not use `anyhow`.
 
 #![warn(missing_docs)]
 
@@ -67,9 +86,16 @@ pub mod scene;
 #[allow(missing_docs)]
 pub mod cli;
 
+// The types a program meets first (see "First steps" and "Errors" above).
+pub use camera::{Camera, CameraError};
 pub use color::Rgb8;
+pub use io::{Image, ImageFormat, IoError};
 pub use pat::{Pattern, TRANSPARENT};
+pub use raster::{Aa, Background};
+pub use scene::{DrawOptions, Resolve, Scene, SceneError};
+pub use stream::{Record, StreamError};
 pub use text::ParseError;
+pub use view::View;
 
 #[cfg(test)]
 mod layering;

@@ -773,10 +773,10 @@ mod tests {
             "here: ortho2: left 0 equals right 0: zero-width"
         );
         // As the tools print it: the I/O cause after the context.
-        let e = anyhow::Error::from(Camera::load("/nonexistent/cam.json").unwrap_err());
+        let e = Camera::load("/nonexistent/cam.json").unwrap_err();
         let io = std::fs::read_to_string("/nonexistent/cam.json").unwrap_err();
         assert_eq!(
-            format!("{e:#}"),
+            crate::test_util::chain(&e),
             format!("/nonexistent/cam.json: cannot read camera: {io}")
         );
         assert_eq!(format!("{e}"), "/nonexistent/cam.json: cannot read camera");

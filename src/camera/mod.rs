@@ -152,7 +152,8 @@ pub struct Camera {
 
 /// Why a camera could not be made. `Display` gives the whole line the tools print
 /// after `TOOL: error: `; `std::error::Error::source` gives the I/O cause of
-/// [`CameraError::Read`] (so `{:#}` through `anyhow` prints `context: cause`).
+/// [`CameraError::Read`] (so a front end printing the chain, as the tools do
+/// with `anyhow`'s `{:#}`, prints `context: cause`).
 #[derive(Debug)]
 pub enum CameraError {
     /// The specification is wrong: a JSON value of the wrong type, a missing or

@@ -693,25 +693,6 @@ pub fn thesis_partition(
     }
 }
 
-/// The four faces of the thesis's App. C pyramid (demo2.c), counter-clockwise
-/// seen from outside: the geometry of Table 5.1, shared by the tests that check
-/// its counts and the benchmark that times it (`fixtures/scenes/demo2-faces.json`
-/// holds the same faces for the command-line tools).
-pub const APP_C_PYRAMID: [[[f64; 3]; 3]; 4] = [
-    [[100.0, 0.0, 100.0], [100.0, 0.0, -100.0], [0.0, 142.2, 0.0]],
-    [
-        [100.0, 0.0, -100.0],
-        [-100.0, 0.0, -100.0],
-        [0.0, 142.2, 0.0],
-    ],
-    [[-100.0, 0.0, 100.0], [100.0, 0.0, 100.0], [0.0, 142.2, 0.0]],
-    [
-        [-100.0, 0.0, -100.0],
-        [-100.0, 0.0, 100.0],
-        [0.0, 142.2, 0.0],
-    ],
-];
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -839,7 +820,18 @@ mod table51 {
         }
     }
 
-    use super::APP_C_PYRAMID as FACES;
+    /// The four faces of the thesis's App. C pyramid (demo2.c), counter-
+    /// clockwise seen from outside: the geometry of Table 5.1, read from the
+    /// fixture the command-line tests and the benchmark use too.
+    fn app_c_pyramid() -> Vec<[[f64; 3]; 3]> {
+        include_str!("../../fixtures/scenes/demo2-faces.json")
+            .lines()
+            .map(|line| {
+                let record: serde_json::Value = serde_json::from_str(line).unwrap();
+                serde_json::from_value(record["vertices"].clone()).unwrap()
+            })
+            .collect()
+    }
     const THESIS: [usize; 10] = [70632, 17936, 8092, 4616, 3008, 2116, 1572, 1224, 984, 808];
     /// What the thesis loop gives here in double precision (see the bench notes:
     /// one cell per face that only touches the triangle at a point comes and
@@ -852,7 +844,7 @@ mod table51 {
     fn table_5_1_within_one_touching_cell_per_face() {
         for incr in 1..=10usize {
             let (mut t, mut f) = (Count(0), Count(0));
-            for face in &FACES {
+            for face in &app_c_pyramid() {
                 let v: Vec<DVec3> = face.iter().map(|a| DVec3::from_array(*a)).collect();
                 let poly = map_to_plane(&v, 0.0, 1e-9).unwrap();
                 thesis_partition(&poly, incr as f64, -5, 0, 64, &mut t);

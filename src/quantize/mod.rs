@@ -95,15 +95,20 @@ pub struct Options {
     pub transparent: Option<Rgb8>,
 }
 
+impl Options {
+    /// Every field at its default value (see each field).
+    pub const DEFAULT: Options = Options {
+        colors: DEFAULT_COLORS,
+        dither: Dither::None,
+        palette: None,
+        alpha_threshold: DEFAULT_ALPHA_THRESHOLD,
+        transparent: None,
+    };
+}
+
 impl Default for Options {
     fn default() -> Self {
-        Options {
-            colors: DEFAULT_COLORS,
-            dither: Dither::None,
-            palette: None,
-            alpha_threshold: DEFAULT_ALPHA_THRESHOLD,
-            transparent: None,
-        }
+        Options::DEFAULT
     }
 }
 

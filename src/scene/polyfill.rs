@@ -69,22 +69,27 @@ pub struct PartitionOptions {
     pub uv: bool,
 }
 
+impl PartitionOptions {
+    /// Every field at its default value (see each field).
+    pub const DEFAULT: PartitionOptions = PartitionOptions {
+        pattern: None,
+        incr: 1.0,
+        rotate: 0.0,
+        horz: 0.0,
+        vert: 0.0,
+        merge: false,
+        compat: None,
+        planarity_tol: DEFAULT_PLANARITY_TOL,
+        max_polygons: DEFAULT_MAX_POLYGONS,
+        tolerance: DEFAULT_TOLERANCE,
+        volume: None,
+        uv: false,
+    };
+}
+
 impl Default for PartitionOptions {
     fn default() -> Self {
-        PartitionOptions {
-            pattern: None,
-            incr: 1.0,
-            rotate: 0.0,
-            horz: 0.0,
-            vert: 0.0,
-            merge: false,
-            compat: None,
-            planarity_tol: DEFAULT_PLANARITY_TOL,
-            max_polygons: DEFAULT_MAX_POLYGONS,
-            tolerance: DEFAULT_TOLERANCE,
-            volume: None,
-            uv: false,
-        }
+        PartitionOptions::DEFAULT
     }
 }
 
