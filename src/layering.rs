@@ -366,7 +366,7 @@ mod tests {
     /// --lib --no-default-features` in `.ci/run` proves it for the non-test
     /// code, where anyhow is not even a dependency; this covers the tests too.)
     #[test]
-    fn anyhow_is_only_used_by_the_command_line() {
+    fn untyped_errors_stay_in_the_command_line() {
         let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
         let mut files = Vec::new();
         rust_files(&src, &mut files);
