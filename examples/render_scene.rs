@@ -9,7 +9,6 @@
 //! --background-pattern fixtures/patterns/bkgrnd.pat -o OUT.png fixtures/scenes/demo2-fig51.json`
 //! (the test `the_library_example_renders_what_scene_render_renders` checks).
 
-use anyhow::{Context, Result};
 use glam::DVec3;
 use patkit::camera::{Camera, CameraSpec, IrisProjection, IrisSpec, LookAt, Perspective};
 use patkit::io::{ImageFormat, PngOptions};
@@ -18,10 +17,13 @@ use patkit::scene::{self, DrawOptions, Resolve, Scene};
 use patkit::view::View;
 use patkit::{Pattern, Rgb8};
 
-fn main() -> Result<()> {
+/// The library's errors are ordinary `std::error::Error`s, each typed by its
+/// stage (`CameraError`, `SceneError`, `ParseError`, `IoError`): `?` gathers
+/// them into a `Box<dyn Error>` with no error crate.
+fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = std::env::args()
         .nth(1)
-        .context("usage: render_scene OUT.png")?;
+        .ok_or("usage: render_scene OUT.png")?;
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
 
     // IRIS GL: perspective(550, 1.0, 0.0, 1000.0); lookat(0,100,-5, 0,0,-900, 0).
