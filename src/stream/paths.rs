@@ -1,8 +1,15 @@
 //! Where the files a record names are found (SPEC §2): relative to the
 //! stream's own file, so that a scene and its patterns move together. Apart
 //! from the reader because the tools resolve paths long after reading.
+//!
+//! A tool that forwards records (`polyfill3`) writes a stream that is read
+//! from another directory than its input, so it rewrites every file a record
+//! names ([`forward_file_refs`]): as an absolute path when the reader's
+//! directory is unknown (standard output), else relative to the output file's
+//! directory, so that the output and its files still move together.
 
-use std::path::{Path, PathBuf};
+use serde_json::{Map, Value};
+use std::path::{Component, Path, PathBuf};
 
 /// Where relative pattern paths resolve (SPEC §2): the stream file's directory,
 /// or the current directory for standard input.
@@ -27,6 +34,127 @@ pub fn resolve(base: &Path, file: &str) -> PathBuf {
     }
 }
 
+/// Where the file references of forwarded records point.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum RefTarget {
+    /// Absolute, normalised paths: for standard output, whose reader's
+    /// directory is unknown.
+    Absolute,
+    /// Paths relative to this directory (absolute and normalised: see
+    /// [`RefTarget::relative_to_output`]), where the output file is written.
+    RelativeTo(PathBuf),
+}
+
+impl RefTarget {
+    /// The target for an output named `output` (`-`: standard output).
+    pub fn for_output(output: &str) -> std::io::Result<RefTarget> {
+        if output == crate::io::STDIO {
+            Ok(RefTarget::Absolute)
+        } else {
+            RefTarget::relative_to_output(Path::new(output))
+        }
+    }
+
+    /// Relative to the directory `output` is written in.
+    pub fn relative_to_output(output: &Path) -> std::io::Result<RefTarget> {
+        let dir = match output.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        Ok(RefTarget::RelativeTo(normalised(dir)?))
+    }
+
+    /// `file` (a path as the reader found it: resolved against the input's
+    /// directory, or the current directory's) as this target writes it.
+    pub fn path(&self, file: &Path) -> std::io::Result<String> {
+        let file = normalised(file)?;
+        let written = match self {
+            RefTarget::Absolute => file,
+            RefTarget::RelativeTo(dir) => relative(&file, dir),
+        };
+        Ok(written.to_string_lossy().into_owned())
+    }
+}
+
+/// `path` made absolute: the real path when it exists (links resolved), else
+/// with `.` and `..` removed by the letter (a missing file is reported by the
+/// tool that opens it, which sees the same name).
+fn normalised(path: &Path) -> std::io::Result<PathBuf> {
+    if let Ok(real) = std::fs::canonicalize(path) {
+        return Ok(real);
+    }
+    let mut out = PathBuf::new();
+    for c in std::path::absolute(path)?.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    Ok(out)
+}
+
+/// `file` relative to `dir`, both absolute and normalised: `..` for each
+/// component of `dir` past their common start.
+fn relative(file: &Path, dir: &Path) -> PathBuf {
+    let (f, d): (Vec<Component>, Vec<Component>) =
+        (file.components().collect(), dir.components().collect());
+    let common = f.iter().zip(&d).take_while(|(a, b)| a == b).count();
+    let mut out = PathBuf::new();
+    for _ in common..d.len() {
+        out.push("..");
+    }
+    for c in &f[common..] {
+        out.push(c);
+    }
+    if out.as_os_str().is_empty() {
+        out.push(".");
+    }
+    out
+}
+
+/// The file names of a record, as `(object, key)` pairs: a pattern's file,
+/// a stripe texture's map, colour table and translation file (a translation
+/// given as a string other than `"identity"`, docs/stripe.md).
+const FILE_REFS: [(&str, &str); 4] = [
+    ("pattern", "file"),
+    ("stripe", "map"),
+    ("stripe", "colours"),
+    ("stripe", "translation"),
+];
+
+/// Whether a record names a file ([`FILE_REFS`]): a cheap test before
+/// [`forward_file_refs`] copies the record.
+pub fn names_files(fields: &Map<String, Value>) -> bool {
+    FILE_REFS
+        .iter()
+        .any(|(object, key)| fields.get(*object).is_some_and(|o| o.get(*key).is_some()))
+}
+
+/// Rewrites every file a record names ([`FILE_REFS`]), resolved against
+/// `base` (the input's directory), for `to`. Anything else is left as it is.
+pub fn forward_file_refs(
+    fields: &mut Map<String, Value>,
+    base: &Path,
+    to: &RefTarget,
+) -> std::io::Result<()> {
+    for (object, key) in FILE_REFS {
+        let Some(Value::Object(o)) = fields.get_mut(object) else {
+            continue;
+        };
+        let Some(Value::String(file)) = o.get_mut(key) else {
+            continue;
+        };
+        if key == "translation" && file == "identity" {
+            continue;
+        }
+        *file = to.path(&resolve(base, file))?;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -45,5 +173,38 @@ mod tests {
             resolve(&base_dir("-"), "/x/p.pat"),
             PathBuf::from("/x/p.pat")
         );
+    }
+
+    #[test]
+    fn forwarded_paths_are_absolute_or_relative_to_the_output() {
+        let dir = tempfile::tempdir().unwrap();
+        let root = std::fs::canonicalize(dir.path()).unwrap();
+        std::fs::create_dir_all(root.join("in/pats")).unwrap();
+        std::fs::create_dir_all(root.join("out/deep")).unwrap();
+        std::fs::write(root.join("in/pats/p.pat"), "").unwrap();
+        let base = root.join("in/sub/..");
+        let mut fields: Map<String, Value> = serde_json::from_str(
+            r#"{"pattern": {"file": "pats/p.pat", "incr": 2},
+                "stripe": {"map": "m.map", "translation": "identity", "colours": "../c.tab"},
+                "id": 7}"#,
+        )
+        .unwrap();
+        assert!(names_files(&fields));
+        let mut absolute = fields.clone();
+        forward_file_refs(&mut absolute, &base, &RefTarget::Absolute).unwrap();
+        let p = root.join("in/pats/p.pat");
+        assert_eq!(absolute["pattern"]["file"], p.to_str().unwrap());
+        assert_eq!(absolute["stripe"]["map"], root.join("in/m.map").to_str().unwrap());
+        assert_eq!(absolute["stripe"]["colours"], root.join("c.tab").to_str().unwrap());
+        assert_eq!(absolute["stripe"]["translation"], "identity");
+        let to = RefTarget::relative_to_output(&root.join("out/deep/o.ndjson")).unwrap();
+        forward_file_refs(&mut fields, &base, &to).unwrap();
+        assert_eq!(fields["pattern"]["file"], "../../in/pats/p.pat");
+        assert_eq!(fields["stripe"]["map"], "../../in/m.map");
+        assert_eq!(fields["stripe"]["colours"], "../../c.tab");
+        assert_eq!(fields["pattern"]["incr"], 2);
+        assert_eq!(fields["id"], 7);
+        let plain: Map<String, Value> = serde_json::from_str(r#"{"color": [1, 2, 3]}"#).unwrap();
+        assert!(!names_files(&plain));
     }
 }
