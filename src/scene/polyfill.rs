@@ -3,7 +3,8 @@
 //! point polygons, one per texel cell, written as NDJSON records by
 //! [`CellWriter`]. Objects stay objects (a face is partitioned once and
 //! placed by its instances, Fig. 5.1); records without an object-mode pattern
-//! pass through unchanged.
+//! pass through unchanged, unless [`PartitionOptions::pattern`] gives those
+//! without any texture one.
 
 use crate::error::OptionError;
 use crate::geom::merge::RunMerger;
@@ -35,8 +36,11 @@ pub enum Compat {
 /// defaults for records whose `"pattern"` leaves them out.
 #[derive(Clone, Debug)]
 pub struct PartitionOptions {
-    /// Pattern file for records whose "pattern" names no "file". Default
-    /// value: none (such records are an error).
+    /// Pattern file for records whose "pattern" names no "file", and, in
+    /// object mode, for every polygon record (not a quadric) with neither a
+    /// "pattern" nor a "stripe" of its own. Default value: none (a
+    /// "pattern" without a "file" is an error; polygons without a pattern
+    /// pass through).
     pub pattern: Option<PathBuf>,
     /// Side of one texel in world units. Default value: 1.
     pub incr: f64,
@@ -349,8 +353,9 @@ impl<W: Write> Job<'_, W> {
     /// `rec`'s fields for `uv` output: "vertices" set to `vertices` (curves
     /// dropped), the pattern "file" made absolute, and with `uv` given, the
     /// "uv" field set and the pattern put in "uv" mode (its object placement
-    /// fields dropped: they no longer apply). Other fields, in the pattern
-    /// too, are kept (SPEC §2).
+    /// fields dropped: they no longer apply), or, for a record without a
+    /// "pattern" (one that takes [`PartitionOptions::pattern`]), added.
+    /// Other fields, in the pattern too, are kept (SPEC §2).
     fn whole(
         &self,
         rec: &Record,
@@ -384,6 +389,16 @@ impl<W: Write> Job<'_, W> {
                 }
             }
         }
+        if uv.is_some() && !rec.fields.contains_key("pattern") {
+            // The record takes --pattern (see `record`).
+            let path = self.pattern_path(None)?;
+            let path = std::path::absolute(&path)
+                .with_context(|| format!("pattern: {}", path.display()))?;
+            fields.insert(
+                "pattern".into(),
+                serde_json::json!({"file": path.display().to_string(), "mode": "uv"}),
+            );
+        }
         fields.insert(
             "vertices".into(),
             serde_json::json!(vertices.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>()),
@@ -405,16 +420,28 @@ impl<W: Write> Job<'_, W> {
         if let Shape::Quadric(_) = rec.shape {
             return self.quadric(&rec);
         }
-        let Some(pref) = rec.pattern.clone() else {
-            self.summary.passed += 1;
-            return self.pass_record(&rec);
+        // A polygon without a texture of its own takes --pattern, in object
+        // mode; its "uv", if any, placed no pattern and does not count.
+        let (pref, own) = match &rec.pattern {
+            Some(p) => (p.clone(), true),
+            None if self.args.pattern.is_some() && !rec.fields.contains_key("stripe") => (
+                stream::PatternRef {
+                    mode: Some(PatternMode::Object),
+                    ..Default::default()
+                },
+                false,
+            ),
+            None => {
+                self.summary.passed += 1;
+                return self.pass_record(&rec);
+            }
         };
         let mode = pref.mode.unwrap_or(if rec.uv.is_some() {
             PatternMode::Uv
         } else {
             PatternMode::Object
         });
-        if mode != PatternMode::Object || rec.uv.is_some() {
+        if mode != PatternMode::Object || (own && rec.uv.is_some()) {
             // With `uv` nothing is partitioned: no surprise to warn about.
             if !self.warned_mode && !self.args.uv {
                 (self.warn)(format!(
