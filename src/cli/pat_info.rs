@@ -7,6 +7,7 @@ use super::{AlreadyReported, IntPair};
 use crate::cli::usage_bail;
 use crate::io::{display_name, read_input};
 use crate::pat::{Pattern, Seam};
+use crate::stream::{Item, Record};
 use crate::stripe::map::ModulationMap;
 use crate::stripe::record::{LoadedStripe, StripeSpec, TranslationSpec};
 use crate::stripe::vector::Orientation;
@@ -39,9 +40,14 @@ pub struct Args {
     #[arg(default_value = "-")]
     pub files: Vec<String>,
 
-    /// Print record N (0-based) of the polygon stream FILE: its stripe texture
-    /// in the seed's terms (spacing, start point, yaw, pitch, translation,
-    /// colour select and colour code).
+    /// Print record N of the polygon stream FILE: its stripe texture in the
+    /// seed's terms (spacing, start point, yaw, pitch, translation, colour
+    /// select and colour code). Records are numbered from 0 in the order of
+    /// the stream, every element counting (object definitions and instances
+    /// too): the numbers error messages give. For an object definition
+    /// (drawn untransformed) or an instance, every polygon it draws that has
+    /// a stripe is shown, as `record N, polygon K` (K from 0 in drawing
+    /// order), and --json prints an array of them.
     #[arg(long, value_name = "N", conflicts_with_all = ["check", "at", "preview"])]
     pub record: Option<usize>,
 
@@ -328,29 +334,95 @@ fn map_preview(m: &ModulationMap, max: u32) -> String {
     s
 }
 
-/// `--record N`: the record's stripe texture in the seed's terms.
+/// `--record N`: the stripe texture of stream element N in the seed's terms:
+/// a record's own, or for an object definition or an instance, that of every
+/// polygon it draws that has one, as `record N, polygon K`.
 fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
     let name = display_name(file);
     let bytes = read_input(file)?;
-    let record = match crate::stream::nth_record(bytes.as_slice(), name, n)? {
-        Ok(record) => record,
+    let (item, drawn) = match crate::stream::nth_item(bytes.as_slice(), name, n)? {
+        Ok(found) => found,
         Err(count) => anyhow::bail!(
             "{name}: record {n} does not exist: the stream has {count} record{} (numbered from 0)",
             if count == 1 { "" } else { "s" }
         ),
     };
-    let spec = StripeSpec::from_fields(&record.fields)
-        .map_err(|m| anyhow::anyhow!("{name}: record {n}: {m}"))?
-        .ok_or_else(|| anyhow::anyhow!("{name}: record {n} has no \"stripe\" texture"))?;
-    let loaded = spec
-        .load(&crate::stream::base_dir(file))
-        .map_err(|e| anyhow::Error::new(e).context(format!("{name}: record {n}")))?;
+    let base = crate::stream::base_dir(file);
+    let load = |record: &Record, label: &str| -> Result<Option<LoadedStripe>> {
+        let Some(spec) =
+            StripeSpec::from_fields(&record.fields).map_err(|m| anyhow::anyhow!("{label}: {m}"))?
+        else {
+            return Ok(None);
+        };
+        let loaded = spec
+            .load(&base)
+            .map_err(|e| anyhow::Error::new(e).context(label.to_string()))?;
+        Ok(Some(loaded))
+    };
+    let (what, key, object) = match &item {
+        Item::Record(record) => {
+            let label = format!("{name}: record {n}");
+            let loaded = load(record, &label)?
+                .ok_or_else(|| anyhow::anyhow!("{label} has no \"stripe\" texture"))?;
+            let mut stdout = std::io::stdout().lock();
+            if as_json {
+                let o = record_json(name, n, &loaded, record.color);
+                serde_json::to_writer_pretty(&mut stdout, &o)?;
+                writeln!(stdout)?;
+            } else {
+                let title = format!("{label}: stripe texture");
+                write!(stdout, "{}", record_text(&title, &loaded, record.color))?;
+            }
+            stdout.flush()?;
+            return Ok(());
+        }
+        Item::Object(def) => (format!("object `{}`", def.name), "object", &def.name),
+        Item::Instance(inst) => (
+            format!("instance of `{}`", inst.object),
+            "instance_of",
+            &inst.object,
+        ),
+    };
+    // Every polygon is loaded before anything is printed, so that an error
+    // leaves standard output empty.
+    let mut shown = Vec::new();
+    for (k, record) in drawn.iter().enumerate() {
+        let label = format!("{name}: record {n}, polygon {k}");
+        if let Some(loaded) = load(record, &label)? {
+            shown.push((k, label, loaded, record.color));
+        }
+    }
+    if shown.is_empty() {
+        anyhow::bail!("{name}: record {n} ({what}) draws no polygon with a \"stripe\" texture");
+    }
     let mut stdout = std::io::stdout().lock();
     if as_json {
-        serde_json::to_writer_pretty(&mut stdout, &record_json(name, n, &loaded, record.color))?;
+        let list: Vec<Value> = shown
+            .iter()
+            .map(|(k, _, loaded, colour)| {
+                let Value::Object(o) = record_json(name, n, loaded, *colour) else {
+                    unreachable!("record_json makes an object")
+                };
+                // "polygon" and the object after "record", the rest as for a record.
+                let mut m = serde_json::Map::new();
+                for (field, v) in o {
+                    let after_record = field == "record";
+                    m.insert(field, v);
+                    if after_record {
+                        m.insert("polygon".into(), json!(k));
+                        m.insert(key.into(), json!(object));
+                    }
+                }
+                Value::Object(m)
+            })
+            .collect();
+        serde_json::to_writer_pretty(&mut stdout, &list)?;
         writeln!(stdout)?;
     } else {
-        write!(stdout, "{}", record_text(name, n, &loaded, record.color))?;
+        for (_, label, loaded, colour) in &shown {
+            let title = format!("{label}: stripe texture ({what})");
+            write!(stdout, "{}", record_text(&title, loaded, *colour))?;
+        }
     }
     stdout.flush()?;
     Ok(())
@@ -365,19 +437,15 @@ fn translation_words(t: &TranslationSpec) -> String {
     }
 }
 
-fn record_text(
-    name: &str,
-    n: usize,
-    l: &LoadedStripe,
-    colour: Option<crate::color::Rgb8>,
-) -> String {
+/// The stripe texture `l` under the heading `title`, one line per term.
+fn record_text(title: &str, l: &LoadedStripe, colour: Option<crate::color::Rgb8>) -> String {
     use std::fmt::Write;
     let v = &l.spec.vector;
     let len = l.map.len();
     let (yaw, pitch) = v.orientation.yaw_pitch();
     let np = v.orientation.normal();
     let mut s = String::new();
-    let _ = writeln!(s, "{name}: record {n}: stripe texture");
+    let _ = writeln!(s, "{title}");
     let _ = writeln!(
         s,
         "  map           {} ({len} entries, {} levels, fade {})",

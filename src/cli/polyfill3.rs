@@ -19,8 +19,10 @@ const EXAMPLES: &str = "\
 Examples:
   polyfill3 scene.json -o cells.json
       Partition every polygon of scene.json that has a \"pattern\".
-  polyfill3 --pattern bricks.pat --incr 2 --horz -5 faces.json
-      Defaults for polygons whose \"pattern\" leaves them out (the thesis's demo2).
+  polyfill3 --pattern brick.pat --incr 2 --horz -5 faces.json
+      Cut every polygon of faces.json that has no pattern of its own with
+      brick.pat, 2 units a texel, shifted 5 texels left (as the thesis's demo2
+      places pyr.pat); the placement also fills in what a \"pattern\" leaves out.
   polyfill3 --merge scene.json | scene-render -o out.png -
       Join runs of equal whole cells into fewer polygons.
   polyfill3 --compat thesis --incr 25 plain.json | wc -l
@@ -39,8 +41,14 @@ every polygon with a \"pattern\" in \"object\" mode, one flat-coloured polygon p
 non-transparent texel cell it covers, in the polygon's plane and winding: the \
 thesis's polcolorf3. Each output record keeps the input's other fields, with \
 \"vertices\" (always [x,y,z]), \"color\" (the texel's colour) and \"texel\": \
-[column, row]. Records without a pattern, and patterns in \"screen\" or \"uv\" \
-mode, pass through unchanged.\n\n\
+[column, row]. Patterns in \"screen\" or \"uv\" mode pass through unchanged.\n\n\
+--pattern FILE gives every polygon record (vertices, rect, circle or arc) that \
+has neither a \"pattern\" nor a \"stripe\" of its own the pattern FILE in \
+\"object\" mode, placed by --incr, --rotate, --horz and --vert, inside objects \
+too; records with a pattern of their own keep it (the flags fill in only the \
+\"file\" and placement fields it leaves out), stripes and quadrics are left \
+as they are. Without --pattern, records without a pattern pass through \
+unchanged.\n\n\
 Objects and instances (docs/objects.md) stay intact: an object definition is \
 written back with its records partitioned, once however many instances place \
 it (the thesis's Fig. 5.1), and instances pass through unchanged. --cull does \
@@ -54,9 +62,15 @@ Only pieces with positive area are written, and neighbouring cells share \
 their vertices bit for bit.\n\n\
 --uv does not partition: each \"object\" polygon (rect, circle and arc \
 flattened first) is written whole, with \"uv\" (its placement's texel \
-coordinates at each vertex) and \"pattern\": {\"file\": absolute path, \"mode\": \"uv\"}, \
+coordinates at each vertex) and \"pattern\": {\"file\", \"mode\": \"uv\"}, \
 so that a renderer with per-vertex texture coordinates (OpenGL) draws the \
 same texture.\n\n\
+Files named by the records written (pattern \"file\"s; a stripe's \"map\", \
+\"colours\" and translation file), in objects too, are rewritten for a reader \
+in another directory: on standard output as absolute paths without . or .. \
+(the reader's directory is unknown), with -o FILE relative to FILE's \
+directory, so that the output and the files it names move together. \
+Everything else is copied as read.\n\n\
 --json prints a summary (records, polygons, objects, instances, seconds) to standard error.",
     after_help = EXAMPLES
 )]
@@ -67,8 +81,9 @@ pub struct Args {
     /// Output file (NDJSON), `-` for standard output.
     #[arg(short, long, default_value = "-")]
     pub output: String,
-    /// Pattern file for records whose "pattern" names no "file" (relative to
-    /// the current directory).
+    /// Pattern, in "object" mode, for every polygon record without a
+    /// "pattern" or "stripe" of its own, and the file of those whose
+    /// "pattern" names none (relative to the current directory).
     #[arg(long, value_name = "FILE")]
     pub pattern: Option<PathBuf>,
     /// Side of one texel in world units, for records without "incr".
@@ -181,6 +196,8 @@ pub fn run(args: Args) -> Result<()> {
         tolerance: args.tolerance,
         volume,
         uv: args.uv,
+        refs: stream::RefTarget::for_output(&args.output)
+            .with_context(|| format!("{}: cannot name files relative to it", args.output))?,
     };
     let mut warn = |message: String| super::warn("polyfill3", message);
     let (out, s) = partition_stream(reader, &source, &base, out, &options, &mut warn)?;

@@ -234,7 +234,8 @@ pub enum CellsError {
     Option(OptionError),
     /// The pattern file cannot be read.
     Pattern(ParseError),
-    /// The pattern file's absolute path cannot be made (`uv` output).
+    /// A file's path cannot be made for the output (the current directory
+    /// is gone).
     PatternPath {
         /// The path as resolved.
         path: std::path::PathBuf,

@@ -3,7 +3,8 @@
 //! point polygons, one per texel cell, written as NDJSON records by
 //! [`CellWriter`]. Objects stay objects (a face is partitioned once and
 //! placed by its instances, Fig. 5.1); records without an object-mode pattern
-//! pass through unchanged.
+//! pass through unchanged, unless [`PartitionOptions::pattern`] gives those
+//! without any texture one.
 
 use super::error::{CellsError, PartitionError};
 use crate::error::OptionError;
@@ -35,8 +36,11 @@ pub enum Compat {
 /// defaults for records whose `"pattern"` leaves them out.
 #[derive(Clone, Debug)]
 pub struct PartitionOptions {
-    /// Pattern file for records whose "pattern" names no "file". Default
-    /// value: none (such records are an error).
+    /// Pattern file for records whose "pattern" names no "file", and, in
+    /// object mode, for every polygon record (not a quadric) with neither a
+    /// "pattern" nor a "stripe" of its own. Default value: none (a
+    /// "pattern" without a "file" is an error; polygons without a pattern
+    /// pass through).
     pub pattern: Option<PathBuf>,
     /// Side of one texel in world units. Default value: 1.
     pub incr: f64,
@@ -67,6 +71,12 @@ pub struct PartitionOptions {
     /// Do not partition: write each object-mode polygon whole with its
     /// placement as per-vertex "uv" texel coordinates. Default value: false.
     pub uv: bool,
+    /// How the files that forwarded records name (patterns, stripe maps and
+    /// tables) are written: the output is read from another directory than
+    /// the input, so each is rewritten absolute or relative to the output's
+    /// directory ([`stream::RefTarget::for_output`]). Default value:
+    /// [`stream::RefTarget::Absolute`].
+    pub refs: stream::RefTarget,
 }
 
 impl PartitionOptions {
@@ -84,6 +94,7 @@ impl PartitionOptions {
         tolerance: DEFAULT_TOLERANCE,
         volume: None,
         uv: false,
+        refs: stream::RefTarget::Absolute,
     };
 }
 
@@ -357,8 +368,9 @@ impl<W: Write> Job<'_, W> {
     /// `rec`'s fields for `uv` output: "vertices" set to `vertices` (curves
     /// dropped), the pattern "file" made absolute, and with `uv` given, the
     /// "uv" field set and the pattern put in "uv" mode (its object placement
-    /// fields dropped: they no longer apply). Other fields, in the pattern
-    /// too, are kept (SPEC §2).
+    /// fields dropped: they no longer apply), or, for a record without a
+    /// "pattern" (one that takes [`PartitionOptions::pattern`]), added.
+    /// Other fields, in the pattern too, are kept (SPEC §2).
     fn whole(
         &self,
         rec: &Record,
@@ -371,13 +383,11 @@ impl<W: Write> Job<'_, W> {
                 "rect" | "circle" | "arc" | "vertices" => {}
                 "uv" if uv.is_some() => {}
                 "pattern" => {
+                    // A "file" of the record's own was forwarded with the
+                    // record (see `record`); --pattern stands in for none.
                     let mut p = v.as_object().cloned().unwrap_or_default();
-                    let file = p.get("file").and_then(Value::as_str);
-                    if file.is_some() || self.args.pattern.is_some() {
-                        let path = self.pattern_path(file)?;
-                        let path = std::path::absolute(&path)
-                            .map_err(|error| CellsError::PatternPath { path, error })?;
-                        p.insert("file".into(), Value::String(path.display().to_string()));
+                    if !p.contains_key("file") && self.args.pattern.is_some() {
+                        p.insert("file".into(), Value::String(self.forwarded_pattern()?));
                     }
                     if uv.is_some() {
                         for key in ["incr", "rotate", "horz", "vert"] {
@@ -392,6 +402,13 @@ impl<W: Write> Job<'_, W> {
                 }
             }
         }
+        if uv.is_some() && !rec.fields.contains_key("pattern") {
+            // The record takes --pattern (see `record`).
+            fields.insert(
+                "pattern".into(),
+                serde_json::json!({"file": self.forwarded_pattern()?, "mode": "uv"}),
+            );
+        }
         fields.insert(
             "vertices".into(),
             serde_json::json!(vertices.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>()),
@@ -402,6 +419,32 @@ impl<W: Write> Job<'_, W> {
         Ok(fields)
     }
 
+    /// [`PartitionOptions::pattern`] as forwarded records name it.
+    fn forwarded_pattern(&self) -> Result<String, CellsError> {
+        let path = self.pattern_path(None)?;
+        self.args
+            .refs
+            .path(&path)
+            .map_err(|error| CellsError::PatternPath { path, error })
+    }
+
+    /// `rec` with the files it names rewritten for the output
+    /// ([`PartitionOptions::refs`]); its typed view (the pattern the job
+    /// loads) keeps them as read. Records that name no file are not copied.
+    fn forwarded(&self, mut rec: Record) -> Result<Record, CellsError> {
+        if stream::names_files(&rec.fields) {
+            let mut fields = (*rec.fields).clone();
+            stream::forward_file_refs(&mut fields, &self.base, &self.args.refs).map_err(
+                |error| CellsError::PatternPath {
+                    path: self.base.clone(),
+                    error,
+                },
+            )?;
+            rec.fields = fields.into();
+        }
+        Ok(rec)
+    }
+
     /// An instance passes through unchanged: its object is partitioned once.
     fn instance(&mut self, inst: &Instance) -> std::io::Result<()> {
         self.summary.instances += 1;
@@ -410,19 +453,32 @@ impl<W: Write> Job<'_, W> {
 
     fn record(&mut self, rec: Record) -> Result<(), CellsError> {
         self.summary.records += 1;
+        let rec = self.forwarded(rec)?;
         if let Shape::Quadric(_) = rec.shape {
             return self.quadric(&rec);
         }
-        let Some(pref) = rec.pattern.clone() else {
-            self.summary.passed += 1;
-            return self.pass_record(&rec);
+        // A polygon without a texture of its own takes --pattern, in object
+        // mode; its "uv", if any, placed no pattern and does not count.
+        let (pref, own) = match &rec.pattern {
+            Some(p) => (p.clone(), true),
+            None if self.args.pattern.is_some() && !rec.fields.contains_key("stripe") => (
+                stream::PatternRef {
+                    mode: Some(PatternMode::Object),
+                    ..Default::default()
+                },
+                false,
+            ),
+            None => {
+                self.summary.passed += 1;
+                return self.pass_record(&rec);
+            }
         };
         let mode = pref.mode.unwrap_or(if rec.uv.is_some() {
             PatternMode::Uv
         } else {
             PatternMode::Object
         });
-        if mode != PatternMode::Object || rec.uv.is_some() {
+        if mode != PatternMode::Object || (own && rec.uv.is_some()) {
             // With `uv` nothing is partitioned: no surprise to warn about.
             if !self.warned_mode && !self.args.uv {
                 (self.warn)(format!(

@@ -37,7 +37,7 @@ mod write;
 
 pub use objects::{transform_record, Instance, Item, ObjectDef, Objects, INSTANCE_CURVE_TOLERANCE};
 pub use paths::{base_dir, forward_file_refs, names_files, resolve, RefTarget};
-pub use read::{for_each_item, for_each_record, nth_record};
+pub use read::{for_each_item, for_each_record, nth_item};
 pub use record::{parse_color, Fields, PatternMode, PatternRef, Record, QUADRIC_KEYS};
 pub use triangles::quadric_triangles;
 pub use write::write_ndjson;

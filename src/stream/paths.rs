@@ -47,8 +47,11 @@ pub enum RefTarget {
 
 impl RefTarget {
     /// The target for an output named `output` (`-`: standard output).
+    /// A device or pipe named as the output (`-o /dev/stdout`) counts as
+    /// standard output: its reader's directory is unknown.
     pub fn for_output(output: &str) -> std::io::Result<RefTarget> {
-        if output == crate::io::STDIO {
+        let device = std::fs::metadata(output).is_ok_and(|m| !m.file_type().is_file());
+        if output == crate::io::STDIO || device {
             Ok(RefTarget::Absolute)
         } else {
             RefTarget::relative_to_output(Path::new(output))
@@ -194,8 +197,14 @@ mod tests {
         forward_file_refs(&mut absolute, &base, &RefTarget::Absolute).unwrap();
         let p = root.join("in/pats/p.pat");
         assert_eq!(absolute["pattern"]["file"], p.to_str().unwrap());
-        assert_eq!(absolute["stripe"]["map"], root.join("in/m.map").to_str().unwrap());
-        assert_eq!(absolute["stripe"]["colours"], root.join("c.tab").to_str().unwrap());
+        assert_eq!(
+            absolute["stripe"]["map"],
+            root.join("in/m.map").to_str().unwrap()
+        );
+        assert_eq!(
+            absolute["stripe"]["colours"],
+            root.join("c.tab").to_str().unwrap()
+        );
         assert_eq!(absolute["stripe"]["translation"], "identity");
         let to = RefTarget::relative_to_output(&root.join("out/deep/o.ndjson")).unwrap();
         forward_file_refs(&mut fields, &base, &to).unwrap();

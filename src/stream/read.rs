@@ -4,9 +4,10 @@
 //! and hands each element to the record and object parsers; plain polygon
 //! lines take the fast path ([`super::plain`]).
 
-use super::objects::{Item, Objects};
+use super::objects::{Instance, Item, Objects};
 use super::record::Record;
 use super::{plain, StreamError};
+use crate::geom::transform::Transform;
 use serde::de::{Deserializer as _, SeqAccess, Visitor};
 use serde_json::Value;
 use std::fmt;
@@ -33,15 +34,21 @@ pub fn for_each_record<R: BufRead, E: From<StreamError>>(
     })
 }
 
-/// Record `n` (0-based, counted as [`for_each_record`] counts: instances
-/// expanded) of a stream, read no further than that record; `Err(count)`
-/// when the stream has only `count` records.
-pub fn nth_record<R: BufRead>(
+/// Element `n` of a stream, read no further than that element, with the
+/// records it draws. Elements are numbered from 0 in the order of the
+/// stream, every one counting (object definitions and instances as well as
+/// records): the number error messages give. A record draws itself; an
+/// instance, its object's records moved by its transform (nested instances
+/// expanded, as [`for_each_record`] expands them, all numbered `n`); an
+/// object definition, its records as if placed untransformed. The elements
+/// before it are checked as [`for_each_record`] checks them. `Err(count)`
+/// when the stream has only `count` elements.
+pub fn nth_item<R: BufRead>(
     reader: R,
     source: &str,
     n: usize,
-) -> Result<Result<Record, usize>, StreamError> {
-    /// How the scan ended early: record `n` was found, or the stream failed.
+) -> Result<Result<(Item, Vec<Record>), usize>, StreamError> {
+    /// How the scan ended early: element `n` was found, or the stream failed.
     enum Stop {
         Found,
         Failed(StreamError),
@@ -52,15 +59,37 @@ pub fn nth_record<R: BufRead>(
         }
     }
 
+    let mut objects = Objects::default();
     let mut found = None;
     let mut count = 0usize;
-    let scan = for_each_record(reader, source, |r| {
+    let scan = for_each_item(reader, source, |item| {
         count += 1;
-        if r.index == n {
-            found = Some(r);
-            return Err(Stop::Found);
+        if count <= n {
+            return objects.expand(item, source, &mut |_| Ok::<(), Stop>(()));
         }
-        Ok(())
+        let mut drawn = Vec::new();
+        match &item {
+            Item::Record(r) => drawn.push(r.clone()),
+            Item::Object(def) => {
+                let as_placed = Instance {
+                    index: n,
+                    object: def.name.clone(),
+                    transform: Transform::default(),
+                    fields: Default::default(),
+                };
+                objects.define(def.clone()).map_err(|e| e.named(source))?;
+                objects.expand(Item::Instance(as_placed), source, &mut |r| {
+                    drawn.push(r);
+                    Ok::<(), Stop>(())
+                })?;
+            }
+            Item::Instance(_) => objects.expand(item.clone(), source, &mut |r| {
+                drawn.push(r);
+                Ok::<(), Stop>(())
+            })?,
+        }
+        found = Some((item, drawn));
+        Err(Stop::Found)
     });
     match scan {
         Err(Stop::Failed(e)) => Err(e),
@@ -235,14 +264,48 @@ mod tests {
     use glam::DVec3;
 
     #[test]
-    fn nth_record_stops_at_the_record_or_counts_them() {
+    fn nth_item_stops_at_the_element_or_counts_them() {
         // Record 1 is found although the stream breaks after it.
         let text = "{\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]}\n{\"rect\":[0,0,1,1],\"color\":[1,2,3],\"id\":7}\n{broken";
-        let r = nth_record(text.as_bytes(), "t", 1).unwrap().unwrap();
-        assert_eq!(r.fields["id"], 7);
+        let (item, drawn) = nth_item(text.as_bytes(), "t", 1).unwrap().unwrap();
+        assert!(matches!(item, Item::Record(ref r) if r.fields["id"] == 7));
+        assert_eq!(drawn.len(), 1);
+        assert_eq!(drawn[0].fields["id"], 7);
         let good = "{\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]}\n";
-        assert_eq!(nth_record(good.as_bytes(), "t", 5).unwrap().unwrap_err(), 1);
-        assert!(nth_record(text.as_bytes(), "t", 2).is_err());
+        assert_eq!(nth_item(good.as_bytes(), "t", 5).unwrap().unwrap_err(), 1);
+        assert!(nth_item(text.as_bytes(), "t", 2).is_err());
+    }
+
+    #[test]
+    fn nth_item_numbers_definitions_and_instances_as_errors_do() {
+        // Element 0 defines `tri`, 1 defines `pair` (two `tri`s), 2 places
+        // `pair`, 3 is an instance of an unknown object.
+        let text = r#"{"object": "tri", "records": [{"vertices": [[0,0],[1,0],[0,1]], "color": [1,2,3]}]}
+            {"object": "pair", "records": [{"instance": "tri"}, {"instance": "tri", "transform": {"translate": [5, 0, 0]}}]}
+            {"instance": "pair", "transform": {"translate": [0, 7, 0]}}
+            {"instance": "ghost"}"#;
+        let nth = |n| nth_item(text.as_bytes(), "t", n);
+        let (item, drawn) = nth(0).unwrap().unwrap();
+        assert!(matches!(item, Item::Object(ref d) if d.name == "tri"));
+        assert_eq!(drawn.len(), 1);
+        let (item, drawn) = nth(1).unwrap().unwrap();
+        assert!(matches!(item, Item::Object(ref d) if d.name == "pair"));
+        assert_eq!(drawn.len(), 2);
+        let (item, drawn) = nth(2).unwrap().unwrap();
+        assert!(matches!(item, Item::Instance(ref i) if i.object == "pair"));
+        assert!(drawn.iter().all(|r| r.index == 2));
+        let Shape::Polygon(v) = &drawn[1].shape else {
+            panic!("{:?}", drawn[1].shape)
+        };
+        assert_eq!(v[0], DVec3::new(5.0, 7.0, 0.0));
+        let e = format!("{:#}", nth(3).unwrap_err());
+        assert_eq!(
+            e,
+            "t: record 3: instance of unknown object `ghost` (define it first)"
+        );
+        assert_eq!(nth(4).unwrap_err().to_string(), e);
+        let ok = &text[..text.rfind('\n').unwrap()];
+        assert_eq!(nth_item(ok.as_bytes(), "t", 3).unwrap().unwrap_err(), 3);
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! `polyfill3` end to end: pass-through, fields, bad input, the thesis's counts.
 
+use crate::util::OkStdout;
 use assert_cmd::Command;
 use serde_json::Value;
 use std::path::Path;
@@ -480,5 +481,299 @@ clitest!(
                 .stderr(predicates::str::contains(want));
             assert!(!dir.path().join("out.json").exists(), "{want}");
         }
+    }
+);
+
+/// A 16x16 pattern of one opaque colour, `rgb`.
+fn write_solid_pat(path: &Path, rgb: [u8; 3]) {
+    let mut s = format!("16 1\n{} {} {}\n", rgb[0], rgb[1], rgb[2]);
+    s += &"ffff\n".repeat(16);
+    std::fs::write(path, s).unwrap();
+}
+
+clitest!(pattern_flag_partitions_polygons_without_a_pattern, |dir| {
+    // Issue 16 (8): `--pattern FILE` used to do nothing for records without
+    // a "pattern": they passed through whole.
+    write_pat(&dir.path().join("p.pat"), 16, |c, r| c == 1 && r == 0);
+    dir.write(
+        "faces.ndjson",
+        "{\"id\":1,\"vertices\":[[0,0],[2,0],[2,2],[0,2]],\"color\":[1,2,3]}\n{\"id\":2,\"rect\":[10,0,12,2],\"color\":[1,2,3]}\n",
+    );
+    let out = dir
+        .cmd("polyfill3")
+        .args(["--pattern", "p.pat", "faces.ndjson"])
+        .ok_stdout();
+    let recs = lines(&out);
+    // 4 cells each, texel (1, 0) transparent.
+    assert_eq!(recs.len(), 6, "{recs:?}");
+    for (i, r) in recs.iter().enumerate() {
+        assert_eq!(r["id"], if i < 3 { 1 } else { 2 });
+        assert_eq!(r["color"], serde_json::json!([200, 100, 50]));
+        assert!(r.get("texel").is_some());
+        assert!(r.get("pattern").is_none() && r.get("rect").is_none());
+    }
+    let total: f64 = recs.iter().map(area).sum();
+    assert!((total - 6.0).abs() < 1e-12, "{total}");
+    // Without --pattern they still pass through unchanged.
+    let out = dir.cmd("polyfill3").arg("faces.ndjson").ok_stdout();
+    assert_eq!(out, dir.read("faces.ndjson"));
+});
+
+clitest!(pattern_flag_leaves_a_records_own_texture, |dir| {
+    // A record's own pattern (file and placement) is kept; a stripe is a
+    // texture of its own too; a quadric is left as before.
+    write_pat(&dir.path().join("p.pat"), 16, |_, _| false);
+    write_solid_pat(&dir.path().join("q.pat"), [10, 20, 30]);
+    let stripe = r#"{"id":"stripe","vertices":[[0,0,0],[1,0,0],[0,1,0]],"stripe":{"map":"m.map","spacing":1,"yaw":0}}"#;
+    let sphere = r#"{"id":"ball","sphere":{"radius":1,"slices":3,"stacks":2},"color":[9,9,9]}"#;
+    dir.write(
+        "s.ndjson",
+        format!(
+            "{{\"id\":\"own\",\"vertices\":[[0,0],[4,0],[4,4],[0,4]],\"pattern\":{{\"file\":\"q.pat\",\"incr\":2}}}}\n\
+             {{\"id\":\"nofile\",\"vertices\":[[0,0],[4,0],[4,4],[0,4]],\"pattern\":{{\"incr\":4}}}}\n\
+             {{\"id\":\"plain\",\"vertices\":[[0,0],[4,0],[4,4],[0,4]],\"color\":[1,2,3]}}\n{stripe}\n{sphere}\n"
+        ),
+    );
+    let out = dir
+        .cmd("polyfill3")
+        .args(["--pattern", "p.pat", "--incr", "1", "s.ndjson"])
+        .ok_stdout();
+    let recs = lines(&out);
+    let of = |id: &str| -> Vec<&Value> { recs.iter().filter(|r| r["id"] == id).collect() };
+    let own = of("own");
+    assert_eq!(own.len(), 4);
+    assert!(own
+        .iter()
+        .all(|r| r["color"] == serde_json::json!([10, 20, 30])));
+    let nofile = of("nofile");
+    assert_eq!(nofile.len(), 1);
+    assert_eq!(nofile[0]["color"], serde_json::json!([200, 100, 50]));
+    let plain = of("plain");
+    assert_eq!(plain.len(), 16);
+    assert!(plain
+        .iter()
+        .all(|r| r["color"] == serde_json::json!([200, 100, 50])));
+    // Passed through whole, its map named for a reader in another directory.
+    let mut forwarded = serde_json::from_str::<Value>(stripe).unwrap();
+    let map = std::fs::canonicalize(dir.path()).unwrap().join("m.map");
+    forwarded["stripe"]["map"] = map.to_str().unwrap().into();
+    assert_eq!(of("stripe"), vec![&forwarded]);
+    let ball = of("ball");
+    assert!(!ball.is_empty());
+    assert!(ball
+        .iter()
+        .all(|r| r.get("pattern").is_none() && r["color"] == serde_json::json!([9, 9, 9])));
+});
+
+clitest!(placement_flags_apply_to_polygons_without_a_pattern, |dir| {
+    // --incr, --rotate, --horz and --vert place --pattern on a plain polygon
+    // exactly as the same values written in its "pattern" do.
+    write_pat(&dir.path().join("p.pat"), 16, |c, r| (c + 2 * r) % 5 == 0);
+    let verts = r#""vertices":[[0,0,0],[7,1,0],[6,6,0.5],[-1,5,0.5]]"#;
+    dir.write(
+        "plain.ndjson",
+        format!("{{\"id\":5,{verts},\"color\":[1,2,3]}}\n"),
+    );
+    dir.write(
+        "own.ndjson",
+        format!("{{\"id\":5,{verts},\"pattern\":{{\"file\":\"p.pat\",\"incr\":0.7,\"rotate\":30,\"horz\":0.5,\"vert\":-0.25}}}}\n"),
+    );
+    let flags = [
+        "--pattern",
+        "p.pat",
+        "--incr",
+        "0.7",
+        "--rotate",
+        "30",
+        "--horz",
+        "0.5",
+        "--vert",
+        "-0.25",
+    ];
+    let plain = dir
+        .cmd("polyfill3")
+        .args(flags)
+        .arg("plain.ndjson")
+        .ok_stdout();
+    let own = dir.cmd("polyfill3").arg("own.ndjson").ok_stdout();
+    assert!(lines(&plain).len() > 50);
+    assert_eq!(
+        String::from_utf8(plain.clone()).unwrap(),
+        String::from_utf8(own).unwrap()
+    );
+    // Each flag matters.
+    for (i, changed) in [(3, "1"), (5, "0"), (7, "0"), (9, "0")] {
+        let mut f = flags;
+        f[i] = changed;
+        let other = dir.cmd("polyfill3").args(f).arg("plain.ndjson").ok_stdout();
+        assert_ne!(other, plain, "{}", flags[i - 1]);
+    }
+    // In objects too, and with --uv the polygon gets the pattern in uv mode.
+    dir.write(
+        "obj.ndjson",
+        format!("{{\"object\":\"o\",\"records\":[{{\"id\":5,{verts},\"color\":[1,2,3]}}]}}\n{{\"instance\":\"o\"}}\n"),
+    );
+    let obj = dir
+        .cmd("polyfill3")
+        .args(flags)
+        .arg("obj.ndjson")
+        .ok_stdout();
+    let obj = lines(&obj);
+    assert_eq!(obj.len(), 2);
+    assert_eq!(
+        obj[0]["records"].as_array().unwrap().as_slice(),
+        lines(&plain).as_slice()
+    );
+    let uv = dir
+        .cmd("polyfill3")
+        .args(flags)
+        .args(["--uv", "plain.ndjson"])
+        .ok_stdout();
+    let uv = lines(&uv);
+    assert_eq!(uv.len(), 1);
+    assert_eq!(uv[0]["pattern"]["mode"], "uv");
+    assert!(Path::new(uv[0]["pattern"]["file"].as_str().unwrap()).is_absolute());
+    assert_eq!(uv[0]["uv"].as_array().unwrap().len(), 4);
+});
+
+clitest!(readme_pattern_example_cuts_plain_faces, |dir| {
+    // README's `polyfill3 --pattern fixtures/patterns/brick.pat --incr 2
+    // --horz -5 faces.json` and --help's `polyfill3 --pattern brick.pat
+    // --incr 2 --horz -5 faces.json`, on demo 2's faces without their
+    // patterns: every face is cut.
+    let faces =
+        std::fs::read_to_string(crate::util::repo("fixtures/scenes/demo2-faces.json")).unwrap();
+    let mut plain = String::new();
+    for l in faces.lines() {
+        let mut v: Value = serde_json::from_str(l).unwrap();
+        v.as_object_mut().unwrap().remove("pattern");
+        plain += &format!("{v}\n");
+    }
+    dir.write("faces.json", plain);
+    let brick = std::fs::read(crate::util::repo("fixtures/patterns/brick.pat")).unwrap();
+    dir.write("fixtures/patterns/brick.pat", &brick);
+    dir.write("brick.pat", &brick);
+    let run = |pat: &str| {
+        dir.cmd("polyfill3")
+            .args([
+                "--pattern",
+                pat,
+                "--incr",
+                "2",
+                "--horz",
+                "-5",
+                "faces.json",
+            ])
+            .ok_stdout()
+    };
+    let out = run("fixtures/patterns/brick.pat");
+    assert_eq!(out, run("brick.pat"));
+    let recs = lines(&out);
+    for face in 1..=4 {
+        let n = recs.iter().filter(|r| r["face"] == face).count();
+        assert!(n > 1000, "face {face}: {n} cells");
+    }
+    assert!(recs.iter().all(|r| r.get("texel").is_some()));
+});
+
+/// Every `"file"`, `"map"` and `"colours"` of a stream (recursively: object
+/// definitions hold records).
+fn file_refs(v: &Value, out: &mut Vec<String>) {
+    match v {
+        Value::Object(m) => {
+            for (k, x) in m {
+                match (k.as_str(), x) {
+                    ("file" | "map" | "colours", Value::String(s)) => out.push(s.clone()),
+                    _ => file_refs(x, out),
+                }
+            }
+        }
+        Value::Array(a) => a.iter().for_each(|x| file_refs(x, out)),
+        _ => {}
+    }
+}
+
+clitest!(
+    forwarded_file_references_survive_a_pipe_from_elsewhere,
+    |dir| {
+        // Issue 16, item 4: run from a directory that is neither the scene's nor
+        // the reader's, the pipe of the issue worked only from the scene's own
+        // directory ("./../patterns/earth.pat: No such file").
+        let reader = dir.path().join("reader");
+        std::fs::create_dir(&reader).unwrap();
+        for name in ["two-spheres.json", "demo2-fig51.json", "demo2-plain.json"] {
+            let scene = crate::util::repo(&format!("fixtures/scenes/{name}"));
+            for extra in [&[][..], &["--uv"][..]] {
+                let out = dir.cmd("polyfill3").args(extra).arg(&scene).ok_stdout();
+                let mut refs = Vec::new();
+                for line in lines(&out) {
+                    file_refs(&line, &mut refs);
+                }
+                // Partitioned polygons carry colours, not patterns; quadrics'
+                // triangles and --uv polygons name their pattern.
+                let forwards = name == "two-spheres.json" || !extra.is_empty();
+                assert_eq!(!refs.is_empty(), forwards, "{name} {extra:?}");
+                for r in &refs {
+                    let p = std::path::Path::new(r);
+                    assert!(p.is_absolute() && p.exists(), "{r}");
+                    assert!(!r.contains("/./") && !r.contains("/../"), "normalised: {r}");
+                }
+                dir.cmd("scene-render")
+                    .current_dir(&reader)
+                    .args([
+                        "--ortho",
+                        "-80,80,-60,60,0,100",
+                        "--size",
+                        "40x30",
+                        "-",
+                        "-o",
+                    ])
+                    .arg(reader.join("out.png"))
+                    .write_stdin(out)
+                    .assert()
+                    .success();
+            }
+        }
+    }
+);
+
+clitest!(
+    forwarded_file_references_are_relative_to_the_output_file,
+    |dir| {
+        // With -o, the output and its files move together: each name is
+        // relative to the output's directory, whatever the current one.
+        let scene = crate::util::repo("fixtures/scenes/two-spheres.json");
+        dir.cmd("polyfill3")
+            .args(["-o", "sub/deeper/out.ndjson"])
+            .arg(&scene)
+            .assert()
+            .failure(); // the directory does not exist: nothing is written
+        std::fs::create_dir_all(dir.path().join("sub/deeper")).unwrap();
+        dir.cmd("polyfill3")
+            .args(["-o", "sub/deeper/out.ndjson"])
+            .arg(&scene)
+            .assert()
+            .success();
+        let out = dir.read("sub/deeper/out.ndjson");
+        let mut refs = Vec::new();
+        for line in lines(&out) {
+            file_refs(&line, &mut refs);
+        }
+        let patterns = std::fs::canonicalize(crate::util::repo("fixtures/patterns")).unwrap();
+        let here = std::fs::canonicalize(dir.path().join("sub/deeper")).unwrap();
+        assert!(!refs.is_empty());
+        for r in &refs {
+            assert!(std::path::Path::new(r).is_relative(), "{r}");
+            let named = std::fs::canonicalize(here.join(r)).unwrap();
+            assert_eq!(named.parent(), Some(patterns.as_path()), "{r}");
+        }
+        // Read from the repository, not from the output's directory.
+        dir.cmd("scene-render")
+            .current_dir(crate::util::repo("."))
+            .args(["--ortho", "-80,80,-60,60,0,100", "--size", "40x30", "-o"])
+            .arg(dir.path().join("o.png"))
+            .arg(dir.path().join("sub/deeper/out.ndjson"))
+            .assert()
+            .success();
     }
 );

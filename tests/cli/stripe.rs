@@ -220,6 +220,167 @@ clitest!(pat_info_record_errors_name_the_record_and_field, |dir| {
         ));
 });
 
+/// A square with a stripe texture of the given spacing, as NDJSON text.
+fn striped(spacing: f64) -> String {
+    format!(
+        r#"{{"vertices": [[0,0],[4,0],[4,4],[0,4]], "stripe": {{"map": "m.map", "spacing": {spacing}, "yaw": 0}}}}"#
+    )
+}
+
+clitest!(
+    pat_info_record_numbers_definitions_and_instances_too,
+    |dir| {
+        // Issue 16 (7): on a stream with objects, `--record 0` said "record 0
+        // does not exist: the stream has 2 records" (it counted the polygons the
+        // instances place) while `--record 2` worked (it looked records up by
+        // their place in the stream). One numbering: every element of the
+        // stream counts, definitions and instances too, as in error messages.
+        dir.write("m.map", MAP8);
+        dir.write(
+        "s.json",
+        format!(
+            "{{\"object\": \"w\", \"records\": [{}]}}\n{{\"instance\": \"w\", \"transform\": {{\"translate\": [0, 5, 0]}}}}\n{{\"instance\": \"w\"}}\n",
+            striped(2.0)
+        ),
+    );
+        let text = |n: &str| {
+            String::from_utf8(
+                dir.cmd("pat-info")
+                    .args(["--record", n, "s.json"])
+                    .ok_stdout(),
+            )
+            .unwrap()
+        };
+        let def = text("0");
+        assert!(
+            def.starts_with("s.json: record 0, polygon 0: stripe texture (object `w`)\n"),
+            "{def}"
+        );
+        assert!(def.contains("  spacing       2 "), "{def}");
+        for n in ["1", "2"] {
+            let inst = text(n);
+            assert!(
+                inst.starts_with(&format!(
+                    "s.json: record {n}, polygon 0: stripe texture (instance of `w`)\n"
+                )),
+                "{inst}"
+            );
+        }
+        dir.cmd("pat-info")
+            .args(["--record", "3", "s.json"])
+            .assert()
+            .code(1)
+            .stderr(predicate::str::contains(
+                "s.json: record 3 does not exist: the stream has 3 records (numbered from 0)",
+            ));
+    }
+);
+
+clitest!(
+    pat_info_record_errors_name_the_number_the_other_tools_give,
+    |dir| {
+        // Record 1 defines an object whose second record has a bad stripe:
+        // scene-render names record 1, and so does `pat-info --record 1` (which
+        // said "record 1 does not exist" before issue 16). Record 3 places an
+        // unknown object: every tool names record 3.
+        dir.write("m.map", MAP8);
+        let plain = r#"{"vertices": [[0,0],[1,0],[0,1]], "color": [1,2,3]}"#;
+        let good = striped(2.0);
+        let bad = striped(0.0);
+        dir.write(
+        "t.json",
+        format!("{good}\n{{\"object\": \"w\", \"records\": [{plain}, {bad}]}}\n{{\"instance\": \"w\"}}\n{{\"instance\": \"ghost\"}}\n"),
+    );
+        dir.cmd("scene-render")
+            .args(["--size", "10x10", "t.json", "-o", "out.png"])
+            .assert()
+            .code(1)
+            .stderr(predicate::str::contains(
+                "t.json: record 1: stripe.spacing: 0 is not positive",
+            ));
+        for (n, want) in [
+            (
+                "1",
+                "t.json: record 1, polygon 1: stripe.spacing: 0 is not positive",
+            ),
+            (
+                "2",
+                "t.json: record 2, polygon 1: stripe.spacing: 0 is not positive",
+            ),
+            ("3", "t.json: record 3: instance of unknown object `ghost`"),
+        ] {
+            dir.cmd("pat-info")
+                .args(["--record", n, "t.json"])
+                .assert()
+                .code(1)
+                .stdout("")
+                .stderr(predicate::str::contains(want));
+        }
+        dir.write("t.json", format!("{good}\n{{\"instance\": \"ghost\"}}\n"));
+        dir.cmd("scene-render")
+            .args(["--size", "10x10", "t.json", "-o", "out.png"])
+            .assert()
+            .code(1)
+            .stderr(predicate::str::contains(
+                "t.json: record 1: instance of unknown object `ghost`",
+            ));
+        // Elements before the one asked for are read and checked, later ones not.
+        dir.cmd("pat-info")
+            .args(["--record", "0", "t.json"])
+            .assert()
+            .success();
+    }
+);
+
+clitest!(pat_info_record_lists_the_polygons_an_object_draws, |dir| {
+    // An instance draws its object's polygons, all record N in errors;
+    // `--record N` tells them apart as polygon 0, 1, ... in drawing order
+    // and shows those with a stripe. --json gives an array for them.
+    dir.write("m.map", MAP8);
+    let plain = r#"{"vertices": [[0,0],[1,0],[0,1]], "color": [1,2,3]}"#;
+    dir.write(
+        "u.json",
+        format!(
+            "{{\"object\": \"v\", \"records\": [{plain}]}}\n{{\"object\": \"w\", \"records\": [{plain}, {}, {{\"instance\": \"v\"}}, {}]}}\n{{\"instance\": \"w\", \"transform\": {{\"rotate\": 90, \"axis\": \"z\"}}}}\n",
+            striped(2.0),
+            striped(3.0)
+        ),
+    );
+    let out = dir
+        .cmd("pat-info")
+        .args(["--record", "2", "--json", "u.json"])
+        .ok_stdout();
+    let v: Value = serde_json::from_slice(&out).unwrap();
+    let list = v.as_array().unwrap();
+    assert_eq!(list.len(), 2, "{v}");
+    assert_eq!(list[0]["record"], 2);
+    assert_eq!(list[0]["polygon"], 1);
+    assert_eq!(list[0]["instance_of"], "w");
+    assert_eq!(list[0]["spacing"], 2.0);
+    assert_eq!(list[1]["polygon"], 3);
+    assert_eq!(list[1]["spacing"], 3.0);
+    let out = dir
+        .cmd("pat-info")
+        .args(["--record", "1", "u.json"])
+        .ok_stdout();
+    let text = String::from_utf8(out).unwrap();
+    assert!(
+        text.starts_with("u.json: record 1, polygon 1: stripe texture (object `w`)\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains("\nu.json: record 1, polygon 3: stripe texture (object `w`)\n"),
+        "{text}"
+    );
+    dir.cmd("pat-info")
+        .args(["--record", "0", "u.json"])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "u.json: record 0 (object `v`) draws no polygon with a \"stripe\" texture",
+        ));
+});
+
 fn bars_png(dir: &crate::util::Dir) {
     // 8 columns alternating black/white, 4 rows.
     let img = image::RgbaImage::from_fn(8, 4, |x, _| {
