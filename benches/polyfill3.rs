@@ -13,6 +13,7 @@
 
 use glam::{DVec2, DVec3};
 use patkit::geom::{map_to_plane, CellSink, Grid, Partitioner, Placement, PlanePolygon};
+use patkit::math;
 use patkit::scene::polyfill::CellWriter;
 use patkit::stream::Record;
 use patkit::{Pattern, Rgb8};
@@ -175,7 +176,7 @@ fn ngon(n: usize, r: f64) -> Vec<DVec3> {
     (0..n)
         .map(|i| {
             let a = std::f64::consts::TAU * (i as f64 + 0.5) / n as f64;
-            DVec3::new(10.0, -3.0, 5.0) + u * (r * a.cos()) + w * (r * a.sin())
+            DVec3::new(10.0, -3.0, 5.0) + u * (r * math::cos(a)) + w * (r * math::sin(a))
         })
         .collect()
 }

@@ -6,6 +6,7 @@
 //! Usage: cargo run --example draw_fixtures -- OUT_DIR
 
 use image::{Rgba, RgbaImage};
+use patkit::math;
 use std::f64::consts::PI;
 use std::path::Path;
 
@@ -78,7 +79,7 @@ fn wood() -> RgbaImage {
     ];
     draw(64, |x, y| {
         let t = 2.0 * PI * x as f64 / 64.0;
-        let v = y as f64 + 2.5 * t.sin() + 1.2 * (2.0 * t + 1.0).sin();
+        let v = y as f64 + 2.5 * math::sin(t) + 1.2 * math::sin(2.0 * t + 1.0);
         let ring = (v / 8.0).rem_euclid(1.0);
         let i = ((ring * 5.0) as usize).min(4);
         Some(browns[i])
@@ -199,7 +200,7 @@ fn marble() -> RgbaImage {
                 value_noise(x as f64 * scale, y as f64 * scale, cells, 11) / (1 << octave) as f64;
         }
         let phase = 2.0 * PI * (2.0 * x as f64 / SIDE as f64 + y as f64 / SIDE as f64);
-        let vein = (phase + 5.0 * turbulence).sin().abs().powf(0.35);
+        let vein = math::powf(math::sin(phase + 5.0 * turbulence).abs(), 0.35);
         let base = [232.0, 228.0, 220.0];
         let dark = [70.0, 80.0, 98.0];
         let px = |k: usize| (dark[k] + (base[k] - dark[k]) * vein) as u8;
@@ -254,7 +255,7 @@ fn moon() -> RgbaImage {
         for &(cx, cy, r) in &craters {
             // Distance across the left-right wrap, so craters tile too.
             let dx = (x as f64 - cx).abs();
-            let d = dx.min(SIDE as f64 - dx).hypot(y as f64 - cy);
+            let d = math::hypot(dx.min(SIDE as f64 - dx), y as f64 - cy);
             if d < r - 1.0 {
                 return Some([95, 95, 100]);
             }

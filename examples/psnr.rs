@@ -11,6 +11,7 @@
 
 use anyhow::{bail, Context, Result};
 use patkit::color::decode_table;
+use patkit::math;
 use patkit::Pattern;
 
 /// OKLab distances are around 0.01 for a just-noticeable difference: scale to ~1.
@@ -44,7 +45,7 @@ fn main() -> Result<()> {
     if n == 0 {
         bail!("no pixels to compare");
     }
-    let psnr = |mse: f64, peak: f64| 10.0 * (peak * peak / mse).log10();
+    let psnr = |mse: f64, peak: f64| 10.0 * math::log10(peak * peak / mse);
     println!(
         "{:.3} {:.3} {:.4}",
         psnr(se / (3 * n) as f64, 255.0).min(99.0),
@@ -80,9 +81,9 @@ fn read_candidate(name: &str) -> Result<Vec<Option<[u8; 3]>>> {
 fn oklab(c: [u8; 3]) -> [f64; 3] {
     let lut = decode_table();
     let [r, g, b] = c.map(|v| lut[v as usize] as f64);
-    let l = (0.4122214708 * r + 0.5363325363 * g + 0.0514459929 * b).cbrt();
-    let m = (0.2119034982 * r + 0.6806995451 * g + 0.1073969566 * b).cbrt();
-    let s = (0.0883024619 * r + 0.2817188376 * g + 0.6299787005 * b).cbrt();
+    let l = math::cbrt(0.4122214708 * r + 0.5363325363 * g + 0.0514459929 * b);
+    let m = math::cbrt(0.2119034982 * r + 0.6806995451 * g + 0.1073969566 * b);
+    let s = math::cbrt(0.0883024619 * r + 0.2817188376 * g + 0.6299787005 * b);
     [
         0.2104542553 * l + 0.7936177850 * m - 0.0040720468 * s,
         1.9779984951 * l - 2.4285922050 * m + 0.4505937099 * s,

@@ -13,6 +13,7 @@
 
 use glam::DVec3;
 use patkit::camera::Camera;
+use patkit::math;
 use patkit::stripe::mapping::unproject_to_plane;
 use patkit::stripe::{
     LodMode, Modulation, ModulationMap, Orientation, PatternVector, RefPlane, ScreenMapping,
@@ -205,7 +206,7 @@ fn main() -> anyhow::Result<()> {
             count_all += count;
         }
         let rmse = (sum_all / (3 * count_all.max(1)) as f64).sqrt();
-        let psnr = 20.0 * (255.0 / rmse).log10();
+        let psnr = 20.0 * math::log10(255.0 / rmse);
         println!(
             "| {name} | {:.2} | {:.1} | {:.3} | {:.3} | {rmse:.3} | {psnr:.2} | {:.2}% |",
             best * 1e3,

@@ -4,6 +4,7 @@
 //! (anti-aliasing, texture filtering, MIP levels, resampling, quantization error)
 //! decodes to linear light first, averages there, then encodes and rounds once.
 
+use crate::math;
 use std::fmt;
 use std::str::FromStr;
 
@@ -88,7 +89,7 @@ pub fn srgb_to_linear_f64(c: f64) -> f64 {
     if c <= 0.04045 {
         c / 12.92
     } else {
-        ((c + 0.055) / 1.055).powf(2.4)
+        math::powf((c + 0.055) / 1.055, 2.4)
     }
 }
 
@@ -97,7 +98,7 @@ pub fn linear_to_srgb_f64(l: f64) -> f64 {
     if l <= 0.0031308 {
         l * 12.92
     } else {
-        1.055 * l.powf(1.0 / 2.4) - 0.055
+        1.055 * math::powf(l, 1.0 / 2.4) - 0.055
     }
 }
 

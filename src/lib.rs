@@ -7,6 +7,8 @@
 //! **Foundations**
 //! - [`color`]: sRGB and linear light, exactly rounded encoding.
 //! - [`error`]: errors every layer may raise (an option named by its field).
+//! - [`math`]: sines, powers and logarithms that give the same bits on every
+//!   host.
 //! - [`text`]: the whitespace tokenizer of the text formats and their
 //!   [`ParseError`].
 //! - [`io`]: standard streams, atomic output files, image decoding and encoding.
@@ -61,6 +63,7 @@
 
 pub mod color;
 pub mod error;
+pub mod math;
 pub mod text;
 
 pub mod io;

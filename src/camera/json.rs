@@ -583,7 +583,7 @@ mod tests {
         });
         let unit_window = Some(Window::from_array([-1.0, 1.0, -1.0, 1.0]));
         let (w, h) = (48.0, 36.0);
-        let t = 27.5f64.to_radians().tan();
+        let t = crate::math::tan(27.5f64.to_radians());
         let dir = DVec3::new(1.0, 0.0, -1.0).normalize();
         let pos = DVec3::new(10.0, 50.0, -20.0);
         let far_away = DVec3::new(1e7, -1e7, 1e7);

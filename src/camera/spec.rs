@@ -22,6 +22,7 @@ use super::{
     eye_rotation, from_rows, ortho_matrix, view_matrix, Camera, CameraError, DEPTH_ROW,
     PARALLEL_W_ROW, PERSPECTIVE_W_ROW,
 };
+use crate::math;
 
 /// Below this length a direction vector counts as zero: the textbook's ROUNDOFF,
 /// "some small number greater than any round-off error" (Alg. 8.15, 8.17, 8.18).
@@ -748,7 +749,7 @@ fn iris(s: &IrisSpec) -> Result<Camera, CameraError> {
                 ));
             }
             // gluPerspective: f = cot(fovy/2).
-            let f = 1.0 / (fovy.to_radians() / 2.0).tan();
+            let f = 1.0 / math::tan(fovy.to_radians() / 2.0);
             let projection = from_rows([
                 [f / aspect, 0.0, 0.0, 0.0],
                 [0.0, f, 0.0, 0.0],
@@ -930,7 +931,7 @@ fn textbook(v: &ViewSpec) -> Result<Camera, CameraError> {
                 ObliqueKind::Cabinet => 2.0,
             };
             let angle = angle.unwrap_or(DEFAULT_OBLIQUE_ANGLE).to_radians();
-            DVec3::new(angle.cos(), angle.sin(), receding)
+            DVec3::new(math::cos(angle), math::sin(angle), receding)
         }
         // Isometric: projection along the view plane normal.
         ViewProjection::Isometric => DVec3::Z,
@@ -1024,7 +1025,7 @@ mod tests {
         let (eye, center, up) = ([1.0, 2.0, 3.0], [4.0, -1.0, -5.0], [0.2, 1.0, 0.1]);
         let iris = cam(json!({"lookat": {"eye": eye, "center": center, "up": up},
                               "perspective": {"fovy": 50, "aspect": 1.5, "near": 0.5, "far": 40}}));
-        let t = 25f64.to_radians().tan();
+        let t = math::tan(25f64.to_radians());
         let e = DVec3::from_array(eye);
         let c = DVec3::from_array(center);
         let sight = c - e;
@@ -1078,7 +1079,7 @@ mod tests {
     #[test]
     fn demo2_both_ways() {
         let iris = cam(demo2());
-        let t = 27.5f64.to_radians().tan();
+        let t = math::tan(27.5f64.to_radians());
         let tb = cam(json!({"view": {"vrp": [0, 100, -5], "vpn": [0, -100, -895],
             "view_up": [0, 1, 0], "view_distance": 1, "window": [-t, t, -t, t],
             "cop": [0, 100, -5], "front": 0, "back": 1000}}));
@@ -1096,14 +1097,14 @@ mod tests {
             // One unit behind the view plane (along the VPN, -z): shifted up-right at 30°.
             let p = ndc(&c, DVec3::new(0.0, 0.0, -1.0));
             let a = 30f64.to_radians();
-            let want = glam::DVec2::new(a.cos(), a.sin()) * length;
+            let want = glam::DVec2::new(math::cos(a), math::sin(a)) * length;
             assert!((p.truncate() - want).length() < CLOSE, "{kind}: {p}");
             // Depth still measures along the VPN; the front face is not distorted.
             assert!((p.z - 1.0).abs() < CLOSE);
             let q = ndc(&c, DVec3::new(0.25, -0.5, 0.0));
             assert!((q.truncate() - glam::DVec2::new(0.25, -0.5)).length() < CLOSE);
             // The textbook's SET-PARALLEL(cos A, sin A, 1 or 2) is the same camera.
-            let dop = [a.cos(), a.sin(), 1.0 / length];
+            let dop = [math::cos(a), math::sin(a), 1.0 / length];
             let d = cam(view(json!({ "dop": dop })));
             assert!(max_diff(c.world_to_clip(), d.world_to_clip()) <= SAME_VIEW);
             // The camera looks along the (oblique) projection direction.

@@ -47,6 +47,7 @@ pub mod transform;
 pub use partition::{CellSink, Grid, GridError, Partitioner, Placement};
 pub use plane::{map_to_plane, Frame, PlaneError, PlanePolygon};
 
+use crate::math;
 use glam::DVec3;
 use std::f64::consts::PI;
 
@@ -93,7 +94,7 @@ pub fn circle_segments(radius: f64, tolerance: f64) -> usize {
     if tolerance.is_nan() || tolerance <= 0.0 || tolerance >= radius {
         return MIN_CIRCLE_SEGMENTS;
     }
-    let n = (PI / (1.0 - tolerance / radius).acos()).ceil();
+    let n = (PI / math::acos(1.0 - tolerance / radius)).ceil();
     (n as usize).clamp(MIN_CIRCLE_SEGMENTS, MAX_CIRCLE_SEGMENTS)
 }
 
@@ -126,8 +127,8 @@ pub fn outline(shape: &Shape, tolerance: f64) -> Vec<DVec3> {
                 .map(|i| {
                     let a = 2.0 * PI * i as f64 / n as f64;
                     DVec3::new(
-                        center[0] + radius * a.cos(),
-                        center[1] + radius * a.sin(),
+                        center[0] + radius * math::cos(a),
+                        center[1] + radius * math::sin(a),
                         0.0,
                     )
                 })
@@ -150,8 +151,8 @@ pub fn outline(shape: &Shape, tolerance: f64) -> Vec<DVec3> {
             for i in 0..=n {
                 let a = (start + sweep * i as f64 / n as f64).to_radians();
                 v.push(DVec3::new(
-                    center[0] + radius * a.cos(),
-                    center[1] + radius * a.sin(),
+                    center[0] + radius * math::cos(a),
+                    center[1] + radius * math::sin(a),
                     0.0,
                 ));
             }
@@ -193,7 +194,8 @@ mod tests {
             );
             let n = v.len() as f64;
             assert!(
-                r * (1.0 - (PI / n).cos()) <= tol * (1.0 + 1e-12) || v.len() == MAX_CIRCLE_SEGMENTS
+                r * (1.0 - math::cos(PI / n)) <= tol * (1.0 + 1e-12)
+                    || v.len() == MAX_CIRCLE_SEGMENTS
             );
             assert!(signed_area_xy(&v) > 0.0);
         }

@@ -17,6 +17,7 @@
 //! pattern (SPEC §2 puts it at vertex 0; the offset cancels in `x - xmin`).
 
 use super::polygon::area2;
+use crate::math;
 use glam::{DVec2, DVec3};
 use std::fmt;
 
@@ -208,7 +209,7 @@ pub fn map_to_plane(
         .find(|d| d.length() > ZERO_AREA_REL.sqrt() * size)
         .map(|d| d.normalize())
         .ok_or(PlaneError::ZeroArea { area, size })?;
-    let (s, c) = rotate_deg.to_radians().sin_cos();
+    let (s, c) = math::sin_cos(rotate_deg.to_radians());
     let ex = if rotate_deg == 0.0 {
         ex0
     } else {

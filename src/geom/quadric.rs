@@ -19,6 +19,7 @@
 //! artefact seed 002's cylinder mapping corrects with its atan2 test).
 
 use crate::geom::transform::Transform;
+use crate::math;
 use glam::{DMat4, DVec3};
 use std::f64::consts::PI;
 
@@ -214,7 +215,7 @@ impl Quadric {
             Quadric::Sphere { radius } => (DVec3::ZERO, radius),
             Quadric::Cylinder { base, top, height } => (
                 DVec3::new(0.0, 0.0, height / 2.0),
-                base.max(top).hypot(height / 2.0),
+                math::hypot(base.max(top), height / 2.0),
             ),
             Quadric::Disk { outer, .. } => (DVec3::ZERO, outer),
         }
@@ -247,7 +248,7 @@ impl Quadric {
         };
         let n_for = |span: f64| -> u32 {
             let ratio = (1.0 - tolerance / r).clamp(-1.0, 1.0);
-            let half = ratio.acos();
+            let half = math::acos(ratio);
             if half <= 0.0 || !half.is_finite() {
                 return MAX_SEGMENTS;
             }
@@ -288,7 +289,11 @@ impl Quadric {
         let around = |s: f64| {
             let a = 2.0 * PI * s;
             // Exact at the quarter turns, so the seam column matches column 0.
-            let (sin, cos) = if s == 1.0 { (0.0, 1.0) } else { a.sin_cos() };
+            let (sin, cos) = if s == 1.0 {
+                (0.0, 1.0)
+            } else {
+                math::sin_cos(a)
+            };
             (sin, cos)
         };
         let point = |s: f64, t: f64| -> DVec3 {
@@ -298,9 +303,9 @@ impl Quadric {
                     let ring = if t == 0.0 || t == 1.0 {
                         0.0
                     } else {
-                        radius * (PI * t).sin()
+                        radius * math::sin(PI * t)
                     };
-                    DVec3::new(ring * sin, ring * cos, -radius * (PI * t).cos())
+                    DVec3::new(ring * sin, ring * cos, -radius * math::cos(PI * t))
                 }
                 Quadric::Cylinder { base, top, height } => {
                     let r = base + (top - base) * t;
@@ -547,7 +552,7 @@ mod tests {
             // Each direction of a sphere gets half the tolerance.
             let tol = tol / 2.0;
             // The sagitta of one slice and one stack.
-            let sag = |span: f64| 40.0 * (1.0 - (span / 2.0).cos());
+            let sag = |span: f64| 40.0 * (1.0 - math::cos(span / 2.0));
             assert!(sag(2.0 * PI / slices as f64) <= tol);
             assert!(sag(PI / stacks as f64) <= tol);
             // And not wastefully fine: one slice fewer would exceed it.
@@ -599,7 +604,7 @@ mod tests {
         // w = d - r for a sphere d in front of the eye.
         let fovy = 60f64.to_radians();
         let persp = DMat4::perspective_rh_gl(fovy, 1.0, 1.0, 1000.0);
-        let f = 1.0 / (fovy / 2.0).tan();
+        let f = 1.0 / math::tan(fovy / 2.0);
         for d in [50.0, 200.0] {
             let at = persp * DMat4::from_translation(DVec3::new(0.0, 0.0, -d));
             let want = 0.25 / (100.0 * f / (d - 10.0));

@@ -25,6 +25,7 @@
 //! `{"rotate": {"start": 0, "step": 10}, "axis": "y"}`. Read without a frame,
 //! such a transform is its frame 0.
 
+use crate::math;
 use glam::{DMat3, DMat4, DVec3};
 use serde_json::Value;
 use std::fmt;
@@ -161,7 +162,7 @@ impl Transform {
     /// rotation or reflection times one scale), else `None`.
     pub fn similarity_scale(&self) -> Option<f64> {
         let lin = DMat3::from_mat4(self.0);
-        let s = lin.determinant().abs().cbrt();
+        let s = math::cbrt(lin.determinant().abs());
         let gram = lin.transpose() * lin / (s * s);
         let off = (gram - DMat3::IDENTITY)
             .to_cols_array()

@@ -4,6 +4,7 @@
 //! [`crate::quantize`]).
 
 use super::resample::SquareImage;
+use crate::math;
 use crate::pat::Pattern;
 
 /// Peak value of an 8-bit channel, for PSNR.
@@ -29,6 +30,6 @@ pub fn psnr(pattern: &Pattern, img: &SquareImage) -> Option<f64> {
     }
     (count > 0).then(|| {
         let mse = sum / count as f64;
-        10.0 * (PEAK * PEAK / mse).log10()
+        10.0 * math::log10(PEAK * PEAK / mse)
     })
 }

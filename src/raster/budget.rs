@@ -384,8 +384,8 @@ mod tests {
                 let r = 0.47 * h as f64;
                 let pts = [
                     [cx, cy],
-                    [cx + r * a0.cos(), cy + r * a0.sin()],
-                    [cx + r * a1.cos(), cy + r * a1.sin()],
+                    [cx + r * crate::math::cos(a0), cy + r * crate::math::sin(a0)],
+                    [cx + r * crate::math::cos(a1), cy + r * crate::math::sin(a1)],
                 ];
                 poly2(&view, &pts, c, i as u32)
             })

@@ -18,6 +18,7 @@
 //! ```
 
 use crate::io::Image;
+use crate::math;
 
 /// Two images compared must have the same size.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
@@ -95,7 +96,7 @@ pub fn compare(img: &Image, reference: &Image) -> Result<Metrics, SizeMismatch> 
         width: img.width,
         height: img.height,
         rmse,
-        psnr: (rmse > 0.0).then(|| 20.0 * (255.0 / rmse).log10()),
+        psnr: (rmse > 0.0).then(|| 20.0 * math::log10(255.0 / rmse)),
         max_error,
         share_off: pixels_off as f64 / n_px as f64,
         pixels_off,
@@ -158,7 +159,7 @@ mod tests {
         b.data[0] = 6;
         let m = compare(&a, &b).unwrap();
         assert!((m.rmse - 3.0f64.sqrt()).abs() < 1e-12);
-        assert!((m.psnr.unwrap() - 20.0 * (255.0 / 3.0f64.sqrt()).log10()).abs() < 1e-9);
+        assert!((m.psnr.unwrap() - 20.0 * math::log10(255.0 / 3.0f64.sqrt())).abs() < 1e-9);
         assert_eq!(m.max_error, 6);
         assert_eq!(m.pixels_off, 1);
         assert_eq!(m.share_off, 0.25);

@@ -195,7 +195,7 @@ mod tests {
         (0..n)
             .map(|k| {
                 let a = k as f64 / n as f64 * std::f64::consts::TAU;
-                [c + r * a.cos(), c + r * a.sin()]
+                [c + r * crate::math::cos(a), c + r * crate::math::sin(a)]
             })
             .collect()
     }

@@ -362,7 +362,10 @@ mod tests {
         let mut circle: Vec<DVec2> = (0..n)
             .map(|i| {
                 let a = i as f64 / n as f64 * std::f64::consts::TAU;
-                DVec2::new(8.0 + 7.0 * a.cos(), 8.0 + 7.0 * a.sin())
+                DVec2::new(
+                    8.0 + 7.0 * crate::math::cos(a),
+                    8.0 + 7.0 * crate::math::sin(a),
+                )
             })
             .collect();
         // Every third vertex pushed inwards by a grid snap's worth.

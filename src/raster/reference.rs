@@ -716,7 +716,11 @@ mod tests {
                 let pts: Vec<DVec3> = (0..3 + (i % 3))
                     .map(|k| {
                         let a = k as f64 * 2.0 + rng.next();
-                        c + DVec3::new(a.cos() * 2.0, a.sin() * 2.0, rng.next() * 3.0 - 1.5)
+                        c + DVec3::new(
+                            crate::math::cos(a) * 2.0,
+                            crate::math::sin(a) * 2.0,
+                            rng.next() * 3.0 - 1.5,
+                        )
                     })
                     .collect();
                 let col = Rgb8([

@@ -15,6 +15,7 @@
 use super::map::InvalidMap;
 use super::map::{check_len, Fade, ModulationMap};
 use crate::color::{linear_to_srgb, srgb_to_linear};
+use crate::math;
 
 /// Why an image gives no stripe map.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -45,7 +46,7 @@ pub fn map_from_image(
         return Err(FromImageError::Angle(angle));
     }
     let (w, h) = img.dimensions();
-    let (s, c) = angle.to_radians().sin_cos();
+    let (s, c) = math::sin_cos(angle.to_radians());
     let (cx, cy) = (w as f64 / 2.0, h as f64 / 2.0);
     // Position across the stripes of a pixel centre; the image rows go down.
     let t = |x: u32, y: u32| (x as f64 + 0.5 - cx) * c + (cy - (y as f64 + 0.5)) * s;

@@ -37,6 +37,8 @@
 //! reference per level ("requiring only one memory reference per sample
 //! point").
 
+use crate::math;
+
 /// How a pixel's levels are chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
@@ -99,7 +101,7 @@ impl LodMode {
             LodMode::Blend | LodMode::Nearest => {
                 // log2 of the rate ρ = N |∇P|, as half the log2 of ρ² (no hypot:
                 // its overflow care costs more than the whole lookup).
-                let lambda = 0.5 * (n * n * (px * px + py * py)).log2() + LOD_BIAS;
+                let lambda = 0.5 * math::log2(n * n * (px * px + py * py)) + LOD_BIAS;
                 if lambda.is_nan() || lambda <= 0.0 {
                     // Magnified, exactly one sample per pixel, or no gradient.
                     return Lod::CRISP;
@@ -161,7 +163,7 @@ mod tests {
 
     /// `λ` of a rate, as the blend mode computes it.
     fn lambda(rate: f64) -> f64 {
-        rate.log2() + LOD_BIAS
+        math::log2(rate) + LOD_BIAS
     }
 
     fn level_and_a(l: Lod) -> f64 {
@@ -173,7 +175,7 @@ mod tests {
         let s = 1.0 / N as f64;
         assert_eq!(LodMode::Blend.select(0.5 * s, 0.0, N, LEVELS), Lod::CRISP);
         // Rate 2^(2 - LOD_BIAS): exactly level 2.
-        let l = LodMode::Blend.select(2f64.powf(2.0 - LOD_BIAS) * s, 0.0, N, LEVELS);
+        let l = LodMode::Blend.select(math::powf(2f64, 2.0 - LOD_BIAS) * s, 0.0, N, LEVELS);
         assert!(l.linear && (level_and_a(l) - 2.0).abs() < 1e-6, "{l:?}");
         let l = LodMode::Blend.select(0.0, 6.0 * s, N, LEVELS);
         assert!((level_and_a(l) - lambda(6.0)).abs() < 1e-6, "{l:?}");

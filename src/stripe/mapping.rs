@@ -332,7 +332,7 @@ mod tests {
                 if clip.w <= 0.0 {
                     continue;
                 }
-                let horizon = map.denominator(x, y).abs() / map.c[3].hypot(map.c[4]);
+                let horizon = map.denominator(x, y).abs() / crate::math::hypot(map.c[3], map.c[4]);
                 if horizon < HORIZON_MARGIN_PX {
                     continue;
                 }
@@ -353,7 +353,7 @@ mod tests {
                 let rich = |f: &dyn Fn(f64) -> f64| (4.0 * diff(f, 5e-3) - diff(f, 1e-2)) / 3.0;
                 let fx = rich(&|e| map.p(x + e, y));
                 let fy = rich(&|e| map.p(x, y + e));
-                let tol = DERIVATIVE_RELATIVE * px.hypot(py)
+                let tol = DERIVATIVE_RELATIVE * crate::math::hypot(px, py)
                     + DIFFERENCE_ROUNDOFF * rational.abs().max(1.0);
                 assert!(
                     (px - fx).abs() <= tol && (py - fy).abs() <= tol,

@@ -34,6 +34,7 @@
 //!   column needs models with their own axes, which the polygon stream does not
 //!   have.
 
+use crate::math;
 use glam::DVec3;
 use std::fmt;
 
@@ -146,12 +147,12 @@ impl Orientation {
     pub fn normal(self) -> DVec3 {
         match self {
             Orientation::YawPitch { yaw, pitch } => {
-                let (sy, cy) = yaw.to_radians().sin_cos();
-                let (sp, cp) = pitch.to_radians().sin_cos();
+                let (sy, cy) = math::sin_cos(yaw.to_radians());
+                let (sp, cp) = math::sin_cos(pitch.to_radians());
                 DVec3::new(cp * cy, sp, -cp * sy)
             }
             Orientation::Plane { plane, theta } => {
-                let (s, c) = theta.to_radians().sin_cos();
+                let (s, c) = math::sin_cos(theta.to_radians());
                 match plane {
                     RefPlane::Zx => DVec3::new(s, 0.0, -c),
                     RefPlane::Yz => DVec3::new(0.0, c, -s),
@@ -168,12 +169,12 @@ impl Orientation {
             return (yaw, pitch);
         }
         let n = self.normal();
-        let horizontal = n.x.hypot(n.z);
-        let pitch = n.y.atan2(horizontal).to_degrees();
+        let horizontal = math::hypot(n.x, n.z);
+        let pitch = math::atan2(n.y, horizontal).to_degrees();
         let yaw = if horizontal < f64::EPSILON {
             0.0
         } else {
-            (-n.z).atan2(n.x).to_degrees().rem_euclid(360.0)
+            math::atan2(-n.z, n.x).to_degrees().rem_euclid(360.0)
         };
         (yaw, pitch)
     }
@@ -275,9 +276,10 @@ mod tests {
     fn yaw_pitch_round_trips_through_the_normal() {
         for &(yaw, pitch) in &[(0.0, 0.0), (45.0, 30.0), (200.0, -60.0), (359.0, 89.0)] {
             let n = Orientation::YawPitch { yaw, pitch }.normal();
-            let back_yaw = (-n.z).atan2(n.x).to_degrees().rem_euclid(360.0);
+            let back_yaw = math::atan2(-n.z, n.x).to_degrees().rem_euclid(360.0);
             assert!(
-                (back_yaw - yaw).abs() < 1e-9 && (n.y.asin().to_degrees() - pitch).abs() < 1e-9
+                (back_yaw - yaw).abs() < 1e-9
+                    && (math::asin(n.y).to_degrees() - pitch).abs() < 1e-9
             );
         }
         let (yaw, pitch) = Orientation::Plane {

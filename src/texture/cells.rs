@@ -377,7 +377,7 @@ mod tests {
                 if (h >> 61) < density as u64 { ((c + r) % 2) as u16 } else { TRANSPARENT }
             });
             let mut tex = placed(texels, scale, Filter::Box, 0.0);
-            let (sn, cs) = angle.sin_cos();
+            let (sn, cs) = crate::math::sin_cos(angle);
             tex.map.u = [scale * cs, -scale * sn, 0.37];
             tex.map.v = [scale * sn, scale * cs, -1.21];
             tex.map.d = [persp, persp * 0.5, 1.0];

@@ -18,6 +18,7 @@
 
 use super::map::Footprint;
 use super::PolyTexture;
+use crate::math;
 
 /// The pixel's Gaussian, in pixels. 0.5 makes the weight fall to e^-2 at one
 /// pixel from the centre: roughly the span of the box filter's unit square,
@@ -45,7 +46,7 @@ pub fn sample(t: &PolyTexture, fp: &Footprint) -> [f64; 4] {
     // Covariance of the pixel's Gaussian in base texels, s2 J Jᵀ, with the
     // LOD bias scaling the footprint by 2^bias per axis (like a change of
     // level): s2 = (PIXEL_SIGMA 2^bias)².
-    let s2 = (PIXEL_SIGMA * t.filters.lod_bias.exp2()).powi(2);
+    let s2 = (PIXEL_SIGMA * math::exp2(t.filters.lod_bias)).powi(2);
     let (mut a, b, mut c) = (
         s2 * (fp.dx.x * fp.dx.x + fp.dy.x * fp.dy.x),
         s2 * (fp.dx.x * fp.dx.y + fp.dy.x * fp.dy.y),
@@ -98,7 +99,7 @@ pub fn sample(t: &PolyTexture, fp: &Footprint) -> [f64; 4] {
             if q > CUTOFF * CUTOFF {
                 continue;
             }
-            let w = (-0.5 * q).exp();
+            let w = math::exp(-0.5 * q);
             let p = t.fetch(k, i, j);
             for ch in 0..4 {
                 acc[ch] += w * p[ch];
@@ -144,7 +145,7 @@ mod tests {
         // a 32 pattern (sizes are multiples of 16).
         let greys: Vec<Rgb8> = (0..16).map(|i| Rgb8([(i * 17) as u8; 3])).collect();
         let p = pattern(32, &greys, |c, _| {
-            let s = (std::f64::consts::TAU * (c as f64 + 0.5) / 32.0).sin();
+            let s = math::sin(std::f64::consts::TAU * (c as f64 + 0.5) / 32.0);
             ((s * 0.5 + 0.5) * 15.0).round() as u16
         });
         let t = placed(p, 4.0, Filter::Ewa, 0.0);

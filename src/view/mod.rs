@@ -122,7 +122,7 @@ pub(crate) mod tests {
     /// A perspective view for tests: eye at the origin looking down -z, vertical
     /// field `fovy` degrees, with the camera contract's z_clip = w = -z_eye.
     pub fn perspective(fovy: f64, width: u32, height: u32, near: f64, far: f64) -> View {
-        let f = 1.0 / (fovy.to_radians() / 2.0).tan();
+        let f = 1.0 / crate::math::tan(fovy.to_radians() / 2.0);
         let aspect = width as f64 / height as f64;
         let m = DMat4::from_cols(
             DVec4::new(f / aspect, 0.0, 0.0, 0.0),

@@ -2,6 +2,7 @@
 //! comparison reports, determinism across threads, and failures.
 
 use crate::util::OkStdout;
+use patkit::math;
 use predicates::prelude::*;
 use std::path::Path;
 
@@ -419,7 +420,7 @@ clitest!(
             r#"{"lookat":{"eye":[0,100,-5],"center":[0,0,-900],"twist":0},
             "perspective":{"fovy":55,"aspect":1.0,"near":0,"far":1000}}"#,
         );
-        let t = 27.5f64.to_radians().tan();
+        let t = math::tan(27.5f64.to_radians());
         dir.write(
             "textbook.json",
             format!(
@@ -690,10 +691,10 @@ fn fan_scene() -> String {
         let a0 = i as f64 / 120.0 * std::f64::consts::TAU;
         let a1 = (i as f64 + 0.5) / 120.0 * std::f64::consts::TAU;
         let (x0, y0, x1, y1) = (
-            256.0 + 180.0 * a0.cos(),
-            192.0 + 180.0 * a0.sin(),
-            256.0 + 180.0 * a1.cos(),
-            192.0 + 180.0 * a1.sin(),
+            256.0 + 180.0 * math::cos(a0),
+            192.0 + 180.0 * math::sin(a0),
+            256.0 + 180.0 * math::cos(a1),
+            192.0 + 180.0 * math::sin(a1),
         );
         let c = if i % 2 == 0 {
             "[250,40,40]"

@@ -7,6 +7,7 @@
 //! library half is `tests/stress/`.
 
 use crate::util::OkStdout;
+use patkit::math;
 use predicates::prelude::*;
 
 /// Largest difference in 8-bit sRGB codes allowed between a scene and the
@@ -476,7 +477,11 @@ fn star(n: usize, radii: [f64; 2]) -> String {
         if i > 0 {
             s.push(',');
         }
-        s.push_str(&format!("[{},{}]", 8.0 + r * a.cos(), 8.0 + r * a.sin()));
+        s.push_str(&format!(
+            "[{},{}]",
+            8.0 + r * math::cos(a),
+            8.0 + r * math::sin(a)
+        ));
     }
     s.push_str(r#"],"color":[255,255,255]}"#);
     s

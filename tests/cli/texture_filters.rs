@@ -3,6 +3,7 @@
 //! invariants (threads, the reference) that the filters must keep.
 
 use crate::texture::{pattern3, pattern_from, pixel, quad, quadrant_pattern, QUADRANTS, SCENE};
+use patkit::math;
 
 /// sRGB decoding and encoding (IEC 61966-2-1), for expected values.
 fn to_linear(c: u8) -> f64 {
@@ -10,7 +11,7 @@ fn to_linear(c: u8) -> f64 {
     if c <= 0.04045 {
         c / 12.92
     } else {
-        ((c + 0.055) / 1.055).powf(2.4)
+        math::powf((c + 0.055) / 1.055, 2.4)
     }
 }
 
@@ -18,7 +19,7 @@ fn to_code(l: f64) -> u8 {
     let c = if l <= 0.0031308 {
         l * 12.92
     } else {
-        1.055 * l.powf(1.0 / 2.4) - 0.055
+        1.055 * math::powf(l, 1.0 / 2.4) - 0.055
     };
     (c * 255.0).round() as u8
 }

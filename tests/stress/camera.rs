@@ -3,6 +3,7 @@
 
 use glam::DVec3;
 use patkit::camera::Camera;
+use patkit::math;
 use patkit::raster::{render, try_project, Aa, Background, Cull};
 use patkit::view::View;
 use patkit::Rgb8;
@@ -146,7 +147,7 @@ proptest! {
     ) {
         // A wall almost edge-on to the eye: it may cover a thin band or
         // nothing, but never pixels outside the band of its vertices.
-        let t = 10f64.powf(tilt_e);
+        let t = math::powf(10f64, tilt_e);
         let v = perspective(DVec3::ZERO, -DVec3::Z, 0.1, 100.0);
         let p = vec![
             DVec3::new(-50.0, y, -1.0),
@@ -157,7 +158,7 @@ proptest! {
         let img = draw(&v, &[p], Aa::Exact);
         // Screen row of a point `dist` in front of the eye: y/dist mapped by
         // the 60° field.
-        let row = |y: f64, dist: f64| (y / dist / 30f64.to_radians().tan() * 0.5 + 0.5) * H as f64;
+        let row = |y: f64, dist: f64| (y / dist / math::tan(30f64.to_radians()) * 0.5 + 0.5) * H as f64;
         let (lo, hi) = (row(y, 1.0).min(row(y + t * 99.0, 100.0)), row(y, 1.0).max(row(y + t * 99.0, 100.0)));
         for r in lit_rows(&img) {
             prop_assert!(r as f64 >= lo.floor() - 1.0 && r as f64 <= hi.ceil() + 1.0, "{r} {lo} {hi}");

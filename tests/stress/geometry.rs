@@ -4,6 +4,7 @@
 use glam::{DVec2, DVec3};
 use patkit::geom::partition::{MAX_SHIFT_TEXELS, MIN_INCR_REL};
 use patkit::geom::{map_to_plane, CellSink, Grid, GridError, Partitioner, Placement, PlaneError};
+use patkit::math;
 use proptest::prelude::*;
 
 /// Relative error allowed between the summed area of the cells and the
@@ -76,7 +77,7 @@ proptest! {
     fn partition_area_matches_polygon_within_1e_9_for_scales_1e_6_to_1e9(
         e in -6.0f64..9.0, cells in 1.0f64..40.0, z in -1.0f64..1.0,
     ) {
-        let s = 10f64.powf(e);
+        let s = math::powf(10f64, e);
         let v = arrow(s, DVec3::new(0.0, 0.0, z * s));
         let (area, sum) = partition(&v, s / cells, 1e-6).unwrap();
         prop_assert!(sum.finite);
@@ -91,7 +92,7 @@ proptest! {
         // 1e7 away the coordinates keep 2^-52 * 1e7 ~ 2e-9 absolute precision,
         // so areas of a polygon of size >= 0.01 agree to 1e-6 relative.
         const TRANSLATED_AREA_REL: f64 = 1e-6;
-        let s = 10f64.powf(e);
+        let s = math::powf(10f64, e);
         let d = DVec3::from(dir);
         prop_assume!(d.length() > 0.1);
         let far = d.normalize() * 1e7;
@@ -117,9 +118,9 @@ proptest! {
         let v = [
             DVec3::new(0.0, 0.0, 0.0),
             DVec3::new(1.0, 0.0, 0.0),
-            DVec3::new(skew, 10f64.powf(h), 0.0),
+            DVec3::new(skew, math::powf(10f64, h), 0.0),
         ];
-        match partition(&v, 10f64.powf(incr_e), 1e-6) {
+        match partition(&v, math::powf(10f64, incr_e), 1e-6) {
             Ok((area, sum)) => {
                 prop_assert!(sum.finite);
                 prop_assert!((sum.area - area).abs() <= AREA_REL * area.max(1e-300));
@@ -133,7 +134,7 @@ proptest! {
         axis in 0usize..3, sign in prop::bool::ANY, tilt_e in -15.0f64..-1.0,
         exact in prop::bool::ANY,
     ) {
-        let tilt = if exact { 0.0 } else { 10f64.powf(tilt_e) };
+        let tilt = if exact { 0.0 } else { math::powf(10f64, tilt_e) };
         // A square in the plane through the origin perpendicular to `axis`,
         // tilted by `tilt` radians about one in-plane direction.
         let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
@@ -162,8 +163,8 @@ proptest! {
     ) {
         // The thesis places the first edge on the x axis; with the second edge
         // almost continuing the first, the frame must still follow edge 0->1.
-        let s = 10f64.powf(len_e);
-        let a = 10f64.powf(angle_e);
+        let s = math::powf(10f64, len_e);
+        let a = math::powf(10f64, angle_e);
         let v = [
             DVec3::new(0.0, 0.0, 0.0),
             DVec3::new(s, 0.0, 0.0),
@@ -180,8 +181,8 @@ proptest! {
     fn planarity_noise_within_the_tolerance_is_accepted_and_twice_it_refused(
         tol_e in -9.0f64..-2.0, scale_e in -3.0f64..6.0, vertex in 0usize..4,
     ) {
-        let tol = 10f64.powf(tol_e);
-        let s = 10f64.powf(scale_e);
+        let tol = math::powf(10f64, tol_e);
+        let s = math::powf(10f64, scale_e);
         let square = |dz: f64| {
             let mut v: Vec<DVec3> = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
                 .iter()

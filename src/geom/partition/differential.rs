@@ -22,6 +22,7 @@ use std::collections::BTreeMap;
 const REL: f64 = 1e-9;
 
 use super::props::Cells;
+use crate::math;
 
 /// The reference's shoelace (plain, about the first vertex).
 fn ref_area(p: &[DVec2]) -> f64 {
@@ -246,7 +247,7 @@ fn shape_strategy() -> impl Strategy<Value = Vec<(f64, f64)>> {
                 let mut v: Vec<(f64, f64)> = t
                     .iter()
                     .map(|a| {
-                        let (x, y) = (r * a.cos(), r * a.sin());
+                        let (x, y) = (r * math::cos(*a), r * math::sin(*a));
                         if snap {
                             (x.round(), y.round())
                         } else {
@@ -265,7 +266,7 @@ fn shape_strategy() -> impl Strategy<Value = Vec<(f64, f64)>> {
             |mut a| {
                 a.sort_by(|x, y| x.0.total_cmp(&y.0));
                 a.iter()
-                    .map(|&(t, r)| (20.0 * r * t.cos(), 20.0 * r * t.sin()))
+                    .map(|&(t, r)| (20.0 * r * math::cos(t), 20.0 * r * math::sin(t)))
                     .collect()
             }
         ),

@@ -11,6 +11,7 @@
 use super::*;
 use crate::geom::clip::clip_closed;
 use crate::geom::plane::{map_to_plane, signed_area};
+use crate::math;
 use proptest::prelude::*;
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -56,7 +57,7 @@ fn outline_2d(spokes: &[(f64, f64)], convex: bool, size: f64) -> Vec<DVec2> {
     a.iter()
         .map(|&(t, r)| {
             let r = if convex { size } else { size * r };
-            DVec2::new(r * t.cos(), r * t.sin())
+            DVec2::new(r * math::cos(t), r * math::sin(t))
         })
         .collect()
 }
@@ -181,7 +182,7 @@ fn check(c: &Case) -> Result<(), String> {
         return Ok(());
     };
     let poly = map_to_plane(&v, c.rotate, 1e-6).map_err(|e| e.to_string())?;
-    let incr = c.size * 10f64.powf(c.incr_exp);
+    let incr = c.size * math::powf(10f64, c.incr_exp);
     let place = Placement {
         incr,
         horz: c.horz,

@@ -1,0 +1,117 @@
+//! Transcendental functions that give the same bits on every host.
+//!
+//! `f64::sin`, `powf`, `exp` and the rest call the platform's C library
+//! (glibc, musl, macOS's libm), whose results differ in the last bit from
+//! one to another and from one version to the next; a frame rendered on two
+//! hosts of a render farm could then differ. These are the `libm` crate's
+//! (a Rust port of musl's libm): the same code, so the same bits, on every
+//! host. Every value that reaches a pixel or an output number goes through
+//! them; `clippy.toml` forbids the `f64` methods, and the test
+//! `binaries_import_no_maths_from_the_c_library` (`tests/cli/host.rs`) checks
+//! that the tools import none of them.
+//!
+//! `sqrt`, `mul_add`, `floor` and the like are left to `f64`: IEEE 754
+//! specifies them exactly, so every host agrees.
+
+/// Sine of `x` radians.
+pub fn sin(x: f64) -> f64 {
+    libm::sin(x)
+}
+
+/// Cosine of `x` radians.
+pub fn cos(x: f64) -> f64 {
+    libm::cos(x)
+}
+
+/// Sine and cosine of `x` radians, computed together.
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    libm::sincos(x)
+}
+
+/// Tangent of `x` radians.
+pub fn tan(x: f64) -> f64 {
+    libm::tan(x)
+}
+
+/// Arc sine, in radians.
+pub fn asin(x: f64) -> f64 {
+    libm::asin(x)
+}
+
+/// Arc cosine, in radians.
+pub fn acos(x: f64) -> f64 {
+    libm::acos(x)
+}
+
+/// The angle of the point (`x`, `y`), in radians: `y.atan2(x)`.
+pub fn atan2(y: f64, x: f64) -> f64 {
+    libm::atan2(y, x)
+}
+
+/// `sqrt(x² + y²)` without undue overflow or underflow.
+pub fn hypot(x: f64, y: f64) -> f64 {
+    libm::hypot(x, y)
+}
+
+/// `x` to the power `y`.
+pub fn powf(x: f64, y: f64) -> f64 {
+    libm::pow(x, y)
+}
+
+/// `e^x`.
+pub fn exp(x: f64) -> f64 {
+    libm::exp(x)
+}
+
+/// `2^x`.
+pub fn exp2(x: f64) -> f64 {
+    libm::exp2(x)
+}
+
+/// Base-2 logarithm.
+pub fn log2(x: f64) -> f64 {
+    libm::log2(x)
+}
+
+/// Base-10 logarithm.
+pub fn log10(x: f64) -> f64 {
+    libm::log10(x)
+}
+
+/// Cube root.
+pub fn cbrt(x: f64) -> f64 {
+    libm::cbrt(x)
+}
+
+#[cfg(test)]
+#[allow(clippy::disallowed_methods)] // compared with the platform's functions
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_functions_are_the_usual_ones() {
+        // Within an ulp or two of the platform's: the same functions, only
+        // the last bit may differ (which is the point).
+        let close = |a: f64, b: f64| (a - b).abs() <= 4.0 * f64::EPSILON * b.abs().max(1.0);
+        for x in [-3.0, -0.5, 0.0, 0.25, 1.0, 2.5, 100.0] {
+            assert!(close(sin(x), x.sin()) && close(cos(x), x.cos()), "{x}");
+            assert_eq!(sin_cos(x), (sin(x), cos(x)));
+            assert!(close(atan2(x, 1.5), x.atan2(1.5)), "{x}");
+            assert!(
+                close(exp2(x), x.exp2()) && close(exp(x / 10.0), (x / 10.0).exp()),
+                "{x}"
+            );
+            assert!(close(hypot(x, 3.0), x.hypot(3.0)), "{x}");
+            assert!(close(cbrt(x), x.cbrt()), "{x}");
+        }
+        for x in [0.01, 0.5, 1.0, 7.0, 1e6] {
+            assert!(
+                close(powf(x, 2.4), x.powf(2.4)) && close(log2(x), x.log2()),
+                "{x}"
+            );
+            assert!(close(log10(x), x.log10()), "{x}");
+        }
+        assert!(close(acos(0.3), 0.3f64.acos()) && close(asin(0.3), 0.3f64.asin()));
+        assert!(close(tan(0.7), 0.7f64.tan()));
+    }
+}
