@@ -4,6 +4,7 @@
 #[macro_use]
 mod util;
 
+mod host;
 mod man_pages;
 mod pat_from_image;
 mod pat_info;
