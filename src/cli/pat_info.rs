@@ -211,12 +211,14 @@ fn text_report(name: &str, p: &Pattern, at: Option<(u32, u32, Option<u16>)>) -> 
     );
     let _ = writeln!(
         s,
-        "  tiling: left/right {} (seam {:.3}, interior {:.3}); bottom/top {} (seam {:.3}, interior {:.3})",
+        "  tiling: left/right {} (seam {:.3}, strongest edge inside {:.3}, mean {:.3}); bottom/top {} (seam {:.3}, strongest edge inside {:.3}, mean {:.3})",
         seam_word(&h),
         h.seam,
+        h.strongest,
         h.interior,
         seam_word(&v),
         v.seam,
+        v.strongest,
         v.interior
     );
     if let Some((c, r, idx)) = at {
@@ -240,7 +242,7 @@ fn text_report(name: &str, p: &Pattern, at: Option<(u32, u32, Option<u16>)>) -> 
 }
 
 fn seam_json(s: &Seam) -> Value {
-    json!({"seamless": s.seamless, "seam": s.seam, "interior": s.interior})
+    json!({"seamless": s.seamless, "seam": s.seam, "interior": s.interior, "strongest": s.strongest})
 }
 
 fn json_report(name: &str, p: &Pattern, at: Option<(u32, u32, Option<u16>)>) -> Value {
