@@ -652,24 +652,47 @@ clitest!(a_frame_batch_runs_through_gnu_parallel, |dir| {
     );
     spin_cells(&dir);
     let bin = assert_cmd::cargo::cargo_bin("scene-render");
-    let status = std::process::Command::new("parallel")
-        .current_dir(dir.path())
-        .args(["--will-cite", "--halt", "now,fail=1", "-j", "2"])
-        .arg(bin)
-        .args(SPIN_ARGS)
-        .args([
-            "--frames",
-            "36",
-            "--frame",
-            "{}",
-            "-o",
-            "frame-%04d.png",
-            "spin.ndjson",
-        ])
-        .args([":::", "0", "1", "2", "3"])
-        .status()
-        .unwrap();
-    assert!(status.success());
+    let batch = || {
+        std::process::Command::new("parallel")
+            .current_dir(dir.path())
+            .args(["--will-cite", "--halt", "now,fail=1", "-j", "2"])
+            .args(["--joblog", "spin.log", "--resume"])
+            .arg(&bin)
+            .args(["--threads", "1"])
+            .args(SPIN_ARGS)
+            .args([
+                "--frames",
+                "36",
+                "--frame",
+                "{}",
+                "-o",
+                "frame-%04d.png",
+                "spin.ndjson",
+            ])
+            .args([":::", "0", "1", "2", "3"])
+            .status()
+            .unwrap()
+    };
+    assert!(batch().success());
+    // Run again: the job log says every frame is done, so none is redone.
+    std::fs::remove_file(dir.path().join("frame-0002.png")).unwrap();
+    assert!(batch().success());
+    assert!(
+        !dir.path().join("frame-0002.png").exists(),
+        "--resume skipped it"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("spin.log"))
+            .unwrap()
+            .lines()
+            .count(),
+        5,
+        "a header and one line per frame"
+    );
+    assert!(batch().success());
+    std::fs::remove_file(dir.path().join("spin.log")).unwrap();
+    assert!(batch().success());
+    assert!(dir.path().join("frame-0002.png").exists());
     dir.cmd("scene-render")
         .args(SPIN_ARGS)
         .args(["--frames", "4", "spin.ndjson", "-o", "all-%04d.png"])
