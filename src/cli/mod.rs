@@ -260,3 +260,74 @@ mod tests {
         assert_eq!(report("t", Err(anyhow::anyhow!("x"))), EXIT_FAILURE);
     }
 }
+
+/// `--depfile FILE`: writes the make rule `TARGETS: DEPS` of every file a run
+/// read (as `cc -MD` does), and an empty rule for each dependency (as `-MP`
+/// adds) so that a deleted pattern makes the target out of date instead of
+/// stopping make. Spaces, `#` and `$` in names are escaped for make. Written
+/// atomically, like every output.
+pub fn write_depfile(depfile: &str, targets: &[String], deps: &[String]) -> anyhow::Result<()> {
+    use anyhow::Context as _;
+    use std::io::Write as _;
+    fn escaped(name: &str) -> String {
+        let mut out = String::with_capacity(name.len());
+        for c in name.chars() {
+            match c {
+                ' ' | '#' | '\\' => {
+                    out.push('\\');
+                    out.push(c);
+                }
+                '$' => out.push_str("$$"),
+                _ => out.push(c),
+            }
+        }
+        out
+    }
+    let mut seen = std::collections::HashSet::new();
+    let deps: Vec<String> = deps
+        .iter()
+        .filter(|d| d.as_str() != crate::io::STDIO && seen.insert(d.as_str()))
+        .map(|d| escaped(d))
+        .collect();
+    let mut text = targets
+        .iter()
+        .map(|t| escaped(t))
+        .collect::<Vec<_>>()
+        .join(" ");
+    text.push(':');
+    for d in &deps {
+        text.push_str(" \\\n  ");
+        text.push_str(d);
+    }
+    text.push('\n');
+    for d in &deps {
+        text.push_str(&format!("\n{d}:\n"));
+    }
+    let mut out = crate::io::Output::create(depfile, false)?;
+    out.write_all(text.as_bytes())
+        .with_context(|| format!("writing {depfile}"))?;
+    Ok(out.commit()?)
+}
+
+/// A path as a depfile names it, the way a Makefile would spell it: `.`
+/// components and `dir/..` pairs dropped (`scenes/../../fixtures/p.pat` is
+/// `../fixtures/p.pat`), since make matches names by their letters.
+pub fn dep_name(path: &std::path::Path) -> String {
+    use std::path::Component;
+    let mut parts: Vec<Component> = Vec::new();
+    for c in path.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir if matches!(parts.last(), Some(Component::Normal(_))) => {
+                parts.pop();
+            }
+            other => parts.push(other),
+        }
+    }
+    let joined: std::path::PathBuf = parts.iter().collect();
+    if joined.as_os_str().is_empty() {
+        ".".to_string()
+    } else {
+        joined.display().to_string()
+    }
+}

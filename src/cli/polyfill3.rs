@@ -135,6 +135,10 @@ pub struct Args {
     /// Print a JSON summary to standard error.
     #[arg(long)]
     pub json: bool,
+    /// Write the make rule of the output: every file the run read (the
+    /// input, the patterns, --camera, --pattern), as `cc -MD` does. Needs -o.
+    #[arg(long, value_name = "FILE")]
+    pub depfile: Option<String>,
 }
 
 /// Runs `polyfill3`: checks the flags, then the library's partition job.
@@ -165,6 +169,9 @@ pub fn run(args: Args) -> Result<()> {
     }
     if args.camera.is_some() && !args.cull {
         usage_bail!("--camera is only used by --cull: add --cull, or leave out --camera");
+    }
+    if args.depfile.is_some() && args.output == STDIO {
+        usage_bail!("--depfile needs -o FILE: the make rule names the output as its target");
     }
     let volume = match &args.camera {
         Some(path) => {
@@ -202,6 +209,13 @@ pub fn run(args: Args) -> Result<()> {
     let mut warn = |message: String| super::warn("polyfill3", message);
     let (out, s) = partition_stream(reader, &source, &base, out, &options, &mut warn)?;
     out.commit()?;
+    if let Some(depfile) = &args.depfile {
+        let mut deps = vec![args.input.clone()];
+        deps.extend(args.camera.iter().cloned());
+        deps.extend(args.pattern.iter().map(|p| super::dep_name(p)));
+        deps.extend(s.files.iter().map(|p| super::dep_name(p)));
+        super::write_depfile(depfile, std::slice::from_ref(&args.output), &deps)?;
+    }
     if args.json {
         eprintln!(
             "{}",

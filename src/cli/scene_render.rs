@@ -173,6 +173,13 @@ pub struct Args {
     #[arg(long, value_name = "K", conflicts_with_all = ["reference", "compare", "image"])]
     pub frame: Option<u64>,
 
+    /// Write the make rule of the output: every file the run read (the
+    /// stream, its patterns and stripe files, the camera file,
+    /// --background-pattern, --compare), as `cc -MD` does. Needs -o; with
+    /// --frames, every frame is a target.
+    #[arg(long, value_name = "FILE")]
+    pub depfile: Option<String>,
+
     /// Worker threads (default: all cores). The output is identical for any N.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
@@ -241,6 +248,9 @@ fn run_in_pool(args: Args) -> Result<()> {
         );
     }
     let animation = args.frames > 1 || args.frame.is_some();
+    if args.depfile.is_some() && args.output.as_deref().is_none_or(|o| o == crate::io::STDIO) {
+        usage_bail!("--depfile needs -o FILE: the make rule names the output as its target");
+    }
     if args.animate {
         match &args.output {
             None => usage_bail!("--animate: give -o, the animated PNG to write"),
@@ -288,7 +298,7 @@ fn run_in_pool(args: Args) -> Result<()> {
     };
     if let Some(img_name) = &args.image {
         let img = load_image(img_name)?;
-        return finish(
+        finish(
             &args,
             None,
             img,
@@ -297,7 +307,8 @@ fn run_in_pool(args: Args) -> Result<()> {
                 residual: None,
                 plan: None,
             },
-        );
+        )?;
+        return write_depfile(&args, None);
     }
     let output = match (&args.output, &args.compare) {
         (Some(o), _) => Some(o.clone()),
@@ -328,7 +339,8 @@ fn run_in_pool(args: Args) -> Result<()> {
     let how = draw_options(&args, texture);
     if animation || args.animate {
         let format = format.expect("animations have an output");
-        return render_frames(&args, &how, &scene, &view, &bg, format);
+        render_frames(&args, &how, &scene, &view, &bg, format)?;
+        return write_depfile(&args, Some(&scene));
     }
     let polys = scene
         .project(&view, &how, 0)
@@ -345,6 +357,7 @@ fn run_in_pool(args: Args) -> Result<()> {
     let t_write = std::time::Instant::now();
     let reports = Reports { residual, plan };
     finish(&args, output.zip(format), img, reference_img, reports)?;
+    write_depfile(&args, Some(&scene))?;
     if args.timings {
         eprintln!(
             "{TOOL}: timings: read {:.4} s, render {:.4} s, write {:.4} s ({} polygons)",
@@ -355,6 +368,42 @@ fn run_in_pool(args: Args) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// `--depfile`: the outputs written (every frame of an animation) and every
+/// file read to make them.
+fn write_depfile(args: &Args, scene: Option<&Scene>) -> Result<()> {
+    let Some(depfile) = &args.depfile else {
+        return Ok(());
+    };
+    let output = args
+        .output
+        .as_deref()
+        .expect("--depfile needs -o (checked)");
+    let targets: Vec<String> = if args.animate || (args.frames <= 1 && args.frame.is_none()) {
+        vec![output.to_string()]
+    } else {
+        let frames: Vec<u64> = match args.frame {
+            Some(k) => vec![k],
+            None => (0..args.frames).collect(),
+        };
+        frames
+            .into_iter()
+            .map(|k| frame_name(output, k).unwrap_or_else(|| output.to_string()))
+            .collect()
+    };
+    let mut deps: Vec<String> = Vec::new();
+    match scene {
+        Some(scene) => {
+            deps.push(args.input.clone());
+            deps.extend(scene.files().iter().map(|p| super::dep_name(p)));
+            deps.extend(args.camera.camera.iter().cloned());
+            deps.extend(args.background_pattern.iter().cloned());
+        }
+        None => deps.extend(args.image.iter().cloned()),
+    }
+    deps.extend(args.compare.iter().cloned());
+    super::write_depfile(depfile, &targets, &deps)
 }
 
 /// What a render has to say beside the image.

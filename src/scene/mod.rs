@@ -120,6 +120,8 @@ enum Part {
 #[derive(Default)]
 pub struct Scene {
     parts: Vec<Part>,
+    /// The files read besides the stream, in the order they were first read.
+    files: Vec<PathBuf>,
 }
 
 /// How every record of a frame is drawn.
@@ -195,7 +197,8 @@ impl Scene {
     pub fn read(reader: Box<dyn BufRead>, name: &str, base: &Path) -> Result<Scene, SceneError> {
         let mut patterns: HashMap<PathBuf, Arc<Texels>> = HashMap::new();
         let mut stripes = StripeLoader::new(base);
-        read_items(reader, name, |rec| {
+        let mut files = Vec::new();
+        let mut scene = read_items(reader, name, |rec| {
             let at = (Some(name), rec.index);
             let stripe =
                 stripe::read(&mut stripes, &rec.fields, rec.color).in_record(at.0, at.1)?;
@@ -220,6 +223,7 @@ impl Scene {
                     None => {
                         let pat = Pattern::read_file(&path).in_record(at.0, at.1)?;
                         let p = Arc::new(Texels::new(&pat));
+                        files.push(path.clone());
                         patterns.insert(path, p.clone());
                         p
                     }
@@ -256,7 +260,17 @@ impl Scene {
                 texture,
                 uv: rec.uv,
             })
-        })
+        })?;
+        files.extend(stripes.files().iter().cloned());
+        scene.files = files;
+        Ok(scene)
+    }
+
+    /// The files read besides the stream (patterns, stripe maps and tables),
+    /// each once, as resolved against the stream's directory: what a build
+    /// system must know the scene depends on (`scene-render --depfile`).
+    pub fn files(&self) -> &[PathBuf] {
+        &self.files
     }
 
     /// Frame `frame`'s screen polygons through `view`, in stream order (an

@@ -127,6 +127,9 @@ pub struct Summary {
     pub objects: u64,
     /// Instances.
     pub instances: u64,
+    /// The pattern files read, each once, in the order first read: what a
+    /// build system must know the output depends on (`polyfill3 --depfile`).
+    pub files: Vec<PathBuf>,
 }
 
 /// Partitions the stream `reader` (named `source` in errors, its files
@@ -213,6 +216,7 @@ impl<W: Write> Job<'_, W> {
             return Ok(p.clone());
         }
         let p = Rc::new(Pattern::read_file(&path).map_err(CellsError::Pattern)?);
+        self.summary.files.push(path.clone());
         self.patterns.insert(path, p.clone());
         Ok(p)
     }

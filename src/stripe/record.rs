@@ -238,6 +238,14 @@ impl StripeSpec {
         })
     }
 
+    /// The translation map file the spec names, resolved against `base`.
+    pub fn translation_file(&self, base: &Path) -> Option<std::path::PathBuf> {
+        match &self.translation {
+            TranslationSpec::File(f) => Some(resolve(base, f)),
+            _ => None,
+        }
+    }
+
     /// Reads the files the spec names, resolving relative paths against `base`
     /// (the stream's directory, [`crate::stream::base_dir`]).
     pub fn load(&self, base: &Path) -> Result<LoadedStripe, StripeError> {
@@ -371,6 +379,8 @@ pub struct StripeLoader {
         (std::path::PathBuf, String, Option<std::path::PathBuf>),
         LoadedStripe,
     >,
+    /// Every file read, each once, in the order first read.
+    files: Vec<std::path::PathBuf>,
 }
 
 impl StripeLoader {
@@ -380,7 +390,14 @@ impl StripeLoader {
         StripeLoader {
             base: base.to_path_buf(),
             loaded: Default::default(),
+            files: Vec::new(),
         }
+    }
+
+    /// The files read so far (maps, translation and colour tables), each
+    /// once, as resolved against the stream's directory.
+    pub fn files(&self) -> &[std::path::PathBuf] {
+        &self.files
     }
 
     /// `spec` with its files read, from the cache when another record named
@@ -395,6 +412,16 @@ impl StripeLoader {
             Some(l) => l,
             None => {
                 let l = spec.load(&self.base)?;
+                let read = [
+                    Some(key.0.clone()),
+                    spec.translation_file(&self.base),
+                    key.2.clone(),
+                ];
+                for f in read.into_iter().flatten() {
+                    if !self.files.contains(&f) {
+                        self.files.push(f);
+                    }
+                }
                 self.loaded.entry(key).or_insert(l)
             }
         };

@@ -5,6 +5,7 @@
 mod util;
 
 mod host;
+mod make;
 mod man_pages;
 mod pat_from_image;
 mod pat_info;

@@ -1,0 +1,106 @@
+//! The examples' Makefile with `--depfile` (issue 22, item 3): the pattern
+//! files a scene names reach make through the rules the tools write, not
+//! through lists kept by hand.
+
+use crate::util::repo;
+
+/// `make -C examples` with the test's binaries and `out` as the output folder.
+fn make(out: &std::path::Path, args: &[&str]) -> std::process::Output {
+    let bin = std::path::Path::new(env!("CARGO_BIN_EXE_polyfill3"))
+        .parent()
+        .unwrap()
+        .to_path_buf();
+    std::process::Command::new("make")
+        .arg("-C")
+        .arg(repo("examples"))
+        .arg(format!("BIN={}", bin.display()))
+        .arg(format!("OUT={}", out.display()))
+        .args(args)
+        .output()
+        .expect("GNU make runs")
+}
+
+clitest!(
+    the_examples_makefile_learns_pattern_files_from_depfiles,
+    |dir| {
+        let out = dir.path().join("out");
+        let target = out.join("demo2.ndjson");
+        let target = target.to_str().unwrap();
+        let built = make(&out, &[target]);
+        assert!(built.status.success(), "{built:?}");
+        let rule = std::fs::read_to_string(out.join("demo2.ndjson.d")).unwrap();
+        assert!(rule.starts_with(&format!("{target}:")), "{rule}");
+        for dep in [
+            "scenes/demo2.json",
+            "../fixtures/patterns/pyr.pat",
+            "../fixtures/patterns/chex.pat",
+        ] {
+            assert!(rule.contains(&format!("\n{dep}:\n")), "{dep} in {rule}");
+        }
+        // Up to date, until a pattern changes: make knows it from the rule alone
+        // (the Makefile lists no pattern for this target).
+        assert!(make(&out, &["-q", target]).status.success());
+        // Named as the Makefile (run in examples/) and the rule spell it.
+        let what_if = "--what-if=../fixtures/patterns/pyr.pat";
+        assert_eq!(make(&out, &["-q", what_if, target]).status.code(), Some(1));
+        std::fs::remove_file(out.join("demo2.ndjson.d")).unwrap();
+        assert!(
+            make(&out, &["-q", what_if, target]).status.success(),
+            "without the depfile make does not know the pattern"
+        );
+    }
+);
+
+clitest!(depfiles_name_every_file_read_and_every_frame, |dir| {
+    // scene-render: the stream, its patterns, the camera and background
+    // files; with --frames every frame is a target. Names with spaces are
+    // escaped for make.
+    dir.write("cam.json", r#"{"ortho2": [0, 8, 0, 8]}"#);
+    std::fs::copy(
+        repo("fixtures/patterns/brick.pat"),
+        dir.path().join("my brick.pat"),
+    )
+    .unwrap();
+    dir.write(
+        "s.json",
+        r#"{"vertices": [[0,0],[8,0],[0,8]], "pattern": {"file": "my brick.pat", "mode": "screen"}}"#,
+    );
+    dir.cmd("scene-render")
+        .args(["--camera", "cam.json", "--size", "8x8", "--frames", "2"])
+        .args(["--depfile", "f.d", "-o", "f-%d.png", "s.json"])
+        .assert()
+        .success();
+    let rule = String::from_utf8(dir.read("f.d")).unwrap();
+    assert!(rule.starts_with("f-0.png f-1.png: \\\n  s.json"), "{rule}");
+    assert!(
+        rule.contains("my\\ brick.pat") && rule.contains("cam.json"),
+        "{rule}"
+    );
+    assert!(
+        rule.contains("\ncam.json:\n"),
+        "an empty rule per dependency: {rule}"
+    );
+    dir.cmd("scene-render")
+        .args(["--depfile", "x.d", "s.json"])
+        .assert()
+        .code(2)
+        .stderr(predicates::str::contains("--depfile needs -o FILE"));
+    // polyfill3: the input, the patterns and --pattern.
+    dir.cmd("polyfill3")
+        .args([
+            "--pattern",
+            "my brick.pat",
+            "--depfile",
+            "p.d",
+            "-o",
+            "p.ndjson",
+            "s.json",
+        ])
+        .assert()
+        .success();
+    let rule = String::from_utf8(dir.read("p.d")).unwrap();
+    assert!(
+        rule.starts_with("p.ndjson: \\\n  s.json \\\n  my\\ brick.pat"),
+        "{rule}"
+    );
+});
