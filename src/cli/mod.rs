@@ -210,57 +210,6 @@ pub fn man_page(cmd: clap::Command) -> String {
     String::from_utf8(out).expect("clap_mangen writes UTF-8")
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn size_parses_and_repeats_bad_values() {
-        assert_eq!(
-            "64x32".parse::<Size>().unwrap(),
-            Size {
-                width: 64,
-                height: 32
-            }
-        );
-        for bad in ["64", "x", "-1x5", "0x10", "100000x2", "1e3x2"] {
-            let e = bad.parse::<Size>().unwrap_err();
-            assert!(
-                e.contains(bad) || e.contains("too large") || e.contains("empty"),
-                "{e}"
-            );
-        }
-    }
-
-    #[test]
-    fn broken_pipe_exits_quietly_with_status_0() {
-        let e = anyhow::Error::new(std::io::Error::from(std::io::ErrorKind::BrokenPipe))
-            .context("writing standard output");
-        assert_eq!(report("t", Err(e)), EXIT_OK);
-    }
-
-    #[test]
-    fn library_option_errors_name_the_flag() {
-        let inner = std::io::Error::other(OptionError::new("past ", "max_polygons", " 5"));
-        let e = anyhow::Error::new(inner).context("scene.json: record 3");
-        assert_eq!(
-            in_flag_words(&e),
-            "scene.json: record 3: past --max-polygons 5"
-        );
-        let e = anyhow::Error::new(OptionError::new("", "compat", " thesis: no"));
-        assert_eq!(in_flag_words(&e), "--compat thesis: no");
-        let plain = anyhow::anyhow!("root").context("outer");
-        assert_eq!(in_flag_words(&plain), format!("{plain:#}"));
-    }
-
-    #[test]
-    fn usage_errors_exit_2_other_errors_exit_1() {
-        let u = anyhow::Error::new(UsageError("bad".into()));
-        assert_eq!(report("t", Err(u)), EXIT_USAGE);
-        assert_eq!(report("t", Err(anyhow::anyhow!("x"))), EXIT_FAILURE);
-    }
-}
-
 /// `--depfile FILE`: writes the make rule `TARGETS: DEPS` of every file a run
 /// read (as `cc -MD` does), and an empty rule for each dependency (as `-MP`
 /// adds) so that a deleted pattern makes the target out of date instead of
@@ -329,5 +278,56 @@ pub fn dep_name(path: &std::path::Path) -> String {
         ".".to_string()
     } else {
         joined.display().to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn size_parses_and_repeats_bad_values() {
+        assert_eq!(
+            "64x32".parse::<Size>().unwrap(),
+            Size {
+                width: 64,
+                height: 32
+            }
+        );
+        for bad in ["64", "x", "-1x5", "0x10", "100000x2", "1e3x2"] {
+            let e = bad.parse::<Size>().unwrap_err();
+            assert!(
+                e.contains(bad) || e.contains("too large") || e.contains("empty"),
+                "{e}"
+            );
+        }
+    }
+
+    #[test]
+    fn broken_pipe_exits_quietly_with_status_0() {
+        let e = anyhow::Error::new(std::io::Error::from(std::io::ErrorKind::BrokenPipe))
+            .context("writing standard output");
+        assert_eq!(report("t", Err(e)), EXIT_OK);
+    }
+
+    #[test]
+    fn library_option_errors_name_the_flag() {
+        let inner = std::io::Error::other(OptionError::new("past ", "max_polygons", " 5"));
+        let e = anyhow::Error::new(inner).context("scene.json: record 3");
+        assert_eq!(
+            in_flag_words(&e),
+            "scene.json: record 3: past --max-polygons 5"
+        );
+        let e = anyhow::Error::new(OptionError::new("", "compat", " thesis: no"));
+        assert_eq!(in_flag_words(&e), "--compat thesis: no");
+        let plain = anyhow::anyhow!("root").context("outer");
+        assert_eq!(in_flag_words(&plain), format!("{plain:#}"));
+    }
+
+    #[test]
+    fn usage_errors_exit_2_other_errors_exit_1() {
+        let u = anyhow::Error::new(UsageError("bad".into()));
+        assert_eq!(report("t", Err(u)), EXIT_USAGE);
+        assert_eq!(report("t", Err(anyhow::anyhow!("x"))), EXIT_FAILURE);
     }
 }

@@ -248,7 +248,8 @@ fn run_in_pool(args: Args) -> Result<()> {
         );
     }
     let animation = args.frames > 1 || args.frame.is_some();
-    if args.depfile.is_some() && args.output.as_deref().is_none_or(|o| o == crate::io::STDIO) {
+    let named_output = args.output.as_deref().filter(|o| *o != crate::io::STDIO);
+    if args.depfile.is_some() && named_output.is_none() {
         usage_bail!("--depfile needs -o FILE: the make rule names the output as its target");
     }
     if args.animate {
