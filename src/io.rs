@@ -610,8 +610,48 @@ impl Write for SharedOutput {
     }
 }
 
+/// A picture as a camera meant it: its pixels turned upright, and what
+/// decoding found that the pixels do not say.
+#[derive(Clone, Debug)]
+pub struct Photo {
+    /// The pixels, already turned by `orientation`.
+    pub image: image::RgbaImage,
+    /// The EXIF orientation the file asked for (a phone held sideways writes
+    /// its sensor's rows and an orientation tag), applied to `image`.
+    pub orientation: image::metadata::Orientation,
+    /// The embedded ICC colour profile, if any. It is not applied: the
+    /// tools take every pixel as sRGB.
+    pub icc_profile: Option<Vec<u8>>,
+}
+
+/// [`decode_image`] for pictures from cameras and phones: the EXIF
+/// orientation (JPEG, PNG's `eXIf`, TIFF, WebP) is applied, and an ICC
+/// profile is reported so the caller can warn that it is not.
+pub fn decode_photo(bytes: &[u8], name: &str) -> Result<Photo, IoError> {
+    use image::ImageDecoder as _;
+    let not_an_image = |error| IoError::NotAnImage {
+        input: name.to_string(),
+        error,
+    };
+    let reader = image::ImageReader::new(io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| not_an_image(image::ImageError::IoError(e)))?;
+    let mut decoder = reader.into_decoder().map_err(not_an_image)?;
+    let orientation = decoder
+        .orientation()
+        .unwrap_or(image::metadata::Orientation::NoTransforms);
+    let icc_profile = decoder.icc_profile().ok().flatten();
+    let mut img = image::DynamicImage::from_decoder(decoder).map_err(not_an_image)?;
+    img.apply_orientation(orientation);
+    Ok(Photo {
+        image: img.into_rgba8(),
+        orientation,
+        icc_profile,
+    })
+}
+
 /// Decodes any image the `image` crate reads (PNG, JPEG, GIF, BMP, TIFF, WebP,
-/// PNM/PAM) into RGBA8.
+/// PNM/PAM) into RGBA8, as stored (no EXIF orientation: see [`decode_photo`]).
 pub fn decode_image(bytes: &[u8], name: &str) -> Result<image::RgbaImage, IoError> {
     let img = image::load_from_memory(bytes).map_err(|error| IoError::NotAnImage {
         input: name.to_string(),

@@ -36,7 +36,9 @@ Examples:
     long_about = "Convert an image (PNG, JPEG, GIF, BMP, TIFF, WebP, PNM/PAM) to a \
 canonical .pat texture pattern: resample it to SIZE x SIZE texels, choose a palette \
 of K colours (median cut refined by k-means, deterministic) and map every pixel to \
-one of them.\n\nResampling averages in linear light with premultiplied alpha: an \
+one of them.\n\nA photo is first turned upright by its EXIF orientation (as \
+phones store pictures taken sideways). An embedded ICC colour profile is not \
+applied: the pixels are taken as sRGB, with a warning.\n\nResampling averages in linear light with premultiplied alpha: an \
 exact area average (box filter) when shrinking, a Mitchell filter when enlarging. \
 A non-square image is cut to its centred largest square first (the left and right, \
 or top and bottom, margins are dropped) unless --crop is given. Pixels more \
@@ -142,8 +144,7 @@ pub fn run(args: Args) -> Result<()> {
         None => None,
     };
     let name = display_name(&args.input);
-    let bytes = io::read_input(&args.input)?;
-    let img = io::decode_image(&bytes, name)?;
+    let img = read_photo(&args.input)?;
     let square = if args.crop {
         quantize::crop_square(&img, size, name)?
     } else {
@@ -173,6 +174,24 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
+/// The input picture, upright as its EXIF orientation says (phone photos
+/// store their sensor's rows and a tag); a warning when it carries a colour
+/// profile, which is not applied.
+fn read_photo(input: &str) -> Result<image::RgbaImage> {
+    let name = display_name(input);
+    let photo = io::decode_photo(&io::read_input(input)?, name)?;
+    if photo.icc_profile.is_some() {
+        super::warn(
+            "pat-from-image",
+            format!(
+                "{name}: has an ICC colour profile, which is not applied: its colours are taken \
+                 as sRGB (convert it to sRGB first if they look wrong)"
+            ),
+        );
+    }
+    Ok(photo.image)
+}
+
 fn run_stripe(args: &Args) -> Result<()> {
     if let Err(e) = crate::stripe::map::check_len(args.length) {
         usage_bail!("invalid --length `{}`: {e}", args.length);
@@ -184,8 +203,7 @@ fn run_stripe(args: &Args) -> Result<()> {
         );
     }
     let name = display_name(&args.input);
-    let bytes = io::read_input(&args.input)?;
-    let img = io::decode_image(&bytes, name)?;
+    let img = read_photo(&args.input)?;
     let map = crate::stripe::from_image::map_from_image(
         &img,
         args.angle,

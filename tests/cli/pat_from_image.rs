@@ -288,3 +288,87 @@ fn every_fixture_survives_pat_tile_then_pat_from_image() {
         }
     }
 }
+
+/// A PNG of `img`, with an EXIF chunk and an ICC profile if given.
+fn png_with(img: &image::RgbaImage, exif: Option<Vec<u8>>, icc: Option<Vec<u8>>) -> Vec<u8> {
+    use image::ImageEncoder as _;
+    let mut buf = Vec::new();
+    let mut enc = image::codecs::png::PngEncoder::new(&mut buf);
+    if let Some(e) = exif {
+        enc.set_exif_metadata(e).unwrap();
+    }
+    if let Some(p) = icc {
+        enc.set_icc_profile(p).unwrap();
+    }
+    enc.write_image(
+        img,
+        img.width(),
+        img.height(),
+        image::ExtendedColorType::Rgba8,
+    )
+    .unwrap();
+    buf
+}
+
+/// An EXIF (TIFF, big-endian) block holding one tag: orientation `o`.
+fn exif_orientation(o: u16) -> Vec<u8> {
+    let mut e = b"MM\0\x2a\0\0\0\x08".to_vec();
+    e.extend_from_slice(&1u16.to_be_bytes()); // one entry
+    e.extend_from_slice(&0x0112u16.to_be_bytes()); // Orientation
+    e.extend_from_slice(&3u16.to_be_bytes()); // SHORT
+    e.extend_from_slice(&1u32.to_be_bytes()); // one value
+    e.extend_from_slice(&o.to_be_bytes());
+    e.extend_from_slice(&[0, 0]);
+    e.extend_from_slice(&0u32.to_be_bytes()); // no next IFD
+    e
+}
+
+clitest!(
+    phone_photos_are_turned_upright_by_their_exif_orientation,
+    |dir| {
+        // Issue 22, item 6: a phone held sideways stores its sensor's rows and
+        // EXIF orientation 6 ("turn 90 degrees clockwise to show"). The pattern
+        // must be the one of the upright picture.
+        let stored = image::RgbaImage::from_fn(16, 16, |x, y| match (x < 8, y < 8) {
+            (true, true) => image::Rgba([255, 0, 0, 255]),
+            (false, true) => image::Rgba([0, 0, 255, 255]),
+            _ => image::Rgba([0, 160, 0, 255]),
+        });
+        let upright = image::imageops::rotate90(&stored);
+        dir.write(
+            "sideways.png",
+            png_with(&stored, Some(exif_orientation(6)), None),
+        );
+        dir.write("upright.png", png_with(&upright, None, None));
+        dir.write("stored.png", png_with(&stored, None, None));
+        let pattern = |name: &str| {
+            dir.cmd("pat-from-image")
+                .args(["--size", "16", "--colors", "3", name])
+                .ok_stdout()
+        };
+        assert_eq!(pattern("sideways.png"), pattern("upright.png"));
+        assert_ne!(pattern("sideways.png"), pattern("stored.png"));
+    }
+);
+
+clitest!(
+    a_colour_profile_that_is_not_applied_is_warned_about,
+    |dir| {
+        let img = image::RgbaImage::from_pixel(16, 16, image::Rgba([10, 20, 30, 255]));
+        // Any bytes: the profile is only noticed, not read.
+        dir.write("profiled.png", png_with(&img, None, Some(vec![0; 128])));
+        dir.write("plain.png", png_with(&img, None, None));
+        dir.cmd("pat-from-image")
+        .args(["--size", "16", "profiled.png"])
+        .assert()
+        .success()
+        .stderr(predicates::str::contains(
+            "pat-from-image: warning: profiled.png: has an ICC colour profile, which is not applied",
+        ));
+        dir.cmd("pat-from-image")
+            .args(["--size", "16", "plain.png"])
+            .assert()
+            .success()
+            .stderr("");
+    }
+);
