@@ -62,9 +62,11 @@ pub struct Args {
     #[arg(long, default_value = "1024x768")]
     pub size: Size,
 
-    /// Background colour (`r,g,b` or `#rrggbb`).
+    /// Background colour (`r,g,b` or `#rrggbb`), or `none`: what polygons
+    /// leave uncovered is transparent, and the image carries their coverage
+    /// as alpha (PNG, PAM; twice the render time).
     #[arg(long, value_name = "COLOR", default_value = "0,0,0")]
-    pub background: Rgb8,
+    pub background: BackgroundColor,
 
     /// A .pat tiled over the background in screen mode (the thesis's colorclear):
     /// pixel (x, y) from the lower-left takes texel (x mod SIZE, y mod SIZE);
@@ -276,11 +278,10 @@ fn run_in_pool(args: Args) -> Result<()> {
     } else if animation {
         match &args.output {
             None => usage_bail!("--frames: give -o, a pattern such as frame-%04d.png"),
+            // Standard output: the frames one after another (a stream).
+            Some(o) if o == crate::io::STDIO => {}
             Some(o) if frame_name(o, 0).is_none() && (args.frame.is_none() && args.frames > 1) => {
                 usage_bail!("-o {o}: with --frames {} expected a pattern with %d or %0Nd, such as frame-%04d.png", args.frames)
-            }
-            Some(o) if o == crate::io::STDIO && args.frames > 1 && args.frame.is_none() => {
-                usage_bail!("--frames: several frames cannot go to standard output")
             }
             _ => {}
         }
@@ -316,14 +317,27 @@ fn run_in_pool(args: Args) -> Result<()> {
         (None, Some(_)) => None,
         (None, None) => Some(crate::io::STDIO.to_string()),
     };
+    let transparent = args.background == BackgroundColor::None;
+    let stream = animation && !args.animate && output.as_deref() == Some(crate::io::STDIO);
     let format = if args.animate {
         Some(ImageFormat::Png)
+    } else if stream {
+        // Frames one after another on standard output, for `ffmpeg -f
+        // image2pipe -i -`: uncompressed unless --format says otherwise.
+        Some(args.format.unwrap_or(if transparent {
+            ImageFormat::Pam
+        } else {
+            ImageFormat::Ppm
+        }))
     } else {
         output
             .as_deref()
             .map(|o| ImageFormat::choose(args.format, o))
             .transpose()?
     };
+    if transparent && format == Some(ImageFormat::Ppm) {
+        usage_bail!("--background none: PPM has no alpha channel: write PNG or PAM");
+    }
     let Size { width, height } = args.size;
     let camera = match args.camera.resolve()? {
         Some(c) => c,
@@ -334,7 +348,10 @@ fn run_in_pool(args: Args) -> Result<()> {
         Some(p) => Some(Pattern::read_file(std::path::Path::new(p))?),
         None => None,
     };
-    let bg = Background::new(args.background, bg_pattern.as_ref());
+    let bg = match args.background {
+        BackgroundColor::Color(c) => Background::new(c, bg_pattern.as_ref()),
+        BackgroundColor::None => Background::transparent(bg_pattern.as_ref()),
+    };
     let t_read = std::time::Instant::now();
     let scene = Scene::load(&args.input)?;
     let how = draw_options(&args, texture);
@@ -348,9 +365,21 @@ fn run_in_pool(args: Args) -> Result<()> {
         .with_context(|| display_name(&args.input).to_string())?;
     let t_render = std::time::Instant::now();
     let (img, residual, plan) = if args.reference {
-        let r = reference::render(&polys, &bg, width, height, args.reference_samples);
+        let pass =
+            |bg: &Background| reference::render(&polys, bg, width, height, args.reference_samples);
+        let r = if bg.is_transparent() {
+            pass(&bg.opaque(Rgb8::BLACK))
+        } else {
+            pass(&bg)
+        };
         let res = r.residual(args.reference_samples);
-        (r.frame.to_image(), Some(res), None)
+        let img = if bg.is_transparent() {
+            let over_white = pass(&bg.opaque(Rgb8::WHITE));
+            raster::Frame::to_image_with_alpha(&r.frame, &over_white.frame)
+        } else {
+            r.frame.to_image()
+        };
+        (img, Some(res), None)
     } else {
         let (img, plan) = scene::render(&polys, &bg, width, height, resolve(&args));
         (img, None, plan)
@@ -405,6 +434,27 @@ fn write_depfile(args: &Args, scene: Option<&Scene>) -> Result<()> {
     }
     deps.extend(args.compare.iter().cloned());
     super::write_depfile(depfile, &targets, &deps)
+}
+
+/// `--background`: a colour, or `none` (transparent).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BackgroundColor {
+    /// An opaque colour.
+    Color(Rgb8),
+    /// Transparent: coverage becomes alpha.
+    None,
+}
+
+impl std::str::FromStr for BackgroundColor {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s == "none" {
+            return Ok(BackgroundColor::None);
+        }
+        s.parse::<Rgb8>()
+            .map(BackgroundColor::Color)
+            .map_err(|e| format!("{e}, or `none` for a transparent background"))
+    }
 }
 
 /// What a render has to say beside the image.
@@ -536,6 +586,10 @@ fn render_frames(
         None => (0..args.frames).collect(),
     };
     let mut apng = None;
+    // `-o -`: every frame to one standard output, in order.
+    let mut stream = (pattern == crate::io::STDIO && !args.animate)
+        .then(|| crate::io::Output::create(pattern, true))
+        .transpose()?;
     for k in frames {
         let name = frame_name(pattern, k).unwrap_or_else(|| pattern.to_string());
         let t0 = std::time::Instant::now();
@@ -561,6 +615,9 @@ fn render_frames(
                 )?);
             }
             apng.as_mut().expect("created above").push(&img)?;
+        } else if let Some(out) = stream.as_mut() {
+            img.encode_with(format, PngOptions::GENERAL, out)
+                .context("writing standard output")?;
         } else {
             img.save_with(&name, format, PngOptions::GENERAL)?;
         }
@@ -576,6 +633,9 @@ fn render_frames(
     }
     if let Some(a) = apng {
         a.finish()?;
+    }
+    if let Some(out) = stream {
+        out.commit()?;
     }
     Ok(())
 }

@@ -16,6 +16,9 @@ pub struct Background {
     /// not fully covered).
     color: [f64; 3],
     pattern: Option<Texels>,
+    /// No colour: where polygons leave a pixel uncovered it is transparent
+    /// ([`Background::transparent`]).
+    transparent: bool,
 }
 
 impl Background {
@@ -29,6 +32,37 @@ impl Background {
         Background {
             color: color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0)),
             pattern: pattern.map(Texels::new),
+            transparent: false,
+        }
+    }
+
+    /// Nothing behind the polygons but the pattern's opaque texels, if a
+    /// pattern is given: uncovered parts of a pixel are transparent, and the
+    /// image carries alpha (`scene-render --background none`).
+    ///
+    /// A resolver draws the frame twice, over black and over white
+    /// ([`Background::opaque`]), and [`Frame::to_image_with_alpha`] reads the
+    /// coverage from the difference: exact for every resolver, since both
+    /// passes cut and sample the same geometry, at twice the time.
+    pub fn transparent(pattern: Option<&Pattern>) -> Background {
+        Background {
+            transparent: true,
+            ..Background::new(Rgb8::BLACK, pattern)
+        }
+    }
+
+    /// Whether uncovered pixels are transparent.
+    pub fn is_transparent(&self) -> bool {
+        self.transparent
+    }
+
+    /// This background with `color` behind the pattern and nothing
+    /// transparent: one pass of a transparent frame.
+    pub fn opaque(&self, color: Rgb8) -> Background {
+        Background {
+            color: color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0)),
+            pattern: self.pattern.clone(),
+            transparent: false,
         }
     }
 
@@ -75,6 +109,44 @@ impl Frame {
             width,
             height,
             pixels,
+        }
+    }
+
+    /// The RGBA image of a frame over a transparent background, from the
+    /// frame drawn over black (`over_black`: colours premultiplied by their
+    /// coverage `a`) and over white (`over_white = over_black + (1 - a)`):
+    /// `a = 1 - (over_white - over_black)`, averaged over the channels, and
+    /// the colour `over_black / a`, each encoded once, rounding (straight,
+    /// not premultiplied, alpha, as PNG and PAM store it).
+    pub fn to_image_with_alpha(over_black: &Frame, over_white: &Frame) -> Image {
+        assert_eq!(
+            (over_black.width, over_black.height),
+            (over_white.width, over_white.height),
+            "two passes of one frame"
+        );
+        let (w, h) = (over_black.width as usize, over_black.height as usize);
+        let mut data = vec![0u8; w * h * 4];
+        for (r, out) in data.chunks_exact_mut((w * 4).max(1)).enumerate().take(h) {
+            let y = h - 1 - r;
+            for (x, o) in out.chunks_exact_mut(4).enumerate() {
+                let (b, wh) = (over_black.pixels[y * w + x], over_white.pixels[y * w + x]);
+                let uncovered: f32 = (0..3).map(|c| wh[c] - b[c]).sum::<f32>() / 3.0;
+                let alpha = (1.0 - uncovered).clamp(0.0, 1.0);
+                // Below half an 8-bit step of alpha the pixel is transparent.
+                if alpha < 0.5 / 255.0 {
+                    o.copy_from_slice(&[0, 0, 0, 0]);
+                    continue;
+                }
+                let colour = b.map(|c| linear_to_srgb((c / alpha).clamp(0.0, 1.0)));
+                o[..3].copy_from_slice(&colour);
+                o[3] = (alpha * 255.0).round() as u8;
+            }
+        }
+        Image {
+            width: over_black.width,
+            height: over_black.height,
+            channels: 4,
+            data,
         }
     }
 

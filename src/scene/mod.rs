@@ -47,7 +47,7 @@ use crate::geom::transform::Transform;
 use crate::geom::Shape;
 use crate::io::Image;
 use crate::pat::Pattern;
-use crate::raster::{self, Aa, Background, Cull, ScreenPoly, Shader};
+use crate::raster::{self, Aa, Background, Cull, Frame, ScreenPoly, Shader};
 use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, PatternRef, Record};
 use crate::stripe::record::StripeLoader;
 use crate::stripe::LodMode;
@@ -564,15 +564,32 @@ pub fn render(
     how: Resolve,
 ) -> (Image, Option<raster::budget::Plan>) {
     build_mips_eagerly(polys);
+    if bg.is_transparent() {
+        // Two passes, over black and over white: the difference is the
+        // coverage (Background::transparent).
+        let (black, white) = (bg.opaque(Rgb8::BLACK), bg.opaque(Rgb8::WHITE));
+        let (over_black, plan) = render_frame(polys, &black, width, height, how);
+        let (over_white, _) = render_frame(polys, &white, width, height, how);
+        return (Frame::to_image_with_alpha(&over_black, &over_white), plan);
+    }
+    let (frame, plan) = render_frame(polys, bg, width, height, how);
+    (frame.to_image(), plan)
+}
+
+/// One pass of [`render`]: the linear-light frame.
+fn render_frame(
+    polys: &[ScreenPoly],
+    bg: &Background,
+    width: u32,
+    height: u32,
+    how: Resolve,
+) -> (Frame, Option<raster::budget::Plan>) {
     match how {
         Resolve::WithinError(e) => {
             let (frame, plan) = raster::budget::render_within(polys, bg, width, height, e);
-            (frame.to_image(), Some(plan))
+            (frame, Some(plan))
         }
-        Resolve::Aa(aa) => (
-            raster::render(polys, bg, width, height, aa).to_image(),
-            None,
-        ),
+        Resolve::Aa(aa) => (raster::render(polys, bg, width, height, aa), None),
     }
 }
 

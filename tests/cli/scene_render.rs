@@ -778,3 +778,115 @@ clitest!(max_error_keeps_the_achieved_rmse_within_the_budget, |dir| {
             "scene-render: max-error 2: flat tiles",
         ));
 });
+
+clitest!(a_transparent_background_carries_coverage_as_alpha, |dir| {
+    // Issue 22, item 5: --background none. Inside the triangle alpha is 255
+    // and the colour the triangle's; outside, 0; on its slanted edge,
+    // partial alpha with the triangle's own colour (straight alpha), in
+    // every resolver.
+    dir.write(
+        "t.json",
+        r#"{"vertices": [[1, 1], [15, 1], [1, 15]], "color": [200, 60, 20]}"#,
+    );
+    for aa in [
+        &["--aa", "exact"][..],
+        &["--aa", "ss16"],
+        &["--aa", "none"],
+        &["--reference"],
+    ] {
+        dir.cmd("scene-render")
+            .args([
+                "--ortho2",
+                "0,16,0,16",
+                "--size",
+                "16x16",
+                "--background",
+                "none",
+            ])
+            .args(aa)
+            .args(["-o", "t.png", "t.json"])
+            .assert()
+            .success();
+        let img = image::load_from_memory(&dir.read("t.png"))
+            .unwrap()
+            .to_rgba8();
+        assert_eq!(img.get_pixel(15, 0).0[3], 0, "{aa:?}: outside");
+        assert_eq!(img.get_pixel(4, 11).0, [200, 60, 20, 255], "{aa:?}: inside");
+        if aa != ["--aa", "none"] {
+            // Image pixel (7, 7) is [7, 8] x [8, 9] from the lower left: the
+            // hypotenuse x + y = 16 cuts it in half.
+            let edge = img.get_pixel(7, 7).0;
+            assert!(edge[3] > 0 && edge[3] < 255, "{aa:?}: edge {edge:?}");
+            for c in 0..3 {
+                let want = [200, 60, 20][c] as i32;
+                assert!(
+                    (edge[c] as i32 - want).abs() <= 1,
+                    "{aa:?}: edge colour {edge:?}"
+                );
+            }
+        }
+    }
+    dir.cmd("scene-render")
+        .args([
+            "--ortho2",
+            "0,16,0,16",
+            "--size",
+            "16x16",
+            "--background",
+            "none",
+        ])
+        .args(["-o", "t.ppm", "t.json"])
+        .assert()
+        .code(2)
+        .stderr(predicates::str::contains("PPM has no alpha channel"));
+});
+
+/// The images of a stream of concatenated binary PPMs.
+fn ppm_frames(mut s: &[u8]) -> Vec<(u32, u32, Vec<u8>)> {
+    let mut frames = Vec::new();
+    while !s.is_empty() {
+        let text = std::str::from_utf8(&s[..s.len().min(64)]).unwrap_or_default();
+        let mut words = text.split_ascii_whitespace();
+        assert_eq!(words.next(), Some("P6"));
+        let w: u32 = words.next().unwrap().parse().unwrap();
+        let h: u32 = words.next().unwrap().parse().unwrap();
+        assert_eq!(words.next(), Some("255"));
+        let header = format!("P6\n{w} {h}\n255\n").len();
+        let n = (w * h * 3) as usize;
+        frames.push((w, h, s[header..header + n].to_vec()));
+        s = &s[header + n..];
+    }
+    frames
+}
+
+clitest!(frames_stream_to_standard_output, |dir| {
+    // `--frames N -o -`: the frames one after another, as PPM, the form
+    // `ffmpeg -f image2pipe -i -` reads; each the same as the file of it.
+    dir.write(
+        "spin.json",
+        concat!(
+            r#"{"object": "sq", "records": [{"vertices": [[-4,-4],[4,-4],[4,4],[-4,4]], "color": [255, 255, 255]}]}"#,
+            "\n",
+            r#"{"instance": "sq", "transform": [{"rotate": {"start": 0, "step": 30}, "axis": "z"}, {"translate": [8, 8, 0]}]}"#,
+            "\n"
+        ),
+    );
+    let args = ["--ortho2", "0,16,0,16", "--size", "16x16", "--frames", "3"];
+    let stream = dir
+        .cmd("scene-render")
+        .args(args)
+        .args(["-o", "-", "spin.json"])
+        .ok_stdout();
+    let frames = ppm_frames(&stream);
+    assert_eq!(frames.len(), 3);
+    dir.cmd("scene-render")
+        .args(args)
+        .args(["-o", "f-%d.ppm", "spin.json"])
+        .assert()
+        .success();
+    for (k, (w, h, rgb)) in frames.iter().enumerate() {
+        let file = dir.read(&format!("f-{k}.ppm"));
+        assert_eq!(ppm_frames(&file), vec![(*w, *h, rgb.clone())], "frame {k}");
+    }
+    assert_ne!(frames[0].2, frames[1].2, "the square turns");
+});
