@@ -818,7 +818,7 @@ clitest!(a_transparent_background_carries_coverage_as_alpha, |dir| {
             let edge = img.get_pixel(7, 7).0;
             assert!(edge[3] > 0 && edge[3] < 255, "{aa:?}: edge {edge:?}");
             for c in 0..3 {
-                let want = [200, 60, 20][c] as i32;
+                let want: i32 = [200, 60, 20][c];
                 assert!(
                     (edge[c] as i32 - want).abs() <= 1,
                     "{aa:?}: edge colour {edge:?}"
