@@ -96,7 +96,7 @@ pub enum WriteStep {
 impl WriteStep {
     fn describe(&self, output: &str) -> String {
         match self {
-            WriteStep::Open => format!("{output}: cannot open for writing"),
+            WriteStep::Open => format!("{}: cannot open for writing", display_out(output)),
             WriteStep::ResolveLink => format!("{output}: cannot resolve the link"),
             WriteStep::CreateIn(dir) => {
                 format!("{output}: cannot create a file in {}", dir.display())
@@ -133,11 +133,12 @@ fn write_error(output: impl Into<String>, step: WriteStep) -> impl FnOnce(io::Er
 }
 
 /// An encoder's error as the I/O error it carries, or as an I/O error that
-/// wraps it: a closed pipe then reads as `BrokenPipe` whichever encoder met it.
+/// wraps it, of the kind of the I/O error found among its causes: a closed
+/// pipe then reads as `BrokenPipe` whichever encoder met it, however deep.
 fn image_io_error(e: image::ImageError) -> io::Error {
     match e {
         image::ImageError::IoError(io) => io,
-        other => io::Error::other(other),
+        other => wrapped_io_error(other),
     }
 }
 
@@ -145,8 +146,27 @@ fn image_io_error(e: image::ImageError) -> io::Error {
 fn png_io_error(e: png::EncodingError) -> io::Error {
     match e {
         png::EncodingError::IoError(io) => io,
-        other => io::Error::other(other),
+        other => wrapped_io_error(other),
     }
+}
+
+/// `e` as an I/O error of the kind of the first I/O error among its causes.
+fn wrapped_io_error<E: std::error::Error + Send + Sync + 'static>(e: E) -> io::Error {
+    let mut kind = io::ErrorKind::Other;
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        if let Some(io) = c.downcast_ref::<io::Error>() {
+            kind = io.kind();
+            break;
+        }
+        // The PNG encoder's I/O error is not its `source`, but a variant.
+        if let Some(png::EncodingError::IoError(io)) = c.downcast_ref::<png::EncodingError>() {
+            kind = io.kind();
+            break;
+        }
+        cause = c.source();
+    }
+    io::Error::new(kind, e)
 }
 
 /// Reads a whole file, with a clear error for a directory.
@@ -199,11 +219,41 @@ pub fn display_name(name: &str) -> &str {
     }
 }
 
+/// The temporary files of outputs being written, which a signal handler
+/// must remove: a process that is killed runs no destructors, and a batch
+/// scheduler pre-empts with SIGTERM ([`remove_unfinished_outputs`]).
+static UNFINISHED: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// Removes the temporary file of every output not yet committed, so that a
+/// run stopped by a signal leaves nothing behind; for a signal handler to
+/// call just before the process ends. Returns how many were removed.
+pub fn remove_unfinished_outputs() -> usize {
+    // A poisoned lock still holds the list: removing the files matters more.
+    let list = UNFINISHED.lock().unwrap_or_else(|p| p.into_inner());
+    list.iter()
+        .filter(|p| std::fs::remove_file(p).is_ok())
+        .count()
+}
+
+/// Notes or forgets an unfinished output's temporary file.
+fn unfinished(path: &Path, pending: bool) {
+    let mut list = UNFINISHED.lock().unwrap_or_else(|p| p.into_inner());
+    if pending {
+        list.push(path.to_path_buf());
+    } else if let Some(i) = list.iter().position(|p| p == path) {
+        list.swap_remove(i);
+    }
+}
+
 /// An output that is either standard output or a file that appears under its
 /// final name only when [`Output::commit`] succeeds: a failed run leaves nothing
 /// behind, so `make` never takes a half-written target as up to date.
 pub struct Output {
     inner: OutputInner,
+    /// The kind of the first write error seen: encoders (PNG's) may hand a
+    /// failed write back as an error of another kind, and a closed pipe
+    /// (`| head`) must still read as one.
+    failed: Option<io::ErrorKind>,
 }
 
 enum OutputInner {
@@ -226,6 +276,7 @@ impl Output {
             }
             return Ok(Output {
                 inner: OutputInner::Stdout(BufWriter::with_capacity(1 << 16, stdout)),
+                failed: None,
             });
         }
         let mut path = PathBuf::from(name);
@@ -245,6 +296,7 @@ impl Output {
                     .map_err(write_error(name, WriteStep::Open))?;
                 return Ok(Output {
                     inner: OutputInner::Device(BufWriter::with_capacity(1 << 16, f)),
+                    failed: None,
                 });
             }
         }
@@ -269,11 +321,13 @@ impl Output {
         let tmp = builder
             .tempfile_in(&dir)
             .map_err(write_error(name, WriteStep::CreateIn(dir.clone())))?;
+        unfinished(tmp.path(), true);
         Ok(Output {
             inner: OutputInner::File {
                 tmp: BufWriter::with_capacity(1 << 16, tmp),
                 path,
             },
+            failed: None,
         })
     }
 
@@ -286,11 +340,14 @@ impl Output {
             }
             OutputInner::File { tmp, path } => {
                 let shown = path.display().to_string();
+                let tmp_path = tmp.get_ref().path().to_path_buf();
                 let tmp = tmp
                     .into_inner()
                     .map_err(|e| e.into_error())
                     .map_err(write_error(shown.clone(), WriteStep::Write))?;
-                tmp.persist(&path)
+                let persisted = tmp.persist(&path);
+                unfinished(&tmp_path, false);
+                persisted
                     .map_err(|e| e.error)
                     .map_err(write_error(shown, WriteStep::Rename))?;
                 Ok(())
@@ -299,27 +356,50 @@ impl Output {
     }
 }
 
+impl Output {
+    /// `result`, noting the kind of its error.
+    fn noted<T>(&mut self, result: io::Result<T>) -> io::Result<T> {
+        if let Err(e) = &result {
+            self.failed.get_or_insert(e.kind());
+        }
+        result
+    }
+
+    /// An encoder's error, given the kind of the write error that caused
+    /// it, if a write failed: a closed pipe reads as `BrokenPipe` however the
+    /// encoder words it.
+    pub fn cause(&self, e: io::Error) -> io::Error {
+        match self.failed {
+            Some(kind) if kind != e.kind() => io::Error::new(kind, e),
+            _ => e,
+        }
+    }
+}
+
 impl Write for Output {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        match &mut self.inner {
+        let result = match &mut self.inner {
             OutputInner::Stdout(w) => w.write(buf),
             OutputInner::Device(w) => w.write(buf),
             OutputInner::File { tmp, .. } => tmp.write(buf),
-        }
+        };
+        self.noted(result)
     }
     fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
-        match &mut self.inner {
+        let result = match &mut self.inner {
             OutputInner::Stdout(w) => w.write_all(buf),
             OutputInner::Device(w) => w.write_all(buf),
             OutputInner::File { tmp, .. } => tmp.write_all(buf),
-        }
+        };
+        self.noted(result)
     }
     fn flush(&mut self) -> io::Result<()> {
-        match &mut self.inner {
+        let result = match &mut self.inner {
             OutputInner::Stdout(w) => w.flush(),
             OutputInner::Device(w) => w.flush(),
             OutputInner::File { tmp, .. } => tmp.flush(),
-        }
+        };
+        self.noted(result)
     }
 }
 
@@ -513,7 +593,7 @@ impl Image {
     ) -> Result<(), IoError> {
         let mut out = Output::create(name, true)?;
         self.encode_with(format, png, &mut out)
-            .map_err(write_error(name, WriteStep::Write))?;
+            .map_err(|e| write_error(name, WriteStep::Write)(out.cause(e)))?;
         out.commit()
     }
 }
@@ -581,15 +661,19 @@ impl ApngWriter {
             });
         }
         let w = self.writer.as_mut().expect("not finished");
-        w.write_image_data(&img.data)
-            .map_err(|e| write_error(&*self.name, WriteStep::Write)(png_io_error(e)))
+        let out = &self.out;
+        w.write_image_data(&img.data).map_err(|e| {
+            write_error(&*self.name, WriteStep::Write)(out.borrow().cause(png_io_error(e)))
+        })
     }
 
     /// Ends the file (all frames must have been pushed) and moves it into place.
     pub fn finish(mut self) -> Result<(), IoError> {
         let w = self.writer.take().expect("not finished");
-        w.finish()
-            .map_err(|e| write_error(&*self.name, WriteStep::Write)(png_io_error(e)))?;
+        let out = &self.out;
+        w.finish().map_err(|e| {
+            write_error(&*self.name, WriteStep::Write)(out.borrow().cause(png_io_error(e)))
+        })?;
         // `finish` consumed the writer and with it the only other handle.
         let Ok(out) = std::rc::Rc::try_unwrap(self.out) else {
             unreachable!("the PNG writer, the output's only other owner, is gone")

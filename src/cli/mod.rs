@@ -62,11 +62,32 @@ pub const EXIT_USAGE: i32 = 2;
 /// A closed output pipe (`| head`) ends the tool quietly with status 0.
 pub fn main<A: clap::Parser>(run: fn(A) -> anyhow::Result<()>) -> ! {
     let tool = A::command().get_name().to_string();
+    clean_up_on_signals();
     let args = match A::try_parse() {
         Ok(args) => args,
         Err(e) => exit_usage(&tool, e),
     };
     std::process::exit(report(&tool, run(args)))
+}
+
+/// On SIGINT, SIGTERM or SIGHUP (Ctrl-C, a batch scheduler's pre-emption, a
+/// closed terminal), removes the temporary files of outputs being written,
+/// then dies of the signal as it would have (status 128 + N to the shell),
+/// so a killed run leaves no `.patkit-*.tmp` behind. A thread waits for the
+/// signals, so nothing runs inside a signal handler but the flag it sets.
+fn clean_up_on_signals() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
+        return; // Without handlers a signal kills at once, as before.
+    };
+    std::thread::spawn(move || {
+        if let Some(sig) = signals.forever().next() {
+            crate::io::remove_unfinished_outputs();
+            // Resets the signal to its default action and raises it.
+            let _ = signal_hook::low_level::emulate_default_handler(sig);
+            std::process::exit(128 + sig);
+        }
+    });
 }
 
 /// Prints clap's verdict: `--help` and `--version` to stdout with status 0,
@@ -131,18 +152,48 @@ fn option_error<'a>(layer: &'a (dyn std::error::Error + 'static)) -> Option<&'a 
         .and_then(|inner| inner.downcast_ref::<OptionError>())
 }
 
+/// Whether standard output was closed when the tool started (`tool >&-`).
+/// Rust's runtime opens /dev/null in its place before `main`, after which a
+/// closed output and `> /dev/null` cannot be told apart, so this is read
+/// earlier, by a constructor the loader runs (Linux).
+static STDOUT_CLOSED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+#[cfg(target_os = "linux")]
+#[used]
+#[link_section = ".init_array"]
+static NOTE_CLOSED_STDOUT: extern "C" fn() = {
+    extern "C" fn note() {
+        // SAFETY: fcntl(F_GETFD) only reads the descriptor's flags.
+        let closed = unsafe { libc::fcntl(1, libc::F_GETFD) } == -1;
+        STDOUT_CLOSED.store(closed, std::sync::atomic::Ordering::Relaxed);
+    }
+    note
+};
+
+/// An error unless standard output can be written: output to a closed
+/// standard output would vanish while the tool reported success.
+pub fn check_stdout() -> anyhow::Result<()> {
+    if STDOUT_CLOSED.load(std::sync::atomic::Ordering::Relaxed) {
+        anyhow::bail!("standard output is closed: nothing could be written (use -o FILE)");
+    }
+    Ok(())
+}
+
 /// Prints a warning in the SPEC §5 form.
 pub fn warn(tool: &str, message: impl fmt::Display) {
     eprintln!("{tool}: warning: {message}");
 }
 
 fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    use std::io::ErrorKind::BrokenPipe;
     e.chain().any(|c| {
         c.downcast_ref::<std::io::Error>()
-            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
-            || c.downcast_ref::<image::ImageError>().is_some_and(|ie| {
-                matches!(ie, image::ImageError::IoError(io) if io.kind() == std::io::ErrorKind::BrokenPipe)
-            })
+            .is_some_and(|io| io.kind() == BrokenPipe)
+            || c.downcast_ref::<serde_json::Error>()
+                .is_some_and(|j| j.io_error_kind() == Some(BrokenPipe))
+            || c.downcast_ref::<image::ImageError>().is_some_and(
+                |ie| matches!(ie, image::ImageError::IoError(io) if io.kind() == BrokenPipe),
+            )
     })
 }
 

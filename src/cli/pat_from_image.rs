@@ -123,6 +123,9 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    if args.output == io::STDIO {
+        super::check_stdout()?;
+    }
     if args.stripe {
         return run_stripe(&args);
     }

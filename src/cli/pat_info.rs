@@ -76,6 +76,7 @@ pub struct Args {
 
 /// Runs `pat-info`.
 pub fn run(args: Args) -> Result<()> {
+    super::check_stdout()?;
     if let Some(n) = args.record {
         if args.files.len() != 1 {
             usage_bail!("--record takes exactly one polygon stream file");

@@ -64,6 +64,9 @@ pub struct Args {
 
 /// Runs `pat-tile`.
 pub fn run(args: Args) -> Result<()> {
+    if args.output == crate::io::STDIO {
+        super::check_stdout()?;
+    }
     let tiling = ScreenTiling {
         scale: args.scale,
         offset: (args.offset.0, args.offset.1),

@@ -189,6 +189,9 @@ pub fn run(args: Args) -> Result<()> {
         let f = std::fs::File::open(&args.input).with_context(|| args.input.clone())?;
         Box::new(BufReader::with_capacity(1 << 16, f))
     };
+    if args.output == STDIO {
+        super::check_stdout()?;
+    }
     let out = Output::create(&args.output, false)?;
     let options = PartitionOptions {
         pattern: args.pattern.clone(),

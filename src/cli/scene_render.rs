@@ -218,6 +218,13 @@ fn resolve(args: &Args) -> Resolve {
 
 /// Runs `scene-render`.
 pub fn run(args: Args) -> Result<()> {
+    let to_stdout = match &args.output {
+        Some(o) => o == crate::io::STDIO,
+        None => args.compare.is_none(),
+    };
+    if to_stdout {
+        super::check_stdout()?;
+    }
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(n) = args.threads {
         pool = pool.num_threads(n as usize);
@@ -525,6 +532,7 @@ fn finish(
         if image_on_stdout {
             eprint!("{text}");
         } else {
+            super::check_stdout()?;
             let mut out = std::io::stdout().lock();
             out.write_all(text.as_bytes())
                 .and_then(|()| out.flush())
@@ -617,6 +625,7 @@ fn render_frames(
             apng.as_mut().expect("created above").push(&img)?;
         } else if let Some(out) = stream.as_mut() {
             img.encode_with(format, PngOptions::GENERAL, out)
+                .map_err(|e| out.cause(e))
                 .context("writing standard output")?;
         } else {
             img.save_with(&name, format, PngOptions::GENERAL)?;

@@ -4,6 +4,7 @@
 #[macro_use]
 mod util;
 
+mod faults;
 mod host;
 mod make;
 mod man_pages;

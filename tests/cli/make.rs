@@ -104,3 +104,13 @@ clitest!(depfiles_name_every_file_read_and_every_frame, |dir| {
         "{rule}"
     );
 });
+
+clitest!(check_demos_fails_when_a_comparison_cannot_run, |dir| {
+    // Issue 17, item 7: with no rendered demos (`-o demos`: do not make
+    // them) every comparison fails; before pipefail, awk's status on empty
+    // input hid that and `make check-demos` passed.
+    let out = dir.path().join("none");
+    std::fs::create_dir(&out).unwrap();
+    let run = make(&out, &["-o", "demos", "check-demos"]);
+    assert!(!run.status.success(), "{run:?}");
+});

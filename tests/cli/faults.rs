@@ -1,0 +1,109 @@
+//! Faults around the tools (issue 17, items 8 and 11): closed pipes, a
+//! closed standard output, and signals while an output is being written.
+
+use crate::util::repo;
+
+/// Runs `script` with `sh -c` in `dir`, the tools' directory first on PATH.
+fn sh(dir: &std::path::Path, script: &str) -> std::process::Output {
+    let bin = std::path::Path::new(env!("CARGO_BIN_EXE_pat-tile"))
+        .parent()
+        .unwrap()
+        .to_path_buf();
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    std::process::Command::new("sh")
+        .arg("-c")
+        .arg(script)
+        .current_dir(dir)
+        .env("PATH", path)
+        .output()
+        .unwrap()
+}
+
+clitest!(a_closed_pipe_ends_every_output_quietly, |dir| {
+    // `| head` closes the pipe early: the tool stops with status 0 and says
+    // nothing, whatever encoder met the closed pipe (PNG's words its own
+    // error; serde_json's is not an io::Error).
+    let pats = repo("fixtures/patterns");
+    let many: String = (0..60)
+        .map(|_| format!("{}/*.pat ", pats.display()))
+        .collect();
+    for first in [
+        format!(
+            "pat-tile --size 2000x2000 {}/brick.pat -o -",
+            pats.display()
+        ),
+        format!("pat-info --json {many}"),
+        format!("pat-info {many}"),
+    ] {
+        // The first stage's own status, through a pipe that head closes.
+        let out = sh(
+            dir.path(),
+            &format!("( {first}; echo $? > status ) | head -c 10 > /dev/null"),
+        );
+        assert!(out.status.success());
+        let status = std::fs::read_to_string(dir.path().join("status")).unwrap();
+        let said = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(status.trim(), "0", "{first}: {said}");
+        assert!(out.stderr.is_empty(), "{first}: {said}");
+    }
+});
+
+clitest!(a_closed_standard_output_is_an_error, |dir| {
+    // `tool >&-`: writes would vanish (Rust puts /dev/null in its place),
+    // so a tool that writes there fails; `> /dev/null` stays fine.
+    let brick = repo("fixtures/patterns/brick.pat");
+    let faces = repo("fixtures/scenes/demo2-faces.json");
+    for cmd in [
+        format!("pat-info {}", brick.display()),
+        format!("polyfill3 {}", faces.display()),
+        format!("pat-tile --size 8x8 {}", brick.display()),
+    ] {
+        let out = sh(dir.path(), &format!("{cmd} >&-"));
+        assert_eq!(out.status.code(), Some(1), "{cmd}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains("standard output is closed"),
+            "{cmd}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            sh(dir.path(), &format!("{cmd} > /dev/null"))
+                .status
+                .success(),
+            "{cmd}"
+        );
+    }
+});
+
+clitest!(a_signal_removes_the_output_being_written, |dir| {
+    // SIGTERM (a scheduler's pre-emption), SIGINT and SIGHUP while polyfill3
+    // writes a large output: the temporary file goes, the target never
+    // appears, and the shell sees death by the signal (128 + N).
+    dir.write(
+        "big.json",
+        format!(
+            r#"{{"vertices": [[0,0],[3000,0],[0,3000]], "pattern": {{"file": "{}", "incr": 1}}}}"#,
+            repo("fixtures/patterns/brick.pat").display()
+        ),
+    );
+    for (name, number) in [("TERM", 15), ("INT", 2), ("HUP", 1)] {
+        let script = format!(
+            "polyfill3 big.json -o out.ndjson & pid=$!; \
+             while ! ls -a | grep -q '^\\.patkit-'; do sleep 0.05; done; \
+             kill -{name} $pid; wait $pid; echo $? > status"
+        );
+        let out = sh(dir.path(), &script);
+        assert!(out.status.success(), "{out:?}");
+        let status = std::fs::read_to_string(dir.path().join("status")).unwrap();
+        assert_eq!(status.trim(), (128 + number).to_string(), "SIG{name}");
+        let left: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.starts_with(".patkit-") || n == "out.ndjson")
+            .collect();
+        assert!(left.is_empty(), "SIG{name} left {left:?}");
+    }
+});
