@@ -5,6 +5,13 @@ use crate::error::OptionError;
 use std::io::{self, BufWriter, IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
 
+/// Checks that `name` can be written, as [`Output::create`] would, and
+/// writes nothing: for tools to refuse a missing directory or a terminal
+/// before hours of work rather than after.
+pub fn check_output(name: &str, binary: bool) -> Result<(), IoError> {
+    Output::create(name, binary).map(drop)
+}
+
 /// The name that means standard input or output.
 pub const STDIO: &str = "-";
 
@@ -129,6 +136,19 @@ fn write_error(output: impl Into<String>, step: WriteStep) -> impl FnOnce(io::Er
         output,
         step,
         error,
+    }
+}
+
+/// The operating system's error without the temporary file's name, which
+/// `tempfile` adds and which means nothing to the user (the message names
+/// the output and its directory).
+fn without_temp_name(e: io::Error) -> io::Error {
+    // tempfile's error words it "{cause} at path {temporary file}" and does
+    // not give the cause back as a source: keep the words before the path.
+    let text = e.to_string();
+    match text.find(" at path ") {
+        Some(i) => io::Error::new(e.kind(), text[..i].to_string()),
+        None => e,
     }
 }
 
@@ -320,6 +340,7 @@ impl Output {
         }
         let tmp = builder
             .tempfile_in(&dir)
+            .map_err(without_temp_name)
             .map_err(write_error(name, WriteStep::CreateIn(dir.clone())))?;
         unfinished(tmp.path(), true);
         Ok(Output {

@@ -126,6 +126,8 @@ pub fn run(args: Args) -> Result<()> {
     if args.output == io::STDIO {
         super::check_stdout()?;
     }
+    // Before the work (quantizing a large photo takes a while).
+    io::check_output(&args.output, false)?;
     if args.stripe {
         return run_stripe(&args);
     }

@@ -300,6 +300,15 @@ fn run_in_pool(args: Args) -> Result<()> {
         Ok(t) => t,
         Err(e) => usage_bail!("{e}"),
     };
+    // Every destination is checked before any work (a missing directory
+    // found after an hour of rendering helps nobody).
+    if let Some(o) = &args.output {
+        let first = args.frame.unwrap_or(0);
+        crate::io::check_output(&frame_name(o, first).unwrap_or_else(|| o.clone()), true)?;
+    }
+    for extra in [&args.diff, &args.depfile].into_iter().flatten() {
+        crate::io::check_output(extra, false)?;
+    }
     // Everything that can fail is checked before anything is written.
     let reference_img = match &args.compare {
         Some(r) => Some(load_image(r)?),

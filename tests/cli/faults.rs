@@ -107,3 +107,45 @@ clitest!(a_signal_removes_the_output_being_written, |dir| {
         assert!(left.is_empty(), "SIG{name} left {left:?}");
     }
 });
+
+clitest!(
+    a_missing_output_directory_is_refused_before_the_work,
+    |dir| {
+        // Issue 17, item 10: refused at once, naming the output and its
+        // directory, not the temporary file; nothing is rendered first.
+        dir.write(
+            "t.json",
+            r#"{"vertices": [[0,0],[9,0],[0,9]], "color": [1,2,3]}"#,
+        );
+        for args in [
+            &["--size", "16x16", "t.json", "-o", "no/such/x.png"][..],
+            &[
+                "--size",
+                "16x16",
+                "--frames",
+                "2",
+                "t.json",
+                "-o",
+                "no/such/f-%d.png",
+            ],
+            &[
+                "--size",
+                "16x16",
+                "t.json",
+                "-o",
+                "x.png",
+                "--depfile",
+                "no/such/x.d",
+            ],
+        ] {
+            let out = dir.cmd("scene-render").args(args).assert().failure();
+            let said = String::from_utf8_lossy(&out.get_output().stderr).into_owned();
+            assert!(said.contains("cannot create a file in no/such"), "{said}");
+            assert!(!said.contains(".patkit-"), "no temporary name: {said}");
+        }
+        assert!(
+            !dir.path().join("x.png").exists(),
+            "nothing written when a later output fails"
+        );
+    }
+);
