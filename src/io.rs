@@ -189,12 +189,44 @@ fn wrapped_io_error<E: std::error::Error + Send + Sync + 'static>(e: E) -> io::E
     io::Error::new(kind, e)
 }
 
-/// Reads a whole file, with a clear error for a directory.
+/// The largest file a stream may name (a pattern, a stripe map or table):
+/// 256 MiB, far beyond any pattern of the format's 4096x4096 texels in a
+/// sensible number of colours, and a bound on what a scene can make a tool
+/// read.
+pub const MAX_NAMED_FILE_BYTES: u64 = 1 << 28;
+
+/// Reads a file that an input names (a stream's pattern, stripe map or
+/// table): only a regular file (a scene naming `/dev/zero` or a FIFO is
+/// refused, not read forever) of at most [`MAX_NAMED_FILE_BYTES`].
 pub fn read_path(path: &Path) -> io::Result<Vec<u8>> {
-    if path.is_dir() {
+    let meta = std::fs::metadata(path)?;
+    if meta.is_dir() {
         return Err(is_a_directory());
     }
-    std::fs::read(path)
+    if !meta.is_file() {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "is not a regular file: a stream names only files",
+        ));
+    }
+    let too_large = || {
+        io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!("is larger than the {MAX_NAMED_FILE_BYTES} bytes a named file may have"),
+        )
+    };
+    if meta.len() > MAX_NAMED_FILE_BYTES {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    // Bounded even if the file grows while it is read.
+    std::fs::File::open(path)?
+        .take(MAX_NAMED_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > MAX_NAMED_FILE_BYTES {
+        return Err(too_large());
+    }
+    Ok(bytes)
 }
 
 /// Opens a file to read by name, with a clear error for a directory.
@@ -221,8 +253,11 @@ pub fn read_input(name: &str) -> Result<Vec<u8>, IoError> {
     let read = if name == STDIO {
         let mut buf = Vec::new();
         io::stdin().lock().read_to_end(&mut buf).map(|_| buf)
+    } else if Path::new(name).is_dir() {
+        Err(is_a_directory())
     } else {
-        read_path(Path::new(name))
+        // Any file the user names, FIFOs and `<(...)` included.
+        std::fs::read(name)
     };
     read.map_err(|error| IoError::Read {
         input: name.to_string(),

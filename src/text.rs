@@ -9,6 +9,13 @@ use std::fmt;
 /// Longest word echoed back in an error message (as in `pat.rs`).
 const MAX_ECHO: usize = 24;
 
+/// An error at a file's first word means the file did not start as the
+/// format does, and then its word is not echoed: a scene may name
+/// `/etc/shadow` as a pattern, and its first word is nobody's business.
+/// Once a word has been accepted the file is of the format, and the
+/// offending word helps the user find the mistake.
+const FIRST_WORD: usize = 1;
+
 /// What went wrong reading a text file (a `.pat`, a stripe map or table), and
 /// where.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -17,7 +24,9 @@ pub struct ParseError {
     pub file: String,
     /// 1-based line, when the error has a position.
     pub line: Option<usize>,
-    /// 1-based index of the offending word in the file, and the word itself.
+    /// 1-based index of the offending word in the file, and the word itself
+    /// (empty when the file did not start as the format does: it is not
+    /// echoed).
     pub word: Option<(usize, String)>,
     /// What was wrong, or what was expected there.
     pub message: String,
@@ -40,8 +49,10 @@ impl fmt::Display for ParseError {
         if let Some(line) = self.line {
             write!(f, ":{line}")?;
         }
-        if let Some((n, w)) = &self.word {
-            write!(f, ": word {n} `{w}`")?;
+        match &self.word {
+            Some((n, w)) if w.is_empty() => write!(f, ": word {n}")?,
+            Some((n, w)) => write!(f, ": word {n} `{w}`")?,
+            None => {}
         }
         write!(f, ": {}", self.message)
     }
@@ -100,6 +111,9 @@ impl<'a> Words<'a> {
         let mut text: String = w.text.chars().take(MAX_ECHO).collect();
         if w.text.len() > MAX_ECHO {
             text.push_str("...");
+        }
+        if w.index == FIRST_WORD {
+            text.clear();
         }
         ParseError {
             file: self.name.to_string(),

@@ -361,7 +361,8 @@ fn run_in_pool(args: Args) -> Result<()> {
     };
     let view = View::new(&camera, width, height);
     let bg_pattern = match &args.background_pattern {
-        Some(p) => Some(Pattern::read_file(std::path::Path::new(p))?),
+        // A command-line input: `<(...)` works as well as a file.
+        Some(p) => Some(Pattern::parse(&read_input(p)?, display_name(p))?),
         None => None,
     };
     let bg = match args.background {

@@ -149,3 +149,48 @@ clitest!(
         );
     }
 );
+
+clitest!(files_a_stream_names_are_bounded_and_not_echoed, |dir| {
+    // Issue 17, item 4: a scene naming /dev/zero is refused at once, not
+    // read forever; a file that is no pattern has none of its words quoted.
+    dir.write("secret.txt", "hunter2 is the password\n");
+    for (file, said) in [
+        ("/dev/zero", "/dev/zero: is not a regular file"),
+        (
+            "secret.txt",
+            "secret.txt:1: word 1: expected the pattern size",
+        ),
+    ] {
+        dir.write(
+            "s.json",
+            format!(r#"{{"vertices": [[0,0],[4,0],[0,4]], "pattern": {{"file": "{file}"}}}}"#),
+        );
+        for tool in ["scene-render", "polyfill3", "pat-info"] {
+            let mut cmd = dir.cmd(tool);
+            if tool == "pat-info" {
+                cmd.args(["--record", "0"]);
+            }
+            let out = cmd
+                .args(["s.json"])
+                .timeout(std::time::Duration::from_secs(20))
+                .output()
+                .unwrap();
+            let text = String::from_utf8_lossy(&out.stderr);
+            if tool != "pat-info" {
+                assert!(text.contains(said), "{tool} {file}: {text}");
+                assert_eq!(out.status.code(), Some(1), "{tool} {file}");
+            }
+            assert!(!text.contains("hunter2"), "{tool} {file}: {text}");
+        }
+    }
+    // A command-line input may still be a pipe (`<(...)`).
+    let out = sh(
+        dir.path(),
+        &format!(
+            "printf '%s' '{{\"vertices\":[[0,0],[4,0],[0,4]],\"color\":[9,9,9]}}' > t.json; \
+             bash -c 'scene-render --size 8x8 --background-pattern <(cat {}) t.json -o t.png'",
+            repo("fixtures/patterns/brick.pat").display()
+        ),
+    );
+    assert!(out.status.success(), "{out:?}");
+});
