@@ -502,12 +502,33 @@ fn finish(
         _ => None,
     };
     let image_on_stdout = output.as_ref().is_some_and(|(o, _)| o == crate::io::STDIO);
+    // The image and the difference appear together or not at all: both are
+    // written to their temporary files first, then both moved into place.
+    let mut written = Vec::new();
+    let mut write = |image: &Image, name: &str, format: ImageFormat| -> Result<()> {
+        let mut out = crate::io::Output::create(name, true)?;
+        image
+            .encode_with(format, PngOptions::GENERAL, &mut out)
+            .map_err(|e| out.cause(e))
+            .with_context(|| {
+                let shown = if name == crate::io::STDIO {
+                    "standard output"
+                } else {
+                    name
+                };
+                format!("writing {shown}")
+            })?;
+        written.push(out);
+        Ok(())
+    };
     if let Some((o, f)) = &output {
-        img.save_with(o, *f, PngOptions::GENERAL)?;
+        write(&img, o, *f)?;
     }
     if let (Some(d), Some(name)) = (diff, &args.diff) {
-        let f = ImageFormat::choose(None, name)?;
-        d.save_with(name, f, PngOptions::GENERAL)?;
+        write(&d, name, ImageFormat::choose(None, name)?)?;
+    }
+    for out in written {
+        out.commit()?;
     }
     // Reports go to standard output unless the image does.
     let mut text = String::new();

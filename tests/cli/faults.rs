@@ -194,3 +194,32 @@ clitest!(files_a_stream_names_are_bounded_and_not_echoed, |dir| {
     );
     assert!(out.status.success(), "{out:?}");
 });
+
+clitest!(
+    the_image_and_its_difference_appear_together_or_not_at_all,
+    |dir| {
+        // Issue 17, item 9: a --diff that cannot be written (an extension no
+        // format has) used to leave the image behind with exit status 1.
+        dir.write(
+            "t.json",
+            r#"{"vertices": [[0,0],[9,0],[0,9]], "color": [1,2,3]}"#,
+        );
+        let render = |extra: &[&str]| {
+            let mut c = dir.cmd("scene-render");
+            c.args(["--size", "16x16", "t.json"]).args(extra);
+            c
+        };
+        render(&["-o", "ref.png"]).assert().success();
+        render(&["-o", "out.png", "--compare", "ref.png", "--diff", "d.jpg"])
+            .assert()
+            .failure();
+        assert!(
+            !dir.path().join("out.png").exists(),
+            "no image without its difference"
+        );
+        render(&["-o", "out.png", "--compare", "ref.png", "--diff", "d.png"])
+            .assert()
+            .success();
+        assert!(dir.path().join("out.png").exists() && dir.path().join("d.png").exists());
+    }
+);
