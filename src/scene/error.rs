@@ -183,17 +183,19 @@ impl<T, E: Into<RecordError>> InRecord<T> for Result<T, E> {
     }
 }
 
-macro_rules! record_error_from {
-    ($($variant:ident($ty:ty)),*) => {
-        $(impl From<$ty> for RecordError {
-            fn from(e: $ty) -> RecordError {
-                RecordError::$variant(e)
+/// `From` for each error an enum wraps whole, as `Enum::Variant(error)`.
+macro_rules! wraps {
+    ($enum:ident: $($variant:ident($ty:ty)),*) => {
+        $(impl From<$ty> for $enum {
+            fn from(e: $ty) -> $enum {
+                $enum::$variant(e)
             }
         })*
     };
 }
 
-record_error_from!(
+wraps!(
+    RecordError:
     Pattern(ParseError),
     Stripe(StripeError),
     StripeMapping(NoMapping),
@@ -333,17 +335,8 @@ impl From<std::io::Error> for PartitionError {
     }
 }
 
-macro_rules! cells_error_from {
-    ($($variant:ident($ty:ty)),*) => {
-        $(impl From<$ty> for CellsError {
-            fn from(e: $ty) -> CellsError {
-                CellsError::$variant(e)
-            }
-        })*
-    };
-}
-
-cells_error_from!(
+wraps!(
+    CellsError:
     Option(OptionError),
     Quadric(QuadricError),
     Plane(crate::geom::plane::PlaneError),

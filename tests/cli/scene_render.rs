@@ -788,6 +788,14 @@ clitest!(a_transparent_background_carries_coverage_as_alpha, |dir| {
         "t.json",
         r#"{"vertices": [[1, 1], [15, 1], [1, 15]], "color": [200, 60, 20]}"#,
     );
+    let transparent = [
+        "--ortho2",
+        "0,16,0,16",
+        "--size",
+        "16x16",
+        "--background",
+        "none",
+    ];
     for aa in [
         &["--aa", "exact"][..],
         &["--aa", "ss16"],
@@ -795,14 +803,7 @@ clitest!(a_transparent_background_carries_coverage_as_alpha, |dir| {
         &["--reference"],
     ] {
         dir.cmd("scene-render")
-            .args([
-                "--ortho2",
-                "0,16,0,16",
-                "--size",
-                "16x16",
-                "--background",
-                "none",
-            ])
+            .args(transparent)
             .args(aa)
             .args(["-o", "t.png", "t.json"])
             .assert()
@@ -827,14 +828,7 @@ clitest!(a_transparent_background_carries_coverage_as_alpha, |dir| {
         }
     }
     dir.cmd("scene-render")
-        .args([
-            "--ortho2",
-            "0,16,0,16",
-            "--size",
-            "16x16",
-            "--background",
-            "none",
-        ])
+        .args(transparent)
         .args(["-o", "t.ppm", "t.json"])
         .assert()
         .code(2)
