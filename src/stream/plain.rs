@@ -73,11 +73,13 @@ impl<'de> de::Deserialize<'de> for Key {
                 Ok(match s {
                     "vertices" => Key::Vertices,
                     "color" => Key::Color,
-                    // The other geometries, the fields `Record::from_value`
-                    // reads, and the keys that make an item an object or an
-                    // instance (`Item::from_value`).
-                    "rect" | "circle" | "arc" | "pattern" | "uv" | "stripe" | "object"
-                    | "instance" => Key::Decline,
+                    // The other geometries (quadrics too: with "vertices"
+                    // they make the record ambiguous, which the general path
+                    // words), the fields `Record::from_value` reads, and the
+                    // keys that make an item an object or an instance
+                    // (`Item::from_value`).
+                    "rect" | "circle" | "arc" | "sphere" | "cylinder" | "cone" | "disk"
+                    | "pattern" | "uv" | "stripe" | "object" | "instance" => Key::Decline,
                     _ => Key::Other,
                 })
             }
@@ -211,6 +213,8 @@ mod tests {
         for line in [
             // Other geometries and typed fields.
             r#"{"rect":[0,0,1,1],"color":[1,2,3]}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"sphere":{"radius":1}}"#,
+            r#"{"disk":{"outer":1},"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3]}"#,
             r#"{"vertices":[[0,0],[1,0],[0,1]],"pattern":{"file":"a.pat"}}"#,
             r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"uv":[[0,0],[1,0],[0,1]]}"#,
             r#"{"vertices":[[0,0],[1,0],[0,1]],"stripe":{"code":3},"color":[1,2,3]}"#,
@@ -231,6 +235,16 @@ mod tests {
         ] {
             assert!(record(line.as_bytes(), 0).is_none(), "{line}");
         }
+    }
+
+    #[test]
+    fn a_polygon_line_with_a_quadric_key_is_ambiguous_as_in_the_general_path() {
+        // The fast path once took "sphere" for a field it may ignore.
+        let line = r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"sphere":{"radius":1}}"#;
+        assert_eq!(
+            super::super::testing::err(line),
+            "s.json: record 0: several geometries (vertices, sphere): expected exactly one"
+        );
     }
 
     /// A JSON number or something in its place: integers, decimals,
