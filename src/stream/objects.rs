@@ -449,4 +449,24 @@ mod tests {
         let again = Record::from_fields(0, recs[0].fields.clone()).unwrap();
         assert_eq!(again.shape, recs[0].shape);
     }
+
+    #[test]
+    fn a_value_gives_the_item_the_reader_gives_for_its_text() {
+        // `Item::from_value` keeps unknown fields as serde_json writes them,
+        // which for text serde_json wrote is the text itself.
+        let text = r#"{"object":"o","records":[{"rect":[0,0,1,1],"color":[1,2,3],"id":"a","n":[1.5,{"k":null}]},{"instance":"p","tag":7}],"note":"x"}"#;
+        let mut read = Vec::new();
+        super::super::for_each_item(text.as_bytes(), "s.json", |item| {
+            read.push(item);
+            Ok::<(), StreamError>(())
+        })
+        .unwrap();
+        let from_value = Item::from_value(0, serde_json::from_str(text).unwrap()).unwrap();
+        assert_eq!(read, vec![from_value]);
+        let Item::Object(def) = &read[0] else {
+            panic!("{:?}", read[0])
+        };
+        assert_eq!(serde_json::to_string(&def.fields).unwrap(), text);
+        assert_eq!(def.items.len(), 2);
+    }
 }
