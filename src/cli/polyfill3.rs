@@ -42,6 +42,10 @@ non-transparent texel cell it covers, in the polygon's plane and winding: the \
 thesis's polcolorf3. Each output record keeps the input's other fields, with \
 \"vertices\" (always [x,y,z]), \"color\" (the texel's colour) and \"texel\": \
 [column, row]. Patterns in \"screen\" or \"uv\" mode pass through unchanged.\n\n\
+Fields no tool reads (ids, tags) come out in every record written exactly as \
+written (123456789012345678901234567890, 1e2 and \"\\u00e9\" stay so), less \
+the whitespace between their tokens; the fields the tools read are written \
+as serde_json writes them (docs/polyfill3.md, \"Unknown fields\").\n\n\
 --pattern FILE gives every polygon record (vertices, rect, circle or arc) that \
 has neither a \"pattern\" nor a \"stripe\" of its own the pattern FILE in \
 \"object\" mode, placed by --incr, --rotate, --horz and --vert, inside objects \

@@ -380,45 +380,41 @@ impl<W: Write> Job<'_, W> {
         rec: &Record,
         vertices: &[DVec3],
         uv: Option<Value>,
-    ) -> Result<serde_json::Map<String, Value>, CellsError> {
-        let mut fields = serde_json::Map::with_capacity(rec.fields.len() + 2);
-        for (k, v) in &rec.fields {
-            match k.as_str() {
-                "rect" | "circle" | "arc" | "vertices" => {}
-                "uv" if uv.is_some() => {}
-                "pattern" => {
-                    // A "file" of the record's own was forwarded with the
-                    // record (see `record`); --pattern stands in for none.
-                    let mut p = v.as_object().cloned().unwrap_or_default();
-                    if !p.contains_key("file") && self.args.pattern.is_some() {
-                        p.insert("file".into(), Value::String(self.forwarded_pattern()?));
-                    }
-                    if uv.is_some() {
-                        for key in ["incr", "rotate", "horz", "vert"] {
-                            p.remove(key);
-                        }
-                        p.insert("mode".into(), Value::String("uv".into()));
-                    }
-                    fields.insert(k.clone(), Value::Object(p));
-                }
-                _ => {
-                    fields.insert(k.clone(), v.clone());
-                }
+    ) -> Result<stream::Fields, CellsError> {
+        let mut fields = rec.fields.clone();
+        let replaced = |k: &str| match k {
+            "rect" | "circle" | "arc" | "vertices" => true,
+            "uv" => uv.is_some(),
+            _ => false,
+        };
+        fields.retain(|k, _| !replaced(k));
+        if let Some(p) = fields.get_mut("pattern") {
+            // A "file" of the record's own was forwarded with the record
+            // (see `record`); --pattern stands in for none.
+            let mut o = p.as_object().cloned().unwrap_or_default();
+            if !o.contains_key("file") && self.args.pattern.is_some() {
+                o.insert("file".into(), Value::String(self.forwarded_pattern()?));
             }
-        }
-        if uv.is_some() && !rec.fields.contains_key("pattern") {
+            if uv.is_some() {
+                for key in ["incr", "rotate", "horz", "vert"] {
+                    o.remove(key);
+                }
+                o.insert("mode".into(), Value::String("uv".into()));
+            }
+            *p = Value::Object(o);
+        } else if uv.is_some() {
             // The record takes --pattern (see `record`).
             fields.insert(
-                "pattern".into(),
+                "pattern",
                 serde_json::json!({"file": self.forwarded_pattern()?, "mode": "uv"}),
             );
         }
         fields.insert(
-            "vertices".into(),
+            "vertices",
             serde_json::json!(vertices.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>()),
         );
         if let Some(uv) = uv {
-            fields.insert("uv".into(), uv);
+            fields.insert("uv", uv);
         }
         Ok(fields)
     }
@@ -437,14 +433,14 @@ impl<W: Write> Job<'_, W> {
     /// loads) keeps them as read. Records that name no file are not copied.
     fn forwarded(&self, mut rec: Record) -> Result<Record, CellsError> {
         if stream::names_files(&rec.fields) {
-            let mut fields = (*rec.fields).clone();
+            let mut fields = rec.fields.clone();
             stream::forward_file_refs(&mut fields, &self.base, &self.args.refs).map_err(
                 |error| CellsError::PatternPath {
                     path: self.base.clone(),
                     error,
                 },
             )?;
-            rec.fields = fields.into();
+            rec.fields = fields;
         }
         Ok(rec)
     }
@@ -629,8 +625,9 @@ impl<W: Write> CellWriter<W> {
         }
     }
 
-    /// Writes a record unchanged.
-    pub fn pass(&mut self, fields: &serde_json::Map<String, Value>) -> std::io::Result<()> {
+    /// Writes a record unchanged: its unknown fields as written, less the
+    /// whitespace between their tokens ([`stream::Fields`]).
+    pub fn pass(&mut self, fields: &stream::Fields) -> std::io::Result<()> {
         stream::write_ndjson(&mut self.buf, fields)?;
         if self.buf.len() >= FLUSH_BYTES {
             self.drain()?;
@@ -670,13 +667,12 @@ impl<W: Write> CellWriter<W> {
     /// Prepares for the cells of one input record.
     pub fn begin(&mut self, rec: &Record, pattern: Rc<Pattern>, merge: bool, budget: u64) {
         self.rest.clear();
-        for (k, v) in &rec.fields {
-            if REPLACED.contains(&k.as_str()) {
+        for (k, v) in rec.fields.iter() {
+            if REPLACED.contains(&k) {
                 continue;
             }
             self.rest.push(b',');
-            serde_json::to_writer(&mut self.rest, &Value::String(k.clone()))
-                .expect("writing to a Vec cannot fail");
+            serde_json::to_writer(&mut self.rest, k).expect("writing to a Vec cannot fail");
             self.rest.push(b':');
             serde_json::to_writer(&mut self.rest, v).expect("writing to a Vec cannot fail");
         }

@@ -28,7 +28,7 @@ pub struct RecordStripe {
 /// field (`stripe.spacing: ...`) or the file; the caller adds the record.
 pub fn read(
     loader: &mut StripeLoader,
-    fields: &serde_json::Map<String, serde_json::Value>,
+    fields: &crate::stream::Fields,
     colour: Option<Rgb8>,
 ) -> Result<Option<RecordStripe>, StripeError> {
     let Some(spec) = StripeSpec::from_fields(fields)? else {

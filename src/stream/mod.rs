@@ -2,16 +2,19 @@
 //!
 //! Records are read one at a time whichever form the input takes, so memory does
 //! not grow with the number of records. Every record keeps its full JSON object
-//! ([`Record::fields`]) so tools that forward records pass unknown fields through
-//! unchanged; the typed view ([`Record::shape`], [`Record::pattern`], ...) is
-//! what the geometry and the renderer use.
+//! ([`Record::fields`]), unknown fields as the text they were written in, so
+//! tools that forward records pass them through unchanged (see [`Fields`] for
+//! exactly what that means); the typed view ([`Record::shape`],
+//! [`Record::pattern`], ...) is what the geometry and the renderer use.
 //!
 //! One file per idea; every public name is re-exported here, so callers write
 //! `stream::Record`, `stream::for_each_record`, ...:
 //!
+//! - `fields.rs`: a record's JSON object ([`Fields`], [`Field`]): known fields
+//!   parsed, unknown ones kept as written, parsed lazily on the fast path.
 //! - `record.rs`: one record, its typed view ([`Record`], [`PatternRef`],
-//!   [`PatternMode`], the lazily parsed [`Fields`]) and the field parsers
-//!   (vertices, colour, pattern, uv, quadric parameters).
+//!   [`PatternMode`]) and the field parsers (vertices, colour, pattern, uv,
+//!   quadric parameters).
 //! - `objects.rs`: object definitions and instances ([`Item`], [`Objects`]),
 //!   and moving a record by an instance's transform ([`transform_record`]).
 //! - `triangles.rs`: a quadric record as triangle records, for tools that
@@ -27,6 +30,7 @@
 
 use std::fmt;
 
+mod fields;
 mod objects;
 mod paths;
 mod plain;
@@ -35,10 +39,11 @@ mod record;
 mod triangles;
 mod write;
 
+pub use fields::{is_value_key, Field, Fields};
 pub use objects::{transform_record, Instance, Item, ObjectDef, Objects, INSTANCE_CURVE_TOLERANCE};
 pub use paths::{base_dir, forward_file_refs, names_files, resolve, RefTarget};
 pub use read::{for_each_item, for_each_record, nth_item};
-pub use record::{parse_color, Fields, PatternMode, PatternRef, Record, QUADRIC_KEYS};
+pub use record::{parse_color, PatternMode, PatternRef, Record, QUADRIC_KEYS};
 pub use triangles::quadric_triangles;
 pub use write::write_ndjson;
 

@@ -4,12 +4,13 @@
 //! instance changes records after they are read (their vertices, their
 //! pattern's scale) and checks the order of definitions across the stream.
 
-use super::record::{field_err, short, PatternMode, Record};
+use super::fields::{Element, Fields};
+use super::record::{field_err, not_an_object, short, PatternMode, Record};
 use super::StreamError;
 use crate::geom::transform::Transform;
 use crate::geom::Shape;
 use glam::DVec3;
-use serde_json::{Map, Value};
+use serde_json::Value;
 
 /// One element of the stream: a drawable record, a named object definition, or
 /// an instance of an object (the thesis's `makeobj`/`callobj`, Fig. 5.1).
@@ -46,8 +47,10 @@ pub struct ObjectDef {
     /// earlier (definitions inside definitions are rejected by
     /// [`Objects::define`]).
     pub items: Vec<Item>,
-    /// The definition's JSON object, including `"records"`.
-    pub fields: Map<String, Value>,
+    /// The definition's JSON object, including `"records"` (kept as text:
+    /// its records' unknown fields as written, known ones as serde_json
+    /// writes them; [`ObjectDef::items`] is their typed view).
+    pub fields: Fields,
 }
 
 /// An object placed with a transform.
@@ -62,7 +65,7 @@ pub struct Instance {
     pub transform: Transform,
     /// The instance's JSON object, kept whole so that tools forwarding
     /// instances pass unknown fields through.
-    pub fields: Map<String, Value>,
+    pub fields: Fields,
 }
 
 impl ObjectDef {
@@ -79,82 +82,92 @@ impl ObjectDef {
                 .filter(|it| !matches!(it, Item::Record(_)))
                 .cloned()
                 .collect(),
-            fields: Map::new(),
+            fields: Fields::new(),
         }
     }
 }
 
 impl Item {
-    /// Builds the typed view of one JSON stream element.
+    /// Builds the typed view of one JSON stream element. Unknown fields are
+    /// kept as serde_json writes them (a `Value` holds no text): the reader
+    /// keeps them as written.
     pub fn from_value(index: usize, value: Value) -> Result<Item, StreamError> {
-        match &value {
-            Value::Object(m) if m.contains_key("object") => {
-                let Value::Object(fields) = value else {
-                    unreachable!()
-                };
-                let name = match &fields["object"] {
-                    Value::String(s) if !s.is_empty() => s.clone(),
-                    other => {
-                        return Err(field_err(
-                            index,
-                            format!("object: expected a non-empty name, found {}", short(other)),
-                        ))
-                    }
-                };
-                let records = fields
-                    .get("records")
-                    .and_then(Value::as_array)
-                    .ok_or_else(|| {
-                        field_err(
-                            index,
-                            format!("object `{name}`: expected \"records\": [...]"),
-                        )
-                    })?;
-                let items = records
-                    .iter()
-                    .enumerate()
-                    .map(|(i, v)| {
-                        Item::from_value(index, v.clone()).map_err(|e| {
-                            let m = e.message;
-                            field_err(index, format!("object `{name}` records[{i}]: {m}"))
-                        })
+        Item::from_element(index, Element::from(value))
+    }
+
+    /// Builds the typed view of one stream element as read.
+    pub(super) fn from_element(index: usize, element: Element) -> Result<Item, StreamError> {
+        let object = match element {
+            Element::Object(o) => o,
+            Element::Other(v) => return Err(not_an_object(index, &v)),
+        };
+        if object.contains_key("object") {
+            let mut object = object;
+            let records = object.take_records();
+            let fields = object.into_fields();
+            let name = match fields.get("object") {
+                Some(Value::String(s)) if !s.is_empty() => s.clone(),
+                other => {
+                    return Err(field_err(
+                        index,
+                        format!(
+                            "object: expected a non-empty name, found {}",
+                            short(other.unwrap_or(&Value::Null))
+                        ),
+                    ))
+                }
+            };
+            let records = records.ok_or_else(|| {
+                field_err(
+                    index,
+                    format!("object `{name}`: expected \"records\": [...]"),
+                )
+            })?;
+            let items = records
+                .into_iter()
+                .enumerate()
+                .map(|(i, e)| {
+                    Item::from_element(index, e).map_err(|e| {
+                        let m = e.message;
+                        field_err(index, format!("object `{name}` records[{i}]: {m}"))
                     })
-                    .collect::<Result<Vec<_>, _>>()?;
-                Ok(Item::Object(ObjectDef {
-                    index,
-                    name,
-                    items,
-                    fields,
-                }))
-            }
-            Value::Object(m) if m.contains_key("instance") => {
-                let Value::Object(fields) = value else {
-                    unreachable!()
-                };
-                let object = match &fields["instance"] {
-                    Value::String(s) if !s.is_empty() => s.clone(),
-                    other => {
-                        return Err(field_err(
-                            index,
-                            format!("instance: expected an object name, found {}", short(other)),
-                        ))
-                    }
-                };
-                let transform = fields
-                    .get("transform")
-                    .map(Transform::from_json)
-                    .transpose()
-                    .map_err(|e| field_err(index, format!("instance of `{object}`: {e}")))?
-                    .unwrap_or_default();
-                Ok(Item::Instance(Instance {
-                    index,
-                    object,
-                    transform,
-                    fields,
-                }))
-            }
-            _ => Record::from_value(index, value).map(Item::Record),
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            return Ok(Item::Object(ObjectDef {
+                index,
+                name,
+                items,
+                fields,
+            }));
         }
+        if object.contains_key("instance") {
+            let fields = object.into_fields();
+            let object = match fields.get("instance") {
+                Some(Value::String(s)) if !s.is_empty() => s.clone(),
+                other => {
+                    return Err(field_err(
+                        index,
+                        format!(
+                            "instance: expected an object name, found {}",
+                            short(other.unwrap_or(&Value::Null))
+                        ),
+                    ))
+                }
+            };
+            let transform = fields
+                .get("transform")
+                .map(Transform::from_json)
+                .transpose()
+                .map_err(|e| field_err(index, format!("instance of `{object}`: {e}")))?
+                .unwrap_or_default();
+            return Ok(Item::Instance(Instance {
+                index,
+                object,
+                transform,
+                fields,
+            }));
+        }
+        Record::from_fields(index, object.into_fields()).map(Item::Record)
     }
 }
 
@@ -286,15 +299,15 @@ pub fn transform_record(r: &Record, t: &Transform, index: usize) -> Result<Recor
         // and its JSON "transform" becomes the combined matrix.
         let mut moved = (**q).clone();
         moved.transform = q.transform.then(*t);
-        let mut fields: Map<String, Value> = (*r.fields).clone();
+        let mut fields = r.fields.clone();
         fields.insert(
-            "transform".into(),
+            "transform",
             serde_json::json!({"matrix": moved.transform.row_matrix()}),
         );
         return Ok(Record {
             index,
             shape: Shape::Quadric(Box::new(moved)),
-            fields: fields.into(),
+            fields,
             ..r.clone()
         });
     }
@@ -311,12 +324,12 @@ pub fn transform_record(r: &Record, t: &Transform, index: usize) -> Result<Recor
     if !verts.iter().all(|p| p.is_finite()) {
         return Err("the transform moves a vertex out of the finite numbers".into());
     }
-    let mut fields = Map::clone(&r.fields);
+    let mut fields = r.fields.clone();
     for k in ["rect", "circle", "arc"] {
         fields.remove(k);
     }
     fields.insert(
-        "vertices".into(),
+        "vertices",
         Value::Array(
             verts
                 .iter()
@@ -348,7 +361,7 @@ pub fn transform_record(r: &Record, t: &Transform, index: usize) -> Result<Recor
         color: r.color,
         pattern,
         uv: r.uv.clone(),
-        fields: fields.into(),
+        fields,
     })
 }
 
@@ -376,7 +389,7 @@ mod tests {
         let second = v(&recs[1]);
         assert!((second[0] - DVec3::new(0.0, 10.0, 0.0)).length() < 1e-12);
         assert_eq!(recs[0].index, 2);
-        assert_eq!(recs[0].fields["id"], "t");
+        assert_eq!(recs[0].fields.field("id").unwrap().to_string(), r#""t""#);
         assert_eq!(recs[0].fields["vertices"].as_array().unwrap().len(), 3);
         assert_eq!(recs[2].index, 3);
     }
@@ -430,10 +443,30 @@ mod tests {
         };
         // Scale first, then the instance's translation.
         assert_eq!(q.transform.apply(DVec3::X), DVec3::new(7.0, 0.0, 0.0));
-        assert_eq!(recs[0].fields["id"], "s");
+        assert_eq!(recs[0].fields.field("id").unwrap().to_string(), r#""s""#);
         assert!(recs[0].fields["transform"].get("matrix").is_some());
         // The written matrix reads back as the same transform.
-        let again = Record::from_value(0, Value::Object((*recs[0].fields).clone())).unwrap();
+        let again = Record::from_fields(0, recs[0].fields.clone()).unwrap();
         assert_eq!(again.shape, recs[0].shape);
+    }
+
+    #[test]
+    fn a_value_gives_the_item_the_reader_gives_for_its_text() {
+        // `Item::from_value` keeps unknown fields as serde_json writes them,
+        // which for text serde_json wrote is the text itself.
+        let text = r#"{"object":"o","records":[{"rect":[0,0,1,1],"color":[1,2,3],"id":"a","n":[1.5,{"k":null}]},{"instance":"p","tag":7}],"note":"x"}"#;
+        let mut read = Vec::new();
+        super::super::for_each_item(text.as_bytes(), "s.json", |item| {
+            read.push(item);
+            Ok::<(), StreamError>(())
+        })
+        .unwrap();
+        let from_value = Item::from_value(0, serde_json::from_str(text).unwrap()).unwrap();
+        assert_eq!(read, vec![from_value]);
+        let Item::Object(def) = &read[0] else {
+            panic!("{:?}", read[0])
+        };
+        assert_eq!(serde_json::to_string(&def.fields).unwrap(), text);
+        assert_eq!(def.items.len(), 2);
     }
 }

@@ -8,7 +8,8 @@
 //! directory is unknown (standard output), else relative to the output file's
 //! directory, so that the output and its files still move together.
 
-use serde_json::{Map, Value};
+use super::fields::Fields;
+use serde_json::Value;
 use std::path::{Component, Path, PathBuf};
 
 /// Where relative pattern paths resolve (SPEC §2): the stream file's directory,
@@ -130,19 +131,15 @@ const FILE_REFS: [(&str, &str); 4] = [
 
 /// Whether a record names a file ([`FILE_REFS`]): a cheap test before
 /// [`forward_file_refs`] copies the record.
-pub fn names_files(fields: &Map<String, Value>) -> bool {
+pub fn names_files(fields: &Fields) -> bool {
     FILE_REFS
         .iter()
-        .any(|(object, key)| fields.get(*object).is_some_and(|o| o.get(*key).is_some()))
+        .any(|(object, key)| fields.get(object).is_some_and(|o| o.get(*key).is_some()))
 }
 
 /// Rewrites every file a record names ([`FILE_REFS`]), resolved against
 /// `base` (the input's directory), for `to`. Anything else is left as it is.
-pub fn forward_file_refs(
-    fields: &mut Map<String, Value>,
-    base: &Path,
-    to: &RefTarget,
-) -> std::io::Result<()> {
+pub fn forward_file_refs(fields: &mut Fields, base: &Path, to: &RefTarget) -> std::io::Result<()> {
     for (object, key) in FILE_REFS {
         let Some(Value::Object(o)) = fields.get_mut(object) else {
             continue;
@@ -186,12 +183,13 @@ mod tests {
         std::fs::create_dir_all(root.join("out/deep")).unwrap();
         std::fs::write(root.join("in/pats/p.pat"), "").unwrap();
         let base = root.join("in/sub/..");
-        let mut fields: Map<String, Value> = serde_json::from_str(
+        let mut fields: Fields = serde_json::from_str::<serde_json::Map<String, Value>>(
             r#"{"pattern": {"file": "pats/p.pat", "incr": 2},
                 "stripe": {"map": "m.map", "translation": "identity", "colours": "../c.tab"},
                 "id": 7}"#,
         )
-        .unwrap();
+        .unwrap()
+        .into();
         assert!(names_files(&fields));
         let mut absolute = fields.clone();
         forward_file_refs(&mut absolute, &base, &RefTarget::Absolute).unwrap();
@@ -212,8 +210,9 @@ mod tests {
         assert_eq!(fields["stripe"]["map"], "../../in/m.map");
         assert_eq!(fields["stripe"]["colours"], "../../c.tab");
         assert_eq!(fields["pattern"]["incr"], 2);
-        assert_eq!(fields["id"], 7);
-        let plain: Map<String, Value> = serde_json::from_str(r#"{"color": [1, 2, 3]}"#).unwrap();
-        assert!(!names_files(&plain));
+        assert_eq!(fields.field("id").unwrap().to_string(), "7");
+        let plain: serde_json::Map<String, Value> =
+            serde_json::from_str(r#"{"color": [1, 2, 3]}"#).unwrap();
+        assert!(!names_files(&plain.into()));
     }
 }

@@ -4,12 +4,12 @@
 //! and hands each element to the record and object parsers; plain polygon
 //! lines take the fast path ([`super::plain`]).
 
+use super::fields::Element;
 use super::objects::{Instance, Item, Objects};
 use super::record::Record;
 use super::{plain, StreamError};
 use crate::geom::transform::Transform;
 use serde::de::{Deserializer as _, SeqAccess, Visitor};
-use serde_json::Value;
 use std::fmt;
 use std::io::BufRead;
 
@@ -132,7 +132,7 @@ pub fn for_each_item<R: BufRead, E: From<StreamError>>(
     let mut index = 0usize;
     let mut handle = |value: Parsed, index: &mut usize| -> Result<(), E> {
         let item = match value {
-            Parsed::Value(value) => Item::from_value(*index, value).map_err(|e| e.named(source))?,
+            Parsed::Element(e) => Item::from_element(*index, e).map_err(|e| e.named(source))?,
             Parsed::Item(item) => item,
         };
         *index += 1;
@@ -144,8 +144,8 @@ pub fn for_each_item<R: BufRead, E: From<StreamError>>(
             let mut de = serde_json::Deserializer::from_reader(reader);
             let mut failure: Option<E> = None;
             let visitor = ArrayVisitor {
-                each: &mut |v: Value| -> bool {
-                    match handle(Parsed::Value(v), &mut index) {
+                each: &mut |e: Element| -> bool {
+                    match handle(Parsed::Element(e), &mut index) {
                         Ok(()) => true,
                         Err(e) => {
                             failure = Some(e);
@@ -187,18 +187,18 @@ pub fn for_each_item<R: BufRead, E: From<StreamError>>(
                 if !body.is_empty() {
                     if let Some(rec) = plain::record(body, index) {
                         handle(Parsed::Item(Item::Record(rec)), &mut index)?;
-                    } else if let Ok(v) = serde_json::from_slice::<Value>(body) {
-                        handle(Parsed::Value(v), &mut index)?;
+                    } else if let Ok(e) = serde_json::from_slice::<Element>(body) {
+                        handle(Parsed::Element(e), &mut index)?;
                     } else {
                         use std::io::Read as _;
                         let rest = std::io::repeat(b'\n')
                             .take(newlines)
                             .chain(&line[..])
                             .chain(reader);
-                        let de = serde_json::Deserializer::from_reader(rest).into_iter::<Value>();
-                        for v in de {
-                            let v = v.map_err(|e| stream_err(Some(index), json_message(&e)))?;
-                            handle(Parsed::Value(v), &mut index)?;
+                        let de = serde_json::Deserializer::from_reader(rest).into_iter::<Element>();
+                        for e in de {
+                            let e = e.map_err(|e| stream_err(Some(index), json_message(&e)))?;
+                            handle(Parsed::Element(e), &mut index)?;
                         }
                         return Ok(());
                     }
@@ -211,13 +211,13 @@ pub fn for_each_item<R: BufRead, E: From<StreamError>>(
     }
 }
 
-/// A stream element as the readers hand it on: parsed JSON, or an item the
-/// NDJSON fast path has already typed. Moved once per record straight into
+/// A stream element as the readers hand it on: parsed JSON (unknown fields
+/// kept as text), or an item the NDJSON fast path has already typed. Moved once per record straight into
 /// the handler, so its size costs nothing, where boxing the item would cost
 /// an allocation per record.
 #[allow(clippy::large_enum_variant)]
 enum Parsed {
-    Value(Value),
+    Element(Element),
     Item(Item),
 }
 
@@ -237,7 +237,7 @@ fn json_message(e: &serde_json::Error) -> String {
 
 /// Streams the elements of a JSON array to a callback without collecting them.
 struct ArrayVisitor<'a> {
-    each: &'a mut dyn FnMut(Value) -> bool,
+    each: &'a mut dyn FnMut(Element) -> bool,
 }
 
 impl<'de> Visitor<'de> for ArrayVisitor<'_> {
@@ -246,7 +246,7 @@ impl<'de> Visitor<'de> for ArrayVisitor<'_> {
         f.write_str("an array of records")
     }
     fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
-        while let Some(v) = seq.next_element::<Value>()? {
+        while let Some(v) = seq.next_element::<Element>()? {
             if !(self.each)(v) {
                 // Stop early: the caller reports its own error.
                 return Ok(());
@@ -268,9 +268,11 @@ mod tests {
         // Record 1 is found although the stream breaks after it.
         let text = "{\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]}\n{\"rect\":[0,0,1,1],\"color\":[1,2,3],\"id\":7}\n{broken";
         let (item, drawn) = nth_item(text.as_bytes(), "t", 1).unwrap().unwrap();
-        assert!(matches!(item, Item::Record(ref r) if r.fields["id"] == 7));
+        assert!(
+            matches!(item, Item::Record(ref r) if r.fields.field("id").unwrap().to_string() == "7")
+        );
         assert_eq!(drawn.len(), 1);
-        assert_eq!(drawn[0].fields["id"], 7);
+        assert_eq!(drawn[0].fields.field("id").unwrap().to_string(), "7");
         let good = "{\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]}\n";
         assert_eq!(nth_item(good.as_bytes(), "t", 5).unwrap().unwrap_err(), 1);
         assert!(nth_item(text.as_bytes(), "t", 2).is_err());
@@ -315,7 +317,7 @@ mod tests {
         let n = "{\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3],\"id\":\"a\"}\n{\"rect\":[0,0,2,2],\"color\":[0,0,0]}\n";
         assert_eq!(read_all(a).unwrap(), read_all(n).unwrap());
         let r = read_all(a).unwrap();
-        assert_eq!(r[0].fields["id"], "a");
+        assert_eq!(r[0].fields.field("id").unwrap().to_string(), r#""a""#);
         assert_eq!(r[1].index, 1);
         assert!(matches!(r[0].shape, Shape::Polygon(ref v) if v[2] == DVec3::new(0.0, 1.0, 0.0)));
     }
@@ -332,7 +334,7 @@ mod tests {
                     {\"vertices\": [[0,0]] x\n";
         let mut seen = 0;
         let whole = serde_json::Deserializer::from_str(text.trim_start())
-            .into_iter::<Value>()
+            .into_iter::<serde_json::Value>()
             .find_map(|v| match v {
                 Ok(_) => {
                     seen += 1;
@@ -369,8 +371,58 @@ mod tests {
             .contains("record 1: invalid JSON"));
         let deep = format!("{}{}", "[".repeat(100_000), "]".repeat(100_000));
         assert!(err(&deep).contains("invalid JSON"));
-        let deep_obj = format!("{{\"x\":{}1{}}}", "[".repeat(100_000), "]".repeat(100_000));
-        assert!(err(&deep_obj).contains("record 0: invalid JSON"));
+        // In a known field, in either form; an unknown field is kept as
+        // text, which has no depth limit (`unknown_fields_are_any_json`).
+        let deep_known = format!(
+            "{{\"rect\":[0,0,1,1],\"color\":[0,0,0],\"pattern\":{}1{}}}",
+            "[".repeat(100_000),
+            "]".repeat(100_000)
+        );
+        assert!(err(&deep_known).contains("record 0: invalid JSON"));
+        assert!(err(&format!("[{deep_known}]")).contains("record 0: invalid JSON"));
+        let deep_record = format!(
+            "{{\"object\":\"o\",\"records\":{}1{}}}",
+            "[".repeat(100_000),
+            "]".repeat(100_000)
+        );
+        assert!(err(&deep_record).contains("record 0: invalid JSON"));
+    }
+
+    #[test]
+    fn unknown_fields_are_any_json_known_ones_must_parse() {
+        // Kept as text, an unknown field's numbers have no range and its
+        // nesting no depth limit; only its syntax is checked.
+        let deep = format!("{}1{}", "[".repeat(100_000), "]".repeat(100_000));
+        for (x, form) in [
+            ("1e999", "ndjson"),
+            ("-1e400", "array"),
+            (&deep[..], "ndjson"),
+        ] {
+            let rec = format!("{{\"rect\":[0,0,1,1],\"color\":[0,0,0],\"x\":{x}}}");
+            let text = if form == "array" {
+                format!("[{rec}]")
+            } else {
+                rec
+            };
+            let r = read_all(&text).unwrap();
+            assert_eq!(r[0].fields.field("x").unwrap().to_string(), x);
+        }
+        for bad in ["[1,]", "01", "1e", "\"\\x\"", "[1 2]", "nul"] {
+            for text in [
+                format!("{{\"rect\":[0,0,1,1],\"color\":[0,0,0],\"x\":{bad}}}"),
+                format!("[{{\"rect\":[0,0,1,1],\"color\":[0,0,0],\"x\":{bad}}}]"),
+            ] {
+                assert!(err(&text).contains("record 0: invalid JSON"), "{text}");
+            }
+        }
+        // Invalid UTF-8 in an unknown string, as in a known one.
+        let mut bytes = br#"{"rect":[0,0,1,1],"color":[0,0,0],"x":"a"#.to_vec();
+        bytes.extend_from_slice(b"\xff\"}");
+        let e = for_each_record(&bytes[..], "s.json", |_| Ok::<(), StreamError>(()));
+        assert!(e
+            .unwrap_err()
+            .to_string()
+            .contains("record 0: invalid JSON"));
     }
 
     #[test]

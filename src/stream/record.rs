@@ -4,14 +4,13 @@
 //! a record may hold, and the wording of every field error, live in one place
 //! whichever form (array, NDJSON, object definition) the record came in.
 
+use super::fields::Fields;
 use super::{StreamError, MAX_VERTICES};
 use crate::color::Rgb8;
 use crate::geom::transform::Transform;
 use crate::geom::Shape;
 use glam::DVec3;
-use serde_json::{Map, Value};
-use std::fmt;
-use std::sync::OnceLock;
+use serde_json::Value;
 
 /// How a pattern is fixed to a polygon (SPEC §2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -62,83 +61,24 @@ pub struct Record {
     pub pattern: Option<PatternRef>,
     /// Per-vertex texture coordinates in texels, one pair per vertex.
     pub uv: Option<Vec<[f64; 2]>>,
-    /// The record exactly as read (including the fields above).
+    /// The record's whole JSON object (including the fields above), unknown
+    /// fields kept as written ([`Fields`]).
     pub fields: Fields,
 }
 
-/// A record's whole JSON object, as a map (`Deref`). The general reader
-/// builds the map as it reads; the fast path for plain NDJSON polygons
-/// (`stream::plain`) keeps the record's line instead and parses it on first use,
-/// so a tool that never looks (scene-render) never pays for the map.
-#[derive(Clone)]
-pub struct Fields {
-    /// The record's JSON text, when the map is still to be made from it.
-    line: Option<Box<[u8]>>,
-    map: OnceLock<Map<String, Value>>,
-}
-
-impl Fields {
-    /// Fields to be parsed from `line` when first asked for. The line must be
-    /// one JSON object that parses as `Value` (the fast path checks that:
-    /// it parses every field it does not read as `Value`, and its numbers
-    /// parse as `Value` numbers by the same code).
-    pub(super) fn from_line(line: &[u8]) -> Fields {
-        Fields {
-            line: Some(line.into()),
-            map: OnceLock::new(),
-        }
-    }
-}
-
-impl From<Map<String, Value>> for Fields {
-    fn from(map: Map<String, Value>) -> Fields {
-        Fields {
-            line: None,
-            map: OnceLock::from(map),
-        }
-    }
-}
-
-impl std::ops::Deref for Fields {
-    type Target = Map<String, Value>;
-    fn deref(&self) -> &Map<String, Value> {
-        self.map.get_or_init(|| {
-            let line = self.line.as_deref().unwrap_or_default();
-            serde_json::from_slice(line)
-                .expect("the fast path accepts only lines that parse as a JSON object")
-        })
-    }
-}
-
-impl<'a> IntoIterator for &'a Fields {
-    type Item = (&'a String, &'a Value);
-    type IntoIter = serde_json::map::Iter<'a>;
-    fn into_iter(self) -> Self::IntoIter {
-        (**self).iter()
-    }
-}
-
-impl fmt::Debug for Fields {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        (**self).fmt(f)
-    }
-}
-
-impl PartialEq for Fields {
-    fn eq(&self, other: &Fields) -> bool {
-        **self == **other
-    }
-}
-
 impl Record {
-    /// Builds the typed view of one JSON record.
+    /// Builds the typed view of one JSON record. Its unknown fields are kept
+    /// as serde_json writes them (a `Value` holds no text): the reader keeps
+    /// them as written.
     pub fn from_value(index: usize, value: Value) -> Result<Record, StreamError> {
-        let Value::Object(fields) = value else {
-            return Err(field_err(
-                index,
-                format!("expected a JSON object, found {}", short(&value)),
-            ));
-        };
+        match value {
+            Value::Object(map) => Record::from_fields(index, map.into()),
+            other => Err(not_an_object(index, &other)),
+        }
+    }
+
+    /// Builds the typed view of a record's JSON object.
+    pub fn from_fields(index: usize, fields: Fields) -> Result<Record, StreamError> {
         let e = |m: String| field_err(index, m);
         let keys = [
             "vertices", "rect", "circle", "arc", "sphere", "cylinder", "cone", "disk",
@@ -146,7 +86,7 @@ impl Record {
         let present: Vec<&str> = keys
             .iter()
             .copied()
-            .filter(|k| fields.contains_key(*k))
+            .filter(|k| fields.contains_key(k))
             .collect();
         let shape = match present.as_slice() {
             ["vertices"] => Shape::Polygon(parse_vertices(&fields["vertices"]).map_err(e)?),
@@ -272,9 +212,14 @@ impl Record {
             color,
             pattern,
             uv,
-            fields: fields.into(),
+            fields,
         })
     }
+}
+
+/// The error of an element that is not a JSON object.
+pub(super) fn not_an_object(index: usize, v: &Value) -> StreamError {
+    field_err(index, format!("expected a JSON object, found {}", short(v)))
 }
 
 /// Parses `[r,g,b]` with integers 0..=255.

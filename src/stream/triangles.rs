@@ -3,12 +3,14 @@
 //! parsers because it writes records rather than reading them, and apart
 //! from the objects because it changes a record's geometry, not its place.
 
+use super::fields::Fields;
 use super::record::{PatternMode, Record};
 use crate::geom::Shape;
-use serde_json::{Map, Value};
+use serde_json::Value;
 
 /// A quadric record as plain triangle records, for tools that forward
-/// polygons (`polyfill3`): each triangle keeps the record's other fields,
+/// polygons (`polyfill3`): each triangle keeps the record's other fields
+/// (unknown ones as written),
 /// gets `"vertices"` (the record's transform applied) and, when the record
 /// has a pattern, `"uv"` in texels of a `pattern_size` pattern with the
 /// pattern's mode set to `"uv"` (see [`crate::geom::quadric::QuadricShape::texel_triangles`]).
@@ -18,7 +20,7 @@ pub fn quadric_triangles(
     r: &Record,
     tolerance: f64,
     pattern_size: Option<u32>,
-) -> Option<Result<Vec<Map<String, Value>>, crate::geom::quadric::QuadricError>> {
+) -> Option<Result<Vec<Fields>, crate::geom::quadric::QuadricError>> {
     let Shape::Quadric(q) = &r.shape else {
         return None;
     };
@@ -34,7 +36,7 @@ pub fn quadric_triangles(
         Ok(t) => t,
         Err(e) => return Some(Err(e)),
     };
-    let mut base: Map<String, Value> = (*r.fields).clone();
+    let mut base = r.fields.clone();
     base.remove(q.kind);
     base.remove("transform");
     let screen = matches!(
@@ -50,7 +52,7 @@ pub fn quadric_triangles(
         .map(|t| {
             let mut f = base.clone();
             f.insert(
-                "vertices".into(),
+                "vertices",
                 Value::Array(
                     t.v.iter()
                         .map(|p| serde_json::json!([p.x, p.y, p.z]))
@@ -59,7 +61,7 @@ pub fn quadric_triangles(
             );
             if uv {
                 f.insert(
-                    "uv".into(),
+                    "uv",
                     Value::Array(t.uv.iter().map(|c| serde_json::json!(c)).collect()),
                 );
             }
@@ -84,10 +86,10 @@ mod tests {
         let tris = quadric_triangles(&recs[0], 0.1, Some(16)).unwrap().unwrap();
         assert_eq!(tris.len(), 8);
         for t in &tris {
-            assert_eq!(t["id"], 7);
+            assert_eq!(t.field("id").unwrap().to_string(), "7");
             assert_eq!(t["pattern"]["mode"], "uv");
             assert!(t.get("sphere").is_none() && t.get("transform").is_none());
-            let back = Record::from_value(0, Value::Object(t.clone())).unwrap();
+            let back = Record::from_fields(0, t.clone()).unwrap();
             let Shape::Polygon(v) = &back.shape else {
                 panic!()
             };

@@ -15,7 +15,7 @@ use super::vector::{Orientation, PatternVector, RefPlane};
 use super::{LodMode, Modulation, ScreenMapping, StripeTexture};
 use crate::color::Rgb8;
 use crate::geom::Shape;
-use crate::stream::resolve;
+use crate::stream::{resolve, Fields};
 use crate::text::ParseError;
 use glam::{DMat4, DVec3};
 use serde_json::{Map, Value};
@@ -134,7 +134,7 @@ fn string<'a>(
 impl StripeSpec {
     /// The record's stripe texture, if it has a `"stripe"` field. Errors name
     /// the field as `stripe.KEY`.
-    pub fn from_fields(fields: &Map<String, Value>) -> Result<Option<StripeSpec>, StripeError> {
+    pub fn from_fields(fields: &Fields) -> Result<Option<StripeSpec>, StripeError> {
         let spec = fields.get("stripe").map(StripeSpec::from_value).transpose();
         spec.map_err(StripeError::Field)
     }
@@ -551,7 +551,7 @@ mod tests {
     fn records_without_stripe_have_none() {
         let fields = json!({"vertices": [[0,0],[1,0],[0,1]]});
         assert!(matches!(
-            StripeSpec::from_fields(fields.as_object().unwrap()),
+            StripeSpec::from_fields(&fields.as_object().unwrap().clone().into()),
             Ok(None)
         ));
     }

@@ -777,3 +777,137 @@ clitest!(
             .success();
     }
 );
+
+/// Unknown fields as a user writes them: spellings serde_json would change
+/// (a 30-digit integer, `1e2`, `-0`, `1.50`, `1E+2`, `-0.0`, escapes it would
+/// not write), with whitespace around and inside them.
+const UNKNOWN_IN: &str = r#""id": 123456789012345678901234567890, "e":1e2, "z": -0,
+    "d": 1.50, "s": "caf\u00e9 \/ \"q\"\t a b", "n": [ 1E+2 , {"k" : -0.0} ]"#;
+
+/// [`UNKNOWN_IN`] as it must come out: byte for byte, but for the whitespace
+/// between tokens (strings keep theirs).
+const UNKNOWN_OUT: &str = r#""id":123456789012345678901234567890,"e":1e2,"z":-0,"d":1.50,"s":"caf\u00e9 \/ \"q\"\t a b","n":[1E+2,{"k":-0.0}]"#;
+
+/// Every kind of record polyfill3 forwards, each with the unknown fields
+/// `u`: plain polygons passed through (the NDJSON fast path and the general
+/// path), a polygon cut into cells, an object definition with such a polygon
+/// inside, an instance, a sphere made triangles, a uv record passed through.
+fn every_kind_of_record(u: &str) -> Vec<String> {
+    let square = r#""vertices":[[0,0],[2,0],[2,2],[0,2]]"#;
+    vec![
+        format!(r#"{{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],{u}}}"#),
+        format!(r#"{{"rect":[0,0,1,1],"color":[1,2,3],{u}}}"#),
+        format!(r#"{{{square},"pattern":{{"file":"p.pat","incr":1}},{u}}}"#),
+        format!(
+            r#"{{"object":"o","records":[{{{square},"pattern":{{"file":"p.pat"}},{u}}}],{u}}}"#
+        ),
+        format!(r#"{{"instance":"o",{u}}}"#),
+        format!(
+            r#"{{"sphere":{{"radius":1,"slices":4,"stacks":2}},"pattern":{{"file":"p.pat"}},{u}}}"#
+        ),
+        format!(
+            r#"{{"vertices":[[0,0],[1,0],[0,1]],"uv":[[0,0],[1,0],[0,1]],"pattern":{{"file":"p.pat"}},{u}}}"#
+        ),
+    ]
+}
+
+clitest!(unknown_fields_come_out_exactly_as_written, |dir| {
+    // Issue 16 (5): an "id" of 123456789012345678901234567890 came out as
+    // 1.2345678901234568e+29, `1e2` as 100.0, "\u00e9" as "é".
+    write_pat(&dir.path().join("p.pat"), 16, |c, r| c == 1 && r == 0);
+    let records = every_kind_of_record(UNKNOWN_IN);
+    // NDJSON (one record per line: the input's own line breaks go) and a
+    // JSON array, spread over lines.
+    let ndjson = records
+        .iter()
+        .map(|r| r.replace('\n', " ") + "\n")
+        .collect::<String>();
+    let array = format!("[\n{}\n]\n", records.join(",\n"));
+    for (name, text) in [("s.ndjson", ndjson), ("s.json", array)] {
+        dir.write(name, &text);
+        for uv in [false, true] {
+            let mut cmd = dir.cmd("polyfill3");
+            if uv {
+                cmd.arg("--uv");
+            }
+            let out = String::from_utf8(cmd.arg(name).ok_stdout()).unwrap();
+            let lines: Vec<&str> = out.lines().collect();
+            let what = format!("{name}, --uv {uv}");
+            // The plain polygon and the rect pass through whole (--uv writes
+            // every record as a polygon, its "vertices" last).
+            if !uv {
+                assert_eq!(
+                    lines[0],
+                    format!(r#"{{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],{UNKNOWN_OUT}}}"#),
+                    "{what}"
+                );
+                assert_eq!(
+                    lines[1],
+                    format!(r#"{{"rect":[0,0,1,1],"color":[1,2,3],{UNKNOWN_OUT}}}"#),
+                    "{what}"
+                );
+            }
+            let mut kinds = [0usize; 5];
+            for line in &lines {
+                let v: Value = serde_json::from_str(line).unwrap();
+                let records = v.get("records").and_then(Value::as_array);
+                // A definition carries the fields itself and in each of its
+                // records (cells, or with --uv the polygon whole).
+                let want = 1 + records.map_or(0, Vec::len);
+                assert_eq!(line.matches(UNKNOWN_OUT).count(), want, "{what}: {line}");
+                let kind = if records.is_some() {
+                    0
+                } else if v.get("instance").is_some() {
+                    1
+                } else if v.get("texel").is_some() {
+                    2
+                } else if v.get("uv").is_some() {
+                    3
+                } else {
+                    4
+                };
+                kinds[kind] += 1;
+            }
+            // One definition, one instance; without --uv 3 cells of the
+            // square (and 3 inside the definition); the sphere's 8 triangles,
+            // the uv record and with --uv the square, written whole; the
+            // polygon and the rect.
+            let want = if uv {
+                [1, 1, 0, 10, 2]
+            } else {
+                [1, 1, 3, 9, 2]
+            };
+            assert_eq!(kinds, want, "{what}: {out}");
+        }
+    }
+});
+
+clitest!(unknown_fields_may_hold_any_json, |dir| {
+    // Kept as text, an unknown field may hold numbers no double holds and
+    // any nesting, which the tools used to refuse as invalid JSON; known
+    // fields still may not.
+    let deep = format!("{}1{}", "[".repeat(500), "]".repeat(500));
+    let u = format!(r#""big":1e400,"small":-1e-400,"deep":{deep}"#);
+    let line = format!(r#"{{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],{u}}}"#);
+    dir.write("s.ndjson", format!("{line}\n"));
+    dir.write("s.json", format!("[{line}]"));
+    for name in ["s.ndjson", "s.json"] {
+        let out = dir.cmd("polyfill3").arg(name).ok_stdout();
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            format!("{line}\n"),
+            "{name}"
+        );
+    }
+    dir.write(
+        "bad.ndjson",
+        r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"transform":{"translate":[1e400,0,0]}}"#,
+    );
+    dir.cmd("polyfill3")
+        .arg("bad.ndjson")
+        .assert()
+        .code(1)
+        .stderr(predicates::str::contains(
+            "bad.ndjson: record 0: invalid JSON",
+        ));
+});

@@ -412,7 +412,11 @@ clitest!(
             r#"{"vertices":[[0,0],[1,0],[0,-1e400]],"color":[0,0,0]}"#.to_string(),
             r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[0,0,0],"pattern":{"incr":1e999}}"#
                 .to_string(),
-            format!("{{\"x\":{}1{}}}", "[".repeat(100_000), "]".repeat(100_000)),
+            format!(
+                "{{\"rect\":[0,0,1,1],\"color\":[0,0,0],\"pattern\":{}1{}}}",
+                "[".repeat(100_000),
+                "]".repeat(100_000)
+            ),
             r#"{"vertices":[[0,0],[1,0],[0,1]],"col"#.to_string(),
             r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[0,0,0]"#.to_string(),
         ];

@@ -50,14 +50,32 @@ fn huge_finite_numbers_are_read_or_refused_naming_the_field() {
 }
 
 #[test]
-fn nesting_100000_deep_is_an_error_naming_the_record() {
+fn nesting_100000_deep_in_a_known_field_is_an_error_naming_the_record() {
+    for form in ["ndjson", "array"] {
+        let rec = format!(
+            "{{\"rect\":[0,0,1,1],\"color\":[0,0,0],\"pattern\":{}0{}}}",
+            "[".repeat(100_000),
+            "]".repeat(100_000)
+        );
+        let text = match form {
+            "array" => format!("[{{\"rect\":[0,0,1,1],\"color\":[0,0,0]}},\n{rec}]"),
+            _ => format!("{{\"rect\":[0,0,1,1],\"color\":[0,0,0]}}\n{rec}"),
+        };
+        let e = read(&text).unwrap_err();
+        assert!(e.contains("record 1: invalid JSON"), "{form}: {e}");
+    }
+}
+
+#[test]
+fn nesting_100000_deep_in_an_unknown_field_is_kept_as_text() {
+    // An unknown field is kept as written and never parsed into a tree, so
+    // its depth costs no stack (docs/polyfill3.md, "Unknown fields").
     let deep = format!(
-        "{{\"rect\":[0,0,1,1],\"color\":[0,0,0]}}\n{{\"x\":{}0{}}}",
+        "{{\"rect\":[0,0,1,1],\"color\":[0,0,0]}}\n{{\"rect\":[0,0,1,1],\"color\":[0,0,0],\"x\":{}0{}}}",
         "[".repeat(100_000),
         "]".repeat(100_000)
     );
-    let e = read(&deep).unwrap_err();
-    assert!(e.contains("record 1: invalid JSON"), "{e}");
+    assert_eq!(read(&deep), Ok(2));
 }
 
 proptest! {
