@@ -36,6 +36,20 @@ pub fn vertex_mean(v: &[DVec2]) -> DVec2 {
     v.iter().fold(DVec2::ZERO, |a, &p| a + p) / v.len() as f64
 }
 
+/// Twice the signed area of the triangle `a, b, c`, with the exact sign:
+/// positive when they turn counter-clockwise (y up), negative clockwise, and
+/// zero only when they are exactly collinear. Shewchuk's adaptive predicate
+/// (the `robust` crate): the plain cross product, exact in most cases, is
+/// extended to exact arithmetic only when its rounding could flip the sign.
+/// Every combinatorial decision of the simplicity test ([`super::simple`]) and
+/// the triangulation ([`super::triangulate`]) goes through this, so they never
+/// disagree with each other or with themselves about which side a point lies on.
+#[inline]
+pub fn orient2d(a: DVec2, b: DVec2, c: DVec2) -> f64 {
+    let p = |v: DVec2| robust::Coord { x: v.x, y: v.y };
+    robust::orient2d(p(a), p(b), p(c))
+}
+
 /// Twice the signed area (shoelace), positive counter-clockwise with y up.
 ///
 /// Taken about the first vertex, so the rounding error follows the polygon's
