@@ -1,8 +1,9 @@
-//! The 2D polygon kernel: signed area, half-plane clipping, convexity,
-//! triangulation and plane fitting on screen or plane coordinates, with the
-//! named tolerances they share. Every stage that cuts polygons (the exact
-//! resolver, the texel cells, the stripe integrals, the partition) uses these,
-//! so a rounding rule is decided once.
+//! The 2D polygon kernel: signed area, exact orientation, half-plane
+//! clipping, convexity and plane fitting on screen or plane coordinates, with
+//! the named tolerances they share (triangulation is [`super::triangulate`]).
+//! Every stage that cuts polygons (the exact resolver, the texel cells, the
+//! stripe integrals, the partition) uses these, so a rounding rule is decided
+//! once.
 
 use glam::DVec2;
 
@@ -184,63 +185,4 @@ pub fn is_convex(v: &[DVec2]) -> bool {
         e.perp_dot(f)
             >= -(CONVEX_REL * e.length() * f.length()).max(CONVEX_ABS_PX * (c - a).length())
     })
-}
-
-/// Ear-clipping triangulation of a simple counter-clockwise polygon. Robust to
-/// repeated and collinear vertices: zero-area ears are dropped, and if no proper
-/// ear is found (a self-intersecting or numerically degenerate remainder) the
-/// most convex remaining corner is cut, so it always terminates with at most
-/// n - 2 triangles.
-pub fn ear_clip(poly: &[DVec2]) -> Vec<Vec<DVec2>> {
-    let mut idx: Vec<usize> = (0..poly.len()).collect();
-    let mut out = Vec::with_capacity(poly.len().saturating_sub(2));
-    while idx.len() > 3 {
-        let m = idx.len();
-        let mut cut = None;
-        let mut best = (f64::MIN, 0usize);
-        for i in 0..m {
-            let (a, b, c) = (
-                poly[idx[(i + m - 1) % m]],
-                poly[idx[i]],
-                poly[idx[(i + 1) % m]],
-            );
-            let turn = (b - a).perp_dot(c - b);
-            if turn > best.0 {
-                best = (turn, i);
-            }
-            if turn <= 0.0 {
-                continue;
-            }
-            let blocked = idx.iter().any(|&k| {
-                let p = poly[k];
-                p != a && p != b && p != c && in_triangle(p, a, b, c)
-            });
-            if !blocked {
-                cut = Some(i);
-                break;
-            }
-        }
-        let i = cut.unwrap_or(best.1);
-        let (a, b, c) = (
-            poly[idx[(i + m - 1) % m]],
-            poly[idx[i]],
-            poly[idx[(i + 1) % m]],
-        );
-        if (b - a).perp_dot(c - b) > 0.0 {
-            out.push(vec![a, b, c]);
-        }
-        idx.remove(i);
-    }
-    let (a, b, c) = (poly[idx[0]], poly[idx[1]], poly[idx[2]]);
-    if (b - a).perp_dot(c - b) > 0.0 {
-        out.push(vec![a, b, c]);
-    }
-    out
-}
-
-/// Point in (or on) a counter-clockwise triangle.
-fn in_triangle(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> bool {
-    (b - a).perp_dot(p - a) >= 0.0
-        && (c - b).perp_dot(p - b) >= 0.0
-        && (a - c).perp_dot(p - c) >= 0.0
 }
