@@ -2,9 +2,11 @@
 //!
 //! This file holds the record shapes ([`Shape`]) and turns the thesis's 2D
 //! records (`rect`, `circle`, `arc`) into polygons. [`polygon`] is the 2D
-//! polygon kernel (area, half-plane clipping, convexity, triangulation and
-//! their named tolerances), [`transform`] the affine transforms of records
-//! and instances, [`plane`] maps a 3D polygon to its plane, [`clip`] holds
+//! polygon kernel (area, exact orientation, half-plane clipping, convexity
+//! and their named tolerances), [`simple`] tells whether a polygon crosses or
+//! touches itself, [`triangulate`] cuts a simple polygon into triangles,
+//! [`transform`] the affine transforms of records and instances, [`plane`]
+//! maps a 3D polygon to its plane, [`clip`] holds
 //! the tagged clipping of the partition, [`partition`] cuts a polygon into
 //! texture point polygons (`polyfill3`), [`merge`] joins runs of equal cells,
 //! and [`quadric`] tessellates GLU's quadrics with texture coordinates.
@@ -42,7 +44,10 @@ pub mod partition;
 pub mod plane;
 pub mod polygon;
 pub mod quadric;
+pub mod simple;
+mod sweep;
 pub mod transform;
+pub mod triangulate;
 
 pub use partition::{CellSink, Grid, GridError, Partitioner, Placement};
 pub use plane::{map_to_plane, Frame, PlaneError, PlanePolygon};

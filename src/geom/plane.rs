@@ -231,6 +231,68 @@ pub fn map_to_plane(
     })
 }
 
+/// The polygon seen along the coordinate axis its plane faces most: for each
+/// vertex the two other coordinates, copied without arithmetic, so that exact
+/// predicates on them are exact about the polygon as given. The axes stay in
+/// cyclic order ((x, y) without z, (y, z) without x, (z, x) without y), so
+/// the result is counter-clockwise exactly when the polygon is
+/// counter-clockwise seen from that axis's positive side.
+///
+/// The plane's normal is Newell's, or when that is lost in rounding (its
+/// length at most [`ZERO_AREA_REL`] of the size², as for a bow-tie whose two
+/// loops cancel) the cross product of the vertices farthest apart, so a
+/// self-intersecting polygon is still seen flat. `None` when that too is
+/// within [`ZERO_AREA_REL`] of the size² (the vertices are collinear or
+/// repeated, which [`map_to_plane`] words as no area) or a vertex is not finite.
+pub fn flat_view(v: &[DVec3]) -> Option<Vec<DVec2>> {
+    let &first = v.first()?;
+    if v.iter().any(|p| !p.is_finite()) {
+        return None;
+    }
+    let (lo, hi) = v
+        .iter()
+        .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    let size = (hi - lo).length();
+    // False for NaN too.
+    let has_area = |n: DVec3| n.length() > ZERO_AREA_REL * size * size;
+    // A polygon in a plane z = constant (every 2D record) faces z: its
+    // normal is the shoelace of its (x, y), and those are its flat view.
+    let level = (lo.z == hi.z).then(|| v.iter().map(|p| DVec2::new(p.x, p.y)).collect::<Vec<_>>());
+    let mut normal = match &level {
+        Some(flat) => DVec3::new(0.0, 0.0, area2(flat)),
+        None => newell_normal(v, first),
+    };
+    if !has_area(normal) {
+        // The vertex farthest from the first, then the one farthest from
+        // the line through both.
+        let far = v.iter().copied().max_by(|a, b| {
+            (*a - first)
+                .length_squared()
+                .total_cmp(&(*b - first).length_squared())
+        })?;
+        let d = far - first;
+        normal = v
+            .iter()
+            .map(|&p| d.cross(p - first))
+            .max_by(|a, b| a.length_squared().total_cmp(&b.length_squared()))?;
+    }
+    if !has_area(normal) {
+        return None;
+    }
+    if level.is_some() {
+        return level;
+    }
+    let a = normal.abs();
+    let pick: fn(&DVec3) -> DVec2 = if a.z >= a.x && a.z >= a.y {
+        |p| DVec2::new(p.x, p.y)
+    } else if a.x >= a.y {
+        |p| DVec2::new(p.y, p.z)
+    } else {
+        |p| DVec2::new(p.z, p.x)
+    };
+    Some(v.iter().map(pick).collect())
+}
+
 /// Signed area of a 2D polygon (positive when counter-clockwise): half the
 /// kernel's [`area2`], taken about the first vertex for precision.
 pub fn signed_area(p: &[DVec2]) -> f64 {

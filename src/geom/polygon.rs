@@ -1,8 +1,9 @@
-//! The 2D polygon kernel: signed area, half-plane clipping, convexity,
-//! triangulation and plane fitting on screen or plane coordinates, with the
-//! named tolerances they share. Every stage that cuts polygons (the exact
-//! resolver, the texel cells, the stripe integrals, the partition) uses these,
-//! so a rounding rule is decided once.
+//! The 2D polygon kernel: signed area, exact orientation, half-plane
+//! clipping, convexity and plane fitting on screen or plane coordinates, with
+//! the named tolerances they share (triangulation is [`super::triangulate`]).
+//! Every stage that cuts polygons (the exact resolver, the texel cells, the
+//! stripe integrals, the partition) uses these, so a rounding rule is decided
+//! once.
 
 use glam::DVec2;
 
@@ -34,6 +35,20 @@ pub fn pixel_square(px: u32, py: u32) -> [DVec2; 4] {
 /// outside it, beyond a plane's horizon).
 pub fn vertex_mean(v: &[DVec2]) -> DVec2 {
     v.iter().fold(DVec2::ZERO, |a, &p| a + p) / v.len() as f64
+}
+
+/// Twice the signed area of the triangle `a, b, c`, with the exact sign:
+/// positive when they turn counter-clockwise (y up), negative clockwise, and
+/// zero only when they are exactly collinear. Shewchuk's adaptive predicate
+/// (the `robust` crate): the plain cross product, exact in most cases, is
+/// extended to exact arithmetic only when its rounding could flip the sign.
+/// Every combinatorial decision of the simplicity test ([`super::simple`]) and
+/// the triangulation ([`super::triangulate`]) goes through this, so they never
+/// disagree with each other or with themselves about which side a point lies on.
+#[inline]
+pub fn orient2d(a: DVec2, b: DVec2, c: DVec2) -> f64 {
+    let p = |v: DVec2| robust::Coord { x: v.x, y: v.y };
+    robust::orient2d(p(a), p(b), p(c))
 }
 
 /// Twice the signed area (shoelace), positive counter-clockwise with y up.
@@ -170,63 +185,4 @@ pub fn is_convex(v: &[DVec2]) -> bool {
         e.perp_dot(f)
             >= -(CONVEX_REL * e.length() * f.length()).max(CONVEX_ABS_PX * (c - a).length())
     })
-}
-
-/// Ear-clipping triangulation of a simple counter-clockwise polygon. Robust to
-/// repeated and collinear vertices: zero-area ears are dropped, and if no proper
-/// ear is found (a self-intersecting or numerically degenerate remainder) the
-/// most convex remaining corner is cut, so it always terminates with at most
-/// n - 2 triangles.
-pub fn ear_clip(poly: &[DVec2]) -> Vec<Vec<DVec2>> {
-    let mut idx: Vec<usize> = (0..poly.len()).collect();
-    let mut out = Vec::with_capacity(poly.len().saturating_sub(2));
-    while idx.len() > 3 {
-        let m = idx.len();
-        let mut cut = None;
-        let mut best = (f64::MIN, 0usize);
-        for i in 0..m {
-            let (a, b, c) = (
-                poly[idx[(i + m - 1) % m]],
-                poly[idx[i]],
-                poly[idx[(i + 1) % m]],
-            );
-            let turn = (b - a).perp_dot(c - b);
-            if turn > best.0 {
-                best = (turn, i);
-            }
-            if turn <= 0.0 {
-                continue;
-            }
-            let blocked = idx.iter().any(|&k| {
-                let p = poly[k];
-                p != a && p != b && p != c && in_triangle(p, a, b, c)
-            });
-            if !blocked {
-                cut = Some(i);
-                break;
-            }
-        }
-        let i = cut.unwrap_or(best.1);
-        let (a, b, c) = (
-            poly[idx[(i + m - 1) % m]],
-            poly[idx[i]],
-            poly[idx[(i + 1) % m]],
-        );
-        if (b - a).perp_dot(c - b) > 0.0 {
-            out.push(vec![a, b, c]);
-        }
-        idx.remove(i);
-    }
-    let (a, b, c) = (poly[idx[0]], poly[idx[1]], poly[idx[2]]);
-    if (b - a).perp_dot(c - b) > 0.0 {
-        out.push(vec![a, b, c]);
-    }
-    out
-}
-
-/// Point in (or on) a counter-clockwise triangle.
-fn in_triangle(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> bool {
-    (b - a).perp_dot(p - a) >= 0.0
-        && (c - b).perp_dot(p - b) >= 0.0
-        && (a - c).perp_dot(p - c) >= 0.0
 }

@@ -2,8 +2,8 @@
 //! (area-weighted) linear-light mean of what is visible in its square.
 //!
 //! 1. **Fragments.** Each convex piece of a polygon (the polygon itself, or its
-//!    ear-clipping triangles when concave) is cut into pixel rows and then into
-//!    pixels by axis clipping; new vertices take the grid coordinate exactly, and
+//!    triangles when concave) is cut into pixel rows and then into pixels by
+//!    axis clipping; new vertices take the grid coordinate exactly, and
 //!    crossings of an edge are computed from its inside endpoint, so the
 //!    fragments of polygons that share an edge meet exactly. Pixels whose four
 //!    corners lie in the piece are marked *full* without any clipping.

@@ -49,7 +49,7 @@ mod visible;
 pub use frame::{Background, Frame};
 #[cfg(test)]
 pub(crate) use project::project;
-pub use project::{try_project, Cull, ProjectError, ScreenPoly, Shader, MAX_CONCAVE_VERTICES};
+pub use project::{try_project, Cull, ScreenPoly, Shader};
 
 /// Side of the square tiles work is split into. 32 keeps a tile's sample
 /// buffers in cache for up to 16x16 supersampling while leaving a 1024x768

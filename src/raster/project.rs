@@ -4,11 +4,13 @@
 //! positions in pixels (y up, (0,0) the image's lower-left corner), snapped
 //! to the pixel grid within [`GRID_SNAP_PX`], with an affine nearness over
 //! the screen fitted through every vertex (Newell), and concave outlines are
-//! split into convex pieces by ear clipping.
+//! cut into triangles (`geom::triangulate`, in the world polygon's plane).
 
 use super::DEPTH_TIE_REL;
 use crate::color::{srgb_to_linear_f64, Rgb8};
-use crate::geom::polygon::{area2, ear_clip, is_convex, newell_plane, GRID_SNAP_PX};
+use crate::geom::plane::flat_view;
+use crate::geom::polygon::{area2, is_convex, newell_plane, GRID_SNAP_PX};
+use crate::geom::triangulate::triangulate;
 use crate::stripe::StripeTexture;
 use crate::texture::{PolyTexture, Texels};
 use crate::view::{clip, View};
@@ -67,8 +69,8 @@ pub struct ScreenPoly {
     /// Position in the stream: draw order, for visibility ties.
     pub order: u32,
     /// Convex pieces that tile the polygon exactly: none when it is convex
-    /// (it is its own piece, see [`ScreenPoly::piece`]), else an
-    /// ear-clipping triangulation. (A copy of a convex polygon's vertices
+    /// (it is its own piece, see [`ScreenPoly::piece`]), else its
+    /// triangles, clipped and projected (`concave_pieces`). (A copy of a convex polygon's vertices
     /// cost a million allocations on a million triangles, and the exact
     /// resolver a cache miss more per polygon and tile to reach them.)
     pub pieces: Vec<Vec<DVec2>>,
@@ -195,64 +197,29 @@ fn snap_grid(v: f64) -> f64 {
     }
 }
 
-/// The most vertices a concave screen polygon may have. Concave polygons are
-/// split into triangles by [`ear_clip`], whose time grows with the square of
-/// the vertex count (10,000 vertices: about 5 s in a debug build, well under
-/// 1 s optimised); a 1,000,000-vertex concave outline would run for hours.
-/// Convex outlines are drawn whole, in linear time, whatever their size.
-pub const MAX_CONCAVE_VERTICES: usize = 10_000;
-
-/// Why a polygon cannot be drawn.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ProjectError {
-    /// The visible outline is concave with more than [`MAX_CONCAVE_VERTICES`].
-    TooManyConcaveVertices(usize),
-}
-
-impl std::fmt::Display for ProjectError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match *self {
-            ProjectError::TooManyConcaveVertices(n) => write!(
-                f,
-                "the polygon is concave on screen with {n} vertices, more than the \
-                 {MAX_CONCAVE_VERTICES} its triangulation takes (ear clipping, quadratic \
-                 time): split it into smaller polygons"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for ProjectError {}
-
-/// [`try_project`] for polygons known to be small (tests).
+/// [`try_project`], under the name the tests use.
 #[cfg(test)]
-pub(crate) fn project(
-    view: &View,
-    world: &[DVec3],
-    color: Rgb8,
-    order: u32,
-    cull: Cull,
-) -> Option<ScreenPoly> {
-    try_project(view, world, color, order, cull).expect("a test polygon too complex to draw")
-}
+pub(crate) use try_project as project;
 
-/// Clips, projects and orients one world polygon. `Ok(None)` when nothing of
-/// it is visible, it is culled, or it is edge-on (zero area on screen); an
-/// error when it is too complex to triangulate ([`MAX_CONCAVE_VERTICES`]).
+/// Clips, projects and orients one world polygon. `None` when nothing of it
+/// is visible, it is culled, or it is edge-on (zero area on screen).
+///
+/// A concave outline is also cut into triangles ([`ScreenPoly::pieces`]) in
+/// O(n log n) time, however many vertices it has ([`concave_pieces`]).
 pub fn try_project(
     view: &View,
     world: &[DVec3],
     color: Rgb8,
     order: u32,
     cull: Cull,
-) -> Result<Option<ScreenPoly>, ProjectError> {
+) -> Option<ScreenPoly> {
     let clip_space: Vec<DVec4> = world.iter().map(|&p| view.to_clip(p)).collect();
     if clip_space.iter().any(|c| !c.is_finite()) {
-        return Ok(None);
+        return None;
     }
     let clipped = clip::clip_polygon(&clip_space, view);
     if clipped.len() < 3 {
-        return Ok(None);
+        return None;
     }
     let mut verts: Vec<DVec2> = Vec::with_capacity(clipped.len());
     let mut qs: Vec<f64> = Vec::with_capacity(clipped.len());
@@ -269,30 +236,27 @@ pub fn try_project(
         qs.pop();
     }
     if verts.len() < 3 {
-        return Ok(None);
+        return None;
     }
     let a2 = area2(&verts);
     if a2 == 0.0 || !a2.is_finite() {
-        return Ok(None);
+        return None;
     }
     match cull {
-        Cull::Back if a2 < 0.0 => return Ok(None),
-        Cull::Front if a2 > 0.0 => return Ok(None),
+        Cull::Back if a2 < 0.0 => return None,
+        Cull::Front if a2 > 0.0 => return None,
         _ => {}
     }
     if a2 < 0.0 {
         verts.reverse();
         qs.reverse();
     }
-    let Some(plane) = newell_plane(&verts, &qs) else {
-        return Ok(None);
-    };
+    let plane = newell_plane(&verts, &qs)?;
     let pieces = if is_convex(&verts) {
         Vec::new()
-    } else if verts.len() > MAX_CONCAVE_VERTICES {
-        return Err(ProjectError::TooManyConcaveVertices(verts.len()));
     } else {
-        ear_clip(&verts)
+        let whole = clipped == clip_space;
+        concave_pieces(view, world, &clip_space, whole, a2 < 0.0)?
     };
     let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
     for v in &verts {
@@ -309,7 +273,7 @@ pub fn try_project(
         (y1.ceil().max(0.0) as u32).min(h),
     ];
     let c = color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0));
-    Ok(Some(ScreenPoly {
+    Some(ScreenPoly {
         verts,
         plane,
         color: c,
@@ -318,7 +282,63 @@ pub fn try_project(
         pieces,
         tie_floor: DEPTH_TIE_REL * view.nearness_scale(),
         bbox,
-    }))
+    })
+}
+
+/// The convex pieces of a concave polygon on screen: its triangles, found in
+/// the world polygon's own plane ([`triangulate`] on its [`flat_view`], O(n
+/// log n) time, exact: they tile it) and each clipped and projected as the
+/// outline is, counter-clockwise on screen (`reversed` when the outline was
+/// turned round). `whole` says the view volume clips nothing, so each
+/// triangle's corners are outline vertices, taken as projected once.
+///
+/// Triangulating before clipping keeps the input a simple polygon, as the
+/// stream's records are checked to be ([`crate::geom::simple`]): clipping a
+/// concave outline joins its visible parts by zero-width bridges along the
+/// faces of the view volume. A clipped triangle's new corners are computed
+/// from the same edges, from the same inside endpoint, as the outline's
+/// ([`clip::clip_polygon`]), so the pieces tile the clipped outline up to that
+/// rounding. `None` when the polygon has no area in its plane: nothing to draw.
+fn concave_pieces(
+    view: &View,
+    world: &[DVec3],
+    clip_space: &[DVec4],
+    whole: bool,
+    reversed: bool,
+) -> Option<Vec<Vec<DVec2>>> {
+    let triangles = triangulate(&flat_view(world)?);
+    if triangles.is_empty() {
+        return None;
+    }
+    let screen = |c: DVec4| view.to_screen(c).map(snap_grid);
+    let at: Vec<DVec2> = if whole {
+        clip_space.iter().map(|&c| screen(c)).collect()
+    } else {
+        Vec::new()
+    };
+    let mut pieces = Vec::with_capacity(triangles.len());
+    for t in triangles {
+        let mut piece: Vec<DVec2> = if whole {
+            t.iter().map(|&i| at[i as usize]).collect()
+        } else {
+            let corners = t.map(|i| clip_space[i as usize]);
+            clip::clip_polygon(&corners, view)
+                .into_iter()
+                .map(screen)
+                .collect()
+        };
+        piece.dedup();
+        while piece.len() > 1 && piece.first() == piece.last() {
+            piece.pop();
+        }
+        if reversed {
+            piece.reverse();
+        }
+        if piece.len() >= 3 && area2(&piece) > 0.0 {
+            pieces.push(piece);
+        }
+    }
+    (!pieces.is_empty()).then_some(pieces)
 }
 
 #[cfg(test)]
@@ -380,24 +400,95 @@ mod tests {
         assert!(!is_convex(&circle));
     }
 
+    /// A sum without the rounding of its additions (Neumaier): a million
+    /// terms summed plainly drift by more than the 1e-12 checked here.
+    fn sum_exactly(terms: impl Iterator<Item = f64>) -> f64 {
+        let (mut s, mut c) = (0.0f64, 0.0f64);
+        for x in terms {
+            let t = s + x;
+            c += if s.abs() >= x.abs() {
+                (s - t) + x
+            } else {
+                (x - t) + s
+            };
+            s = t;
+        }
+        s + c
+    }
+
+    /// The pieces of a concave polygon: counter-clockwise, with positive
+    /// area, adding up to the outline's area within 1e-12.
+    fn assert_tiled(p: &ScreenPoly) {
+        assert!(!p.pieces.is_empty());
+        assert!(p.pieces.iter().all(|t| area2(t) > 0.0));
+        let sum = sum_exactly(p.pieces.iter().map(|t| area2(t)));
+        let (o, n) = (p.verts[0], p.verts.len());
+        let a = sum_exactly((0..n).map(|i| (p.verts[i] - o).perp_dot(p.verts[(i + 1) % n] - o)));
+        assert!((sum - a).abs() <= 1e-12 * a, "{sum} vs {a}");
+    }
+
+    fn world(v: &[[f64; 2]]) -> Vec<DVec3> {
+        v.iter().map(|&[x, y]| DVec3::new(x, y, 0.0)).collect()
+    }
+
     #[test]
-    fn concave_polygons_are_triangulated_exactly() {
-        // An L shape with a repeated and a collinear vertex.
-        let l = [
-            DVec2::new(0.0, 0.0),
-            DVec2::new(2.0, 0.0),
-            DVec2::new(4.0, 0.0),
-            DVec2::new(4.0, 1.0),
-            DVec2::new(1.0, 1.0),
-            DVec2::new(1.0, 1.0),
-            DVec2::new(1.0, 3.0),
-            DVec2::new(0.0, 3.0),
-        ];
-        assert!(!is_convex(&l));
-        let tris = ear_clip(&l);
-        let sum: f64 = tris.iter().map(|t| area2(t)).sum();
-        assert!((sum - area2(&l)).abs() < 1e-12, "{sum}");
-        assert!(tris.iter().all(|t| area2(t) > 0.0));
+    fn concave_pieces_tile_the_outline_whole_clipped_and_turned_round() {
+        // An arch (concave), with a repeated and a collinear vertex.
+        let arch = world(&[
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 2.0],
+            [1.0, 2.0],
+            [2.0, 2.0],
+            [2.0, 0.0],
+            [3.0, 0.0],
+            [3.0, 3.0],
+            [1.5, 3.0],
+            [0.0, 3.0],
+        ]);
+        let whole = View::ortho2(-1.0, 4.0, -1.0, 4.0, 50, 50);
+        let p = project(&whole, &arch, Rgb8::WHITE, 0, Cull::None).unwrap();
+        assert_tiled(&p);
+        assert!((area2(&p.verts) - 2.0 * 7.0 * 100.0).abs() < 1e-9);
+        // Cut below the arch's top: two legs, which the clipped outline joins
+        // by a zero-width bridge along the image's top edge.
+        let legs = View::ortho2(-1.0, 4.0, -1.0, 1.5, 50, 25);
+        let p = project(&legs, &arch, Rgb8::WHITE, 0, Cull::None).unwrap();
+        assert_tiled(&p);
+        assert!((area2(&p.verts) - 2.0 * 3.0 * 100.0).abs() < 1e-9);
+        assert!(p.pieces.iter().flatten().all(|v| v.y <= 25.0));
+        // Seen from behind, and through a perspective camera that clips it
+        // at the near plane.
+        let back: Vec<DVec3> = arch.iter().rev().copied().collect();
+        let p = project(&whole, &back, Rgb8::WHITE, 0, Cull::None).unwrap();
+        assert_tiled(&p);
+        let v = perspective(60.0, 64, 64, 0.5, 100.0);
+        let floor: Vec<DVec3> = arch
+            .iter()
+            .map(|w| DVec3::new(w.x * 4.0 - 6.0, -1.0, 2.0 - w.y * 8.0))
+            .collect();
+        let p = project(&v, &floor, Rgb8::WHITE, 0, Cull::None).unwrap();
+        assert_tiled(&p);
+    }
+
+    #[test]
+    fn a_concave_star_of_200000_vertices_is_cut_into_triangles() {
+        let n = 200_000;
+        let star: Vec<DVec3> = (0..n)
+            .map(|i| {
+                let a = i as f64 / n as f64 * std::f64::consts::TAU;
+                let r = if i % 2 == 0 { 7.0 } else { 5.0 };
+                DVec3::new(
+                    8.0 + r * crate::math::cos(a),
+                    8.0 + r * crate::math::sin(a),
+                    0.0,
+                )
+            })
+            .collect();
+        let v = View::ortho2(0.0, 16.0, 0.0, 16.0, 16, 16);
+        let p = project(&v, &star, Rgb8::WHITE, 0, Cull::None).unwrap();
+        assert_eq!(p.pieces.len(), n - 2);
+        assert_tiled(&p);
     }
 
     #[test]

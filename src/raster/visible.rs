@@ -80,6 +80,12 @@ pub(super) struct PixelStates {
     /// The uncovered part of an [`Status::Open`] pixel, as convex pieces.
     open: Vec<Vec<Vec<DVec2>>>,
     showers: Vec<Vec<Shower>>,
+    /// Whether a pixel's showers come from more than one polygon. While they
+    /// do not, a fragment of that polygon needs no check against them (its
+    /// pieces never overlap), and skipping them one by one would cost a
+    /// pixel under k pieces of one polygon O(k²): a concave polygon of a
+    /// million vertices drawn on a few pixels has thousands per pixel.
+    mixed: Vec<bool>,
     /// How many times a pixel was resolved again (a count for the tests).
     pub(super) resolved_again: u32,
 }
@@ -124,6 +130,8 @@ impl PixelStates {
             self.open.resize_with(n, Vec::new);
             self.showers.resize_with(n, Vec::new);
         }
+        self.mixed.clear();
+        self.mixed.resize(n, false);
         self.status.clear();
         self.status.resize(n, Status::Disjoint);
         self.acc.clear();
@@ -249,9 +257,13 @@ impl PixelStates {
         if behind_all && !track {
             return (true, false);
         }
+        let own = |c: &Shower| c.poly == n.f.poly;
+        if !self.mixed[p] && self.showers[p].first().map_or(true, own) {
+            return (true, false); // What the loop gives when it skips them all.
+        }
         let mut overlaps = false;
         for c in &self.showers[p] {
-            if c.poly == n.f.poly {
+            if own(c) {
                 continue; // One polygon's pieces never overlap.
             }
             let cv = shape(c.start, c.len, t.arena, square);
@@ -311,7 +323,11 @@ impl PixelStates {
         }
         acc[3] += area;
         let shower = n.shower(c);
-        self.showers[p].push(shower);
+        let showers = &mut self.showers[p];
+        if showers.first().is_some_and(|f| f.poly != shower.poly) {
+            self.mixed[p] = true;
+        }
+        showers.push(shower);
         let fl = &mut self.floor[p];
         *fl = [fmin(fl[0], shower.q_lo), fmax(fl[1], shower.qc.abs())];
     }
@@ -395,6 +411,7 @@ impl PixelStates {
         }
         std::mem::swap(showers, &mut kept);
         work.showers = kept;
+        self.mixed[p] = showers.iter().any(|c| c.poly != showers[0].poly);
         self.acc[p] = acc;
         self.floor[p] = showers.iter().fold([f64::INFINITY, 0.0], |[lo, abs], c| {
             [fmin(lo, c.q_lo), fmax(abs, c.qc.abs())]
@@ -566,7 +583,7 @@ pub(super) fn subtract_pairwise(
         whole.clear();
         whole.extend_from_slice(frag_verts(f, arena, square));
         pieces.push(whole);
-        // Pieces of one polygon (ear-clipping triangles, texel cells) never
+        // Pieces of one polygon (a concave one's triangles, texel cells) never
         // hide each other: `front_of` is then the constant `-tie` < 0. They
         // come in runs (fragments are made polygon by polygon), and F's own
         // runs are skipped whole, so a pixel over n texel cells of one

@@ -4,7 +4,6 @@ use crate::error::OptionError;
 use crate::geom::quadric::QuadricError;
 use crate::geom::transform::TransformError;
 use crate::io::IoError;
-use crate::raster::ProjectError;
 use crate::stream::StreamError;
 use crate::stripe::record::{NoMapping, StripeError};
 use crate::text::ParseError;
@@ -51,8 +50,6 @@ pub enum RecordError {
     StripeMapping(NoMapping),
     /// The pattern cannot be placed on the face.
     Place(PlaceError),
-    /// The polygon cannot be projected.
-    Project(ProjectError),
     /// A quadric cannot be tessellated.
     Quadric(QuadricError),
     /// A quadric's animated transform fails at a frame.
@@ -85,7 +82,6 @@ impl RecordError {
             RecordError::Stripe(e) => e,
             RecordError::StripeMapping(e) => e,
             RecordError::Place(e) => e,
-            RecordError::Project(e) => e,
             RecordError::Quadric(e) => e,
             _ => self,
         }
@@ -103,7 +99,6 @@ impl fmt::Display for RecordError {
             RecordError::Stripe(e) => e.fmt(f),
             RecordError::StripeMapping(e) => e.fmt(f),
             RecordError::Place(e) => e.fmt(f),
-            RecordError::Project(e) => e.fmt(f),
             RecordError::Quadric(e) => e.fmt(f),
             RecordError::QuadricTransform { kind, frame, .. } => {
                 write!(f, "{kind}: transform at frame {frame}")
@@ -200,7 +195,6 @@ wraps!(
     Stripe(StripeError),
     StripeMapping(NoMapping),
     Place(PlaceError),
-    Project(ProjectError),
     Quadric(QuadricError)
 );
 

@@ -432,7 +432,7 @@ fn draw_polygon(
     how: &DrawOptions,
     out: &mut Vec<ScreenPoly>,
 ) -> Result<(), RecordError> {
-    let Some(mut p) = raster::try_project(view, outline, d.color, order, how.cull)? else {
+    let Some(mut p) = raster::try_project(view, outline, d.color, order, how.cull) else {
         return Ok(());
     };
     match &d.texture {

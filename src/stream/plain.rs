@@ -8,7 +8,8 @@
 //! The fast path only ever *accepts* a record that [`Record::from_value`]
 //! would accept with the very same typed view; anything else (another
 //! geometry, a pattern, uv, a stripe, an object or instance, a missing colour,
-//! too few vertices, a duplicate key, a number of the wrong kind) makes it
+//! too few vertices, a polygon that is not simple, a duplicate key, a number
+//! of the wrong kind) makes it
 //! decline, and the caller runs the general path on the same line, so every
 //! error message stays what it was. Fields other than the two it reads are
 //! still checked as the general path checks them (known fields parsed as
@@ -34,7 +35,11 @@ pub(super) fn record(line: &[u8], index: usize) -> Option<Record> {
     let (Some(verts), Some(color)) = (plain.vertices, plain.color) else {
         return None;
     };
-    if verts.len() < 3 || verts.len() > MAX_VERTICES || !verts.iter().all(|v| v.is_finite()) {
+    if verts.len() < 3
+        || verts.len() > MAX_VERTICES
+        || !verts.iter().all(|v| v.is_finite())
+        || crate::geom::simple::check(&verts).is_err()
+    {
         return None;
     }
     Some(Record {
@@ -251,6 +256,7 @@ mod tests {
             r#"{"object":"o","records":[]}"#,
             // Errors the general path words itself.
             r#"{"vertices":[[0,0],[1,0]],"color":[1,2,3]}"#,
+            r#"{"vertices":[[0,0],[1,1],[1,0],[0,1]],"color":[1,2,3]}"#,
             r#"{"vertices":[[0,0],[1,0],[0,1,2,3]],"color":[1,2,3]}"#,
             r#"{"vertices":[[0,0],[1,0],[0]],"color":[1,2,3]}"#,
             r#"{"vertices":[[0,0],[1,0],[0,"1"]],"color":[1,2,3]}"#,

@@ -240,7 +240,9 @@ pub fn parse_color(v: &Value) -> Result<Rgb8, String> {
 }
 
 /// Parses `"vertices"`: 3 to [`MAX_VERTICES`] points of 2 or 3 finite
-/// numbers (z = 0 for `[x,y]`).
+/// numbers (z = 0 for `[x,y]`), making a simple polygon
+/// ([`crate::geom::simple`]: every tool refuses one that crosses or touches
+/// itself, here, before any of them draws or cuts it).
 fn parse_vertices(v: &Value) -> Result<Vec<DVec3>, String> {
     let arr = v
         .as_array()
@@ -257,7 +259,8 @@ fn parse_vertices(v: &Value) -> Result<Vec<DVec3>, String> {
             arr.len()
         ));
     }
-    arr.iter()
+    let verts = arr
+        .iter()
         .enumerate()
         .map(|(i, p)| {
             let xs = p
@@ -276,7 +279,9 @@ fn parse_vertices(v: &Value) -> Result<Vec<DVec3>, String> {
                 if xs.len() == 3 { c(2)? } else { 0.0 },
             ))
         })
-        .collect()
+        .collect::<Result<Vec<_>, String>>()?;
+    crate::geom::simple::check(&verts).map_err(|c| format!("vertices: {c}"))?;
+    Ok(verts)
 }
 
 /// Parses a `"pattern"` object; its fields are all optional.
@@ -528,6 +533,17 @@ mod tests {
                 .contains("circle.radius: -1 is not positive")
         );
         assert!(err("[1]").contains("record 0: expected a JSON object, found 1"));
+        // A bow-tie, 2D or 3D, on the fast path (colour only) or not.
+        for rec in [
+            r#"{"vertices":[[0,0],[1,1],[1,0],[0,1]],"color":[0,0,0]}"#,
+            r#"{"vertices":[[0,0,5],[1,1,5],[1,0,5],[0,1,5]],"pattern":{"file":"a.pat"}}"#,
+        ] {
+            assert_eq!(
+                err(rec),
+                "s.json: record 0: vertices: the polygon crosses itself: \
+                 edge 0 (vertex 0 to 1) crosses edge 2 (vertex 2 to 3)"
+            );
+        }
     }
 
     #[test]
