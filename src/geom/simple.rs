@@ -18,7 +18,7 @@
 //! fill rules start to disagree, and nothing the tools write or ship has it.
 //!
 //! The test is Shamos and Hoey's sweep (1976): the edges are swept left to
-//! right in a balanced tree ([`super::sweep`]) ordered by height, and an edge
+//! right in a balanced tree (`super::sweep`) ordered by height, and an edge
 //! is tested only against its neighbours in that order when they become
 //! neighbours. Before the first contact the order is consistent, so the
 //! first contact's two edges are neighbours at some event and it is found:

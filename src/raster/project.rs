@@ -205,7 +205,7 @@ pub(crate) use try_project as project;
 /// is visible, it is culled, or it is edge-on (zero area on screen).
 ///
 /// A concave outline is also cut into triangles ([`ScreenPoly::pieces`]) in
-/// O(n log n) time, however many vertices it has ([`concave_pieces`]).
+/// O(n log n) time, however many vertices it has (`concave_pieces`).
 pub fn try_project(
     view: &View,
     world: &[DVec3],

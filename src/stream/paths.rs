@@ -129,15 +129,16 @@ const FILE_REFS: [(&str, &str); 4] = [
     ("stripe", "translation"),
 ];
 
-/// Whether a record names a file ([`FILE_REFS`]): a cheap test before
-/// [`forward_file_refs`] copies the record.
+/// Whether a record names a file (a pattern's file; a stripe's map, colour
+/// table or translation file): a cheap test before [`forward_file_refs`]
+/// copies the record.
 pub fn names_files(fields: &Fields) -> bool {
     FILE_REFS
         .iter()
         .any(|(object, key)| fields.get(object).is_some_and(|o| o.get(*key).is_some()))
 }
 
-/// Rewrites every file a record names ([`FILE_REFS`]), resolved against
+/// Rewrites every file a record names (see [`names_files`]), resolved against
 /// `base` (the input's directory), for `to`. Anything else is left as it is.
 pub fn forward_file_refs(fields: &mut Fields, base: &Path, to: &RefTarget) -> std::io::Result<()> {
     for (object, key) in FILE_REFS {
