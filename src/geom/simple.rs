@@ -77,18 +77,6 @@ pub enum Contact {
     },
 }
 
-impl Contact {
-    /// The two edges that meet (for [`Contact::SamePoint`], the edges that
-    /// leave the two vertices), lower-numbered first.
-    pub fn edges(&self) -> (usize, usize) {
-        match *self {
-            Contact::Cross { a, b, .. } | Contact::Overlap { a, b, .. } => (a, b),
-            Contact::SamePoint { a, b } => (a, b),
-            Contact::VertexOnEdge { vertex, edge, .. } => (vertex.min(edge), vertex.max(edge)),
-        }
-    }
-}
-
 /// "edge 3 (vertex 3 to 0)".
 struct Edge(usize, usize);
 
