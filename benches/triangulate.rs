@@ -101,7 +101,7 @@ fn ring(n: usize, r: impl Fn(usize) -> f64) -> Vec<DVec2> {
     (0..n)
         .map(|i| {
             let a = std::f64::consts::TAU * i as f64 / n as f64;
-            DVec2::new(r(i) * a.cos(), r(i) * a.sin())
+            DVec2::new(r(i) * patkit::math::cos(a), r(i) * patkit::math::sin(a))
         })
         .collect()
 }
