@@ -25,7 +25,7 @@ Examples:
   pat-tile --pat --size 256x256 brick.pat | pat-info -
   pat-info fixtures/stripes/furrow.map
       A modulation map: its length and, per level of detail, min/max/mean.
-  pat-info --record 0 scene.json
+  pat-info --record 0 field.json
       Record 0's stripe texture: spacing, start point, yaw, pitch, ...";
 
 /// Examine multi-colour texture patterns (size, colours and their coverage,

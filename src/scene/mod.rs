@@ -47,7 +47,7 @@ use crate::geom::transform::Transform;
 use crate::geom::Shape;
 use crate::io::Image;
 use crate::pat::Pattern;
-use crate::raster::{self, Aa, Background, Cull, Frame, ScreenPoly, Shader};
+use crate::raster::{self, Aa, Background, Cull, Frame, ScreenPoly, Shader, Tally};
 use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, PatternRef, Record};
 use crate::stripe::record::StripeLoader;
 use crate::stripe::LodMode;
@@ -282,9 +282,40 @@ impl Scene {
         how: &DrawOptions,
         frame: u64,
     ) -> Result<Vec<ScreenPoly>, SceneError> {
-        let mut out = Vec::new();
+        Ok(self.project_tallied(view, how, frame)?.0)
+    }
+
+    /// [`Scene::project`], also counting what became of every polygon
+    /// (quadrics count their triangles): drawn, or why not. A frame that
+    /// draws nothing of a non-empty stream is a mistake worth a warning
+    /// (`scene-render` gives one, naming the counts).
+    pub fn project_tallied(
+        &self,
+        view: &View,
+        how: &DrawOptions,
+        frame: u64,
+    ) -> Result<(Vec<ScreenPoly>, Tally), SceneError> {
+        let mut out = Projected::default();
         project_parts(&self.parts, view, None, None, how, frame, &mut out)?;
-        Ok(out)
+        Ok((out.polygons, out.tally))
+    }
+}
+
+/// A frame's screen polygons as they are projected, and the tally of all.
+#[derive(Default)]
+struct Projected {
+    polygons: Vec<ScreenPoly>,
+    tally: Tally,
+}
+
+impl Projected {
+    fn push(&mut self, p: ScreenPoly) {
+        self.tally.count(Ok(&p));
+        self.polygons.push(p);
+    }
+
+    fn drop(&mut self, why: raster::Dropped) {
+        self.tally.count(Err(why));
     }
 }
 
@@ -350,7 +381,7 @@ fn project_parts(
     order: Option<u32>,
     how: &DrawOptions,
     frame: u64,
-    out: &mut Vec<ScreenPoly>,
+    out: &mut Projected,
 ) -> Result<(), SceneError> {
     let moved;
     let view = match placed {
@@ -430,10 +461,14 @@ fn draw_polygon(
     uv: Option<&[[f64; 2]]>,
     order: u32,
     how: &DrawOptions,
-    out: &mut Vec<ScreenPoly>,
+    out: &mut Projected,
 ) -> Result<(), RecordError> {
-    let Some(mut p) = raster::try_project(view, outline, d.color, order, how.cull) else {
-        return Ok(());
+    let mut p = match raster::try_project(view, outline, d.color, order, how.cull) {
+        Ok(p) => p,
+        Err(why) => {
+            out.drop(why);
+            return Ok(());
+        }
     };
     match &d.texture {
         TextureSource::Flat => {}
@@ -441,7 +476,10 @@ fn draw_polygon(
         TextureSource::Stripe(st) => match stripe::shader(st, view, outline, how.stripe_lod)? {
             Some(t) => p.shader = Shader::Stripe(Arc::new(t.with_footprint(how.stripe_footprint))),
             // Edge-on: a sliver of rounding; nothing to draw.
-            None => return Ok(()),
+            None => {
+                out.drop(raster::Dropped::NoArea);
+                return Ok(());
+            }
         },
         TextureSource::Placed {
             pattern,
@@ -462,7 +500,10 @@ fn draw_polygon(
                 Some(t) => p.shader = Shader::Texture(Arc::new(t)),
                 // Visible by the projection but not by the fit: rounding at a
                 // sliver; nothing to draw.
-                None => return Ok(()),
+                None => {
+                    out.drop(raster::Dropped::NoArea);
+                    return Ok(());
+                }
             }
         }
     }
@@ -481,7 +522,7 @@ fn project_quadric(
     order: u32,
     how: &DrawOptions,
     frame: u64,
-    out: &mut Vec<ScreenPoly>,
+    out: &mut Projected,
 ) -> Result<(), RecordError> {
     let moved;
     let q = match &d.animated {

@@ -325,6 +325,14 @@ fn demo2_render(dir: &crate::util::Dir) -> assert_cmd::Command {
 }
 
 pub(crate) fn assert_matches_golden(rendered: &[u8], golden: &str) {
+    if let Some(why) = golden_mismatch(rendered, golden) {
+        panic!("{why}");
+    }
+}
+
+/// How `rendered` differs from the golden image beyond the golden tolerances
+/// (`GOLDEN_MAX_ERROR`, `GOLDEN_RMSE`), if it does.
+pub(crate) fn golden_mismatch(rendered: &[u8], golden: &str) -> Option<String> {
     let load = |bytes: &[u8], name: &str| {
         let rgba = patkit::io::decode_image(bytes, name).unwrap();
         let (width, height) = rgba.dimensions();
@@ -338,11 +346,11 @@ pub(crate) fn assert_matches_golden(rendered: &[u8], golden: &str) {
     let path = crate::util::repo(golden);
     let want = load(&std::fs::read(&path).unwrap(), golden);
     let got = load(rendered, "rendered");
-    let m = patkit::raster::compare::compare(&got, &want).unwrap();
-    assert!(
-        m.max_error <= GOLDEN_MAX_ERROR && m.rmse <= GOLDEN_RMSE,
-        "{golden}: {m:?}"
-    );
+    match patkit::raster::compare::compare(&got, &want) {
+        Ok(m) if m.max_error <= GOLDEN_MAX_ERROR && m.rmse <= GOLDEN_RMSE => None,
+        Ok(m) => Some(format!("{golden}: {m:?}")),
+        Err(e) => Some(format!("{golden}: {e}")),
+    }
 }
 
 clitest!(thesis_demo1_matches_its_golden_image, |dir| {
@@ -883,4 +891,79 @@ clitest!(frames_stream_to_standard_output, |dir| {
         assert_eq!(ppm_frames(&file), vec![(*w, *h, rgb.clone())], "frame {k}");
     }
     assert_ne!(frames[0].2, frames[1].2, "the square turns");
+});
+
+clitest!(a_frame_that_draws_nothing_warns_with_the_reason, |dir| {
+    // A 3D scene without a camera: the default ortho2 view shows only
+    // z in [-1, 1], so every polygon is clipped away.
+    let scene = crate::util::repo("examples/scenes/demo2.json");
+    let out = dir
+        .cmd("scene-render")
+        .arg(&scene)
+        .args(["-o", "blank.png"])
+        .assert()
+        .success();
+    let err = String::from_utf8_lossy(&out.get_output().stderr).to_string();
+    assert!(
+        err.contains("scene-render: warning: frame 0 draws nothing: of 5 polygons, 4 lie outside the view volume"),
+        "{err}"
+    );
+    assert!(
+        err.contains("no camera was given") && err.contains("--ortho2 0,1024,0,768"),
+        "{err}"
+    );
+    // Culled: one triangle seen from behind.
+    dir.write(
+        "back.json",
+        r#"[{"vertices": [[10,10],[10,50],[50,10]], "color": [255,0,0]}]"#,
+    );
+    let out = dir
+        .cmd("scene-render")
+        .args(["--cull", "back", "back.json", "-o", "culled.png"])
+        .assert()
+        .success();
+    let err = String::from_utf8_lossy(&out.get_output().stderr).to_string();
+    assert!(
+        err.contains("of 1 polygon, 1 was culled (--cull back)"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("camera"),
+        "the hint is for polygons outside: {err}"
+    );
+    // Almost nothing: a triangle of a quarter pixel, in every frame.
+    dir.write(
+        "speck.json",
+        r#"[{"vertices": [[10,10],[10.5,10],[10,11]], "color": [255,0,0]}]"#,
+    );
+    let out = dir
+        .cmd("scene-render")
+        .args(["--frames", "2", "speck.json", "-o", "f-%d.png"])
+        .assert()
+        .success();
+    let err = String::from_utf8_lossy(&out.get_output().stderr).to_string();
+    for k in 0..2 {
+        assert!(
+            err.contains(&format!(
+                "frame {k} draws almost nothing: 1 drawn covers 0.25 pixels in all; \
+                 of 1 polygon, none is lost: they are that small on screen"
+            )),
+            "{err}"
+        );
+    }
+    // No warning for a scene that draws, nor for an empty stream.
+    dir.write("empty.json", "[]");
+    dir.cmd("scene-render")
+        .args(["empty.json", "-o", "x.png"])
+        .assert()
+        .success()
+        .stderr("");
+    dir.cmd("scene-render")
+        .args(["--camera"])
+        .arg(crate::util::repo("examples/try/cam.json"))
+        .arg(&scene)
+        .args(["-o", "demo2.png"])
+        .assert()
+        .success()
+        .stderr("");
 });
