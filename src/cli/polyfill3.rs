@@ -181,6 +181,13 @@ pub fn run(args: Args) -> Result<()> {
     let volume = match &args.camera {
         Some(path) => {
             let cam = crate::camera::Camera::load(path)?;
+            if cam.aspect_from_image {
+                anyhow::bail!(
+                    "{}: perspective.aspect \"auto\" is the image's width/height, and \
+                     polyfill3 draws no image: give the ratio as a number",
+                    display_name(path)
+                );
+            }
             Some(ViewVolume::new(&cam))
         }
         None => None,

@@ -26,7 +26,8 @@ Examples:
   scene-render --camera cam.json --cull back --background-pattern bkgrnd.pat cells.json -o demo2.png
       The thesis's demo 2: its pyramid and plain cut into texture point
       polygons by polyfill3, then drawn.
-  scene-render --perspective 55,1.333,0,1000 --lookat 0,100,-5,0,0,-900 scene.json > out.png
+  scene-render --perspective 55,auto,0,1000 --lookat 0,100,-5,0,0,-900 scene.json > out.png
+      Aspect auto: the image's own width/height, no stretch (demo 2 uses 1 at 1024x768).
   scene-render --camera cam.json --aa ss16 --cull back scene.json -o ss16.png
   scene-render --camera cam.json --cull back --reference scene.json -o reference.png
   scene-render --camera cam.json --cull back scene.json --compare reference.png --diff diff.png
@@ -375,6 +376,13 @@ fn run_in_pool(args: Args) -> Result<()> {
     };
     let t_read = std::time::Instant::now();
     let scene = Scene::load(&args.input)?;
+    if let [first, rest @ ..] = scene.coarse_textures() {
+        let more = match rest.len() {
+            0 => String::new(),
+            n => format!(" (and {n} more records alike)"),
+        };
+        crate::cli::warn(TOOL, format!("{first}{more}"));
+    }
     let how = draw_options(&args, texture);
     if animation || args.animate {
         let format = format.expect("animations have an output");

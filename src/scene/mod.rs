@@ -122,6 +122,54 @@ pub struct Scene {
     parts: Vec<Part>,
     /// The files read besides the stream, in the order they were first read.
     files: Vec<PathBuf>,
+    /// Records whose polygon is no larger than one texel of their pattern.
+    coarse: Vec<CoarseTexture>,
+}
+
+/// A polygon no larger than one texel of its "object"-mode pattern (area at
+/// most incr²): it shows one texel's colour, or a few, which is rarely what
+/// was meant (the default `incr` of 1 on a unit cube paints each face one
+/// colour). The tools warn with its `Display`, which names `incr`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CoarseTexture {
+    /// The record (its index in the stream).
+    pub record: usize,
+    /// The polygon's area, in its own units squared.
+    pub area: f64,
+    /// The pattern's texel side (`"incr"`).
+    pub incr: f64,
+}
+
+impl CoarseTexture {
+    /// `Some` when a polygon of `area` is no larger than one texel of side `incr`.
+    pub fn check(record: usize, area: f64, incr: f64) -> Option<CoarseTexture> {
+        (area > 0.0 && area <= incr * incr).then_some(CoarseTexture { record, area, incr })
+    }
+
+    /// A record's polygon area if it is planar with a straight outline or a
+    /// circle (arcs and quadrics are not checked).
+    fn area(shape: &Shape) -> Option<f64> {
+        match shape {
+            Shape::Polygon(v) => Some(crate::geom::plane::newell_normal(v, v[0]).length() / 2.0),
+            Shape::Rect([x0, y0, x1, y1]) => Some(((x1 - x0) * (y1 - y0)).abs()),
+            Shape::Circle { radius, .. } => Some(std::f64::consts::PI * radius * radius),
+            Shape::Arc { .. } | Shape::Quadric(_) => None,
+        }
+    }
+}
+
+impl std::fmt::Display for CoarseTexture {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let incr = crate::text::readable(self.incr);
+        write!(
+            f,
+            "record {}: the polygon (area {}) is no larger than one texel of its pattern \
+             (\"incr\" {incr}: texels {incr} units wide), so it shows one texel's colour; \
+             a smaller \"incr\" shows the pattern",
+            self.record,
+            crate::text::readable(self.area),
+        )
+    }
 }
 
 /// How every record of a frame is drawn.
@@ -198,6 +246,7 @@ impl Scene {
         let mut patterns: HashMap<PathBuf, Arc<Texels>> = HashMap::new();
         let mut stripes = StripeLoader::new(base);
         let mut files = Vec::new();
+        let mut coarse = Vec::new();
         let mut scene = read_items(reader, name, |rec| {
             let at = (Some(name), rec.index);
             let stripe =
@@ -228,6 +277,13 @@ impl Scene {
                         p
                     }
                 };
+                if mode == PatternMode::Object {
+                    let incr = pref
+                        .incr
+                        .unwrap_or(crate::texture::place::DEFAULT_PLACEMENT.incr);
+                    let area = CoarseTexture::area(&rec.shape);
+                    coarse.extend(area.and_then(|a| CoarseTexture::check(rec.index, a, incr)));
+                }
                 texture = match mode {
                     PatternMode::Screen => TextureSource::Screen(texels),
                     PatternMode::Object | PatternMode::Uv => TextureSource::Placed {
@@ -263,6 +319,7 @@ impl Scene {
         })?;
         files.extend(stripes.files().iter().cloned());
         scene.files = files;
+        scene.coarse = coarse;
         Ok(scene)
     }
 
@@ -271,6 +328,12 @@ impl Scene {
     /// system must know the scene depends on (`scene-render --depfile`).
     pub fn files(&self) -> &[PathBuf] {
         &self.files
+    }
+
+    /// The records whose polygon is no larger than one texel of its
+    /// pattern, in stream order.
+    pub fn coarse_textures(&self) -> &[CoarseTexture] {
+        &self.coarse
     }
 
     /// Frame `frame`'s screen polygons through `view`, in stream order (an

@@ -134,7 +134,8 @@ pub struct Summary {
 
 /// Partitions the stream `reader` (named `source` in errors, its files
 /// resolved against `base`) into `out`. `warn` receives each warning once, as
-/// it happens (records whose pattern mode is not partitioned). Returns the
+/// it happens (records whose pattern mode is not partitioned, the first
+/// polygon no larger than one texel: [`super::CoarseTexture`]). Returns the
 /// output, flushed, and the counts.
 pub fn partition_stream<W: Write>(
     reader: Box<dyn BufRead>,
@@ -153,6 +154,7 @@ pub fn partition_stream<W: Write>(
         volume: options.volume,
         summary: Summary::default(),
         warned_mode: false,
+        warned_coarse: false,
         warn,
     };
     // Objects and instances are kept as they are (Fig. 5.1: a face is
@@ -192,6 +194,9 @@ struct Job<'a, W: Write> {
     volume: Option<ViewVolume>,
     summary: Summary,
     warned_mode: bool,
+    /// Whether a polygon no larger than a texel has been warned about (once
+    /// per run: a stream may have millions).
+    warned_coarse: bool,
     warn: &'a mut dyn FnMut(String),
 }
 
@@ -504,6 +509,12 @@ impl<W: Write> Job<'_, W> {
             other => outline(other, a.tolerance),
         };
         let poly = map_to_plane(&vertices, rotate, a.planarity_tol)?;
+        if !self.warned_coarse {
+            if let Some(c) = super::CoarseTexture::check(rec.index, poly.area, place.incr) {
+                (self.warn)(c.to_string());
+                self.warned_coarse = true;
+            }
+        }
         if let Some(vol) = &self.volume {
             if vol.back_facing(poly.frame.normal, poly.frame.origin) || vol.outside(&vertices) {
                 self.summary.culled += 1;

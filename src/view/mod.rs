@@ -92,6 +92,7 @@ impl View {
     /// The view of `camera` on a `width` x `height` image: its matrices and
     /// depth range, unchanged.
     pub fn new(camera: &Camera, width: u32, height: u32) -> View {
+        let camera = camera.for_image(width, height);
         View {
             world_to_clip: camera.world_to_clip(),
             near: camera.near,

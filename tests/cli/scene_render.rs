@@ -967,3 +967,48 @@ clitest!(a_frame_that_draws_nothing_warns_with_the_reason, |dir| {
         .success()
         .stderr("");
 });
+
+clitest!(perspective_aspect_auto_is_the_images_own, |dir| {
+    let scene = crate::util::repo("examples/try/scene.json");
+    let render = |aspect: &str, out: &str| {
+        dir.cmd("scene-render")
+            .args(["--size", "640x360", "--lookat", "0,100,-5,0,0,-900"])
+            .args(["--perspective", &format!("55,{aspect},0,1000")])
+            .arg(&scene)
+            .args(["-o", out])
+            .assert()
+            .success()
+            .stderr("");
+        dir.read(out)
+    };
+    let auto = render("auto", "auto.png");
+    // The same bits as the ratio written out; not the square window's.
+    assert_eq!(auto, render(&format!("{}", 640.0 / 360.0), "ratio.png"));
+    assert_ne!(auto, render("1", "square.png"));
+    dir.write(
+        "cam.json",
+        r#"{"lookat": {"eye": [0, 100, -5], "center": [0, 0, -900]},
+            "perspective": {"fovy": 55, "aspect": "auto", "near": 0, "far": 1000}}"#,
+    );
+    dir.cmd("scene-render")
+        .args(["--size", "640x360", "--camera", "cam.json"])
+        .arg(&scene)
+        .args(["-o", "file.png"])
+        .assert()
+        .success();
+    assert_eq!(auto, dir.read("file.png"));
+    // polyfill3 draws no image, so it has no ratio to take.
+    dir.cmd("polyfill3")
+        .args(["--cull", "--camera", "cam.json"])
+        .arg(&scene)
+        .assert()
+        .code(1)
+        .stderr(predicates::str::contains(
+            "perspective.aspect \"auto\" is the image's width/height",
+        ));
+    dir.cmd("scene-render")
+        .args(["--perspective", "55,wide,0,1000"])
+        .arg(&scene)
+        .assert()
+        .code(2);
+});
