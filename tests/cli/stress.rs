@@ -614,6 +614,9 @@ clitest!(
 /// star above stands for it.)
 #[test]
 fn ten_million_vertex_convex_polygon_renders_and_partitions() {
+    if !crate::util::heavy("10 million vertices, about a minute and 5 GB") {
+        return;
+    }
     let dir = crate::util::Dir::new("ten_million");
     brick(&dir);
     let convex = star(10_000_000, [7.0, 7.0]);
