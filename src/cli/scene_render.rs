@@ -371,6 +371,9 @@ fn run_in_pool(args: Args) -> Result<()> {
     };
     let t_read = std::time::Instant::now();
     let scene = Scene::load(&args.input)?;
+    for w in scene.warnings() {
+        super::warn("scene-render", w);
+    }
     let how = draw_options(&args, texture);
     if animation || args.animate {
         let format = format.expect("animations have an output");
