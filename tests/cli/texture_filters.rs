@@ -754,3 +754,58 @@ clitest!(
     );
     }
 );
+
+clitest!(
+    the_documented_texture_state_example_renders_as_its_flags,
+    |dir| {
+        // docs/rendering.md, "Texture state per record" (and the README's
+        // shorter form): the record's keys against the same flags.
+        let brick = crate::util::repo("fixtures/patterns/brick.pat");
+        std::fs::copy(&brick, dir.path().join("brick.pat")).unwrap();
+        let record = |state: &str| {
+            format!(
+                r#"{{"vertices": [[0,0,0],[8,0,0],[8,8,0]], "color": [200,160,120],
+ "pattern": {{"file": "brick.pat", "mode": "object", "incr": 0.5{state}}}}}"#
+            )
+        };
+        let render = |scene: &str, flags: &[&str]| {
+            dir.write("doc.json", scene);
+            dir.cmd("scene-render")
+                .args([
+                    "--size",
+                    "48x48",
+                    "--ortho2",
+                    "-1,9,-1,9",
+                    "--format",
+                    "ppm",
+                ])
+                .args(flags)
+                .args(["doc.json", "-o", "-"])
+                .ok_stdout()
+        };
+        let keyed = render(
+            &record(
+                r#", "filter": "trilinear", "lod_bias": 0.5, "boundary": "clamp",
+             "boundary_color": [0,0,0], "compose": "modulate""#,
+            ),
+            &[],
+        );
+        let flagged = render(
+            &record(""),
+            &[
+                "--filter",
+                "trilinear",
+                "--lod-bias",
+                "0.5",
+                "--boundary",
+                "clamp",
+                "--boundary-color",
+                "0,0,0",
+                "--compose",
+                "modulate",
+            ],
+        );
+        assert!(keyed == flagged);
+        assert!(keyed != render(&record(""), &[]));
+    }
+);
