@@ -22,31 +22,31 @@ complete -c scene-render -l dop -d 'Parallel: direction of projection (world; ob
 complete -c scene-render -l oblique -d 'Parallel: cavalier or cabinet oblique projection with the receding axis at ANGLE degrees (default 45), or isometric (no angle). Default: none' -r
 complete -c scene-render -l front -d 'Front clipping plane: distance from the VRP along the VPN. Default: none (required)' -r
 complete -c scene-render -l back -d 'Back clipping plane: distance from the VRP along the VPN. Default: none (required)' -r
-complete -c scene-render -l boundary -d 'What a pattern shows outside its bounds (texel columns and rows outside 0..SIZE), XGL\'s boundary conditions: repeat (XGL wrap; SPEC §2 tiling), transparent (the polygon\'s own colour, as if untextured), clamp (the --boundary-color), mirror, edge (the closest boundary texel)' -r -f -a "repeat\t'`XGL_TEXTURE_BOUNDARY_WRAP`: the pattern repeats (SPEC §2\'s tiling; OpenGL\'s `GL_REPEAT`)'
+complete -c scene-render -l boundary -d 'What a pattern shows outside its bounds (texel columns and rows outside 0..SIZE), XGL\'s boundary conditions: repeat (XGL wrap; SPEC §2 tiling), transparent (the polygon\'s own colour, as if untextured), clamp (the --boundary-color), mirror, edge (the closest boundary texel). A record\'s "pattern" key "boundary" overrides it' -r -f -a "repeat\t'`XGL_TEXTURE_BOUNDARY_WRAP`: the pattern repeats (SPEC §2\'s tiling; OpenGL\'s `GL_REPEAT`)'
 transparent\t'`XGL_TEXTURE_BOUNDARY_TRANSPARENT`: "finish rendering as though texturing were not being done": the polygon\'s own colour'
 clamp\t'`XGL_TEXTURE_BOUNDARY_CLAMP`: a constant colour (`--boundary-color`)'
 mirror\t'`XGL_TEXTURE_BOUNDARY_MIRROR`: every other copy reversed'
 edge\t'`XGL_TEXTURE_BOUNDARY_CLAMP_BOUNDARY`: the closest boundary texel (OpenGL\'s clamp to edge)'"
-complete -c scene-render -l boundary-u -d 'The boundary condition along u only (overrides --boundary). When u and v differ and both exceed the bounds, XGL\'s precedence decides: transparent, clamp, repeat, mirror, edge' -r -f -a "repeat\t'`XGL_TEXTURE_BOUNDARY_WRAP`: the pattern repeats (SPEC §2\'s tiling; OpenGL\'s `GL_REPEAT`)'
+complete -c scene-render -l boundary-u -d 'The boundary condition along u only (overrides --boundary). When u and v differ and both exceed the bounds, XGL\'s precedence decides: transparent, clamp, repeat, mirror, edge. A record\'s "boundary_u" overrides it' -r -f -a "repeat\t'`XGL_TEXTURE_BOUNDARY_WRAP`: the pattern repeats (SPEC §2\'s tiling; OpenGL\'s `GL_REPEAT`)'
 transparent\t'`XGL_TEXTURE_BOUNDARY_TRANSPARENT`: "finish rendering as though texturing were not being done": the polygon\'s own colour'
 clamp\t'`XGL_TEXTURE_BOUNDARY_CLAMP`: a constant colour (`--boundary-color`)'
 mirror\t'`XGL_TEXTURE_BOUNDARY_MIRROR`: every other copy reversed'
 edge\t'`XGL_TEXTURE_BOUNDARY_CLAMP_BOUNDARY`: the closest boundary texel (OpenGL\'s clamp to edge)'"
-complete -c scene-render -l boundary-v -d 'The boundary condition along v only (overrides --boundary)' -r -f -a "repeat\t'`XGL_TEXTURE_BOUNDARY_WRAP`: the pattern repeats (SPEC §2\'s tiling; OpenGL\'s `GL_REPEAT`)'
+complete -c scene-render -l boundary-v -d 'The boundary condition along v only (overrides --boundary). A record\'s "boundary_v" overrides it' -r -f -a "repeat\t'`XGL_TEXTURE_BOUNDARY_WRAP`: the pattern repeats (SPEC §2\'s tiling; OpenGL\'s `GL_REPEAT`)'
 transparent\t'`XGL_TEXTURE_BOUNDARY_TRANSPARENT`: "finish rendering as though texturing were not being done": the polygon\'s own colour'
 clamp\t'`XGL_TEXTURE_BOUNDARY_CLAMP`: a constant colour (`--boundary-color`)'
 mirror\t'`XGL_TEXTURE_BOUNDARY_MIRROR`: every other copy reversed'
 edge\t'`XGL_TEXTURE_BOUNDARY_CLAMP_BOUNDARY`: the closest boundary texel (OpenGL\'s clamp to edge)'"
-complete -c scene-render -l boundary-color -d 'The constant colour of --boundary clamp (`r,g,b` or `#rrggbb`)' -r
-complete -c scene-render -l compose -d 'How texels combine with the polygon\'s "color" (XGL\'s composition methods, in linear light): replace, modulate (texel x color), blend (between --compose-color1 and --compose-color2 by the texel), blend-intrinsic (between color and --compose-color1), decal and decal-intrinsic (transparent texels show --compose-color1 or color; XGL allows decal only for maps with alpha: patterns with transparent texels)' -r -f -a "replace\t'`XGL_TEXTURE_OP_REPLACE`: the texel replaces the polygon\'s colour (SPEC §2; transparent texels show what is behind)'
+complete -c scene-render -l boundary-color -d 'The constant colour of --boundary clamp (`r,g,b` or `#rrggbb`). A record\'s "boundary_color" overrides it' -r
+complete -c scene-render -l compose -d 'How texels combine with the polygon\'s "color" (XGL\'s composition methods, in linear light): replace, modulate (texel x color), blend (between --compose-color1 and --compose-color2 by the texel), blend-intrinsic (between color and --compose-color1), decal and decal-intrinsic (transparent texels show --compose-color1 or color; XGL allows decal only for maps with alpha: patterns with transparent texels). A record\'s "pattern" key "compose" overrides it' -r -f -a "replace\t'`XGL_TEXTURE_OP_REPLACE`: the texel replaces the polygon\'s colour (SPEC §2; transparent texels show what is behind)'
 modulate\t'`XGL_TEXTURE_OP_MODULATE`: texel times the polygon\'s colour'
 blend\t'`XGL_TEXTURE_OP_BLEND`: two constants blended by the texel, `c1 (1 - t) + c2 t` per channel'
 blend-intrinsic\t'`XGL_TEXTURE_OP_BLEND_INTRINSIC`: the polygon\'s colour and a constant blended by the texel, `color (1 - t) + c1 t`'
 decal\t'`XGL_TEXTURE_OP_DECAL`: the texel where opaque, the constant `c1` where transparent'
 decal-intrinsic\t'`XGL_TEXTURE_OP_DECAL_INTRINSIC`: the texel where opaque, the polygon\'s colour where transparent'"
-complete -c scene-render -l compose-color1 -d 'First constant colour of --compose blend, blend-intrinsic and decal' -r
-complete -c scene-render -l compose-color2 -d 'Second constant colour of --compose blend' -r
-complete -c scene-render -l filter -d 'How a textured pixel is computed from the pattern: box (the exact area integral of the texels under the pixel, crisp), point, bilinear (the base level), mip-point, mip-bilinear (the nearest MIP level), mip-point-linear, trilinear (the two nearest levels, mixed: XGL\'s six methods), ewa (elliptical weighted average, anisotropic). Sets both --min-filter and --mag-filter; a MIP filter or ewa magnifies with its base-level counterpart (point or bilinear)' -r -f -a "box\t'The exact area integral over texel cells'
+complete -c scene-render -l compose-color1 -d 'First constant colour of --compose blend, blend-intrinsic and decal. A record\'s "compose_color1" overrides it' -r
+complete -c scene-render -l compose-color2 -d 'Second constant colour of --compose blend. A record\'s "compose_color2" overrides it' -r
+complete -c scene-render -l filter -d 'How a textured pixel is computed from the pattern: box (the exact area integral of the texels under the pixel, crisp), point, bilinear (the base level), mip-point, mip-bilinear (the nearest MIP level), mip-point-linear, trilinear (the two nearest levels, mixed: XGL\'s six methods), ewa (elliptical weighted average, anisotropic). Sets both --min-filter and --mag-filter; a MIP filter or ewa magnifies with its base-level counterpart (point or bilinear). A record\'s "pattern" key "filter" overrides it (and these flags) for that record' -r -f -a "box\t'The exact area integral over texel cells'
 point\t''
 bilinear\t''
 mip-point\t''
@@ -54,7 +54,7 @@ mip-bilinear\t''
 mip-point-linear\t''
 trilinear\t''
 ewa\t''"
-complete -c scene-render -l min-filter -d 'The filter where the pattern is minified (a pixel spans more than one texel after --lod-bias; XGL\'s filter1): overrides --filter' -r -f -a "box\t'The exact area integral over texel cells'
+complete -c scene-render -l min-filter -d 'The filter where the pattern is minified (a pixel spans more than one texel after --lod-bias; XGL\'s filter1): overrides --filter. A record\'s "min_filter" overrides it' -r -f -a "box\t'The exact area integral over texel cells'
 point\t''
 bilinear\t''
 mip-point\t''
@@ -62,7 +62,7 @@ mip-bilinear\t''
 mip-point-linear\t''
 trilinear\t''
 ewa\t''"
-complete -c scene-render -l mag-filter -d 'The filter where the pattern is magnified (XGL\'s filter2): box, point or bilinear (the MIP filters have nothing to do there, as in OpenGL)' -r -f -a "box\t'The exact area integral over texel cells'
+complete -c scene-render -l mag-filter -d 'The filter where the pattern is magnified (XGL\'s filter2): box, point or bilinear (the MIP filters have nothing to do there, as in OpenGL). A record\'s "mag_filter" overrides it' -r -f -a "box\t'The exact area integral over texel cells'
 point\t''
 bilinear\t''
 mip-point\t''
@@ -70,7 +70,7 @@ mip-bilinear\t''
 mip-point-linear\t''
 trilinear\t''
 ewa\t''"
-complete -c scene-render -l lod-bias -d 'Added to the MIP level of detail (log2 of texels per pixel), XGL\'s depth_interp_factor: 1.0 is one level blurrier, -1.0 one level sharper (and more aliased)' -r
+complete -c scene-render -l lod-bias -d 'Added to the MIP level of detail (log2 of texels per pixel), XGL\'s depth_interp_factor: 1.0 is one level blurrier, -1.0 one level sharper (and more aliased). A record\'s "pattern" key "lod_bias" overrides it' -r
 complete -c scene-render -l mip-build -d 'The filter that builds MIP levels (in linear light, only when some pixel minifies under a MIP filter or ewa): mitchell (XGL\'s choice) or box' -r -f -a "box\t'The area average: each coarse texel is the mean of the fine texels it covers (exact area weights when the ratio is odd, 3 → 1)'
 mitchell\t'The Mitchell-Netravali cubic (B = C = 1/3), as XGL\'s `xgl_mipmap_texture_build` ("XGL uses the Mitchell filter"): sharper than the box, with slight negative lobes (results are clamped to the valid range)'"
 complete -c scene-render -l no-skip -d 'For benchmarks only: turn off the listed work-saving skips, a comma list of hidden (filter every opaque textured fragment, shown or not), mip (build MIP levels for every pattern up front), transparent (visit transparent texel runs in the box filter), magnify (cut fragments inside one texel cell). The output is the same; only the time differs (bench/skips.sh)' -r

@@ -351,7 +351,11 @@ fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
         ),
     };
     let base = crate::stream::base_dir(file);
+    let unknown = std::cell::RefCell::new(crate::scene::keys::UnknownKeys::default());
     let load = |record: &Record, label: &str| -> Result<Option<LoadedStripe>> {
+        unknown
+            .borrow_mut()
+            .check(record.index, &record.fields, |w| super::warn("pat-info", w));
         let Some(spec) =
             StripeSpec::from_fields(&record.fields).map_err(|m| anyhow::anyhow!("{label}: {m}"))?
         else {

@@ -376,12 +376,8 @@ fn run_in_pool(args: Args) -> Result<()> {
     };
     let t_read = std::time::Instant::now();
     let scene = Scene::load(&args.input)?;
-    if let [first, rest @ ..] = scene.coarse_textures() {
-        let more = match rest.len() {
-            0 => String::new(),
-            n => format!(" (and {n} more records alike)"),
-        };
-        crate::cli::warn(TOOL, format!("{first}{more}"));
+    for w in scene.warnings() {
+        super::warn("scene-render", w);
     }
     let how = draw_options(&args, texture);
     if animation || args.animate {

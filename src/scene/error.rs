@@ -44,6 +44,9 @@ pub enum RecordError {
     NoPatternFile,
     /// The record's pattern file cannot be read.
     Pattern(ParseError),
+    /// A texture state key of the record's `"pattern"` is wrong
+    /// ([`crate::texture::state`]): the message names it.
+    TextureState(String),
     /// The record's stripe texture cannot be read.
     Stripe(StripeError),
     /// The face gives its stripes no mapping.
@@ -95,6 +98,7 @@ impl fmt::Display for RecordError {
                 f.write_str("has both \"pattern\" and \"stripe\": a face takes one texture")
             }
             RecordError::NoPatternFile => f.write_str("pattern.file is missing"),
+            RecordError::TextureState(m) => f.write_str(m),
             RecordError::Pattern(e) => e.fmt(f),
             RecordError::Stripe(e) => e.fmt(f),
             RecordError::StripeMapping(e) => e.fmt(f),
@@ -115,7 +119,9 @@ impl Error for RecordError {
         match self {
             RecordError::QuadricTransform { error, .. }
             | RecordError::InstanceTransform { error, .. } => Some(error),
-            RecordError::PatternAndStripe | RecordError::NoPatternFile => None,
+            RecordError::PatternAndStripe
+            | RecordError::NoPatternFile
+            | RecordError::TextureState(_) => None,
             other => other.as_cause().source(),
         }
     }
@@ -246,6 +252,9 @@ pub enum CellsError {
     Grid(crate::geom::partition::GridError),
     /// The texture coordinates of a `uv` record cannot be made.
     Uv(crate::texture::map::ObjectUvError),
+    /// A texture state key of the record's `"pattern"` is wrong
+    /// ([`crate::texture::state`]): the message names it.
+    TextureState(String),
     /// The output could not be written.
     Write(std::io::Error),
 }
@@ -261,7 +270,9 @@ impl CellsError {
             CellsError::Grid(e) => e,
             CellsError::Uv(e) => e,
             CellsError::Write(e) => e,
-            CellsError::Pattern(_) | CellsError::PatternPath { .. } => self,
+            CellsError::Pattern(_)
+            | CellsError::PatternPath { .. }
+            | CellsError::TextureState(_) => self,
         }
     }
 }
@@ -271,6 +282,7 @@ impl fmt::Display for CellsError {
         match self {
             CellsError::Pattern(_) => f.write_str("pattern"),
             CellsError::PatternPath { path, .. } => write!(f, "pattern: {}", path.display()),
+            CellsError::TextureState(m) => f.write_str(m),
             other => fmt::Display::fmt(other.as_cause(), f),
         }
     }
@@ -281,6 +293,7 @@ impl Error for CellsError {
         match self {
             CellsError::Pattern(e) => Some(e),
             CellsError::PatternPath { error, .. } => Some(error),
+            CellsError::TextureState(_) => None,
             other => other.as_cause().source(),
         }
     }

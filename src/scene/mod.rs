@@ -36,6 +36,7 @@
 //! ```
 
 mod error;
+pub mod keys;
 pub mod polyfill;
 pub mod stripe;
 
@@ -52,6 +53,7 @@ use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, Pattern
 use crate::stripe::record::StripeLoader;
 use crate::stripe::LodMode;
 use crate::texture::place::TextureSettings;
+use crate::texture::state::TextureState;
 use crate::texture::Texels;
 use crate::view::View;
 use glam::DVec3;
@@ -81,6 +83,9 @@ pub enum TextureSource {
         mode: PatternMode,
         /// The pattern, decoded once and shared by every face that uses it.
         texels: Arc<Texels>,
+        /// The record's own filters, boundary and composition, over the
+        /// tool's ([`TextureState::over`]).
+        state: TextureState,
     },
     /// A stripe texture (seed 001), given its screen mapping when the face
     /// is projected.
@@ -122,8 +127,8 @@ pub struct Scene {
     parts: Vec<Part>,
     /// The files read besides the stream, in the order they were first read.
     files: Vec<PathBuf>,
-    /// Records whose polygon is no larger than one texel of their pattern.
-    coarse: Vec<CoarseTexture>,
+    /// What the reading found worth a warning ([`Scene::warnings`]).
+    warnings: Vec<String>,
 }
 
 /// A polygon no larger than one texel of its "object"-mode pattern (area at
@@ -247,8 +252,10 @@ impl Scene {
         let mut stripes = StripeLoader::new(base);
         let mut files = Vec::new();
         let mut coarse = Vec::new();
+        let (mut unknown, mut warnings) = (keys::UnknownKeys::default(), Vec::new());
         let mut scene = read_items(reader, name, |rec| {
             let at = (Some(name), rec.index);
+            unknown.check(rec.index, &rec.fields, |w| warnings.push(w));
             let stripe =
                 stripe::read(&mut stripes, &rec.fields, rec.color).in_record(at.0, at.1)?;
             if stripe.is_some() && rec.pattern.is_some() {
@@ -284,12 +291,19 @@ impl Scene {
                     let area = CoarseTexture::area(&rec.shape);
                     coarse.extend(area.and_then(|a| CoarseTexture::check(rec.index, a, incr)));
                 }
+                // Checked for screen patterns too, which do not use it: a
+                // bad value is an error wherever it is written.
+                let state = TextureState::from_pattern(&rec.fields["pattern"])
+                    .and_then(|s| s.check(texels.has_transparency()).map(|()| s))
+                    .map_err(RecordError::TextureState)
+                    .in_record(at.0, at.1)?;
                 texture = match mode {
                     PatternMode::Screen => TextureSource::Screen(texels),
                     PatternMode::Object | PatternMode::Uv => TextureSource::Placed {
                         pattern: pref.clone(),
                         mode,
                         texels,
+                        state,
                     },
                 };
             }
@@ -319,8 +333,23 @@ impl Scene {
         })?;
         files.extend(stripes.files().iter().cloned());
         scene.files = files;
-        scene.coarse = coarse;
+        if let [first, rest @ ..] = coarse.as_slice() {
+            warnings.push(match rest.len() {
+                0 => first.to_string(),
+                n => format!("{first} (and {n} more records alike)"),
+            });
+        }
+        scene.warnings = warnings;
         Ok(scene)
+    }
+
+    /// What reading the stream found worth a warning, each once: unknown
+    /// keys inside a record's `"pattern"` or `"stripe"` ([`keys`]), and the
+    /// first polygon no larger than one texel ([`CoarseTexture`], with the
+    /// count of the others). The tools print them; a library caller may
+    /// ignore them.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// The files read besides the stream (patterns, stripe maps and tables),
@@ -328,12 +357,6 @@ impl Scene {
     /// system must know the scene depends on (`scene-render --depfile`).
     pub fn files(&self) -> &[PathBuf] {
         &self.files
-    }
-
-    /// The records whose polygon is no larger than one texel of its
-    /// pattern, in stream order.
-    pub fn coarse_textures(&self) -> &[CoarseTexture] {
-        &self.coarse
     }
 
     /// Frame `frame`'s screen polygons through `view`, in stream order (an
@@ -548,9 +571,10 @@ fn draw_polygon(
             pattern,
             mode,
             texels,
+            state,
         } => {
             let tex = crate::texture::place::place(
-                &how.texture,
+                &state.over(&how.texture),
                 d.color,
                 view,
                 outline,
