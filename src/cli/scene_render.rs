@@ -188,6 +188,12 @@ pub struct Args {
     #[arg(long, value_name = "FILE")]
     pub depfile: Option<String>,
 
+    /// The most polygons a frame may expand into (instances times their objects'
+    /// polygons, quadrics with given slices and stacks their triangles): a scene
+    /// over it is refused when read, before any work.
+    #[arg(long, value_name = "N", default_value_t = crate::scene::LoadOptions::DEFAULT.max_polygons)]
+    pub max_polygons: u64,
+
     /// Worker threads (default: all cores). The output is identical for any N.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
@@ -375,7 +381,16 @@ fn run_in_pool(args: Args) -> Result<()> {
         BackgroundColor::None => Background::transparent(bg_pattern.as_ref()),
     };
     let t_read = std::time::Instant::now();
-    let scene = Scene::load(&args.input)?;
+    let limits = crate::scene::LoadOptions {
+        max_polygons: args.max_polygons,
+    };
+    let scene = Scene::load_with(&args.input, &limits).map_err(|e| match e {
+        crate::scene::SceneError::TooMuchWork { .. } => anyhow::anyhow!(
+            "{}: {e} (--max-polygons raises it)",
+            display_name(&args.input)
+        ),
+        e => e.into(),
+    })?;
     for w in scene.warnings() {
         super::warn("scene-render", w);
     }

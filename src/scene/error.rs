@@ -33,6 +33,16 @@ pub enum SceneError {
     },
     /// A stream of more than 2^32 records: draw order is 32 bits.
     TooManyRecords,
+    /// The scene expands to more polygons per frame than
+    /// [`super::LoadOptions::max_polygons`] allows, first at record `index`.
+    TooMuchWork {
+        /// The record (or instance) where the count passed the limit.
+        index: usize,
+        /// The count there (saturated at `u64::MAX`).
+        polygons: u64,
+        /// The limit.
+        limit: u64,
+    },
 }
 
 /// Why one record of a scene cannot be drawn.
@@ -141,6 +151,22 @@ impl fmt::Display for SceneError {
                 input: None, index, ..
             } => write!(f, "record {index}"),
             SceneError::TooManyRecords => f.write_str("more than 2^32 records"),
+            SceneError::TooMuchWork {
+                index,
+                polygons,
+                limit,
+            } => {
+                let polygons = match *polygons {
+                    u64::MAX => "more than 2^64".to_string(),
+                    n => n.to_string(),
+                };
+                write!(
+                    f,
+                    "record {index}: the scene expands to {polygons} polygons in a frame \
+                     by here (instances times their objects' polygons, quadrics their \
+                     slices x stacks x 2 triangles), over the limit of {limit}"
+                )
+            }
         }
     }
 }
@@ -151,7 +177,7 @@ impl Error for SceneError {
             SceneError::Io(e) => e.source(),
             SceneError::Stream(e) => e.source(),
             SceneError::Record { error, .. } => Some(error.as_cause()),
-            SceneError::TooManyRecords => None,
+            SceneError::TooManyRecords | SceneError::TooMuchWork { .. } => None,
         }
     }
 }

@@ -121,6 +121,53 @@ enum Part {
     },
 }
 
+/// What reading a scene may cost.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// The most polygons one frame may expand into: every instance counts
+    /// its object's polygons (nested instances multiply), a quadric with
+    /// given `slices` and `stacks` its 2 x slices x stacks triangles. A scene
+    /// over it is refused when read, before any work, naming the record
+    /// where the count passes it (a 4 KB stream of 40 nested objects, each
+    /// placing the previous twice, expands to 2^40 polygons). At roughly
+    /// 700 bytes per projected polygon, the default allows about 7 GB.
+    ///
+    /// Default value: 10,000,000.
+    pub max_polygons: u64,
+}
+
+impl LoadOptions {
+    /// The defaults, as a constant.
+    pub const DEFAULT: LoadOptions = LoadOptions {
+        max_polygons: 10_000_000,
+    };
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        LoadOptions::DEFAULT
+    }
+}
+
+impl Part {
+    /// The polygons this part expands into in a frame, at most (saturating):
+    /// `objects` holds each defined object's count.
+    fn polygons(&self, objects: &HashMap<String, u64>) -> u64 {
+        match self {
+            Part::Draw(d) => match &d.shape {
+                Shape::Quadric(q) => match (q.slices, q.stacks) {
+                    (Some(a), Some(b)) => 2 * a as u64 * b as u64,
+                    // Chosen from the view's tolerance: bounded by the
+                    // pixels it covers, not by the stream.
+                    _ => 1,
+                },
+                _ => 1,
+            },
+            Part::Place { name, .. } => objects.get(name).copied().unwrap_or(0),
+        }
+    }
+}
+
 /// A polygon stream read into drawable parts, objects defined once.
 #[derive(Default)]
 pub struct Scene {
@@ -228,6 +275,11 @@ impl Scene {
     /// Reads the stream at `input` (`-` is standard input). Patterns and
     /// stripe files resolve against the stream's directory.
     pub fn load(input: &str) -> Result<Scene, SceneError> {
+        Scene::load_with(input, &LoadOptions::DEFAULT)
+    }
+
+    /// [`Scene::load`] within `limits`.
+    pub fn load_with(input: &str, limits: &LoadOptions) -> Result<Scene, SceneError> {
         let reader: Box<dyn BufRead> = if input == crate::io::STDIO {
             Box::new(std::io::stdin().lock())
         } else {
@@ -237,7 +289,7 @@ impl Scene {
             ))
         };
         let name = crate::io::display_name(input).to_string();
-        Scene::read(reader, &name, &crate::stream::base_dir(input))
+        Scene::read_with(reader, &name, &crate::stream::base_dir(input), limits)
     }
 
     /// Reads a stream, keeping objects and instances. `name` is the stream as
@@ -248,12 +300,22 @@ impl Scene {
     /// the object's own coordinates for an instance, so the pattern stays
     /// fixed to the object as in the thesis's Fig. 5.1).
     pub fn read(reader: Box<dyn BufRead>, name: &str, base: &Path) -> Result<Scene, SceneError> {
+        Scene::read_with(reader, name, base, &LoadOptions::DEFAULT)
+    }
+
+    /// [`Scene::read`] within `limits`.
+    pub fn read_with(
+        reader: Box<dyn BufRead>,
+        name: &str,
+        base: &Path,
+        limits: &LoadOptions,
+    ) -> Result<Scene, SceneError> {
         let mut patterns: HashMap<PathBuf, Arc<Texels>> = HashMap::new();
         let mut stripes = StripeLoader::new(base);
         let mut files = Vec::new();
         let mut coarse = Vec::new();
         let (mut unknown, mut warnings) = (keys::UnknownKeys::default(), Vec::new());
-        let mut scene = read_items(reader, name, |rec| {
+        let mut scene = read_items(reader, name, limits, |rec| {
             let at = (Some(name), rec.index);
             unknown.check(rec.index, &rec.fields, |w| warnings.push(w));
             let stripe =
@@ -411,10 +473,25 @@ impl Projected {
 fn read_items(
     reader: Box<dyn BufRead>,
     name: &str,
+    limits: &LoadOptions,
     mut each: impl FnMut(Record) -> Result<Drawable, SceneError>,
 ) -> Result<Scene, SceneError> {
     let mut checks = Objects::default();
     let mut objects: HashMap<String, Rc<Vec<Part>>> = HashMap::new();
+    // Each object's polygons per placement, and the frame's so far.
+    let mut sizes: HashMap<String, u64> = HashMap::new();
+    let mut total = 0u64;
+    let mut count = |part: &Part, index: usize, sizes: &HashMap<String, u64>| {
+        total = total.saturating_add(part.polygons(sizes));
+        if total > limits.max_polygons {
+            return Err(SceneError::TooMuchWork {
+                index,
+                polygons: total,
+                limit: limits.max_polygons,
+            });
+        }
+        Ok(())
+    };
     let mut scene = Scene::default();
     let place = |inst: Instance, objects: &HashMap<String, Rc<Vec<Part>>>| Part::Place {
         index: inst.index,
@@ -429,7 +506,12 @@ fn read_items(
     };
     for_each_item(reader, name, |item| {
         match item {
-            Item::Record(rec) => scene.parts.push(Part::Draw(each(rec)?)),
+            Item::Record(rec) => {
+                let index = rec.index;
+                let part = Part::Draw(each(rec)?);
+                count(&part, index, &sizes)?;
+                scene.parts.push(part);
+            }
             Item::Object(def) => {
                 checks.define(def.skeleton()).map_err(|e| e.named(name))?;
                 let mut parts = Vec::with_capacity(def.items.len());
@@ -442,11 +524,18 @@ fn read_items(
                         }
                     });
                 }
+                let size = parts
+                    .iter()
+                    .fold(0u64, |n, p| n.saturating_add(p.polygons(&sizes)));
+                sizes.insert(def.name.clone(), size);
                 objects.insert(def.name, Rc::new(parts));
             }
             Item::Instance(inst) => {
                 checks.check_instance(&inst).map_err(|e| e.named(name))?;
-                scene.parts.push(place(inst, &objects));
+                let index = inst.index;
+                let part = place(inst, &objects);
+                count(&part, index, &sizes)?;
+                scene.parts.push(part);
             }
         }
         Ok::<(), SceneError>(())
