@@ -266,7 +266,7 @@ clitest!(nested_instances_and_huge_quadrics_are_refused_before_any_work, |dir| {
         .assert()
         .code(1)
         .stderr(predicates::str::contains("over the limit of 4"));
-    dir.write("small.json", &s.replace("o39\"}\n", "o1\"}\n"));
+    dir.write("small.json", s.replace("o39\"}\n", "o1\"}\n"));
     dir.cmd("scene-render")
         .args(["--max-polygons", "2", "--size", "8x8", "small.json", "-o", "out.png"])
         .assert()
