@@ -197,6 +197,45 @@ fn is_broken_pipe(e: &anyhow::Error) -> bool {
     })
 }
 
+/// Refuses two inputs that both name standard input (`-`): it can be read
+/// once, and the second reader would silently get nothing (`--camera -` with
+/// the stream on `-` rendered an empty scene with exit status 0). `inputs`
+/// are (what the user wrote, the value given).
+pub fn stdin_read_once(inputs: &[(&str, Option<&str>)]) -> anyhow::Result<()> {
+    let dashes: Vec<&str> = inputs
+        .iter()
+        .filter(|(_, v)| *v == Some(crate::io::STDIO))
+        .map(|(what, _)| *what)
+        .collect();
+    if let [first, second, ..] = dashes[..] {
+        usage_bail!(
+            "{first} and {second} both name `-`: standard input can be read only once; \
+             give one of them a file"
+        );
+    }
+    Ok(())
+}
+
+/// `--size N` or `--size NxN` for a square pattern side, as the other tools
+/// write sizes (`pat-tile --pat --size 32x32`).
+pub fn parse_pattern_side(s: &str) -> Result<u64, String> {
+    let number = |t: &str| {
+        t.trim()
+            .parse::<u64>()
+            .map_err(|_| format!("invalid size `{s}`: expected N or NxN, e.g. 64 or 64x64"))
+    };
+    match s.split_once(['x', 'X']) {
+        None => number(s),
+        Some((w, h)) => {
+            let (w, h) = (number(w)?, number(h)?);
+            if w != h {
+                return Err(format!("invalid size `{s}`: patterns are square (NxN)"));
+            }
+            Ok(w)
+        }
+    }
+}
+
 /// `--size WxH`: an image size, checked against the image limits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Size {

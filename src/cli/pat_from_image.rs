@@ -57,8 +57,9 @@ pub struct Args {
     #[arg(short, long, default_value = "-", value_name = "FILE")]
     pub output: String,
 
-    /// Side of the pattern in texels: a multiple of 16 from 16 to 4096.
-    #[arg(long, default_value_t = 64, value_name = "N")]
+    /// Side of the pattern in texels (`N` or `NxN`): a multiple of 16 from 16
+    /// to 4096.
+    #[arg(long, default_value_t = 64, value_name = "N", value_parser = super::parse_pattern_side)]
     pub size: u64,
 
     /// Number of colours to choose, 1 to 256. Images with this many distinct

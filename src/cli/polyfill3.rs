@@ -172,6 +172,14 @@ pub fn run(args: Args) -> Result<()> {
     if args.compat.is_some() && args.merge {
         usage_bail!("--merge and --compat thesis cannot be combined: the thesis does not merge");
     }
+    super::stdin_read_once(&[
+        ("the stream", Some(&args.input)),
+        ("--camera", args.camera.as_deref()),
+        (
+            "--pattern",
+            args.pattern.as_deref().and_then(|p| p.to_str()),
+        ),
+    ])?;
     if args.camera.is_some() && !args.cull {
         usage_bail!("--camera is only used by --cull: add --cull, or leave out --camera");
     }

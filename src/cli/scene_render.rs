@@ -254,6 +254,11 @@ pub const MAX_FRAMES: u64 = 24 * 60 * 60 * 24;
 pub const DEFAULT_FPS: u16 = 10;
 
 fn run_in_pool(args: Args) -> Result<()> {
+    super::stdin_read_once(&[
+        ("the stream", Some(&args.input)),
+        ("--camera", args.camera.camera.as_deref()),
+        ("--background-pattern", args.background_pattern.as_deref()),
+    ])?;
     if let Some(k) = args.frame {
         if k >= args.frames {
             usage_bail!(

@@ -224,51 +224,121 @@ clitest!(
     }
 );
 
-clitest!(nested_instances_and_huge_quadrics_are_refused_before_any_work, |dir| {
-    // Issue 17, items 1 and 2: 40 objects, each placing the previous twice,
-    // expand to 2^40 polygons (47 s and 6.9 GB before an abort); a sphere of
-    // 4096 x 4096 slices and stacks to 33.5 million triangles.
-    let mut s = String::from(r#"{"object": "o0", "records": [{"vertices": [[0,0],[1,0],[0,1]], "color": [255,0,0]}]}"#);
-    for k in 1..40 {
-        s.push_str(&format!(
+clitest!(
+    nested_instances_and_huge_quadrics_are_refused_before_any_work,
+    |dir| {
+        // Issue 17, items 1 and 2: 40 objects, each placing the previous twice,
+        // expand to 2^40 polygons (47 s and 6.9 GB before an abort); a sphere of
+        // 4096 x 4096 slices and stacks to 33.5 million triangles.
+        let mut s = String::from(
+            r#"{"object": "o0", "records": [{"vertices": [[0,0],[1,0],[0,1]], "color": [255,0,0]}]}"#,
+        );
+        for k in 1..40 {
+            s.push_str(&format!(
             "\n{{\"object\": \"o{k}\", \"records\": [{{\"instance\": \"o{p}\"}}, {{\"instance\": \"o{p}\"}}]}}",
             p = k - 1
         ));
-    }
-    s.push_str("\n{\"instance\": \"o39\"}\n");
-    dir.write("nested.json", &s);
-    let started = std::time::Instant::now();
-    dir.cmd("scene-render")
-        .args(["nested.json", "-o", "out.png"])
-        .timeout(std::time::Duration::from_secs(60))
-        .assert()
-        .code(1)
-        .stderr(
-            "scene-render: error: nested.json: record 40: the scene expands to 549755813888 \
+        }
+        s.push_str("\n{\"instance\": \"o39\"}\n");
+        dir.write("nested.json", &s);
+        let started = std::time::Instant::now();
+        dir.cmd("scene-render")
+            .args(["nested.json", "-o", "out.png"])
+            .timeout(std::time::Duration::from_secs(60))
+            .assert()
+            .code(1)
+            .stderr(
+                "scene-render: error: nested.json: record 40: the scene expands to 549755813888 \
              polygons in a frame by here (instances times their objects' polygons, quadrics \
              their slices x stacks x 2 triangles), over the limit of 10000000 \
              (--max-polygons raises it)\n",
+            );
+        assert!(started.elapsed().as_secs() < 30, "refused before any work");
+        assert!(!dir.path().join("out.png").exists());
+        dir.write(
+            "sphere.json",
+            r#"{"sphere": {"radius": 1, "slices": 4096, "stacks": 4096}, "color": [255,255,255]}"#,
         );
-    assert!(started.elapsed().as_secs() < 30, "refused before any work");
-    assert!(!dir.path().join("out.png").exists());
-    dir.write(
-        "sphere.json",
-        r#"{"sphere": {"radius": 1, "slices": 4096, "stacks": 4096}, "color": [255,255,255]}"#,
-    );
+        dir.cmd("scene-render")
+            .args(["sphere.json", "-o", "out.png"])
+            .assert()
+            .code(1)
+            .stderr(predicates::str::contains(
+                "record 0: the scene expands to 33554432 polygons",
+            ));
+        // The flag raises the limit: a budget, not a ban.
+        dir.cmd("scene-render")
+            .args([
+                "--max-polygons",
+                "4",
+                "--size",
+                "8x8",
+                "nested.json",
+                "-o",
+                "out.png",
+            ])
+            .assert()
+            .code(1)
+            .stderr(predicates::str::contains("over the limit of 4"));
+        dir.write("small.json", s.replace("o39\"}\n", "o1\"}\n"));
+        dir.cmd("scene-render")
+            .args([
+                "--max-polygons",
+                "2",
+                "--size",
+                "8x8",
+                "small.json",
+                "-o",
+                "out.png",
+            ])
+            .assert()
+            .success();
+    }
+);
+
+clitest!(two_inputs_on_standard_input_are_a_usage_error, |dir| {
+    // Issue 18, item 3: `--camera -` with the stream on `-` rendered an
+    // empty scene with exit status 0.
+    dir.write("cam.json", r#"{"ortho2": [0, 8, 0, 8]}"#);
     dir.cmd("scene-render")
-        .args(["sphere.json", "-o", "out.png"])
+        .args(["--camera", "-", "-o", "x.png"])
+        .write_stdin(r#"{"ortho2": [0, 8, 0, 8]}"#)
         .assert()
-        .code(1)
-        .stderr(predicates::str::contains("record 0: the scene expands to 33554432 polygons"));
-    // The flag raises the limit: a budget, not a ban.
-    dir.cmd("scene-render")
-        .args(["--max-polygons", "4", "--size", "8x8", "nested.json", "-o", "out.png"])
+        .code(2)
+        .stderr(
+            "scene-render: error: the stream and --camera both name `-`: standard input can be \
+             read only once; give one of them a file\n",
+        );
+    dir.cmd("polyfill3")
+        .args(["--cull", "--camera", "-", "-"])
         .assert()
-        .code(1)
-        .stderr(predicates::str::contains("over the limit of 4"));
-    dir.write("small.json", s.replace("o39\"}\n", "o1\"}\n"));
-    dir.cmd("scene-render")
-        .args(["--max-polygons", "2", "--size", "8x8", "small.json", "-o", "out.png"])
+        .code(2)
+        .stderr(predicates::str::contains(
+            "the stream and --camera both name `-`",
+        ));
+    assert!(!dir.path().join("x.png").exists());
+});
+
+clitest!(pat_from_image_takes_its_size_as_n_or_nxn, |dir| {
+    use crate::util::OkStdout;
+    let img = crate::util::repo("fixtures/images/brick.png");
+    let a = dir
+        .cmd("pat-from-image")
+        .args(["--size", "32"])
+        .arg(&img)
+        .ok_stdout();
+    let b = dir
+        .cmd("pat-from-image")
+        .args(["--size", "32x32"])
+        .arg(&img)
+        .ok_stdout();
+    assert_eq!(a, b);
+    dir.cmd("pat-from-image")
+        .args(["--size", "32x16"])
+        .arg(&img)
         .assert()
-        .success();
+        .code(2)
+        .stderr(predicates::str::contains(
+            "invalid size `32x16`: patterns are square (NxN)",
+        ));
 });
