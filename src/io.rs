@@ -503,11 +503,8 @@ impl ImageFormat {
                 "format",
                 "",
             )),
-            None => Err(OptionError::new(
-                format!("{output}: no extension: expected .png, .ppm or .pam, or give "),
-                "format",
-                "",
-            )),
+            // `/dev/null`, `out`: PNG, as on standard output.
+            None => Ok(ImageFormat::Png),
         }
     }
 

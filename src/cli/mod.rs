@@ -216,6 +216,17 @@ pub fn stdin_read_once(inputs: &[(&str, Option<&str>)]) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The format of an image output: `--format`, else the extension, else PNG
+/// ([`crate::io::ImageFormat::choose`]). An extension it does not write is a
+/// usage error (exit status 2), like any other bad flag value.
+pub fn output_format(
+    explicit: Option<crate::io::ImageFormat>,
+    output: &str,
+) -> anyhow::Result<crate::io::ImageFormat> {
+    crate::io::ImageFormat::choose(explicit, output)
+        .map_err(|e| UsageError(e.worded("--format")).into())
+}
+
 /// `--size N` or `--size NxN` for a square pattern side, as the other tools
 /// write sizes (`pat-tile --pat --size 32x32`).
 pub fn parse_pattern_side(s: &str) -> Result<u64, String> {

@@ -84,7 +84,7 @@ pub fn run(args: Args) -> Result<()> {
     let format = if args.pat {
         None
     } else {
-        Some(ImageFormat::choose(args.format, &args.output)?)
+        Some(super::output_format(args.format, &args.output)?)
     };
     let name = display_name(&args.input);
     let bytes = read_input(&args.input)?;

@@ -365,7 +365,7 @@ fn run_in_pool(args: Args) -> Result<()> {
     } else {
         output
             .as_deref()
-            .map(|o| ImageFormat::choose(args.format, o))
+            .map(|o| super::output_format(args.format, o))
             .transpose()?
     };
     if transparent && format == Some(ImageFormat::Ppm) {
@@ -554,7 +554,7 @@ fn finish(
         write(&img, o, *f)?;
     }
     if let (Some(d), Some(name)) = (diff, &args.diff) {
-        write(&d, name, ImageFormat::choose(None, name)?)?;
+        write(&d, name, super::output_format(None, name)?)?;
     }
     for out in written {
         out.commit()?;

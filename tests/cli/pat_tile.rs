@@ -141,11 +141,26 @@ clitest!(bad_sizes_and_formats_are_usage_errors, |dir| {
         .stderr(predicate::str::contains(
             "--size 64x32: a pattern must be square",
         ));
-    dir.cmd("pat-tile")
-        .args(["-o", "x.jpg", "c.pat"])
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("unknown image extension `.jpg`"));
+    // A bad output extension is a usage error, as in scene-render; no
+    // extension (`/dev/null`) is PNG, as on standard output.
+    for tool in [
+        &["pat-tile", "c.pat"][..],
+        &["scene-render", "empty.json"][..],
+    ] {
+        dir.write("empty.json", "[]");
+        dir.cmd(tool[0])
+            .args(["-o", "x.jpg", tool[1]])
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(
+                "x.jpg: unknown image extension `.jpg`: expected .png, .ppm or .pam, or give --format",
+            ));
+        dir.cmd(tool[0])
+            .args(["-o", "/dev/null", tool[1]])
+            .assert()
+            .success()
+            .stderr("");
+    }
 });
 
 #[test]
