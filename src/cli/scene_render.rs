@@ -7,10 +7,10 @@ use crate::camera::Camera;
 use crate::cli::usage_bail;
 use crate::color::Rgb8;
 use crate::io::{decode_image, display_name, read_input, Image, ImageFormat, PngOptions};
-use crate::pat::Pattern;
 use crate::raster::{self, compare, reference, Aa, Background, Cull};
 use crate::scene::{self, DrawOptions, Resolve, Scene};
 use crate::texture::place::TextureSettings;
+use crate::texture::Texels;
 use crate::view::View;
 use anyhow::{Context, Result};
 use clap::Parser;
@@ -362,12 +362,12 @@ fn run_in_pool(args: Args) -> Result<()> {
     let view = View::new(&camera, width, height);
     let bg_pattern = match &args.background_pattern {
         // A command-line input: `<(...)` works as well as a file.
-        Some(p) => Some(Pattern::parse(&read_input(p)?, display_name(p))?),
+        Some(p) => Some(Texels::parse(&read_input(p)?, display_name(p))?),
         None => None,
     };
     let bg = match args.background {
-        BackgroundColor::Color(c) => Background::new(c, bg_pattern.as_ref()),
-        BackgroundColor::None => Background::transparent(bg_pattern.as_ref()),
+        BackgroundColor::Color(c) => Background::new(c, bg_pattern),
+        BackgroundColor::None => Background::transparent(bg_pattern),
     };
     let t_read = std::time::Instant::now();
     let scene = Scene::load(&args.input)?;
