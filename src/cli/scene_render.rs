@@ -68,10 +68,12 @@ pub struct Args {
     #[arg(long, value_name = "COLOR", default_value = "0,0,0")]
     pub background: BackgroundColor,
 
-    /// A .pat tiled over the background in screen mode (the thesis's colorclear):
-    /// pixel (x, y) from the lower-left takes texel (x mod SIZE, y mod SIZE);
-    /// transparent texels show --background.
-    #[arg(long, value_name = "FILE.pat")]
+    /// A .pat or an image (PNG, JPEG, ...: told by content) tiled over the
+    /// background in screen mode (the thesis's colorclear): pixel (x, y)
+    /// from the lower-left takes texel (x mod W, y mod H), an image's bottom
+    /// row being texel row 0; transparent texels (alpha below one half) show
+    /// --background.
+    #[arg(long, value_name = "FILE")]
     pub background_pattern: Option<String>,
 
     #[command(flatten)]
