@@ -422,4 +422,25 @@ mod tests {
         assert!(c[0] > 0.0 && c[0] < lut8()[1]);
         assert_eq!(t.code_bytes(), 8);
     }
+
+    #[test]
+    fn partial_alpha_lies_over_the_polygon_at_every_mip_level() {
+        // 4x4 blue at alpha 191: every level shows blue over the polygon's
+        // green by that alpha, opaque.
+        let t = Texels::from_image(4, 4, RgbaPixels::Rgba8([0, 0, 255, 191].repeat(16)));
+        let a = 191.0 / 255.0;
+        let green = [0.0, 1.0, 0.0];
+        let key = MipKey {
+            build: MipBuild::Mitchell,
+            u: Extend::Repeat,
+            v: Extend::Repeat,
+        };
+        assert_eq!(t.premultiplied(0, 0, green), [0.0, 1.0 - a, a, 1.0]);
+        for l in &t.pyramid(key).levels {
+            let p = l.at_over(0, 0, green);
+            for (got, want) in p.iter().zip([0.0, 1.0 - a, a, 1.0]) {
+                assert!((got - want).abs() < 1e-6, "{}x{}: {p:?}", l.width, l.height);
+            }
+        }
+    }
 }
