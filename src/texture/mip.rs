@@ -147,7 +147,7 @@ pub struct Pyramid {
     /// How the levels were built.
     pub key: MipKey,
     /// Levels 1, 2, ... in order, down to 1 x 1 texel
-    /// (`levels[i]` is level `i + 1`; sides as [`level_sizes`]).
+    /// (`levels[i]` is level `i + 1`; sides as [`level_dims`]).
     pub levels: Vec<Level>,
 }
 
