@@ -45,7 +45,7 @@ fn masonry(x: u32, y: u32, w: u32, h: u32, mortar: [u8; 3], shades: &[[u8; 3]], 
     let unit = (xs / w) as u64 + 97 * course as u64;
     let mut shade = shades[(hash(unit, seed) % shades.len() as u64) as usize];
     // A few speckles so the surface is not flat.
-    if hash(x as u64 * 131 + y as u64, seed + 1) % 23 == 0 {
+    if hash(x as u64 * 131 + y as u64, seed + 1).is_multiple_of(23) {
         shade = shades[(hash(unit + 1, seed) % shades.len() as u64) as usize];
     }
     Some(shade)
@@ -137,13 +137,13 @@ fn bkgrnd() -> RgbaImage {
     // scattered stars, and some transparent texels left to what lies beneath.
     draw(64, |x, y| {
         let h = hash(x as u64, y as u64 * 64 + 5);
-        if h % 97 == 0 {
+        if h.is_multiple_of(97) {
             return Some([255, 250, 220]);
         }
-        if h % 53 == 0 {
+        if h.is_multiple_of(53) {
             return Some([170, 190, 255]);
         }
-        if h % 11 == 0 {
+        if h.is_multiple_of(11) {
             return None;
         }
         if (x + y) % 16 < 2 {

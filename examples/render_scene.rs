@@ -10,7 +10,7 @@
 //! (the test `the_library_example_renders_what_scene_render_renders` checks).
 
 use glam::DVec3;
-use patkit::camera::{Camera, CameraSpec, IrisProjection, IrisSpec, LookAt, Perspective};
+use patkit::camera::{Aspect, Camera, CameraSpec, IrisProjection, IrisSpec, LookAt, Perspective};
 use patkit::io::{ImageFormat, PngOptions};
 use patkit::raster::{Aa, Background, Cull};
 use patkit::scene::{self, DrawOptions, Resolve, Scene};
@@ -37,7 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }),
         projection: vec![IrisProjection::Perspective(Perspective {
             fovy: 55.0,
-            aspect: 1.0,
+            aspect: Aspect::Ratio(1.0),
             near: 0.0,
             far: 1000.0,
         })],

@@ -97,7 +97,7 @@ fn main() -> anyhow::Result<()> {
                 continue;
             }
             let d = (p - eye).length();
-            if best.map_or(true, |(bd, _)| d < bd) {
+            if best.is_none_or(|(bd, _)| d < bd) {
                 best = Some((d, i));
             }
         }

@@ -63,7 +63,7 @@ impl std::error::Error for InvalidPattern {}
 
 /// Checks a pattern side against SPEC §1.
 pub fn check_size(size: u64) -> Result<u32, InvalidPattern> {
-    if size == 0 || size > MAX_SIZE as u64 || size % WORD_BITS as u64 != 0 {
+    if size == 0 || size > MAX_SIZE as u64 || !size.is_multiple_of(WORD_BITS as u64) {
         Err(InvalidPattern(format!(
             "pattern size {size} is not a multiple of 16 from 16 to {MAX_SIZE}"
         )))

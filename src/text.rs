@@ -220,3 +220,52 @@ impl<'a> Words<'a> {
         }
     }
 }
+
+/// A number as a person writes it in a message: four significant digits at
+/// most, no trailing zeros, an exponent only outside 1e-4 ..< 1e9 (`0.25`,
+/// `1.414`, `1200`, `3e-300`; not `1.4142135623730951e1`).
+pub fn readable(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    // Rounded to 4 significant digits first, so the exponent is the rounded one's.
+    let sci = format!("{x:.3e}");
+    let (mantissa, exp) = sci.split_once('e').expect("{:e} has an exponent");
+    let exp: i32 = exp.parse().expect("{:e}'s exponent is an integer");
+    let trim = |s: &str| {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s.to_string()
+        }
+    };
+    if (-4..9).contains(&exp) {
+        let decimals = (3 - exp).max(0) as usize;
+        trim(&format!("{x:.decimals$}"))
+    } else {
+        format!("{}e{exp}", trim(mantissa))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::readable;
+
+    #[test]
+    fn readable_numbers() {
+        for (x, want) in [
+            (0.25, "0.25"),
+            (std::f64::consts::SQRT_2, "1.414"),
+            (14.142135623730951, "14.14"),
+            (1200.0, "1200"),
+            (123456.7, "123457"),
+            (1e-300, "1e-300"),
+            (-2.5e12, "-2.5e12"),
+            (0.00012346, "0.0001235"),
+            (0.0, "0"),
+            (9.99996, "10"),
+        ] {
+            assert_eq!(readable(x), want, "{x}");
+        }
+    }
+}

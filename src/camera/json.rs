@@ -24,8 +24,8 @@ use super::spec::{
     one_iris_projection, one_view_projection,
 };
 use super::{
-    Camera, CameraError, CameraSpec, IrisProjection, IrisSpec, LookAt, ObliqueKind, Ortho, Ortho2,
-    Perspective, ViewProjection, ViewSpec, Window,
+    Aspect, Camera, CameraError, CameraSpec, IrisProjection, IrisSpec, LookAt, ObliqueKind, Ortho,
+    Ortho2, Perspective, ViewProjection, ViewSpec, Window,
 };
 
 type Result<T> = std::result::Result<T, CameraError>;
@@ -107,7 +107,7 @@ fn iris_spec(root: &Obj) -> Result<IrisSpec> {
             p.check_keys(&["fovy", "aspect", "near", "far"])?;
             IrisProjection::Perspective(Perspective {
                 fovy: p.req_num("fovy")?,
-                aspect: p.req_num("aspect")?,
+                aspect: p.aspect()?,
                 near: p.req_num("near")?,
                 far: p.req_num("far")?,
             })
@@ -271,6 +271,17 @@ impl<'a> Obj<'a> {
 
     fn num(&self, key: &str) -> Result<Option<f64>> {
         self.map.get(key).map(|v| number(self, key, v)).transpose()
+    }
+
+    /// `"aspect"`: a number, or `"auto"` for the image's own ratio.
+    fn aspect(&self) -> Result<Aspect> {
+        match self.map.get("aspect") {
+            Some(Value::String(s)) if s == "auto" => Ok(Aspect::Auto),
+            Some(Value::String(s)) => {
+                Err(self.err("aspect", format!("{s:?} is neither a number nor \"auto\"")))
+            }
+            _ => self.req_num("aspect").map(Aspect::Ratio),
+        }
     }
 
     fn req_num(&self, key: &str) -> Result<f64> {
@@ -577,7 +588,7 @@ mod tests {
         };
         let demo2_perspective = IrisProjection::Perspective(Perspective {
             fovy: 55.0,
-            aspect: 1.0,
+            aspect: Aspect::Ratio(1.0),
             near: 0.0,
             far: 1000.0,
         });
@@ -659,7 +670,7 @@ mod tests {
                     look(far_away, far_away - DVec3::Z, None, None),
                     IrisProjection::Perspective(Perspective {
                         fovy: 60.0,
-                        aspect: w / h,
+                        aspect: Aspect::Ratio(w / h),
                         near: 0.5,
                         far: 100.0,
                     }),

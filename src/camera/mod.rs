@@ -122,7 +122,7 @@ mod json;
 mod spec;
 
 pub use spec::{
-    CameraSpec, IrisProjection, IrisSpec, LookAt, ObliqueKind, Ortho, Ortho2, Perspective,
+    Aspect, CameraSpec, IrisProjection, IrisSpec, LookAt, ObliqueKind, Ortho, Ortho2, Perspective,
     ViewProjection, ViewSpec, Window, DEFAULT_OBLIQUE_ANGLE,
 };
 
@@ -148,6 +148,10 @@ pub struct Camera {
     /// Whether `projection` is a perspective one (w_clip = −z_eye) rather than
     /// parallel (w_clip = 1).
     pub perspective: bool,
+    /// Whether the window's width / height is the image's ([`Aspect::Auto`]):
+    /// `projection` is then built for a square window until
+    /// [`Camera::for_image`] fits it.
+    pub aspect_from_image: bool,
 }
 
 /// Why a camera could not be made. `Display` gives the whole line the tools print
@@ -322,6 +326,21 @@ impl Camera {
         Camera::from_spec(&spec).map_err(|e| e.with_origin("ortho2"))
     }
 
+    /// This camera on a `width` x `height` image: an [`Aspect::Auto`]
+    /// perspective takes the image's ratio, with the same arithmetic as the
+    /// ratio given as a number (`f / aspect`), so `auto` and `4/3` at 1024x768
+    /// give the same bits.
+    pub fn for_image(&self, width: u32, height: u32) -> Camera {
+        let mut c = self.clone();
+        if c.aspect_from_image {
+            // Built with aspect 1: the x scale is f / 1.0 = f exactly.
+            let f = c.projection.x_axis.x;
+            c.projection.x_axis.x = f / (width as f64 / height as f64);
+            c.aspect_from_image = false;
+        }
+        c
+    }
+
     /// world → clip: `projection * view`.
     pub fn world_to_clip(&self) -> DMat4 {
         self.projection * self.view
@@ -429,6 +448,35 @@ mod tests {
     use super::test_support::*;
     use super::*;
     use serde_json::json;
+
+    #[test]
+    fn auto_aspect_is_the_images_ratio_to_the_bit() {
+        let with = |aspect: serde_json::Value| {
+            cam(
+                json!({"lookat": {"eye": [0, 100, -5], "center": [0, 0, -900]},
+                       "perspective": {"fovy": 55, "aspect": aspect, "near": 0, "far": 1000}}),
+            )
+        };
+        let auto = with(json!("auto"));
+        assert!(auto.aspect_from_image);
+        for (w, h) in [(1024u32, 768u32), (640, 480), (1000, 333), (7, 1000)] {
+            let fitted = auto.for_image(w, h);
+            let given = with(json!(w as f64 / h as f64));
+            assert_eq!(fitted, given, "{w}x{h}");
+            // A camera given a ratio keeps it, whatever the image.
+            assert_eq!(given.for_image(h, w), given);
+        }
+        let bad = Camera::from_json(
+            &json!({"perspective": {"fovy": 55, "aspect": "wide", "near": 0, "far": 1}}),
+            "cam.json",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            bad.contains("perspective.aspect") && bad.contains("\"wide\""),
+            "{bad}"
+        );
+    }
 
     #[test]
     fn demo2_maps_straight_ahead_to_the_centre() {

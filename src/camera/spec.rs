@@ -103,6 +103,18 @@ pub enum IrisProjection {
     Ortho2(Ortho2),
 }
 
+/// The width / height ratio of a perspective window (gluPerspective's
+/// `aspect`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Aspect {
+    /// This ratio; positive. A ratio other than the image's stretches the
+    /// picture, as the thesis's demo 2 does (aspect 1 at 1024x768).
+    Ratio(f64),
+    /// The image's own width / height, taken when the camera meets an image
+    /// ([`Camera::for_image`]): no stretch. `"auto"` in JSON and flags.
+    Auto,
+}
+
 /// gluPerspective: a symmetric frustum around −z from the eye.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Perspective {
@@ -110,10 +122,10 @@ pub struct Perspective {
     ///
     /// Default value: none (required).
     pub fovy: f64,
-    /// Width / height of the window; positive.
+    /// Width / height of the window.
     ///
     /// Default value: none (required).
-    pub aspect: f64,
+    pub aspect: Aspect,
     /// Distance of the near plane from the eye; 0 is allowed (depth is not
     /// squashed into [−1, 1], see the module docs), negative is not.
     ///
@@ -599,7 +611,9 @@ impl CameraSpec {
                     match *p {
                         IrisProjection::Perspective(p) => {
                             add("perspective.fovy", &[p.fovy]);
-                            add("perspective.aspect", &[p.aspect]);
+                            if let Aspect::Ratio(r) = p.aspect {
+                                add("perspective.aspect", &[r]);
+                            }
                             add("perspective.near", &[p.near]);
                             add("perspective.far", &[p.far]);
                         }
@@ -730,12 +744,18 @@ fn iris(s: &IrisSpec) -> Result<Camera, CameraError> {
                     format!("{fovy} is outside (0, 180) degrees"),
                 ));
             }
-            if aspect <= 0.0 {
-                return Err(CameraError::invalid(
-                    "perspective.aspect",
-                    format!("{aspect} is not positive (width/height)"),
-                ));
-            }
+            // Auto: built for a square window, made the image's by
+            // `Camera::for_image`.
+            let ratio = match aspect {
+                Aspect::Ratio(r) if r <= 0.0 => {
+                    return Err(CameraError::invalid(
+                        "perspective.aspect",
+                        format!("{r} is not positive (width/height)"),
+                    ))
+                }
+                Aspect::Ratio(r) => r,
+                Aspect::Auto => 1.0,
+            };
             if near < 0.0 {
                 return Err(CameraError::invalid(
                     "perspective.near",
@@ -751,7 +771,7 @@ fn iris(s: &IrisSpec) -> Result<Camera, CameraError> {
             // gluPerspective: f = cot(fovy/2).
             let f = 1.0 / math::tan(fovy.to_radians() / 2.0);
             let projection = from_rows([
-                [f / aspect, 0.0, 0.0, 0.0],
+                [f / ratio, 0.0, 0.0, 0.0],
                 [0.0, f, 0.0, 0.0],
                 DEPTH_ROW,
                 PERSPECTIVE_W_ROW,
@@ -762,6 +782,7 @@ fn iris(s: &IrisSpec) -> Result<Camera, CameraError> {
                 near,
                 far,
                 perspective: true,
+                aspect_from_image: aspect == Aspect::Auto,
             })
         }
         IrisProjection::Ortho(Ortho {
@@ -786,6 +807,7 @@ fn iris(s: &IrisSpec) -> Result<Camera, CameraError> {
                 near,
                 far,
                 perspective: false,
+                aspect_from_image: false,
             })
         }
         IrisProjection::Ortho2(Ortho2 {
@@ -812,6 +834,7 @@ fn iris(s: &IrisSpec) -> Result<Camera, CameraError> {
                 near: -1.0,
                 far: 1.0,
                 perspective: false,
+                aspect_from_image: false,
             })
         }
     }
@@ -897,6 +920,7 @@ fn textbook(v: &ViewSpec) -> Result<Camera, CameraError> {
                 near,
                 far,
                 perspective: true,
+                aspect_from_image: false,
             });
         }
         // The direction of projection in view plane coordinates (Alg. 8.22).
@@ -961,6 +985,7 @@ fn textbook(v: &ViewSpec) -> Result<Camera, CameraError> {
         near: front,
         far: back,
         perspective: false,
+        aspect_from_image: false,
     })
 }
 

@@ -7,8 +7,8 @@
 use glam::DVec3;
 
 use crate::camera::{
-    Camera, CameraError, CameraSpec, IrisProjection, IrisSpec, LookAt, ObliqueKind, Ortho, Ortho2,
-    Perspective, ViewProjection, ViewSpec, Window,
+    Aspect, Camera, CameraError, CameraSpec, IrisProjection, IrisSpec, LookAt, ObliqueKind, Ortho,
+    Ortho2, Perspective, ViewProjection, ViewSpec, Window,
 };
 use crate::cli::usage_bail;
 
@@ -40,6 +40,27 @@ fn flag_of(field: &str) -> Option<&'static str> {
 }
 
 /// Parses `N` comma-separated finite numbers (`"0,100,-5"`).
+/// `--perspective FOVY,ASPECT,NEAR,FAR`, ASPECT a number or `auto`.
+fn parse_perspective(text: &str) -> std::result::Result<Perspective, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if let [fovy, "auto", near, far] = parts[..] {
+        let [fovy, near, far] = parse_list::<3>(&[fovy, near, far].join(","))?;
+        return Ok(Perspective {
+            fovy,
+            aspect: Aspect::Auto,
+            near,
+            far,
+        });
+    }
+    let [fovy, aspect, near, far] = parse_list::<4>(text)?;
+    Ok(Perspective {
+        fovy,
+        aspect: Aspect::Ratio(aspect),
+        near,
+        far,
+    })
+}
+
 fn parse_list<const N: usize>(text: &str) -> std::result::Result<[f64; N], String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     if parts.len() != N {
@@ -89,10 +110,11 @@ pub struct CameraArgs {
     #[arg(long, value_name = "DEG", value_parser = parse_finite, allow_hyphen_values = true, help_heading = "Camera")]
     pub twist: Option<f64>,
 
-    /// gluPerspective: vertical field of view in degrees, aspect (width/height),
-    /// near and far distances (near may be 0). Default: none.
-    #[arg(long, value_name = "FOVY,ASPECT,NEAR,FAR", value_parser = parse_list::<4>, allow_hyphen_values = true, help_heading = "Camera")]
-    pub perspective: Option<[f64; 4]>,
+    /// gluPerspective: vertical field of view in degrees, aspect (width/height,
+    /// or `auto` for the image's own), near and far distances (near may be 0).
+    /// Default: none.
+    #[arg(long, value_name = "FOVY,ASPECT,NEAR,FAR", value_parser = parse_perspective, allow_hyphen_values = true, help_heading = "Camera")]
+    pub perspective: Option<Perspective>,
 
     /// glOrtho: left, right, bottom, top, near, far in eye coordinates. Default: none.
     #[arg(long, value_name = "L,R,B,T,N,F", value_parser = parse_list::<6>, allow_hyphen_values = true, help_heading = "Camera")]
@@ -214,13 +236,8 @@ impl CameraArgs {
     /// --up and --twist without --lookat.
     fn spec(&self) -> Result<Option<CameraSpec>, CameraError> {
         let mut projection = Vec::new();
-        if let Some([fovy, aspect, near, far]) = self.perspective {
-            projection.push(IrisProjection::Perspective(Perspective {
-                fovy,
-                aspect,
-                near,
-                far,
-            }));
+        if let Some(p) = self.perspective {
+            projection.push(IrisProjection::Perspective(p));
         }
         if let Some([left, right, bottom, top, near, far]) = self.ortho {
             projection.push(IrisProjection::Ortho(Ortho {

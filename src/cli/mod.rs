@@ -261,6 +261,30 @@ pub fn man_page(cmd: clap::Command) -> String {
     String::from_utf8(out).expect("clap_mangen writes UTF-8")
 }
 
+/// The shells completion scripts are made for, with where each script of
+/// `tool` goes under an install prefix (the places bash-completion, zsh's
+/// site-functions and fish's vendor directory look).
+pub const COMPLETION_SHELLS: [(clap_complete::Shell, &str); 3] = [
+    (
+        clap_complete::Shell::Bash,
+        "share/bash-completion/completions/{}",
+    ),
+    (clap_complete::Shell::Zsh, "share/zsh/site-functions/_{}"),
+    (
+        clap_complete::Shell::Fish,
+        "share/fish/vendor_completions.d/{}.fish",
+    ),
+];
+
+/// One tool's completion script for `shell`, from the same argument
+/// definitions as `--help` and the man page.
+pub fn completion(mut cmd: clap::Command, shell: clap_complete::Shell) -> String {
+    let name = cmd.get_name().to_string();
+    let mut out = Vec::new();
+    clap_complete::generate(shell, &mut cmd, name, &mut out);
+    String::from_utf8(out).expect("clap_complete writes UTF-8")
+}
+
 /// `--depfile FILE`: writes the make rule `TARGETS: DEPS` of every file a run
 /// read (as `cc -MD` does), and an empty rule for each dependency (as `-MP`
 /// adds) so that a deleted pattern makes the target out of date instead of

@@ -14,15 +14,16 @@ const EXAMPLES: &str = "\
 Examples:
   pat-from-image photo.jpg -o brick.pat
       64x64 texels, 16 colours chosen for the photo, no dithering.
-  pat-from-image --size 32 --colors 8 --dither floyd-steinberg leaf.png > leaf.pat
-  pat-from-image --crop --size 16 sprite.png -o sprite.pat
+  pat-from-image --size 32 --colors 8 --dither floyd-steinberg photo.jpg > photo.pat
+  pat-from-image --crop --size 16 icon.png -o icon16.pat
       The central 16x16 pixels exactly; with 16 colours or fewer the
       conversion is lossless.
   pat-from-image --palette ega.txt --transparent 255,0,255 icon.png -o icon.pat
       Force the colours of ega.txt (lines `r,g,b` or `#rrggbb`, `#` comments,
       or a .pat file); magenta pixels become transparent texels.
-  convert rose: png:- | pat-from-image --report -o rose.pat
-  pat-from-image --stripe --angle 90 --length 512 field.jpg -o furrow.map
+  jpegtopnm photo.jpg | pat-from-image --report -o photo.pat
+      Any image on standard input: here netpbm's PPM.
+  pat-from-image --stripe --angle 90 --length 512 photo.jpg -o furrow.map
       A stripe modulation map: the image's luminance averaged along the
       stripes, varying upwards (90 degrees) across them.
 ";

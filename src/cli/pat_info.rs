@@ -25,7 +25,7 @@ Examples:
   pat-tile --pat --size 256x256 brick.pat | pat-info -
   pat-info fixtures/stripes/furrow.map
       A modulation map: its length and, per level of detail, min/max/mean.
-  pat-info --record 0 scene.json
+  pat-info --record 0 field.json
       Record 0's stripe texture: spacing, start point, yaw, pitch, ...";
 
 /// Examine multi-colour texture patterns (size, colours and their coverage,
@@ -351,7 +351,11 @@ fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
         ),
     };
     let base = crate::stream::base_dir(file);
+    let unknown = std::cell::RefCell::new(crate::scene::keys::UnknownKeys::default());
     let load = |record: &Record, label: &str| -> Result<Option<LoadedStripe>> {
+        unknown
+            .borrow_mut()
+            .check(record.index, &record.fields, |w| super::warn("pat-info", w));
         let Some(spec) =
             StripeSpec::from_fields(&record.fields).map_err(|m| anyhow::anyhow!("{label}: {m}"))?
         else {

@@ -23,11 +23,12 @@ Examples:
       Cut every polygon of faces.json that has no pattern of its own with
       brick.pat, 2 units a texel, shifted 5 texels left (as the thesis's demo2
       places pyr.pat); the placement also fills in what a \"pattern\" leaves out.
-  polyfill3 --merge scene.json | scene-render -o out.png -
-      Join runs of equal whole cells into fewer polygons.
+  polyfill3 --merge scene.json | scene-render --camera cam.json -o out.png -
+      Join runs of equal whole cells into fewer polygons. The camera is
+      scene-render's: the cells are in world coordinates.
   polyfill3 --compat thesis --incr 25 plain.json | wc -l
       The thesis's own loop, degenerate polygons included (Table 5.1).
-  polyfill3 --uv scene.json | scene-render -o out.png -
+  polyfill3 --uv scene.json | scene-render --camera cam.json -o out.png -
       Keep each polygon whole, with its \"object\" placement as \"uv\"
       coordinates (for renderers that take texture coordinates).";
 
@@ -180,6 +181,13 @@ pub fn run(args: Args) -> Result<()> {
     let volume = match &args.camera {
         Some(path) => {
             let cam = crate::camera::Camera::load(path)?;
+            if cam.aspect_from_image {
+                anyhow::bail!(
+                    "{}: perspective.aspect \"auto\" is the image's width/height, and \
+                     polyfill3 draws no image: give the ratio as a number",
+                    display_name(path)
+                );
+            }
             Some(ViewVolume::new(&cam))
         }
         None => None,

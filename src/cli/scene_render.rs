@@ -20,18 +20,24 @@ const TOOL: &str = "scene-render";
 
 const EXAMPLES: &str = "\
 Examples:
-  scene-render --size 1024x768 --background 255,255,255 demo1.json -o demo1.png
-  polyfill3 pyramid.json | scene-render --camera demo2.camera.json -o demo2.png
-  scene-render --perspective 55,1.333,0,1000 --lookat 0,100,-5,0,0,-900 scene.json > out.png
-  scene-render --aa ss16 --cull back scene.json -o ss16.png
-  scene-render --reference scene.json -o reference.png
-  scene-render --aa exact scene.json --compare reference.png --diff diff.png
-  scene-render --image llvmpipe.png --compare reference.png --json
-  scene-render --frames 36 -o frame-%04d.png spin.json
+  scene-render --ortho2 0,1023,0,767 --background 255,255,255 demo1.json -o demo1.png
+      The thesis's demo 1: 2D records with screen-mode patterns.
+  polyfill3 scene.json -o cells.json
+  scene-render --camera cam.json --cull back --background-pattern bkgrnd.pat cells.json -o demo2.png
+      The thesis's demo 2: its pyramid and plain cut into texture point
+      polygons by polyfill3, then drawn.
+  scene-render --perspective 55,auto,0,1000 --lookat 0,100,-5,0,0,-900 scene.json > out.png
+      Aspect auto: the image's own width/height, no stretch (demo 2 uses 1 at 1024x768).
+  scene-render --camera cam.json --aa ss16 --cull back scene.json -o ss16.png
+  scene-render --camera cam.json --cull back --reference scene.json -o reference.png
+  scene-render --camera cam.json --cull back scene.json --compare reference.png --diff diff.png
+  scene-render --image ss16.png --compare reference.png --json
+      Measure any image of the same size against the reference.
+  scene-render --camera cam.json --frames 36 -o frame-%04d.png spin.json
       An animation: instance transforms with {\"start\": a, \"step\": s} numbers.
-  scene-render --frames 36 --frame 7 -o frame-%04d.png spin.json
+  scene-render --camera cam.json --frames 36 --frame 7 -o frame-%04d.png spin.json
       Frame 7 alone, as one job of a make -j, GNU parallel or Slurm batch.
-  scene-render --frames 36 --animate --fps 12 -o turn.png spin.json
+  scene-render --camera cam.json --frames 36 --animate --fps 12 -o turn.png spin.json
       The same animation as one animated PNG.
   scene-render --ortho -80,80,-60,60,0,100 --size 800x600 two-spheres.json -o two.png
       Seed 002's textured spheres: quadric records (sphere, cylinder, cone, disk).
@@ -357,10 +363,9 @@ fn run_in_pool(args: Args) -> Result<()> {
         usage_bail!("--background none: PPM has no alpha channel: write PNG or PAM");
     }
     let Size { width, height } = args.size;
-    let camera = match args.camera.resolve()? {
-        Some(c) => c,
-        None => Camera::ortho2(0.0, width as f64, 0.0, height as f64),
-    };
+    let given = args.camera.resolve()?;
+    let camera_given = given.is_some();
+    let camera = given.unwrap_or_else(|| Camera::ortho2(0.0, width as f64, 0.0, height as f64));
     let view = View::new(&camera, width, height);
     let bg_pattern = match &args.background_pattern {
         // A command-line input: `<(...)` works as well as a file.
@@ -373,15 +378,19 @@ fn run_in_pool(args: Args) -> Result<()> {
     };
     let t_read = std::time::Instant::now();
     let scene = Scene::load(&args.input)?;
+    for w in scene.warnings() {
+        super::warn("scene-render", w);
+    }
     let how = draw_options(&args, texture);
     if animation || args.animate {
         let format = format.expect("animations have an output");
-        render_frames(&args, &how, &scene, &view, &bg, format)?;
+        render_frames(&args, &how, &scene, (&view, camera_given), &bg, format)?;
         return write_depfile(&args, Some(&scene));
     }
-    let polys = scene
-        .project(&view, &how, 0)
+    let (polys, tally) = scene
+        .project_tallied(&view, &how, 0)
         .with_context(|| display_name(&args.input).to_string())?;
+    warn_if_blank(&args, (&view, camera_given), 0, &tally);
     let t_render = std::time::Instant::now();
     let (img, residual, plan) = if args.reference {
         let pass =
@@ -610,6 +619,78 @@ pub fn frame_name(pattern: &str, k: u64) -> Option<String> {
     Some(format!("{}{num}{}", &pattern[..start], &rest[digits + 1..]))
 }
 
+/// Below this many pixels of summed polygon area, a frame of a non-empty
+/// stream "draws almost nothing": less than one pixel's worth of ink is
+/// far likelier a wrong camera or scale than an intended picture.
+const ALMOST_NOTHING_PX: f64 = 1.0;
+
+/// Warns when frame `k` draws nothing, or almost nothing, of a non-empty
+/// stream, naming what became of its polygons (an all-background image with
+/// exit 0 is the commonest silent mistake: a 3D scene without a camera).
+fn warn_if_blank(args: &Args, (view, camera_given): (&View, bool), k: u64, tally: &raster::Tally) {
+    let total = tally.total();
+    if total == 0 || tally.drawn_area >= ALMOST_NOTHING_PX {
+        return;
+    }
+    let plural = |n: u64, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    let polygons = plural(total, "polygon", "polygons");
+    let mut what = if tally.drawn == 0 {
+        format!("frame {k} draws nothing: of {polygons}, ")
+    } else {
+        format!(
+            "frame {k} draws almost nothing: {} drawn {} {:.2} pixels in all; of {polygons}, ",
+            tally.drawn,
+            if tally.drawn == 1 { "covers" } else { "cover" },
+            tally.drawn_area,
+        )
+    };
+    let mut why = Vec::new();
+    if tally.outside > 0 {
+        why.push(format!(
+            "{} outside the view volume",
+            plural(tally.outside, "lies", "lie")
+        ));
+    }
+    if tally.culled > 0 {
+        why.push(format!(
+            "{} culled (--cull {})",
+            plural(tally.culled, "was", "were"),
+            cull_name(args.cull)
+        ));
+    }
+    if tally.no_area > 0 {
+        why.push(format!(
+            "{} no area on screen (edge-on)",
+            plural(tally.no_area, "has", "have")
+        ));
+    }
+    if tally.not_finite > 0 {
+        why.push(format!(
+            "{} a coordinate that overflows",
+            plural(tally.not_finite, "has", "have")
+        ));
+    }
+    if why.is_empty() {
+        why.push("none is lost: they are that small on screen".to_string());
+    }
+    what.push_str(&why.join(", "));
+    if tally.outside > 0 && !camera_given {
+        what.push_str(&format!(
+            "; no camera was given, and the default (--ortho2 0,{},0,{}) shows only z in [-1, 1]: \
+             give --camera FILE, or --perspective and --lookat",
+            view.width, view.height
+        ));
+    }
+    crate::cli::warn(TOOL, what);
+}
+
+/// The `--cull` spelling of `cull`.
+fn cull_name(cull: Cull) -> String {
+    use clap::ValueEnum;
+    cull.to_possible_value()
+        .map_or_else(String::new, |v| v.get_name().to_string())
+}
+
 /// Renders the frames of an animation from one reading of the scene: the
 /// objects are read (and their patterns loaded) once, and each frame only
 /// projects and resolves. With --frame K only frame K is drawn.
@@ -617,7 +698,7 @@ fn render_frames(
     args: &Args,
     how: &DrawOptions,
     scene: &Scene,
-    view: &View,
+    (view, camera_given): (&View, bool),
     bg: &raster::Background,
     format: ImageFormat,
 ) -> Result<()> {
@@ -634,9 +715,10 @@ fn render_frames(
     for k in frames {
         let name = frame_name(pattern, k).unwrap_or_else(|| pattern.to_string());
         let t0 = std::time::Instant::now();
-        let polys = scene
-            .project(view, how, k)
+        let (polys, tally) = scene
+            .project_tallied(view, how, k)
             .with_context(|| display_name(&args.input).to_string())?;
+        warn_if_blank(args, (view, camera_given), k, &tally);
         let t1 = std::time::Instant::now();
         let (img, plan) = scene::render(&polys, bg, view.width, view.height, resolve(args));
         if let Some(p) = plan {

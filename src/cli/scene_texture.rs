@@ -4,32 +4,40 @@
 use crate::color::Rgb8;
 use crate::texture::boundary::{Boundary, Bounds};
 use crate::texture::compose::Compose;
+pub use crate::texture::filter::MAX_LOD_BIAS;
 use crate::texture::filter::{Filter, Filters};
 use crate::texture::mip::MipBuild;
 use crate::texture::place::TextureSettings;
 use crate::texture::skip::Skips;
 
-/// How "object" and "uv" patterns are applied.
+/// How "object" and "uv" patterns are applied. Every flag but
+/// --no-perspective-correction, --mip-build and --no-skip is a default: a
+/// record's "pattern" key of the same name (`_` for `-`) overrides it for
+/// that record (`crate::texture::state`).
 #[derive(clap::Args, Debug, Clone)]
 pub struct TextureArgs {
     /// What a pattern shows outside its bounds (texel columns and rows outside
     /// 0..SIZE), XGL's boundary conditions: repeat (XGL wrap; SPEC §2 tiling),
     /// transparent (the polygon's own colour, as if untextured), clamp (the
-    /// --boundary-color), mirror, edge (the closest boundary texel).
+    /// --boundary-color), mirror, edge (the closest boundary texel). A record's "pattern"
+    /// key "boundary" overrides it.
     #[arg(long, value_enum, value_name = "MODE", default_value_t = Boundary::Repeat)]
     pub boundary: Boundary,
 
     /// The boundary condition along u only (overrides --boundary). When u and
     /// v differ and both exceed the bounds, XGL's precedence decides:
-    /// transparent, clamp, repeat, mirror, edge.
+    /// transparent, clamp, repeat, mirror, edge. A record's "boundary_u"
+    /// overrides it.
     #[arg(long, value_enum, value_name = "MODE")]
     pub boundary_u: Option<Boundary>,
 
-    /// The boundary condition along v only (overrides --boundary).
+    /// The boundary condition along v only (overrides --boundary). A record's
+    /// "boundary_v" overrides it.
     #[arg(long, value_enum, value_name = "MODE")]
     pub boundary_v: Option<Boundary>,
 
-    /// The constant colour of --boundary clamp (`r,g,b` or `#rrggbb`).
+    /// The constant colour of --boundary clamp (`r,g,b` or `#rrggbb`). A
+    /// record's "boundary_color" overrides it.
     #[arg(long, value_name = "COLOR", default_value = "0,0,0")]
     pub boundary_color: Rgb8,
 
@@ -39,15 +47,17 @@ pub struct TextureArgs {
     /// blend-intrinsic (between color and --compose-color1), decal and
     /// decal-intrinsic (transparent texels show --compose-color1 or color;
     /// XGL allows decal only for maps with alpha: patterns with transparent
-    /// texels).
+    /// texels). A record's "pattern" key "compose" overrides it.
     #[arg(long, value_enum, value_name = "METHOD", default_value_t = Compose::Replace)]
     pub compose: Compose,
 
     /// First constant colour of --compose blend, blend-intrinsic and decal.
+    /// A record's "compose_color1" overrides it.
     #[arg(long, value_name = "COLOR", default_value = "0,0,0")]
     pub compose_color1: Rgb8,
 
-    /// Second constant colour of --compose blend.
+    /// Second constant colour of --compose blend. A record's
+    /// "compose_color2" overrides it.
     #[arg(long, value_name = "COLOR", default_value = "255,255,255")]
     pub compose_color2: Rgb8,
 
@@ -63,23 +73,27 @@ pub struct TextureArgs {
     /// mip-point-linear, trilinear (the two nearest levels, mixed: XGL's six
     /// methods), ewa (elliptical weighted average, anisotropic). Sets both
     /// --min-filter and --mag-filter; a MIP filter or ewa magnifies with its
-    /// base-level counterpart (point or bilinear).
+    /// base-level counterpart (point or bilinear). A record's "pattern" key
+    /// "filter" overrides it (and these flags) for that record.
     #[arg(long, value_enum, value_name = "FILTER", default_value_t = Filter::Box)]
     pub filter: Filter,
 
     /// The filter where the pattern is minified (a pixel spans more than one
-    /// texel after --lod-bias; XGL's filter1): overrides --filter.
+    /// texel after --lod-bias; XGL's filter1): overrides --filter. A
+    /// record's "min_filter" overrides it.
     #[arg(long, value_enum, value_name = "FILTER")]
     pub min_filter: Option<Filter>,
 
     /// The filter where the pattern is magnified (XGL's filter2): box, point
     /// or bilinear (the MIP filters have nothing to do there, as in OpenGL).
+    /// A record's "mag_filter" overrides it.
     #[arg(long, value_enum, value_name = "FILTER")]
     pub mag_filter: Option<Filter>,
 
     /// Added to the MIP level of detail (log2 of texels per pixel), XGL's
     /// depth_interp_factor: 1.0 is one level blurrier, -1.0 one level
-    /// sharper (and more aliased).
+    /// sharper (and more aliased). A record's "pattern" key "lod_bias"
+    /// overrides it.
     #[arg(
         long,
         value_name = "F",
@@ -103,10 +117,6 @@ pub struct TextureArgs {
     #[arg(long, value_name = "LIST", hide = true)]
     pub no_skip: Option<String>,
 }
-
-/// Largest `--lod-bias` magnitude: 16 levels is beyond the 13 of the largest
-/// pattern (4096), so any larger value means the same and is likely a typo.
-pub const MAX_LOD_BIAS: f64 = 16.0;
 
 impl TextureArgs {
     /// The filters, checked: the mag filter must work on the base level,
@@ -154,5 +164,37 @@ impl TextureArgs {
                 None => Skips::ALL,
             },
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::texture::state::TextureState;
+    use clap::ValueEnum;
+
+    /// The flags' spellings are clap's (from the variant names), the
+    /// records' the library's `name()`: they must agree, variant by variant.
+    fn agree<T: ValueEnum + Copy + PartialEq + std::fmt::Debug>(
+        all: &[T],
+        name: fn(T) -> &'static str,
+    ) {
+        assert_eq!(T::value_variants().len(), all.len());
+        for &v in T::value_variants() {
+            let flag = v.to_possible_value().expect("no hidden values");
+            assert_eq!(flag.get_name(), name(v), "{v:?}");
+            assert!(all.contains(&v), "{v:?} missing from ALL");
+        }
+    }
+
+    #[test]
+    fn flag_and_record_spellings_agree_for_every_variant() {
+        agree(&Filter::ALL, Filter::name);
+        agree(&Boundary::ALL, Boundary::name);
+        agree(&Compose::ALL, Compose::name);
+        for f in Filter::ALL {
+            let s = TextureState::from_pattern(&serde_json::json!({ "filter": f.name() }));
+            assert_eq!(s.unwrap().filter, Some(f));
+        }
     }
 }

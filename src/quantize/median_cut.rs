@@ -85,7 +85,7 @@ pub(super) fn best_cut(points: &[(Point, f64)], total: &Moments) -> Option<(f64,
             // A cut just below this level, if anything lies below it.
             if seen_any {
                 let gain = total.sse() - left.sse() - total.sub(&left).sse();
-                if best.map_or(true, |b| gain > b.0) {
+                if best.is_none_or(|b| gain > b.0) {
                     best = Some((gain, axis, level as f32));
                 }
             }

@@ -750,7 +750,7 @@ mod sweep {
                     })
                     .collect();
                 let c = Rgb8([(r.unit() * 255.0) as u8, (r.unit() * 255.0) as u8, 90]);
-                project(&v, &pts, c, i as u32, Cull::None)
+                project(&v, &pts, c, i as u32, Cull::None).ok()
             })
             .collect()
     }

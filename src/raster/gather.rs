@@ -52,7 +52,7 @@ impl Local {
             global,
             color: p.screen().is_none().then_some(p.color),
             plain: matches!(p.shader, Shader::Flat | Shader::Screen(_)),
-            cullable: p.texture().map_or(true, |t| t.skips.hidden),
+            cullable: p.texture().is_none_or(|t| t.skips.hidden),
         }
     }
 

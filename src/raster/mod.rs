@@ -49,7 +49,7 @@ mod visible;
 pub use frame::{Background, Frame};
 #[cfg(test)]
 pub(crate) use project::project;
-pub use project::{try_project, Cull, ScreenPoly, Shader};
+pub use project::{try_project, Cull, Dropped, ScreenPoly, Shader, Tally};
 
 /// Side of the square tiles work is split into. 32 keeps a tile's sample
 /// buffers in cache for up to 16x16 supersampling while leaving a 1024x768
@@ -190,7 +190,7 @@ pub(crate) mod tests {
 
     pub fn poly2(view: &View, pts: &[[f64; 2]], color: Rgb8, order: u32) -> Option<ScreenPoly> {
         let w: Vec<DVec3> = pts.iter().map(|p| DVec3::new(p[0], p[1], 0.0)).collect();
-        project(view, &w, color, order, Cull::None)
+        project(view, &w, color, order, Cull::None).ok()
     }
 
     #[test]
@@ -227,7 +227,7 @@ mod determinism {
                 let tri: Vec<DVec3> = (0..3)
                     .map(|_| c + DVec3::new(rng.next() * 3.0, rng.next() * 3.0, rng.next() * 3.0))
                     .collect();
-                project(&v, &tri, Rgb8([i as u8, 255 - i as u8, 77]), i, Cull::None)
+                project(&v, &tri, Rgb8([i as u8, 255 - i as u8, 77]), i, Cull::None).ok()
             })
             .collect();
         let bg = Background::color(Rgb8([3, 4, 5]));

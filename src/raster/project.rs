@@ -201,8 +201,61 @@ fn snap_grid(v: f64) -> f64 {
 #[cfg(test)]
 pub(crate) use try_project as project;
 
-/// Clips, projects and orients one world polygon. `None` when nothing of it
-/// is visible, it is culled, or it is edge-on (zero area on screen).
+/// Why a polygon did not reach the screen ([`try_project`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dropped {
+    /// A vertex is infinite or NaN once transformed (an overflowing
+    /// transform or camera).
+    NotFinite,
+    /// Nothing of it lies inside the view volume.
+    Outside,
+    /// Dropped by `cull` (`--cull`).
+    Culled,
+    /// Edge-on, or smaller than the pixel grid's snap: no area on screen.
+    NoArea,
+}
+
+/// How many polygons of a frame reached the screen, and why the others did
+/// not: what `scene-render` reports when a frame draws nothing.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Tally {
+    /// Polygons drawn.
+    pub drawn: u64,
+    /// Their summed area on screen, in pixels (overlaps counted twice).
+    pub drawn_area: f64,
+    /// Polygons with a vertex that is not finite in clip space.
+    pub not_finite: u64,
+    /// Polygons wholly outside the view volume.
+    pub outside: u64,
+    /// Polygons culled as back (or front) faces.
+    pub culled: u64,
+    /// Polygons with no area on screen.
+    pub no_area: u64,
+}
+
+impl Tally {
+    /// Counts one polygon's fate.
+    pub fn count(&mut self, fate: Result<&ScreenPoly, Dropped>) {
+        match fate {
+            Ok(p) => {
+                self.drawn += 1;
+                self.drawn_area += area2(&p.verts).abs() / 2.0;
+            }
+            Err(Dropped::NotFinite) => self.not_finite += 1,
+            Err(Dropped::Outside) => self.outside += 1,
+            Err(Dropped::Culled) => self.culled += 1,
+            Err(Dropped::NoArea) => self.no_area += 1,
+        }
+    }
+
+    /// Every polygon counted.
+    pub fn total(&self) -> u64 {
+        self.drawn + self.not_finite + self.outside + self.culled + self.no_area
+    }
+}
+
+/// Clips, projects and orients one world polygon, or says why nothing of it
+/// reaches the screen.
 ///
 /// A concave outline is also cut into triangles ([`ScreenPoly::pieces`]) in
 /// O(n log n) time, however many vertices it has (`concave_pieces`).
@@ -212,14 +265,14 @@ pub fn try_project(
     color: Rgb8,
     order: u32,
     cull: Cull,
-) -> Option<ScreenPoly> {
+) -> Result<ScreenPoly, Dropped> {
     let clip_space: Vec<DVec4> = world.iter().map(|&p| view.to_clip(p)).collect();
     if clip_space.iter().any(|c| !c.is_finite()) {
-        return None;
+        return Err(Dropped::NotFinite);
     }
     let clipped = clip::clip_polygon(&clip_space, view);
     if clipped.len() < 3 {
-        return None;
+        return Err(Dropped::Outside);
     }
     let mut verts: Vec<DVec2> = Vec::with_capacity(clipped.len());
     let mut qs: Vec<f64> = Vec::with_capacity(clipped.len());
@@ -236,27 +289,27 @@ pub fn try_project(
         qs.pop();
     }
     if verts.len() < 3 {
-        return None;
+        return Err(Dropped::NoArea);
     }
     let a2 = area2(&verts);
     if a2 == 0.0 || !a2.is_finite() {
-        return None;
+        return Err(Dropped::NoArea);
     }
     match cull {
-        Cull::Back if a2 < 0.0 => return None,
-        Cull::Front if a2 > 0.0 => return None,
+        Cull::Back if a2 < 0.0 => return Err(Dropped::Culled),
+        Cull::Front if a2 > 0.0 => return Err(Dropped::Culled),
         _ => {}
     }
     if a2 < 0.0 {
         verts.reverse();
         qs.reverse();
     }
-    let plane = newell_plane(&verts, &qs)?;
+    let plane = newell_plane(&verts, &qs).ok_or(Dropped::NoArea)?;
     let pieces = if is_convex(&verts) {
         Vec::new()
     } else {
         let whole = clipped == clip_space;
-        concave_pieces(view, world, &clip_space, whole, a2 < 0.0)?
+        concave_pieces(view, world, &clip_space, whole, a2 < 0.0).ok_or(Dropped::NoArea)?
     };
     let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
     for v in &verts {
@@ -273,7 +326,7 @@ pub fn try_project(
         (y1.ceil().max(0.0) as u32).min(h),
     ];
     let c = color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0));
-    Some(ScreenPoly {
+    Ok(ScreenPoly {
         verts,
         plane,
         color: c,
@@ -369,9 +422,15 @@ mod tests {
             .map(|p| DVec3::new(p[0], p[1], 0.0))
             .collect();
         let cw: Vec<DVec3> = ccw.iter().rev().copied().collect();
-        assert!(project(&v, &ccw, Rgb8::WHITE, 0, Cull::Back).is_some());
-        assert!(project(&v, &cw, Rgb8::WHITE, 0, Cull::Back).is_none());
-        assert!(project(&v, &ccw, Rgb8::WHITE, 0, Cull::Front).is_none());
+        assert!(project(&v, &ccw, Rgb8::WHITE, 0, Cull::Back).is_ok());
+        assert_eq!(
+            project(&v, &cw, Rgb8::WHITE, 0, Cull::Back).err(),
+            Some(Dropped::Culled)
+        );
+        assert_eq!(
+            project(&v, &ccw, Rgb8::WHITE, 0, Cull::Front).err(),
+            Some(Dropped::Culled)
+        );
         let p = project(&v, &cw, Rgb8::WHITE, 0, Cull::None).unwrap();
         assert!(area2(&p.verts) > 0.0);
     }
@@ -551,7 +610,10 @@ mod clip_tests {
             DVec3::new(1.0, -1.0, 5.0),
             DVec3::new(0.0, 1.0, 5.0),
         ];
-        assert!(project(&v, &behind, Rgb8::WHITE, 0, Cull::None).is_none());
+        assert_eq!(
+            project(&v, &behind, Rgb8::WHITE, 0, Cull::None).err(),
+            Some(super::Dropped::Outside)
+        );
         // Straddling the eye plane: only the part in front survives, and it
         // lies on the correct side of the screen.
         let straddle = [

@@ -258,7 +258,7 @@ impl PixelStates {
             return (true, false);
         }
         let own = |c: &Shower| c.poly == n.f.poly;
-        if !self.mixed[p] && self.showers[p].first().map_or(true, own) {
+        if !self.mixed[p] && self.showers[p].first().is_none_or(own) {
             return (true, false); // What the loop gives when it skips them all.
         }
         let mut overlaps = false;

@@ -46,6 +46,9 @@ pub enum RecordError {
     Pattern(ParseError),
     /// The record's image texture cannot be read, or is too large.
     Image(IoError),
+    /// A texture state key of the record's `"pattern"` is wrong
+    /// ([`crate::texture::state`]): the message names it.
+    TextureState(String),
     /// The record's stripe texture cannot be read.
     Stripe(StripeError),
     /// The face gives its stripes no mapping.
@@ -98,6 +101,7 @@ impl fmt::Display for RecordError {
                 f.write_str("has both \"pattern\" and \"stripe\": a face takes one texture")
             }
             RecordError::NoPatternFile => f.write_str("pattern.file is missing"),
+            RecordError::TextureState(m) => f.write_str(m),
             RecordError::Pattern(e) => e.fmt(f),
             RecordError::Image(e) => e.fmt(f),
             RecordError::Stripe(e) => e.fmt(f),
@@ -119,7 +123,9 @@ impl Error for RecordError {
         match self {
             RecordError::QuadricTransform { error, .. }
             | RecordError::InstanceTransform { error, .. } => Some(error),
-            RecordError::PatternAndStripe | RecordError::NoPatternFile => None,
+            RecordError::PatternAndStripe
+            | RecordError::NoPatternFile
+            | RecordError::TextureState(_) => None,
             other => other.as_cause().source(),
         }
     }
@@ -260,6 +266,9 @@ pub enum CellsError {
     Grid(crate::geom::partition::GridError),
     /// The texture coordinates of a `uv` record cannot be made.
     Uv(crate::texture::map::ObjectUvError),
+    /// A texture state key of the record's `"pattern"` is wrong
+    /// ([`crate::texture::state`]): the message names it.
+    TextureState(String),
     /// The output could not be written.
     Write(std::io::Error),
 }
@@ -275,7 +284,9 @@ impl CellsError {
             CellsError::Grid(e) => e,
             CellsError::Uv(e) => e,
             CellsError::Write(e) => e,
-            CellsError::Pattern(_) | CellsError::PatternPath { .. } => self,
+            CellsError::Pattern(_)
+            | CellsError::PatternPath { .. }
+            | CellsError::TextureState(_) => self,
         }
     }
 }
@@ -285,6 +296,7 @@ impl fmt::Display for CellsError {
         match self {
             CellsError::Pattern(_) => f.write_str("pattern"),
             CellsError::PatternPath { path, .. } => write!(f, "pattern: {}", path.display()),
+            CellsError::TextureState(m) => f.write_str(m),
             other => fmt::Display::fmt(other.as_cause(), f),
         }
     }
@@ -295,6 +307,7 @@ impl Error for CellsError {
         match self {
             CellsError::Pattern(e) => Some(e),
             CellsError::PatternPath { error, .. } => Some(error),
+            CellsError::TextureState(_) => None,
             other => other.as_cause().source(),
         }
     }

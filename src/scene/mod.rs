@@ -36,6 +36,7 @@
 //! ```
 
 mod error;
+pub mod keys;
 pub mod polyfill;
 pub mod stripe;
 
@@ -46,11 +47,12 @@ use crate::color::Rgb8;
 use crate::geom::transform::Transform;
 use crate::geom::Shape;
 use crate::io::Image;
-use crate::raster::{self, Aa, Background, Cull, Frame, ScreenPoly, Shader};
+use crate::raster::{self, Aa, Background, Cull, Frame, ScreenPoly, Shader, Tally};
 use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, PatternRef, Record};
 use crate::stripe::record::StripeLoader;
 use crate::stripe::LodMode;
 use crate::texture::place::TextureSettings;
+use crate::texture::state::TextureState;
 use crate::texture::Texels;
 use crate::view::View;
 use glam::DVec3;
@@ -80,6 +82,9 @@ pub enum TextureSource {
         mode: PatternMode,
         /// The pattern, decoded once and shared by every face that uses it.
         texels: Arc<Texels>,
+        /// The record's own filters, boundary and composition, over the
+        /// tool's ([`TextureState::over`]).
+        state: TextureState,
     },
     /// A stripe texture (seed 001), given its screen mapping when the face
     /// is projected.
@@ -121,6 +126,54 @@ pub struct Scene {
     parts: Vec<Part>,
     /// The files read besides the stream, in the order they were first read.
     files: Vec<PathBuf>,
+    /// What the reading found worth a warning ([`Scene::warnings`]).
+    warnings: Vec<String>,
+}
+
+/// A polygon no larger than one texel of its "object"-mode pattern (area at
+/// most incr²): it shows one texel's colour, or a few, which is rarely what
+/// was meant (the default `incr` of 1 on a unit cube paints each face one
+/// colour). The tools warn with its `Display`, which names `incr`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CoarseTexture {
+    /// The record (its index in the stream).
+    pub record: usize,
+    /// The polygon's area, in its own units squared.
+    pub area: f64,
+    /// The pattern's texel side (`"incr"`).
+    pub incr: f64,
+}
+
+impl CoarseTexture {
+    /// `Some` when a polygon of `area` is no larger than one texel of side `incr`.
+    pub fn check(record: usize, area: f64, incr: f64) -> Option<CoarseTexture> {
+        (area > 0.0 && area <= incr * incr).then_some(CoarseTexture { record, area, incr })
+    }
+
+    /// A record's polygon area if it is planar with a straight outline or a
+    /// circle (arcs and quadrics are not checked).
+    fn area(shape: &Shape) -> Option<f64> {
+        match shape {
+            Shape::Polygon(v) => Some(crate::geom::plane::newell_normal(v, v[0]).length() / 2.0),
+            Shape::Rect([x0, y0, x1, y1]) => Some(((x1 - x0) * (y1 - y0)).abs()),
+            Shape::Circle { radius, .. } => Some(std::f64::consts::PI * radius * radius),
+            Shape::Arc { .. } | Shape::Quadric(_) => None,
+        }
+    }
+}
+
+impl std::fmt::Display for CoarseTexture {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let incr = crate::text::readable(self.incr);
+        write!(
+            f,
+            "record {}: the polygon (area {}) is no larger than one texel of its pattern \
+             (\"incr\" {incr}: texels {incr} units wide), so it shows one texel's colour; \
+             a smaller \"incr\" shows the pattern",
+            self.record,
+            crate::text::readable(self.area),
+        )
+    }
 }
 
 /// How every record of a frame is drawn.
@@ -197,8 +250,11 @@ impl Scene {
         let mut patterns: HashMap<PathBuf, Arc<Texels>> = HashMap::new();
         let mut stripes = StripeLoader::new(base);
         let mut files = Vec::new();
+        let mut coarse = Vec::new();
+        let (mut unknown, mut warnings) = (keys::UnknownKeys::default(), Vec::new());
         let mut scene = read_items(reader, name, |rec| {
             let at = (Some(name), rec.index);
+            unknown.check(rec.index, &rec.fields, |w| warnings.push(w));
             let stripe =
                 stripe::read(&mut stripes, &rec.fields, rec.color).in_record(at.0, at.1)?;
             if stripe.is_some() && rec.pattern.is_some() {
@@ -226,12 +282,26 @@ impl Scene {
                         p
                     }
                 };
+                if mode == PatternMode::Object {
+                    let incr = pref
+                        .incr
+                        .unwrap_or(crate::texture::place::DEFAULT_PLACEMENT.incr);
+                    let area = CoarseTexture::area(&rec.shape);
+                    coarse.extend(area.and_then(|a| CoarseTexture::check(rec.index, a, incr)));
+                }
+                // Checked for screen patterns too, which do not use it: a
+                // bad value is an error wherever it is written.
+                let state = TextureState::from_pattern(&rec.fields["pattern"])
+                    .and_then(|s| s.check(texels.has_alpha()).map(|()| s))
+                    .map_err(RecordError::TextureState)
+                    .in_record(at.0, at.1)?;
                 texture = match mode {
                     PatternMode::Screen => TextureSource::Screen(texels),
                     PatternMode::Object | PatternMode::Uv => TextureSource::Placed {
                         pattern: pref.clone(),
                         mode,
                         texels,
+                        state,
                     },
                 };
             }
@@ -261,7 +331,23 @@ impl Scene {
         })?;
         files.extend(stripes.files().iter().cloned());
         scene.files = files;
+        if let [first, rest @ ..] = coarse.as_slice() {
+            warnings.push(match rest.len() {
+                0 => first.to_string(),
+                n => format!("{first} (and {n} more records alike)"),
+            });
+        }
+        scene.warnings = warnings;
         Ok(scene)
+    }
+
+    /// What reading the stream found worth a warning, each once: unknown
+    /// keys inside a record's `"pattern"` or `"stripe"` ([`keys`]), and the
+    /// first polygon no larger than one texel ([`CoarseTexture`], with the
+    /// count of the others). The tools print them; a library caller may
+    /// ignore them.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// The files read besides the stream (patterns, stripe maps and tables),
@@ -280,9 +366,40 @@ impl Scene {
         how: &DrawOptions,
         frame: u64,
     ) -> Result<Vec<ScreenPoly>, SceneError> {
-        let mut out = Vec::new();
+        Ok(self.project_tallied(view, how, frame)?.0)
+    }
+
+    /// [`Scene::project`], also counting what became of every polygon
+    /// (quadrics count their triangles): drawn, or why not. A frame that
+    /// draws nothing of a non-empty stream is a mistake worth a warning
+    /// (`scene-render` gives one, naming the counts).
+    pub fn project_tallied(
+        &self,
+        view: &View,
+        how: &DrawOptions,
+        frame: u64,
+    ) -> Result<(Vec<ScreenPoly>, Tally), SceneError> {
+        let mut out = Projected::default();
         project_parts(&self.parts, view, None, None, how, frame, &mut out)?;
-        Ok(out)
+        Ok((out.polygons, out.tally))
+    }
+}
+
+/// A frame's screen polygons as they are projected, and the tally of all.
+#[derive(Default)]
+struct Projected {
+    polygons: Vec<ScreenPoly>,
+    tally: Tally,
+}
+
+impl Projected {
+    fn push(&mut self, p: ScreenPoly) {
+        self.tally.count(Ok(&p));
+        self.polygons.push(p);
+    }
+
+    fn drop(&mut self, why: raster::Dropped) {
+        self.tally.count(Err(why));
     }
 }
 
@@ -348,7 +465,7 @@ fn project_parts(
     order: Option<u32>,
     how: &DrawOptions,
     frame: u64,
-    out: &mut Vec<ScreenPoly>,
+    out: &mut Projected,
 ) -> Result<(), SceneError> {
     let moved;
     let view = match placed {
@@ -428,10 +545,14 @@ fn draw_polygon(
     uv: Option<&[[f64; 2]]>,
     order: u32,
     how: &DrawOptions,
-    out: &mut Vec<ScreenPoly>,
+    out: &mut Projected,
 ) -> Result<(), RecordError> {
-    let Some(mut p) = raster::try_project(view, outline, d.color, order, how.cull) else {
-        return Ok(());
+    let mut p = match raster::try_project(view, outline, d.color, order, how.cull) {
+        Ok(p) => p,
+        Err(why) => {
+            out.drop(why);
+            return Ok(());
+        }
     };
     match &d.texture {
         TextureSource::Flat => {}
@@ -439,15 +560,19 @@ fn draw_polygon(
         TextureSource::Stripe(st) => match stripe::shader(st, view, outline, how.stripe_lod)? {
             Some(t) => p.shader = Shader::Stripe(Arc::new(t.with_footprint(how.stripe_footprint))),
             // Edge-on: a sliver of rounding; nothing to draw.
-            None => return Ok(()),
+            None => {
+                out.drop(raster::Dropped::NoArea);
+                return Ok(());
+            }
         },
         TextureSource::Placed {
             pattern,
             mode,
             texels,
+            state,
         } => {
             let tex = crate::texture::place::place(
-                &how.texture,
+                &state.over(&how.texture),
                 d.color,
                 view,
                 outline,
@@ -460,7 +585,10 @@ fn draw_polygon(
                 Some(t) => p.shader = Shader::Texture(Arc::new(t)),
                 // Visible by the projection but not by the fit: rounding at a
                 // sliver; nothing to draw.
-                None => return Ok(()),
+                None => {
+                    out.drop(raster::Dropped::NoArea);
+                    return Ok(());
+                }
             }
         }
     }
@@ -479,7 +607,7 @@ fn project_quadric(
     order: u32,
     how: &DrawOptions,
     frame: u64,
-    out: &mut Vec<ScreenPoly>,
+    out: &mut Projected,
 ) -> Result<(), RecordError> {
     let moved;
     let q = match &d.animated {

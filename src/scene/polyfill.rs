@@ -15,6 +15,7 @@ use crate::geom::{map_to_plane, outline, CellSink, Grid, Partitioner, Placement,
 use crate::pat::Pattern;
 use crate::stream::{self, Instance, Item, ObjectDef, Objects, PatternMode, Record};
 use crate::texture::map::object_uv;
+use crate::texture::state::{TextureState, KEYS as STATE_KEYS};
 use crate::view::ViewVolume;
 use glam::DVec3;
 use serde_json::Value;
@@ -134,7 +135,10 @@ pub struct Summary {
 
 /// Partitions the stream `reader` (named `source` in errors, its files
 /// resolved against `base`) into `out`. `warn` receives each warning once, as
-/// it happens (records whose pattern mode is not partitioned). Returns the
+/// it happens (records whose pattern mode is not partitioned, the first
+/// polygon no larger than one texel ([`super::CoarseTexture`]), texture state
+/// that partitioning drops, unknown keys in a `"pattern"` or `"stripe"`:
+/// [`super::keys`]). Returns the
 /// output, flushed, and the counts.
 pub fn partition_stream<W: Write>(
     reader: Box<dyn BufRead>,
@@ -153,6 +157,9 @@ pub fn partition_stream<W: Write>(
         volume: options.volume,
         summary: Summary::default(),
         warned_mode: false,
+        warned_coarse: false,
+        warned_state: false,
+        unknown: super::keys::UnknownKeys::default(),
         warn,
     };
     // Objects and instances are kept as they are (Fig. 5.1: a face is
@@ -192,6 +199,11 @@ struct Job<'a, W: Write> {
     volume: Option<ViewVolume>,
     summary: Summary,
     warned_mode: bool,
+    /// Whether a polygon no larger than a texel has been warned about (once
+    /// per run: a stream may have millions).
+    warned_coarse: bool,
+    warned_state: bool,
+    unknown: super::keys::UnknownKeys,
     warn: &'a mut dyn FnMut(String),
 }
 
@@ -469,6 +481,13 @@ impl<W: Write> Job<'_, W> {
 
     fn record(&mut self, rec: Record) -> Result<(), CellsError> {
         self.summary.records += 1;
+        self.unknown.check(rec.index, &rec.fields, &mut self.warn);
+        // Checked here, though only the renderer uses it, so that a bad
+        // value is reported by the first tool that reads it.
+        let state = match rec.fields.get("pattern") {
+            Some(p) => TextureState::from_pattern(p).map_err(CellsError::TextureState)?,
+            None => TextureState::default(),
+        };
         let rec = self.forwarded(rec)?;
         if let Shape::Quadric(_) = rec.shape {
             return self.quadric(&rec);
@@ -520,6 +539,12 @@ impl<W: Write> Job<'_, W> {
             other => outline(other, a.tolerance),
         };
         let poly = map_to_plane(&vertices, rotate, a.planarity_tol)?;
+        if !self.warned_coarse {
+            if let Some(c) = super::CoarseTexture::check(rec.index, poly.area, place.incr) {
+                (self.warn)(c.to_string());
+                self.warned_coarse = true;
+            }
+        }
         if let Some(vol) = &self.volume {
             if vol.back_facing(poly.frame.normal, poly.frame.origin) || vol.outside(&vertices) {
                 self.summary.culled += 1;
@@ -528,6 +553,26 @@ impl<W: Write> Job<'_, W> {
         }
         if a.uv {
             return self.forward_uv(&rec, &pref, &vertices, place, rotate);
+        }
+        if !state.is_empty() && !self.warned_state {
+            // Texel polygons are flat: the state they would need is that of
+            // the partition itself (repeat, replace, the exact box).
+            let keys = rec.fields["pattern"]
+                .as_object()
+                .map(|o| {
+                    o.keys()
+                        .filter(|k| STATE_KEYS.contains(&k.as_str()))
+                        .map(|k| format!("\"{k}\""))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                })
+                .unwrap_or_default();
+            (self.warn)(format!(
+                "record {}: \"pattern\" keys {keys} do not apply to texel polygons: \
+                 each takes its texel's own colour, repeated (--uv keeps them for scene-render)",
+                rec.index
+            ));
+            self.warned_state = true;
         }
         let grid = Grid::new(&poly.points, place)?;
         let estimate = (poly.area / (place.incr * place.incr)).min(estimate_cells(

@@ -25,6 +25,10 @@ pub enum PatternMode {
     Uv,
 }
 
+/// The keys of a `"pattern"` object that place it (read here); its texture
+/// state keys are [`crate::texture::state::KEYS`], read by the scene.
+pub const PATTERN_KEYS: [&str; 6] = ["file", "mode", "incr", "rotate", "horz", "vert"];
+
 /// A record's `"pattern"` object. Fields left out are `None`; the tool's
 /// command-line defaults fill them in.
 #[derive(Clone, Debug, PartialEq, Default)]

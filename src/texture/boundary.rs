@@ -24,6 +24,28 @@ pub enum Boundary {
 }
 
 impl Boundary {
+    /// Every condition, in the order of `--boundary`'s help.
+    pub const ALL: [Boundary; 5] = [
+        Boundary::Repeat,
+        Boundary::Transparent,
+        Boundary::Clamp,
+        Boundary::Mirror,
+        Boundary::Edge,
+    ];
+
+    /// The name on the command line and in a record's `"pattern"`: the one
+    /// table of spellings (a test in `cli::scene_texture` checks that clap's
+    /// agree).
+    pub fn name(self) -> &'static str {
+        match self {
+            Boundary::Repeat => "repeat",
+            Boundary::Transparent => "transparent",
+            Boundary::Clamp => "clamp",
+            Boundary::Mirror => "mirror",
+            Boundary::Edge => "edge",
+        }
+    }
+
     /// XGL's order of precedence when u and v both exceed the bounds and their
     /// conditions differ: transparent, clamp, wrap, mirror, clamp-boundary
     /// (lower is stronger).

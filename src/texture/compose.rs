@@ -34,6 +34,30 @@ pub enum Compose {
 }
 
 impl Compose {
+    /// Every method, in the order of `--compose`'s help.
+    pub const ALL: [Compose; 6] = [
+        Compose::Replace,
+        Compose::Modulate,
+        Compose::Blend,
+        Compose::BlendIntrinsic,
+        Compose::Decal,
+        Compose::DecalIntrinsic,
+    ];
+
+    /// The name on the command line and in a record's `"pattern"`: the one
+    /// table of spellings (a test in `cli::scene_texture` checks that clap's
+    /// agree).
+    pub fn name(self) -> &'static str {
+        match self {
+            Compose::Replace => "replace",
+            Compose::Modulate => "modulate",
+            Compose::Blend => "blend",
+            Compose::BlendIntrinsic => "blend-intrinsic",
+            Compose::Decal => "decal",
+            Compose::DecalIntrinsic => "decal-intrinsic",
+        }
+    }
+
     /// XGL's restriction: decal needs a map with alpha (a pattern with
     /// transparent texels). The error names the method.
     pub fn check(self, has_alpha: bool) -> Result<(), OptionError> {
@@ -44,10 +68,7 @@ impl Compose {
                 format!(
                     " {}: XGL's decal methods need a four-channel map, and this \
                      pattern has no transparent texels (no alpha)",
-                    match self {
-                        Compose::Decal => "decal",
-                        _ => "decal-intrinsic",
-                    }
+                    self.name()
                 ),
             )),
             _ => Ok(()),

@@ -70,6 +70,18 @@ pub enum Filter {
 }
 
 impl Filter {
+    /// Every method, in the order of `--filter`'s help.
+    pub const ALL: [Filter; 8] = [
+        Filter::Box,
+        Filter::Point,
+        Filter::Bilinear,
+        Filter::MipPoint,
+        Filter::MipBilinear,
+        Filter::MipPointLinear,
+        Filter::Trilinear,
+        Filter::Ewa,
+    ];
+
     /// The filters allowed for magnification: those of the base level (as
     /// GL's `GL_TEXTURE_MAG_FILTER` accepts only `NEAREST` and `LINEAR`).
     pub fn magnifies(self) -> bool {
@@ -89,7 +101,9 @@ impl Filter {
         }
     }
 
-    /// The name on the command line.
+    /// The name on the command line and in a record's `"pattern"`: the one
+    /// table of spellings (a test in `cli::scene_texture` checks that clap's
+    /// agree).
     pub fn name(self) -> &'static str {
         match self {
             Filter::Box => "box",
@@ -103,6 +117,11 @@ impl Filter {
         }
     }
 }
+
+/// Largest LOD bias magnitude (`--lod-bias`, a record's `"lod_bias"`): 16
+/// levels is beyond the 13 of the largest pattern (4096), so any larger value
+/// means the same and is likely a typo.
+pub const MAX_LOD_BIAS: f64 = 16.0;
 
 /// The filtering of one placement.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -9,6 +9,8 @@
 //! - [`boundary`]: XGL's boundary conditions outside the pattern's bounds.
 //! - [`compose`]: XGL's composition of texel and polygon colour.
 //! - [`place`]: a record's pattern placed on its projected polygon.
+//! - [`state`]: a record's own filters, boundary and composition (its
+//!   `"pattern"` keys), over the tool's flags.
 //! - [`filter`]: the other filters (point, bilinear, the MIP filters, EWA in
 //!   [`ewa`]) and the choice between minification and magnification; their
 //!   pyramids in [`mip`].
@@ -22,6 +24,7 @@ pub mod map;
 pub mod mip;
 pub mod place;
 pub mod skip;
+pub mod state;
 pub mod texels;
 
 pub use texels::Texels;

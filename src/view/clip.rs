@@ -3,7 +3,7 @@
 //!
 //! A polygon is clipped (Sutherland–Hodgman) against the planes of the clip
 //! volume of [`View`]: `-w <= x <= w`, `-w <= y <= w`, `near <= z_clip <= far`,
-//! and for perspective views also `w >= W_EPSILON_REL * far`. Every plane is an
+//! and for perspective views with `near = 0` also `w >= W_EPSILON_REL * far`. Every plane is an
 //! affine function of the clip-space point, and clip space is a linear image of
 //! world space, so the crossing of an edge is found by linear interpolation
 //! exactly as in world space: a point behind the eye (`w < 0`) never reaches the
@@ -20,7 +20,11 @@ use glam::{DVec2, DVec4};
 /// The clip planes of a view, each as `f(p) >= 0` on the visible side.
 fn planes(view: &View) -> Vec<Box<dyn Fn(DVec4) -> f64 + '_>> {
     let mut p: Vec<Box<dyn Fn(DVec4) -> f64 + '_>> = Vec::with_capacity(7);
-    if view.perspective {
+    // With near > 0 the near plane already keeps w >= near > 0 (z_clip = w
+    // in perspective), and |x|, |y| <= w keeps the divide finite: a floor at
+    // a fraction of far would only hide near geometry when far is huge
+    // (near 0.1, far 5.1e9: a quad 5 units away vanished).
+    if view.perspective && view.near <= 0.0 {
         let eps = W_EPSILON_REL * view.far.abs().max(f64::MIN_POSITIVE);
         p.push(Box::new(move |c: DVec4| c.w - eps));
     }

@@ -11,8 +11,10 @@ pub use volume::ViewVolume;
 use crate::camera::Camera;
 use glam::{DMat4, DVec2, DVec3, DVec4};
 
-/// For a perspective view the clipper keeps `w >= W_EPSILON_REL * far` (in eye
-/// units: distance in front of the eye). This is what makes `near = 0` work: the
+/// For a perspective view with `near = 0` the clipper keeps
+/// `w >= W_EPSILON_REL * far` (in eye units: distance in front of the eye).
+/// This is what makes `near = 0` work (with near > 0 the near plane alone
+/// keeps w positive): the
 /// near plane `z >= 0` alone would let vertices reach `w = 0` and divide by zero.
 /// At 1e-9 of the far distance the lost sliver is invisible at any image size
 /// this tool makes (it would need a polygon lying within a billionth of the
@@ -92,6 +94,7 @@ impl View {
     /// The view of `camera` on a `width` x `height` image: its matrices and
     /// depth range, unchanged.
     pub fn new(camera: &Camera, width: u32, height: u32) -> View {
+        let camera = camera.for_image(width, height);
         View {
             world_to_clip: camera.world_to_clip(),
             near: camera.near,

@@ -97,6 +97,7 @@ mod tests {
             near: 1.0,
             far: 1000.0,
             perspective,
+            aspect_from_image: false,
         })
     }
 
@@ -120,6 +121,7 @@ mod tests {
             near: -10.0,
             far: 10.0,
             perspective: false,
+            aspect_from_image: false,
         });
         // A plane facing +x is seen by rays travelling -x... here rays travel +x: back.
         assert!(v.back_facing(DVec3::X, DVec3::ZERO));

@@ -4,6 +4,7 @@
 #[macro_use]
 mod util;
 
+mod documented;
 mod faults;
 mod host;
 mod image_texture;

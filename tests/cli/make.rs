@@ -114,3 +114,88 @@ clitest!(check_demos_fails_when_a_comparison_cannot_run, |dir| {
     let run = make(&out, &["-o", "demos", "check-demos"]);
     assert!(!run.status.success(), "{run:?}");
 });
+
+clitest!(
+    make_install_puts_tools_man_pages_and_completions_under_a_prefix,
+    |dir| {
+        let bin = std::path::Path::new(env!("CARGO_BIN_EXE_polyfill3"))
+            .parent()
+            .unwrap()
+            .to_path_buf();
+        let prefix = dir.path().join("prefix");
+        let run = |target: &str| {
+            let out = std::process::Command::new("make")
+                .arg("-C")
+                .arg(repo("."))
+                .arg(target)
+                .arg(format!("BIN={}", bin.display()))
+                .arg(format!("PREFIX={}", prefix.display()))
+                .output()
+                .expect("GNU make runs");
+            assert!(
+                out.status.success(),
+                "make {target}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+        };
+        run("install");
+        let tools = [
+            "pat-from-image",
+            "pat-info",
+            "pat-tile",
+            "polyfill3",
+            "scene-render",
+        ];
+        for t in tools {
+            let installed = prefix.join("bin").join(t);
+            let v = std::process::Command::new(&installed)
+                .arg("--version")
+                .output()
+                .unwrap();
+            assert!(
+                String::from_utf8_lossy(&v.stdout).starts_with(t),
+                "{t} --version"
+            );
+            let man =
+                std::fs::read_to_string(prefix.join(format!("share/man/man1/{t}.1"))).unwrap();
+            assert!(man.starts_with(".ie") || man.contains(".TH"), "{t}.1");
+            for (_, place) in patkit::cli::COMPLETION_SHELLS {
+                assert!(
+                    prefix.join(place.replace("{}", t)).is_file(),
+                    "{place} for {t}"
+                );
+            }
+            // bash loads the completion and completes the tool's flags.
+            let script = prefix.join(format!("share/bash-completion/completions/{t}"));
+            let complete = std::process::Command::new("bash")
+                .arg("-c")
+                .arg(format!(
+                    "source '{}' && COMP_WORDS=({t} --he) COMP_CWORD=1 && \
+                 $(complete -p {t} | sed -E 's/.*-F ([^ ]+).*/\\1/') {t} --he {t} && \
+                 printf '%s\\n' \"${{COMPREPLY[@]}}\"",
+                    script.display()
+                ))
+                .output()
+                .unwrap();
+            let words = String::from_utf8_lossy(&complete.stdout).to_string();
+            assert!(
+                words.lines().any(|w| w == "--help"),
+                "{t}: bash completes --he to {words:?} ({})",
+                String::from_utf8_lossy(&complete.stderr)
+            );
+        }
+        run("uninstall");
+        let left: Vec<_> = walk(&prefix).into_iter().filter(|p| p.is_file()).collect();
+        assert!(left.is_empty(), "left after uninstall: {left:?}");
+    }
+);
+
+fn walk(p: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let mut all = vec![p.to_path_buf()];
+    if p.is_dir() {
+        for e in std::fs::read_dir(p).unwrap() {
+            all.extend(walk(&e.unwrap().path()));
+        }
+    }
+    all
+}

@@ -1,5 +1,5 @@
-//! The committed man pages must match the argument definitions.
-//! Regenerate them with `UPDATE_MAN=1 cargo test man_pages`.
+//! The committed man pages and shell completions must match the argument
+//! definitions. Regenerate them with `UPDATE_MAN=1 cargo test man_pages`.
 
 use crate::util::repo;
 
@@ -9,17 +9,28 @@ fn man_pages_match_the_argument_definitions() {
     let mut stale = Vec::new();
     for cmd in patkit::cli::commands() {
         let name = cmd.get_name().to_string();
-        let page = patkit::cli::man_page(cmd);
+        let page = patkit::cli::man_page(cmd.clone());
         let path = repo(&format!("man/{name}.1"));
-        if update {
-            std::fs::write(&path, &page).unwrap();
-        } else if std::fs::read_to_string(&path).ok().as_deref() != Some(page.as_str()) {
-            stale.push(path.display().to_string());
+        let mut files = vec![(path, page)];
+        for (shell, install) in patkit::cli::COMPLETION_SHELLS {
+            let file = install.rsplit('/').next().unwrap().replace("{}", &name);
+            files.push((
+                repo(&format!("completions/{shell}/{file}")),
+                patkit::cli::completion(cmd.clone(), shell),
+            ));
+        }
+        for (path, text) in files {
+            if update {
+                std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+                std::fs::write(&path, &text).unwrap();
+            } else if std::fs::read_to_string(&path).ok().as_deref() != Some(text.as_str()) {
+                stale.push(path.display().to_string());
+            }
         }
     }
     assert!(
         stale.is_empty(),
-        "stale or missing man pages (run `UPDATE_MAN=1 cargo test man_pages`): {stale:?}"
+        "stale or missing man pages or completions (run `UPDATE_MAN=1 cargo test man_pages`): {stale:?}"
     );
 }
 

@@ -196,7 +196,7 @@ fn bad_input_names_the_record_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     write_pat(&dir.path().join("p.pat"), 16, |_, _| false);
     std::fs::write(dir.path().join("bad.pat"), "16 1\n1 2 3\nzz\n").unwrap();
-    let ok = r#"{"vertices":[[0,0],[1,0],[0,1]],"pattern":{"file":"p.pat"}}"#;
+    let ok = r#"{"vertices":[[0,0],[1,0],[0,1]],"pattern":{"file":"p.pat","incr":0.25}}"#;
     let cases: &[(&str, &str)] = &[
         (
             r#"{"vertices":[[0,0],[1,0]],"pattern":{"file":"p.pat"}}"#,

@@ -267,13 +267,22 @@ clitest!(
                     );
                 }
             }
-            // Direct texturing draws any of them, every pixel covered.
-            let img = render(
-                &dir,
-                &std::fs::read_to_string(dir.path().join("s.json")).unwrap(),
-                &["--size", "16x16", "--ortho2", "0,1,0,1"],
+            // Direct texturing draws any of them, every pixel covered; from
+            // incr 1 on, the square is one texel, which earns a warning.
+            let out = dir
+                .cmd("scene-render")
+                .args([
+                    "--size", "16x16", "--ortho2", "0,1,0,1", "--format", "pam", "s.json",
+                ])
+                .assert()
+                .success();
+            let warning = String::from_utf8_lossy(&out.get_output().stderr).to_string();
+            assert_eq!(
+                warning.contains("no larger than one texel"),
+                e >= 0,
+                "1e{e}: {warning}"
             );
-            let (_, _, _, px) = pam(&img);
+            let (_, _, _, px) = pam(&out.get_output().stdout);
             assert!(px.chunks(3).all(|p| p != [0, 0, 0]), "1e{e}");
         }
     }
@@ -605,6 +614,9 @@ clitest!(
 /// star above stands for it.)
 #[test]
 fn ten_million_vertex_convex_polygon_renders_and_partitions() {
+    if !crate::util::heavy("10 million vertices, about a minute and 5 GB") {
+        return;
+    }
     let dir = crate::util::Dir::new("ten_million");
     brick(&dir);
     let convex = star(10_000_000, [7.0, 7.0]);

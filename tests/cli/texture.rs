@@ -526,3 +526,58 @@ clitest!(
         assert!(max_error(&dir, "exact.png", "ref.png") <= EXACT_MAX_CODES);
     }
 );
+
+clitest!(a_polygon_no_larger_than_a_texel_warns_naming_incr, |dir| {
+    let brick = crate::util::repo("fixtures/patterns/brick.pat");
+    let face = |incr: &str| {
+        format!(
+            r#"{{"vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]], "pattern": {{"file": "{}"{incr}}}}}"#,
+            brick.display()
+        )
+    };
+    // A unit cube's face at the default incr of 1: one texel.
+    dir.write("cube.json", format!("{}\n{}\n", face(""), face("")));
+    let want = "record 0: the polygon (area 1) is no larger than one texel of its pattern \
+                (\"incr\" 1: texels 1 units wide), so it shows one texel's colour; \
+                a smaller \"incr\" shows the pattern";
+    dir.cmd("scene-render")
+        .args([
+            "--ortho",
+            "-1,2,-1,2,-1,1",
+            "--size",
+            "32x32",
+            "cube.json",
+            "-o",
+            "c.png",
+        ])
+        .assert()
+        .success()
+        .stderr(format!(
+            "scene-render: warning: {want} (and 1 more records alike)\n"
+        ));
+    dir.cmd("polyfill3")
+        .args(["cube.json", "-o", "cells.json"])
+        .assert()
+        .success()
+        .stderr(format!("polyfill3: warning: {want}\n"));
+    // At incr 0.125 the face is 64 texels: no warning.
+    dir.write("fine.json", face(r#", "incr": 0.125"#));
+    dir.cmd("scene-render")
+        .args([
+            "--ortho",
+            "-1,2,-1,2,-1,1",
+            "--size",
+            "32x32",
+            "fine.json",
+            "-o",
+            "f.png",
+        ])
+        .assert()
+        .success()
+        .stderr("");
+    dir.cmd("polyfill3")
+        .args(["fine.json", "-o", "cells.json"])
+        .assert()
+        .success()
+        .stderr("");
+});

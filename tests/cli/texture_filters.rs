@@ -3,6 +3,7 @@
 //! invariants (threads, the reference) that the filters must keep.
 
 use crate::texture::{pattern3, pattern_from, pixel, quad, quadrant_pattern, QUADRANTS, SCENE};
+use crate::util::OkStdout;
 use patkit::math;
 
 /// sRGB decoding and encoding (IEC 61966-2-1), for expected values.
@@ -420,5 +421,391 @@ clitest!(
                 }
             }
         }
+    }
+);
+
+// A record's own texture state: its "pattern" keys "filter", "min_filter",
+// "mag_filter", "lod_bias", "boundary", "boundary_u", "boundary_v",
+// "boundary_color", "compose", "compose_color1" and "compose_color2" override
+// the flags of the same names for that record (issue 19).
+
+/// Two uv quads side by side on a 64x32 image, 6 pixels apart (so that no
+/// pixel sees both): 48 texels over 28 pixels (minified, and reaching outside
+/// the 16x16 pattern on every side, with its transparent texel). `left` and
+/// `right` are extra keys for each record's "pattern" (`,"k":v` or empty).
+fn two_quads(left: &str, right: &str) -> String {
+    let quad = |x0: u32, extra: &str| {
+        format!(
+            r#"{{"vertices":[[{x0},2],[{x1},2],[{x1},30],[{x0},30]],"uv":[[-8,-8],[40,-8],[40,40],[-8,40]],"color":[100,200,50],"pattern":{{"file":"p.pat"{extra}}}}}"#,
+            x1 = x0 + 28
+        )
+    };
+    format!("{}\n{}\n", quad(2, left), quad(36, right))
+}
+
+/// `scene` rendered at 64x32 with `flags`, as PPM bytes.
+fn render_two(dir: &crate::util::Dir, scene: &str, flags: &[&str]) -> Vec<u8> {
+    dir.write("p.pat", pattern3());
+    dir.write("two.json", scene);
+    dir.cmd("scene-render")
+        .args(["--size", "64x32", "--format", "ppm"])
+        .args(flags)
+        .args(["two.json", "-o", "-"])
+        .ok_stdout()
+}
+
+/// One key's case: (the record's `,"key":value`, the flags that mean the
+/// same, the flags every rendering of the case takes, a flag that
+/// contradicts the key).
+type StateCase = (
+    &'static str,
+    &'static [&'static str],
+    &'static [&'static str],
+    &'static [&'static str],
+);
+
+const STATE_CASES: [StateCase; 11] = [
+    (
+        r#","filter":"trilinear""#,
+        &["--filter", "trilinear"],
+        &[],
+        &["--filter", "point"],
+    ),
+    (
+        r#","min_filter":"ewa""#,
+        &["--min-filter", "ewa"],
+        &[],
+        &["--min-filter", "point"],
+    ),
+    (
+        r#","mag_filter":"point""#,
+        &["--mag-filter", "point"],
+        &["--lod-bias", "-4"],
+        &["--mag-filter", "bilinear"],
+    ),
+    (
+        r#","lod_bias":1.5"#,
+        &["--lod-bias", "1.5"],
+        &["--filter", "trilinear"],
+        &["--lod-bias", "-2"],
+    ),
+    (
+        r#","boundary":"clamp""#,
+        &["--boundary", "clamp"],
+        &[],
+        &["--boundary", "mirror"],
+    ),
+    (
+        r#","boundary_u":"edge""#,
+        &["--boundary-u", "edge"],
+        &[],
+        &["--boundary-u", "transparent"],
+    ),
+    (
+        r#","boundary_v":"mirror""#,
+        &["--boundary-v", "mirror"],
+        &[],
+        &["--boundary-v", "clamp"],
+    ),
+    (
+        r#","boundary_color":[0,255,255]"#,
+        &["--boundary-color", "0,255,255"],
+        &["--boundary", "clamp"],
+        &["--boundary-color", "#ff00ff"],
+    ),
+    (
+        r#","compose":"modulate""#,
+        &["--compose", "modulate"],
+        &[],
+        &["--compose", "blend"],
+    ),
+    (
+        r##","compose_color1":"#804000""##,
+        &["--compose-color1", "128,64,0"],
+        &["--compose", "blend"],
+        &["--compose-color1", "9,9,9"],
+    ),
+    (
+        r#","compose_color2":[10,20,30]"#,
+        &["--compose-color2", "10,20,30"],
+        &["--compose", "blend"],
+        &["--compose-color2", "#ffffff"],
+    ),
+];
+
+clitest!(
+    a_records_pattern_key_renders_as_its_flag_and_overrides_it,
+    |dir| {
+        for (key, flag, base, contra) in STATE_CASES {
+            let plain = two_quads("", "");
+            let keyed = two_quads(key, key);
+            let by_flag = render_two(&dir, &plain, &[base, flag].concat());
+            let by_key = render_two(&dir, &keyed, base);
+            assert!(
+                by_key == by_flag,
+                "{key}: the record's key differs from {flag:?}"
+            );
+            let default = render_two(&dir, &plain, base);
+            assert!(
+                by_key != default,
+                "{key}: no visible effect in the test scene"
+            );
+            let overridden = render_two(&dir, &keyed, &[base, contra].concat());
+            assert!(
+                overridden == by_flag,
+                "{key}: {contra:?} won over the record"
+            );
+        }
+    }
+);
+
+clitest!(two_records_keep_their_own_texture_state, |dir| {
+    // Left trilinear with clamp, right modulate with mirror: each half must
+    // be what its flags give the whole scene.
+    let mixed = render_two(
+        &dir,
+        &two_quads(
+            r#","filter":"trilinear","boundary":"clamp""#,
+            r#","compose":"modulate","boundary":"mirror""#,
+        ),
+        &[],
+    );
+    let plain = two_quads("", "");
+    let left = render_two(
+        &dir,
+        &plain,
+        &["--filter", "trilinear", "--boundary", "clamp"],
+    );
+    let right = render_two(
+        &dir,
+        &plain,
+        &["--compose", "modulate", "--boundary", "mirror"],
+    );
+    let header = mixed.len() - 64 * 32 * 3;
+    let half = |img: &[u8], right_half: bool| -> Vec<u8> {
+        (0..32)
+            .flat_map(|y| {
+                let row = header + y * 64 * 3 + if right_half { 32 * 3 } else { 0 };
+                img[row..row + 32 * 3].to_vec()
+            })
+            .collect()
+    };
+    assert!(half(&mixed, false) == half(&left, false));
+    assert!(half(&mixed, true) == half(&right, true));
+    assert!(
+        half(&left, true) != half(&right, true),
+        "the states must differ"
+    );
+});
+
+clitest!(
+    an_unknown_key_in_pattern_or_stripe_warns_once_per_run,
+    |dir| {
+        dir.write("p.pat", pattern3());
+        let mut scene = String::new();
+        for i in 0..50 {
+            scene.push_str(&format!(
+            r#"{{"vertices":[[{i},0],[{j},0],[{j},1]],"color":[1,2,3],"own":1,"pattern":{{"file":"p.pat","boundry":"clamp","incr":0.5}}}}"#,
+            j = i + 1
+        ));
+            scene.push('\n');
+        }
+        dir.write("s.json", &scene);
+        let want = r#"warning: record 0: unknown key "boundry" in "pattern" (known: file, mode, incr, rotate, horz, vert, filter, min_filter, mag_filter, lod_bias, boundary, boundary_u, boundary_v, boundary_color, compose, compose_color1, compose_color2)"#;
+        for tool in ["scene-render", "polyfill3"] {
+            let out = dir
+                .cmd(tool)
+                .args(["s.json", "-o", "out.ppm"])
+                .assert()
+                .success();
+            let err = String::from_utf8_lossy(&out.get_output().stderr).into_owned();
+            assert_eq!(err.matches("unknown key").count(), 1, "{tool}: {err}");
+            assert!(err.contains(&format!("{tool}: {want}")), "{tool}: {err}");
+            // The record's own unknown field ("own") passes silently.
+            assert!(!err.contains("\"own\""), "{tool}: {err}");
+        }
+        // polyfill3 forwards stripes without reading them: a misspelt key warns
+        // there (scene-render and pat-info refuse it).
+        dir.write(
+        "st.json",
+        r#"{"vertices":[[0,0],[1,0],[1,1]],"stripe":{"map":"m.map","spacing":1,"yaw":0,"spaceing":2}}"#,
+    );
+        dir.cmd("polyfill3")
+        .args(["st.json", "-o", "out"])
+        .assert()
+        .success()
+        .stderr(predicates::str::contains(
+            r#"polyfill3: warning: record 0: unknown key "spaceing" in "stripe" (known: map, spacing,"#,
+        ));
+        // pat-info --record warns where it reads the record.
+        dir.write(
+        "pi.json",
+        r#"{"vertices":[[0,0],[1,0],[1,1]],"color":[1,1,1],"pattern":{"file":"p.pat","compse":"blend"}}"#,
+    );
+        dir.cmd("pat-info")
+            .args(["--record", "0", "pi.json"])
+            .assert()
+            .failure()
+            .stderr(predicates::str::contains(
+                r#"pat-info: warning: record 0: unknown key "compse" in "pattern""#,
+            ));
+    }
+);
+
+clitest!(
+    bad_texture_state_values_name_the_record_and_the_value,
+    |dir| {
+        dir.write("p.pat", pattern3());
+        let cases = [
+        (
+            r#""filter":"trilinar""#,
+            "s.json: record 1: pattern.filter: `trilinar` is not a filter: expected box, point, bilinear, mip-point, mip-bilinear, mip-point-linear, trilinear, ewa",
+        ),
+        (
+            r#""boundary":"wrap""#,
+            "s.json: record 1: pattern.boundary: `wrap` is not a boundary condition: expected repeat, transparent, clamp, mirror, edge",
+        ),
+        (
+            r#""compose":"add""#,
+            "s.json: record 1: pattern.compose: `add` is not a composition method: expected replace, modulate, blend, blend-intrinsic, decal, decal-intrinsic",
+        ),
+        (
+            r#""lod_bias":"high""#,
+            "s.json: record 1: pattern.lod_bias: expected a number of MIP levels from -16 to 16, found \"high\"",
+        ),
+        (
+            r#""mag_filter":"trilinear""#,
+            "s.json: record 1: pattern.mag_filter: `trilinear`: magnification samples the base level only",
+        ),
+        (
+            r#""boundary_color":"teal""#,
+            "s.json: record 1: pattern.boundary_color: expected [r,g,b] with each 0..=255, \"r,g,b\" or \"#rrggbb\", found \"teal\"",
+        ),
+    ];
+        for (key, message) in cases {
+            dir.write(
+            "s.json",
+            format!(
+                "{}{{\"vertices\":[[0,0],[4,0],[4,4]],\"color\":[1,2,3],\"pattern\":{{\"file\":\"p.pat\",{key}}}}}\n",
+                r#"{"vertices":[[0,0],[1,0],[1,1]],"color":[1,2,3]}"#.to_string() + "\n"
+            ),
+        );
+            for tool in ["scene-render", "polyfill3"] {
+                dir.cmd(tool)
+                    .args(["s.json", "-o", "out.ppm"])
+                    .assert()
+                    .code(1)
+                    .stderr(predicates::str::contains(format!(
+                        "{tool}: error: {message}"
+                    )));
+            }
+        }
+        // Decal of the record, with a pattern without transparent texels: the
+        // key, not --compose, is named.
+        dir.write("q.pat", quadrant_pattern());
+        dir.write(
+        "d.json",
+        r#"{"vertices":[[0,0],[4,0],[4,4]],"color":[1,2,3],"pattern":{"file":"q.pat","compose":"decal"}}"#,
+    );
+        dir.cmd("scene-render")
+        .args(["d.json", "-o", "out.ppm"])
+        .assert()
+        .code(1)
+        .stderr(predicates::str::contains(
+            "d.json: record 0: pattern.compose decal: XGL's decal methods need a four-channel map",
+        ));
+    }
+);
+
+clitest!(
+    polyfill3_forwards_the_texture_state_to_scene_render,
+    |dir| {
+        let scene = two_quads(
+            r#","filter":"trilinear","lod_bias":0.5,"boundary":"clamp","boundary_color":[0,255,255]"#,
+            r#","compose":"blend","compose_color1":[255,0,255],"boundary_u":"mirror""#,
+        );
+        let direct = render_two(&dir, &scene, &[]);
+        // uv records: written whole with --uv, passed through without.
+        for flags in [&["--uv"][..], &[]] {
+            let out = dir.cmd("polyfill3").args(flags).arg("two.json").ok_stdout();
+            let text = String::from_utf8(out.clone()).unwrap();
+            assert!(text.contains(r#""compose":"blend""#), "{text}");
+            dir.write("p3.json", out);
+            let via = dir
+                .cmd("scene-render")
+                .args(["--size", "64x32", "--format", "ppm", "p3.json", "-o", "-"])
+                .ok_stdout();
+            assert!(via == direct, "polyfill3 {flags:?} | scene-render");
+        }
+        // An object-mode record is cut into flat texel polygons: its state is
+        // dropped, with one warning.
+        dir.write(
+        "o.json",
+        r#"{"vertices":[[0,0],[4,0],[4,4]],"color":[1,2,3],"pattern":{"file":"p.pat","compose":"modulate","filter":"ewa"}}
+{"vertices":[[0,0],[4,0],[4,4]],"color":[1,2,3],"pattern":{"file":"p.pat","compose":"modulate"}}
+"#,
+    );
+        let out = dir.cmd("polyfill3").arg("o.json").assert().success();
+        let err = String::from_utf8_lossy(&out.get_output().stderr).into_owned();
+        assert_eq!(err.matches("do not apply").count(), 1, "{err}");
+        assert!(
+        err.contains(r#"polyfill3: warning: record 0: "pattern" keys "compose", "filter" do not apply to texel polygons"#),
+        "{err}"
+    );
+    }
+);
+
+clitest!(
+    the_documented_texture_state_example_renders_as_its_flags,
+    |dir| {
+        // docs/rendering.md, "Texture state per record" (and the README's
+        // shorter form): the record's keys against the same flags.
+        let brick = crate::util::repo("fixtures/patterns/brick.pat");
+        std::fs::copy(&brick, dir.path().join("brick.pat")).unwrap();
+        let record = |state: &str| {
+            format!(
+                r#"{{"vertices": [[0,0,0],[8,0,0],[8,8,0]], "color": [200,160,120],
+ "pattern": {{"file": "brick.pat", "mode": "object", "incr": 0.5{state}}}}}"#
+            )
+        };
+        let render = |scene: &str, flags: &[&str]| {
+            dir.write("doc.json", scene);
+            dir.cmd("scene-render")
+                .args([
+                    "--size",
+                    "48x48",
+                    "--ortho2",
+                    "-1,9,-1,9",
+                    "--format",
+                    "ppm",
+                ])
+                .args(flags)
+                .args(["doc.json", "-o", "-"])
+                .ok_stdout()
+        };
+        let keyed = render(
+            &record(
+                r#", "filter": "trilinear", "lod_bias": 0.5, "boundary": "clamp",
+             "boundary_color": [0,0,0], "compose": "modulate""#,
+            ),
+            &[],
+        );
+        let flagged = render(
+            &record(""),
+            &[
+                "--filter",
+                "trilinear",
+                "--lod-bias",
+                "0.5",
+                "--boundary",
+                "clamp",
+                "--boundary-color",
+                "0,0,0",
+                "--compose",
+                "modulate",
+            ],
+        );
+        assert!(keyed == flagged);
+        assert!(keyed != render(&record(""), &[]));
     }
 );

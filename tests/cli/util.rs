@@ -53,6 +53,33 @@ impl Dir {
     }
 }
 
+/// Whether a test that needs what a newcomer's machine may lack (GNU
+/// parallel, jq, netpbm, several GB of memory) must run: `.ci/run` sets
+/// `PATKIT_CI`, so CI always runs them; elsewhere they are skipped with a
+/// printed reason.
+pub fn required(what: &str, available: bool) -> bool {
+    if available {
+        return true;
+    }
+    assert!(
+        std::env::var_os("PATKIT_CI").is_none(),
+        "{what}: not available, and PATKIT_CI is set (as .ci/run sets it)"
+    );
+    eprintln!("skipped: {what}: not available here (.ci/run provides it and sets PATKIT_CI)");
+    false
+}
+
+/// Whether the heavy cases run (`PATKIT_HEAVY=1`, which `.ci/run` sets):
+/// each needs minutes and gigabytes, more than `cargo test` should take on a
+/// newcomer's machine.
+pub fn heavy(what: &str) -> bool {
+    let on = std::env::var_os("PATKIT_HEAVY").is_some_and(|v| v == "1");
+    if !on {
+        eprintln!("skipped: {what}: a heavy case; PATKIT_HEAVY=1 runs it (.ci/run does)");
+    }
+    on
+}
+
 /// A path inside the repository (fixtures, man pages).
 pub fn repo(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)

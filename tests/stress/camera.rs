@@ -41,7 +41,7 @@ const COLORS: [Rgb8; 3] = [
 fn draw(v: &View, polys: &[Vec<DVec3>], aa: Aa) -> Vec<u8> {
     let mut screen = Vec::new();
     for (i, p) in polys.iter().enumerate() {
-        if let Some(s) = try_project(v, p, COLORS[i % 3], i as u32, Cull::None) {
+        if let Ok(s) = try_project(v, p, COLORS[i % 3], i as u32, Cull::None) {
             screen.push(s);
         }
     }

@@ -1,0 +1,1 @@
+fixtures/patterns/bkgrnd.pat
