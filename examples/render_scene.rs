@@ -14,6 +14,7 @@ use patkit::camera::{Aspect, Camera, CameraSpec, IrisProjection, IrisSpec, LookA
 use patkit::io::{ImageFormat, PngOptions};
 use patkit::raster::{Aa, Background, Cull};
 use patkit::scene::{self, DrawOptions, Resolve, Scene};
+use patkit::texture::Texels;
 use patkit::view::View;
 use patkit::{Pattern, Rgb8};
 
@@ -57,7 +58,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // colorclear with bkgrnd.pat behind everything, black where it is transparent.
     let bkgrnd = Pattern::read_file(&root.join("fixtures/patterns/bkgrnd.pat"))?;
-    let background = Background::new(Rgb8::BLACK, Some(&bkgrnd));
+    let background = Background::new(Rgb8::BLACK, Some(Texels::new(&bkgrnd)));
     let (image, _) = scene::render(
         &polygons,
         &background,

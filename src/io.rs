@@ -68,6 +68,21 @@ pub enum IoError {
         #[source]
         error: image::ImageError,
     },
+    /// An image used as a texture has more pixels than a texture may.
+    #[error(
+        "{input}: image of {width}x{height} pixels is too large for a texture: \
+         at most {limit} texels (4096x4096, in any aspect)"
+    )]
+    TextureTooLarge {
+        /// The input's name, as errors show it.
+        input: String,
+        /// The image's width.
+        width: u32,
+        /// The image's height.
+        height: u32,
+        /// The most pixels allowed.
+        limit: u64,
+    },
     /// An animation frame of another size than the animation's.
     #[error(
         "{}: frame of {}x{} with {} channels in an animation of {}x{} with {}",
@@ -785,6 +800,64 @@ pub fn decode_photo(bytes: &[u8], name: &str) -> Result<Photo, IoError> {
         orientation,
         icc_profile,
     })
+}
+
+/// An image's pixels as decoded for a texture: straight RGBA, row 0 at the
+/// TOP, 8 bits a channel or, where the file has more, 16.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RgbaPixels {
+    /// 8 bits a channel, 4 per pixel.
+    Rgba8(Vec<u8>),
+    /// 16 bits a channel, 4 per pixel.
+    Rgba16(Vec<u16>),
+}
+
+/// Whether `bytes` start like an image file the `image` crate reads (by
+/// content, not by name): what tells an image texture from a `.pat`.
+pub fn is_image(bytes: &[u8]) -> bool {
+    image::guess_format(bytes).is_ok()
+}
+
+/// [`decode_photo`] for a texture: the EXIF orientation applied, 16-bit
+/// channels kept (PNG, TIFF, PNM with 16 bits), anything else as 8-bit
+/// RGBA; refused before decoding if the image has more than `max_pixels`
+/// pixels. Returns (width, height, pixels).
+pub fn decode_texture(
+    bytes: &[u8],
+    name: &str,
+    max_pixels: u64,
+) -> Result<(u32, u32, RgbaPixels), IoError> {
+    use image::ImageDecoder as _;
+    let not_an_image = |error| IoError::NotAnImage {
+        input: name.to_string(),
+        error,
+    };
+    let reader = image::ImageReader::new(io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| not_an_image(image::ImageError::IoError(e)))?;
+    let mut decoder = reader.into_decoder().map_err(not_an_image)?;
+    let (width, height) = decoder.dimensions();
+    if width as u64 * height as u64 > max_pixels {
+        return Err(IoError::TextureTooLarge {
+            input: name.to_string(),
+            width,
+            height,
+            limit: max_pixels,
+        });
+    }
+    let orientation = decoder
+        .orientation()
+        .unwrap_or(image::metadata::Orientation::NoTransforms);
+    let mut img = image::DynamicImage::from_decoder(decoder).map_err(not_an_image)?;
+    img.apply_orientation(orientation);
+    let (width, height) = (img.width(), img.height());
+    let deep = img.color().bytes_per_pixel() / img.color().channel_count() > 1;
+    let pixels = if deep {
+        RgbaPixels::Rgba16(img.into_rgba16().into_raw())
+    } else {
+        RgbaPixels::Rgba8(img.into_rgba8().into_raw())
+    };
+    Ok((width, height, pixels))
 }
 
 /// Decodes any image the `image` crate reads (PNG, JPEG, GIF, BMP, TIFF, WebP,

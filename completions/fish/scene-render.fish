@@ -4,7 +4,7 @@ ppm\t'Binary PPM (P6); transparency is flattened'
 pam\t'PAM (P7), RGB or RGB_ALPHA'"
 complete -c scene-render -l size -d 'Image size (WxH). The default is the IRIS screen' -r
 complete -c scene-render -l background -d 'Background colour (`r,g,b` or `#rrggbb`), or `none`: what polygons leave uncovered is transparent, and the image carries their coverage as alpha (PNG, PAM; twice the render time)' -r
-complete -c scene-render -l background-pattern -d 'A .pat tiled over the background in screen mode (the thesis\'s colorclear): pixel (x, y) from the lower-left takes texel (x mod SIZE, y mod SIZE); transparent texels show --background' -r
+complete -c scene-render -l background-pattern -d 'A .pat or an image (PNG, JPEG, ...: told by content) tiled over the background in screen mode (the thesis\'s colorclear): pixel (x, y) from the lower-left takes texel (x mod W, y mod H), an image\'s bottom row being texel row 0; transparent texels (alpha below one half) show --background' -r
 complete -c scene-render -l camera -d 'Camera JSON file (`-` = standard input); excludes every other camera flag. Default: none (the tool\'s default view)' -r
 complete -c scene-render -l lookat -d 'IRIS/GLU lookat: eye and center points. Default: none (identity view, eye at the origin looking down -z)' -r
 complete -c scene-render -l up -d 'Up direction for --lookat. Default: 0,1,0' -r

@@ -7,10 +7,10 @@ use crate::camera::Camera;
 use crate::cli::usage_bail;
 use crate::color::Rgb8;
 use crate::io::{decode_image, display_name, read_input, Image, ImageFormat, PngOptions};
-use crate::pat::Pattern;
 use crate::raster::{self, compare, reference, Aa, Background, Cull};
 use crate::scene::{self, DrawOptions, Resolve, Scene};
 use crate::texture::place::TextureSettings;
+use crate::texture::Texels;
 use crate::view::View;
 use anyhow::{Context, Result};
 use clap::Parser;
@@ -74,10 +74,12 @@ pub struct Args {
     #[arg(long, value_name = "COLOR", default_value = "0,0,0")]
     pub background: BackgroundColor,
 
-    /// A .pat tiled over the background in screen mode (the thesis's colorclear):
-    /// pixel (x, y) from the lower-left takes texel (x mod SIZE, y mod SIZE);
-    /// transparent texels show --background.
-    #[arg(long, value_name = "FILE.pat")]
+    /// A .pat or an image (PNG, JPEG, ...: told by content) tiled over the
+    /// background in screen mode (the thesis's colorclear): pixel (x, y)
+    /// from the lower-left takes texel (x mod W, y mod H), an image's bottom
+    /// row being texel row 0; transparent texels (alpha below one half) show
+    /// --background.
+    #[arg(long, value_name = "FILE")]
     pub background_pattern: Option<String>,
 
     #[command(flatten)]
@@ -378,12 +380,12 @@ fn run_in_pool(args: Args) -> Result<()> {
     let view = View::new(&camera, width, height);
     let bg_pattern = match &args.background_pattern {
         // A command-line input: `<(...)` works as well as a file.
-        Some(p) => Some(Pattern::parse(&read_input(p)?, display_name(p))?),
+        Some(p) => Some(Texels::parse(&read_input(p)?, display_name(p))?),
         None => None,
     };
     let bg = match args.background {
-        BackgroundColor::Color(c) => Background::new(c, bg_pattern.as_ref()),
-        BackgroundColor::None => Background::transparent(bg_pattern.as_ref()),
+        BackgroundColor::Color(c) => Background::new(c, bg_pattern),
+        BackgroundColor::None => Background::transparent(bg_pattern),
     };
     let t_read = std::time::Instant::now();
     let limits = crate::scene::LoadOptions {

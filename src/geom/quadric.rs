@@ -435,17 +435,20 @@ impl QuadricShape {
 
     /// The triangles of the quadric at `tolerance` (own units, used only for
     /// the segment counts the record leaves out), moved by the record's
-    /// transform, with GLU's (s, t) scaled to texels of a `size`-texel
-    /// pattern: `u = s * size * repeat[0]`, `v = t * size * repeat[1]`, so
+    /// transform, with GLU's (s, t) scaled to texels of a `width x height`
+    /// store: `u = s * width * repeat[0]`, `v = t * height * repeat[1]`, so
     /// t = 0 (GLU's first texture row, the sphere's -z pole) is the pattern's
     /// bottom row 0.
     pub fn texel_triangles(
         &self,
         tolerance: f64,
-        size: u32,
+        (width, height): (u32, u32),
     ) -> Result<Vec<TexelTriangle>, QuadricError> {
         let (slices, stacks) = self.segments(tolerance);
-        let (su, sv) = (size as f64 * self.repeat[0], size as f64 * self.repeat[1]);
+        let (su, sv) = (
+            width as f64 * self.repeat[0],
+            height as f64 * self.repeat[1],
+        );
         let tris = self
             .quadric
             .tessellate(slices, stacks)
@@ -632,7 +635,7 @@ mod tests {
             repeat: [2.0, 3.0],
             transform: Transform::translate(DVec3::new(10.0, 0.0, 0.0)),
         };
-        let tris = shape.texel_triangles(1.0, 16).unwrap();
+        let tris = shape.texel_triangles(1.0, (16, 16)).unwrap();
         assert_eq!(tris.len(), 8);
         let (mut umax, mut vmax) = (0.0f64, 0.0f64);
         for t in &tris {

@@ -4,7 +4,6 @@
 
 use crate::color::{linear_to_srgb, srgb_to_linear_f64, Rgb8};
 use crate::io::Image;
-use crate::pat::Pattern;
 use crate::texture::Texels;
 
 /// What lies behind every polygon: a colour, or the thesis's `colorclear`
@@ -27,11 +26,12 @@ impl Background {
         Background::new(color, None)
     }
 
-    /// A colour, with a pattern tiled over it in screen mode.
-    pub fn new(color: Rgb8, pattern: Option<&Pattern>) -> Background {
+    /// A colour, with a pattern (or image, [`Texels::read_file`]) tiled over
+    /// it in screen mode.
+    pub fn new(color: Rgb8, pattern: Option<Texels>) -> Background {
         Background {
             color: color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0)),
-            pattern: pattern.map(Texels::new),
+            pattern,
             transparent: false,
         }
     }
@@ -44,7 +44,7 @@ impl Background {
     /// ([`Background::opaque`]), and [`Frame::to_image_with_alpha`] reads the
     /// coverage from the difference: exact for every resolver, since both
     /// passes cut and sample the same geometry, at twice the time.
-    pub fn transparent(pattern: Option<&Pattern>) -> Background {
+    pub fn transparent(pattern: Option<Texels>) -> Background {
         Background {
             transparent: true,
             ..Background::new(Rgb8::BLACK, pattern)
@@ -70,7 +70,7 @@ impl Background {
     #[inline]
     pub fn at(&self, x: u32, y: u32) -> [f64; 3] {
         match &self.pattern {
-            Some(p) => p.at(x, y).unwrap_or(self.color),
+            Some(p) => p.at_over(x, y, self.color).unwrap_or(self.color),
             None => self.color,
         }
     }

@@ -129,7 +129,7 @@ impl ScreenPoly {
     pub fn color_at(&self, x: u32, y: u32) -> Option<[f64; 3]> {
         match self.screen() {
             None => Some(self.color),
-            Some(p) => p.at(x, y),
+            Some(p) => p.at_over(x, y, self.color),
         }
     }
 

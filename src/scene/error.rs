@@ -54,6 +54,8 @@ pub enum RecordError {
     NoPatternFile,
     /// The record's pattern file cannot be read.
     Pattern(ParseError),
+    /// The record's image texture cannot be read, or is too large.
+    Image(IoError),
     /// A texture state key of the record's `"pattern"` is wrong
     /// ([`crate::texture::state`]): the message names it.
     TextureState(String),
@@ -92,6 +94,7 @@ impl RecordError {
     fn as_cause(&self) -> &(dyn Error + 'static) {
         match self {
             RecordError::Pattern(e) => e,
+            RecordError::Image(e) => e,
             RecordError::Stripe(e) => e,
             RecordError::StripeMapping(e) => e,
             RecordError::Place(e) => e,
@@ -110,6 +113,7 @@ impl fmt::Display for RecordError {
             RecordError::NoPatternFile => f.write_str("pattern.file is missing"),
             RecordError::TextureState(m) => f.write_str(m),
             RecordError::Pattern(e) => e.fmt(f),
+            RecordError::Image(e) => e.fmt(f),
             RecordError::Stripe(e) => e.fmt(f),
             RecordError::StripeMapping(e) => e.fmt(f),
             RecordError::Place(e) => e.fmt(f),
@@ -219,6 +223,16 @@ macro_rules! wraps {
             }
         })*
     };
+}
+
+impl From<crate::texture::texels::LoadError> for RecordError {
+    fn from(e: crate::texture::texels::LoadError) -> RecordError {
+        use crate::texture::texels::LoadError;
+        match e {
+            LoadError::Pattern(e) => RecordError::Pattern(e),
+            LoadError::Image(e) => RecordError::Image(e),
+        }
+    }
 }
 
 wraps!(

@@ -47,7 +47,6 @@ use crate::color::Rgb8;
 use crate::geom::transform::Transform;
 use crate::geom::Shape;
 use crate::io::Image;
-use crate::pat::Pattern;
 use crate::raster::{self, Aa, Background, Cull, Frame, ScreenPoly, Shader, Tally};
 use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, PatternRef, Record};
 use crate::stripe::record::StripeLoader;
@@ -339,8 +338,7 @@ impl Scene {
                 let texels = match patterns.get(&path) {
                     Some(p) => p.clone(),
                     None => {
-                        let pat = Pattern::read_file(&path).in_record(at.0, at.1)?;
-                        let p = Arc::new(Texels::new(&pat));
+                        let p = Arc::new(Texels::read_file(&path).in_record(at.0, at.1)?);
                         files.push(path.clone());
                         patterns.insert(path, p.clone());
                         p
@@ -356,7 +354,7 @@ impl Scene {
                 // Checked for screen patterns too, which do not use it: a
                 // bad value is an error wherever it is written.
                 let state = TextureState::from_pattern(&rec.fields["pattern"])
-                    .and_then(|s| s.check(texels.has_transparency()).map(|()| s))
+                    .and_then(|s| s.check(texels.has_alpha()).map(|()| s))
                     .map_err(RecordError::TextureState)
                     .in_record(at.0, at.1)?;
                 texture = match mode {
@@ -725,8 +723,8 @@ fn project_quadric(
         how.quadric_tolerance,
     );
     let size = match &d.texture {
-        TextureSource::Placed { texels, .. } => texels.size(),
-        _ => 1,
+        TextureSource::Placed { texels, .. } => (texels.width(), texels.height()),
+        _ => (1, 1),
     };
     let tris = q.texel_triangles(tolerance, size)?;
     for t in &tris {

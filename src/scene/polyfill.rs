@@ -227,7 +227,23 @@ impl<W: Write> Job<'_, W> {
         if let Some(p) = self.patterns.get(&path) {
             return Ok(p.clone());
         }
-        let p = Rc::new(Pattern::read_file(&path).map_err(CellsError::Pattern)?);
+        let name = path.display().to_string();
+        let bytes = crate::io::read_path(&path)
+            .map_err(|e| CellsError::Pattern(crate::text::ParseError::io(&name, e)))?;
+        // An image texture (scene-render draws those) has no palette for
+        // the cells' colours and merging: a .pat is needed here.
+        if crate::io::is_image(&bytes) {
+            return Err(CellsError::Option(OptionError::new(
+                format!(
+                    "{name}: an image; polygons are cut into the texels of a .pat \
+                     only (scene-render draws images): make one with pat-from-image, \
+                     or give one with "
+                ),
+                "pattern",
+                "",
+            )));
+        }
+        let p = Rc::new(Pattern::parse(&bytes, &name).map_err(CellsError::Pattern)?);
         self.summary.files.push(path.clone());
         self.patterns.insert(path, p.clone());
         Ok(p)

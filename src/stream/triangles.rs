@@ -32,7 +32,8 @@ pub fn quadric_triangles(
         .iter()
         .map(|c| c.truncate().length())
         .fold(0.0, f64::max);
-    let tris = match q.texel_triangles(tolerance / stretch, pattern_size.unwrap_or(1)) {
+    let side = pattern_size.unwrap_or(1);
+    let tris = match q.texel_triangles(tolerance / stretch, (side, side)) {
         Ok(t) => t,
         Err(e) => return Some(Err(e)),
     };

@@ -1,5 +1,5 @@
 //! What a pattern shows outside its bounds (texel columns and rows outside
-//! `0..SIZE`): XGL's boundary conditions (XGL Programmer's Guide, texture
+//! `0..SIZE`, or `0..W` and `0..H` of an image): XGL's boundary conditions (XGL Programmer's Guide, texture
 //! chapter, "Boundary Conditions": the `u_boundary`, `v_boundary` fields of
 //! `Xgl_texture_mipmap_desc`).
 
@@ -111,12 +111,12 @@ impl Bounds {
         Bounds { u: b, v: b }
     }
 
-    /// The lookup of texel cell (k, j) of a `size` pattern. When both indices
-    /// are out of bounds under different conditions, the stronger one by
-    /// XGL's precedence applies to both.
-    pub fn lookup(&self, k: i64, j: i64, size: u32) -> Lookup {
-        let s = size as i64;
-        let (out_u, out_v) = (!(0..s).contains(&k), !(0..s).contains(&j));
+    /// The lookup of texel cell (k, j) of a `width x height` store. When
+    /// both indices are out of bounds under different conditions, the
+    /// stronger one by XGL's precedence applies to both.
+    pub fn lookup(&self, k: i64, j: i64, width: u32, height: u32) -> Lookup {
+        let (w, h) = (width as i64, height as i64);
+        let (out_u, out_v) = (!(0..w).contains(&k), !(0..h).contains(&j));
         let (mu, mv) = if out_u && out_v && self.u != self.v {
             let m = if self.u.precedence() < self.v.precedence() {
                 self.u
@@ -127,7 +127,7 @@ impl Bounds {
         } else {
             (self.u, self.v)
         };
-        match (axis(mu, k, s), axis(mv, j, s)) {
+        match (axis(mu, k, w), axis(mv, j, h)) {
             (Some(c), Some(r)) => Lookup::Texel(c, r),
             (None, _) => special(mu),
             (_, None) => special(mv),
@@ -141,7 +141,7 @@ mod tests {
 
     #[test]
     fn each_condition_maps_indices_as_xgl_describes() {
-        let idx = |b, i| match Bounds::both(b).lookup(i, 0, 16) {
+        let idx = |b, i| match Bounds::both(b).lookup(i, 0, 16, 16) {
             Lookup::Texel(c, _) => Some(c),
             _ => None,
         };
@@ -153,11 +153,11 @@ mod tests {
         assert_eq!(idx(Boundary::Edge, -5), Some(0));
         assert_eq!(idx(Boundary::Edge, 99), Some(15));
         assert_eq!(
-            Bounds::both(Boundary::Transparent).lookup(16, 3, 16),
+            Bounds::both(Boundary::Transparent).lookup(16, 3, 16, 16),
             Lookup::Intrinsic
         );
         assert_eq!(
-            Bounds::both(Boundary::Clamp).lookup(3, -1, 16),
+            Bounds::both(Boundary::Clamp).lookup(3, -1, 16, 16),
             Lookup::Constant
         );
     }
@@ -169,16 +169,29 @@ mod tests {
             v: Boundary::Clamp,
         };
         // Only u out: u's condition.
-        assert_eq!(b.lookup(17, 3, 16), Lookup::Texel(1, 3));
+        assert_eq!(b.lookup(17, 3, 16, 16), Lookup::Texel(1, 3));
         // Only v out: v's.
-        assert_eq!(b.lookup(3, 17, 16), Lookup::Constant);
+        assert_eq!(b.lookup(3, 17, 16, 16), Lookup::Constant);
         // Both out: clamp outranks wrap.
-        assert_eq!(b.lookup(17, -1, 16), Lookup::Constant);
+        assert_eq!(b.lookup(17, -1, 16, 16), Lookup::Constant);
         let m = Bounds {
             u: Boundary::Mirror,
             v: Boundary::Repeat,
         };
         // Both out: wrap outranks mirror, for both coordinates.
-        assert_eq!(m.lookup(-1, -1, 16), Lookup::Texel(15, 15));
+        assert_eq!(m.lookup(-1, -1, 16, 16), Lookup::Texel(15, 15));
+    }
+
+    #[test]
+    fn each_axis_uses_its_own_side() {
+        let b = Bounds::both(Boundary::Repeat);
+        assert_eq!(b.lookup(17, 5, 32, 4), Lookup::Texel(17, 1));
+        let m = Bounds::both(Boundary::Mirror);
+        assert_eq!(m.lookup(32, 4, 32, 4), Lookup::Texel(31, 3));
+        let e = Bounds::both(Boundary::Edge);
+        assert_eq!(e.lookup(-3, 9, 32, 4), Lookup::Texel(0, 3));
+        let t = Bounds::both(Boundary::Transparent);
+        assert_eq!(t.lookup(20, 4, 32, 4), Lookup::Intrinsic);
+        assert_eq!(t.lookup(20, 3, 32, 4), Lookup::Texel(20, 3));
     }
 }

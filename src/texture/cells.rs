@@ -175,8 +175,8 @@ pub fn single_cell(tex: &PolyTexture, xa: u32, xb: u32, py: u32) -> Option<(i64,
 
 /// Whether the transparent-run skip applies to `tex`: a transparent texel
 /// must give an absent piece (not the decal compositions, which fill it) and
-/// every cell must be a pattern texel at column `k mod SIZE`, row
-/// `j mod SIZE` (repeat on both axes, the default; the other boundary
+/// every cell must be a pattern texel at column `k mod W`, row
+/// `j mod H` (repeat on both axes, the default; the other boundary
 /// conditions map cells otherwise and are cut without the skip).
 fn runs_apply(tex: &PolyTexture) -> bool {
     use super::boundary::Boundary;
@@ -206,9 +206,9 @@ fn cut(
     let m = &tex.map;
     let CellBox { k0, k1, j0, j1 } = b;
     let runs = runs_apply(tex).then(|| tex.texels.runs());
-    let size = tex.texels.size() as i64;
+    let height = tex.texels.height() as i64;
     for j in j0..=j1 {
-        let row = j.rem_euclid(size) as u32;
+        let row = j.rem_euclid(height) as u32;
         if let Some(runs) = runs {
             if !runs.any(row, k0, k1) {
                 continue;

@@ -66,28 +66,39 @@ pub fn sample(t: &PolyTexture, fp: &Footprint) -> [f64; 4] {
     }
     // The level: the first whose texels keep the major radius within bounds.
     // log2 of the side, rounded down: the number of levels below the base.
-    let levels = (u32::BITS - 1 - t.texels.size().leading_zeros()) as usize;
+    // (Of the longer side, for an image: each axis has its own scale, and
+    // the smaller one bounds the radius in texels of the level.)
+    let levels = (u32::BITS - 1 - t.base_side().leading_zeros()) as usize;
     let major = CUTOFF * l1.sqrt();
+    let min_scale = |k| {
+        let (sx, sy) = t.level_scale(k);
+        sx.min(sy)
+    };
     let mut k = 0;
-    while k < levels && major / t.level_scale(k) > MAX_RADIUS {
+    while k < levels && major / min_scale(k) > MAX_RADIUS {
         k += 1;
     }
-    let sc = t.level_scale(k);
+    let (sx, sy) = t.level_scale(k);
+    let sc = sx.min(sy);
     // Past the coarsest level (a pixel over more than the whole pattern
     // many times, towards a horizon) the ellipse is shrunk to MAX_RADIUS
     // texels of that level, bounding the work; it then already spans the
     // whole level several times over.
-    let mut f = 1.0 / (sc * sc);
+    // The covariance in texels of the level: u scaled by 1 / sx, v by 1 / sy.
+    let (mut fa, mut fb, mut fc) = (1.0 / (sx * sx), 1.0 / (sx * sy), 1.0 / (sy * sy));
     let r = major / sc;
     if r > MAX_RADIUS {
-        f *= (MAX_RADIUS / r) * (MAX_RADIUS / r);
+        let g = (MAX_RADIUS / r) * (MAX_RADIUS / r);
+        fa *= g;
+        fb *= g;
+        fc *= g;
     }
     let tt = TEXEL_SIGMA * TEXEL_SIGMA;
-    let (a, b, c) = (a * f + tt, b * f, c * f + tt);
+    let (a, b, c) = (a * fa + tt, b * fb, c * fc + tt);
     let det = a * c - b * b;
     // Inverse covariance for the Mahalanobis distance.
     let (ia, ib, ic) = (c / det, -b / det, a / det);
-    let (u, v) = (fp.uv.x / sc, fp.uv.y / sc);
+    let (u, v) = (fp.uv.x / sx, fp.uv.y / sy);
     let (ru, rv) = (CUTOFF * a.sqrt(), CUTOFF * c.sqrt());
     let mut acc = [0.0f64; 4];
     let mut wsum = 0.0;
@@ -126,7 +137,7 @@ mod tests {
         let mut s = 0.0;
         for j in y * n..(y + 1) * n {
             for i in x * n..(x + 1) * n {
-                s += t.texels.texel(i as i64, j as i64).unwrap()[0];
+                s += t.texels.texel(i as i64, j as i64, [0.0; 3]).unwrap()[0];
             }
         }
         s / (n * n) as f64

@@ -177,6 +177,8 @@ pub enum Eval {
 /// `s0` pattern ([`super::mip::level_sizes`]): level `k` and the fraction `t` towards level `k + 1`. Level
 /// `k` has scale `s0 / s_k` base texels per texel; the position is linear in
 /// `log2` between neighbouring scales (exactly `lambda` for powers of two).
+/// For a `W x H` image `s0` is the longer side, whose halvings number the
+/// levels.
 pub fn level_position(rho: f64, s0: u32) -> (usize, f64) {
     if rho.is_nan() || rho <= 1.0 {
         return (0, 0.0);
@@ -212,23 +214,27 @@ impl PolyTexture {
         self.compose.fills_transparent() || !self.texels.has_transparency()
     }
 
-    /// The side of level `k`.
-    fn level_size(&self, k: usize) -> u32 {
-        (self.texels.size() >> k).max(1)
+    /// The sides (width, height) of level `k` ([`super::mip::level_dims`]).
+    fn level_dims(&self, k: usize) -> (u32, u32) {
+        (
+            (self.texels.width() >> k).max(1),
+            (self.texels.height() >> k).max(1),
+        )
     }
 
     /// Premultiplied, composed RGBA of texel (i, j) of level `k`, after the
-    /// boundary conditions (applied with that level's size).
+    /// boundary conditions (applied with that level's sides). A texel
+    /// shown with partial alpha lies over the polygon's colour.
     #[inline]
     pub(crate) fn fetch(&self, k: usize, i: i64, j: i64) -> [f64; 4] {
         use super::boundary::Lookup;
-        let size = self.level_size(k);
-        match self.bounds.lookup(i, j, size) {
+        let (w, h) = self.level_dims(k);
+        match self.bounds.lookup(i, j, w, h) {
             Lookup::Texel(c, r) => {
                 let raw = if k == 0 {
-                    self.texels.premultiplied(c, r)
+                    self.texels.premultiplied(c, r, self.intrinsic)
                 } else {
-                    self.texels.pyramid(self.mip_key()).levels[k - 1].at(c, r)
+                    self.texels.pyramid(self.mip_key()).levels[k - 1].at_over(c, r, self.intrinsic)
                 };
                 self.compose.apply_premultiplied(
                     raw,
@@ -248,21 +254,32 @@ impl PolyTexture {
         }
     }
 
-    /// Base texels per texel of level `k`.
-    pub(crate) fn level_scale(&self, k: usize) -> f64 {
-        self.texels.size() as f64 / self.level_size(k) as f64
+    /// Base texels per texel of level `k`, along u and along v (equal for a
+    /// square store).
+    pub(crate) fn level_scale(&self, k: usize) -> (f64, f64) {
+        let (w, h) = self.level_dims(k);
+        (
+            self.texels.width() as f64 / w as f64,
+            self.texels.height() as f64 / h as f64,
+        )
+    }
+
+    /// The longer side of the base level: the side whose halvings number the
+    /// levels ([`level_position`]).
+    pub(crate) fn base_side(&self) -> u32 {
+        self.texels.width().max(self.texels.height())
     }
 
     /// The texel of level `k` whose cell holds `uv` (base texel units).
     fn point(&self, k: usize, uv: DVec2) -> [f64; 4] {
-        let s = self.level_scale(k);
-        self.fetch(k, (uv.x / s).floor() as i64, (uv.y / s).floor() as i64)
+        let (sx, sy) = self.level_scale(k);
+        self.fetch(k, (uv.x / sx).floor() as i64, (uv.y / sy).floor() as i64)
     }
 
     /// The four texel centres of level `k` around `uv`, weighted linearly.
     fn bilinear(&self, k: usize, uv: DVec2) -> [f64; 4] {
-        let s = self.level_scale(k);
-        let (a, b) = (uv.x / s - 0.5, uv.y / s - 0.5);
+        let (sx, sy) = self.level_scale(k);
+        let (a, b) = (uv.x / sx - 0.5, uv.y / sy - 0.5);
         let (i, j) = (a.floor(), b.floor());
         let (fx, fy) = (a - i, b - j);
         let (i, j) = (i as i64, j as i64);
@@ -287,7 +304,7 @@ impl PolyTexture {
     /// The premultiplied RGBA of `filter` at the footprint `fp` (not box).
     pub fn sample(&self, filter: Filter, fp: &super::map::Footprint) -> [f64; 4] {
         let rho = fp.rho() * math::exp2(self.filters.lod_bias);
-        let (k, t) = level_position(rho, self.texels.size());
+        let (k, t) = level_position(rho, self.base_side());
         let mix =
             |a: [f64; 4], b: [f64; 4]| std::array::from_fn(|ch| a[ch] * (1.0 - t) + b[ch] * t);
         let nearest = if t < 0.5 { k } else { k + 1 };
@@ -470,14 +487,17 @@ pub(crate) mod tests {
         let t = placed(p.clone(), 0.25, Filter::Bilinear, 0.0);
         for (k, j) in [(0u32, 0u32), (3, 5), (15, 15)] {
             let c = color(&t, 4.0 * k as f64 + 2.0, 4.0 * j as f64 + 2.0);
-            let want = p.texel(k as i64, j as i64).unwrap();
+            let want = p.texel(k as i64, j as i64, [0.0; 3]).unwrap();
             for ch in 0..3 {
                 assert!((c[ch] - want[ch]).abs() < 1e-12, "({k}, {j})");
             }
         }
         // Half-way between two texel centres: their mean.
         let c = color(&t, 4.0, 2.0);
-        let (a, b) = (p.texel(0, 0).unwrap(), p.texel(1, 0).unwrap());
+        let (a, b) = (
+            p.texel(0, 0, [0.0; 3]).unwrap(),
+            p.texel(1, 0, [0.0; 3]).unwrap(),
+        );
         for ch in 0..3 {
             assert!((c[ch] - 0.5 * (a[ch] + b[ch])).abs() < 1e-12);
         }

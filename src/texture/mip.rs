@@ -12,7 +12,10 @@
 //! 6, 3, 1), and each level is resampled from the one above by a separable
 //! filter whose scale is the exact ratio `s_{k-1} / s_k` (2, or 3 for 3 → 1).
 //! A texel of level `k` covers `scale_k = s_0 / s_k` texels of the base, the
-//! factor by which texel coordinates are divided to address it.
+//! factor by which texel coordinates are divided to address it. An image is
+//! `W x H`: the same rule applies to each axis, a side that reaches 1 stays
+//! 1 (1024 x 512, ..., 2 x 1, 1 x 1), so each axis has its own scale
+//! (`W / w_k`, `H / h_k`) and the longer side sets the number of levels.
 //!
 //! Edges: the build needs texels beyond the pattern's edges. Under the
 //! repeat and mirror boundary conditions those are the pattern's own repeated
@@ -92,23 +95,49 @@ pub struct MipKey {
     pub v: Extend,
 }
 
-/// One level: `size x size` premultiplied linear RGBA texels, row 0 at the
-/// bottom. f32 halves the memory of a 4096 pattern's pyramid (~180 MB in f64)
-/// and keeps 24 bits, far below what 8-bit output shows.
+/// One level: `width x height` premultiplied linear RGBA texels, row 0 at
+/// the bottom. f32 halves the memory of a 4096 pattern's pyramid (~180 MB in
+/// f64) and keeps 24 bits, far below what 8-bit output shows.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Level {
-    /// Side in texels: half the finer level's, rounded down.
-    pub size: u32,
-    /// `size * size` texels, row-major, row 0 at the bottom.
+    /// Width in texels: half the finer level's, rounded down, at least 1.
+    pub width: u32,
+    /// Height in texels: half the finer level's, rounded down, at least 1.
+    pub height: u32,
+    /// `width * height` texels, row-major, row 0 at the bottom.
     pub texels: Vec<[f32; 4]>,
+    /// The filtered coverage of each texel (the share of shown texels, alpha
+    /// aside), only for an image with partial alpha
+    /// ([`crate::texture::Texels::texel_over`]); empty otherwise, where it
+    /// equals the alpha.
+    pub cover: Vec<f32>,
 }
 
 impl Level {
     /// Texel (column `c`, row `r` from the bottom), premultiplied linear RGBA;
-    /// both must be below `size`.
+    /// both must be below the level's sides.
     #[inline]
     pub fn at(&self, c: u32, r: u32) -> [f64; 4] {
-        self.texels[(r * self.size + c) as usize].map(|x| x as f64)
+        self.texels[(r * self.width + c) as usize].map(|x| x as f64)
+    }
+
+    /// [`Level::at`] shown over the colour `under` where the texels it
+    /// filters were partly transparent images texels: the polygon's colour
+    /// fills the share `cover - alpha`, as it does under each texel.
+    #[inline]
+    pub fn at_over(&self, c: u32, r: u32, under: [f64; 3]) -> [f64; 4] {
+        let p = self.at(c, r);
+        if self.cover.is_empty() {
+            return p;
+        }
+        let v = self.cover[(r * self.width + c) as usize] as f64;
+        let w = v - p[3];
+        [
+            p[0] + w * under[0],
+            p[1] + w * under[1],
+            p[2] + w * under[2],
+            v,
+        ]
     }
 }
 
@@ -117,8 +146,8 @@ impl Level {
 pub struct Pyramid {
     /// How the levels were built.
     pub key: MipKey,
-    /// Levels 1, 2, ... in order, down to a side of 1 texel
-    /// (`levels[i]` is level `i + 1`; sides as [`level_sizes`]).
+    /// Levels 1, 2, ... in order, down to 1 x 1 texel
+    /// (`levels[i]` is level `i + 1`; sides as [`level_dims`]).
     pub levels: Vec<Level>,
 }
 
@@ -129,6 +158,21 @@ pub fn level_sizes(s0: u32) -> Vec<u32> {
     while s > 1 {
         s /= 2;
         out.push(s);
+    }
+    out
+}
+
+/// The sides (width, height) of levels 1.. of a `w x h` store: each side
+/// halved, rounded down, at least 1, until both are 1. A square store's
+/// sides are [`level_sizes`] on both axes; otherwise the longer side sets
+/// the number of levels, and the shorter stays at 1 once it gets there.
+pub fn level_dims(w: u32, h: u32) -> Vec<(u32, u32)> {
+    let mut out = Vec::new();
+    let (mut a, mut b) = (w, h);
+    while a > 1 || b > 1 {
+        a = (a / 2).max(1);
+        b = (b / 2).max(1);
+        out.push((a, b));
     }
     out
 }
@@ -190,60 +234,139 @@ fn taps(build: MipBuild, i: u32, from: u32, to: u32, out: &mut Vec<(i64, f64)>) 
     }
 }
 
-/// One level from the one above: rows first, then columns.
-fn downsample(src: &[[f64; 4]], from: u32, to: u32, key: MipKey) -> Vec<[f64; 4]> {
-    let (f, t) = (from as usize, to as usize);
+/// One level from the one above: rows first, then columns. `src(c, r)` is
+/// texel (c, r) of the `fw x fh` level above. The horizontal pass is kept
+/// only for the rows that output rows still need, so building a level holds
+/// a few rows of it, not the whole `tw x fh` intermediate (a 4096 store's
+/// would take 256 MB).
+fn downsample<const N: usize>(
+    src: impl Fn(u32, u32) -> [f64; N],
+    (fw, fh): (u32, u32),
+    (tw, th): (u32, u32),
+    key: MipKey,
+) -> Vec<[f64; N]> {
+    let t = tw as usize;
     let mut taps_v = Vec::new();
-    // Horizontal: from x from -> to x from.
-    let mut mid = vec![[0.0f64; 4]; t * f];
-    for x in 0..to {
-        taps(key.build, x, from, to, &mut taps_v);
-        for y in 0..f {
-            let mut acc = [0.0; 4];
-            for &(s, w) in &taps_v {
-                let p = src[y * f + key.u.index(s, from as i64)];
-                for ch in 0..4 {
-                    acc[ch] += w * p[ch];
-                }
+    // The horizontal taps of each output column, found once.
+    let taps_h: Vec<Vec<(usize, f64)>> = (0..tw)
+        .map(|x| {
+            if fw == tw {
+                return vec![(x as usize, 1.0)];
             }
-            mid[y * t + x as usize] = acc;
+            taps(key.build, x, fw, tw, &mut taps_v);
+            taps_v
+                .iter()
+                .map(|&(s, w)| (key.u.index(s, fw as i64), w))
+                .collect()
+        })
+        .collect();
+    let row_taps = |y: u32, out: &mut Vec<(usize, f64)>| {
+        if fh == th {
+            out.clear();
+            out.push((y as usize, 1.0));
+        } else {
+            let mut v = Vec::new();
+            taps(key.build, y, fh, th, &mut v);
+            out.clear();
+            out.extend(v.iter().map(|&(s, w)| (key.v.index(s, fh as i64), w)));
+        }
+    };
+    // The last output row that reads each source row.
+    let mut last_use = vec![None::<u32>; fh as usize];
+    let mut tv = Vec::new();
+    for y in 0..th {
+        row_taps(y, &mut tv);
+        for &(s, _) in &tv {
+            last_use[s] = Some(y);
         }
     }
-    let mut out = vec![[0.0f64; 4]; t * t];
-    for y in 0..to {
-        taps(key.build, y, from, to, &mut taps_v);
+    let mut mid: Vec<Option<Vec<[f64; N]>>> = vec![None; fh as usize];
+    let mut out = vec![[0.0f64; N]; t * th as usize];
+    for y in 0..th {
+        row_taps(y, &mut tv);
+        for &(s, _) in &tv {
+            if mid[s].is_none() {
+                // Horizontal: source row s, fw -> tw.
+                mid[s] = Some(
+                    taps_h
+                        .iter()
+                        .map(|th| {
+                            let mut acc = [0.0; N];
+                            for &(c, w) in th {
+                                let p = src(c as u32, s as u32);
+                                for ch in 0..N {
+                                    acc[ch] += w * p[ch];
+                                }
+                            }
+                            acc
+                        })
+                        .collect(),
+                );
+            }
+        }
         for x in 0..t {
-            let mut acc = [0.0; 4];
-            for &(s, w) in &taps_v {
-                let p = mid[key.v.index(s, from as i64) * t + x];
-                for ch in 0..4 {
+            let mut acc = [0.0; N];
+            for &(s, w) in &tv {
+                let p = mid[s].as_ref().expect("computed above")[x];
+                for ch in 0..N {
                     acc[ch] += w * p[ch];
                 }
             }
             // Mitchell's negative lobes can overshoot: keep a valid
-            // premultiplied colour (alpha in [0, 1], channels in [0, alpha]).
+            // premultiplied colour (alpha in [0, 1], channels in [0, alpha],
+            // coverage in [alpha, 1]).
             let a = acc[3].clamp(0.0, 1.0);
-            out[y as usize * t + x] = [
-                acc[0].clamp(0.0, a),
-                acc[1].clamp(0.0, a),
-                acc[2].clamp(0.0, a),
-                a,
-            ];
+            let mut o = [0.0; N];
+            for ch in 0..3 {
+                o[ch] = acc[ch].clamp(0.0, a);
+            }
+            o[3] = a;
+            for ch in 4..N {
+                o[ch] = acc[ch].clamp(a, 1.0);
+            }
+            out[y as usize * t + x] = o;
+        }
+        for &(s, _) in &tv {
+            if last_use[s] == Some(y) {
+                mid[s] = None;
+            }
         }
     }
     out
 }
 
-/// Builds levels 1.. from the base level's premultiplied texels.
-pub fn build(base: &[[f64; 4]], s0: u32, key: MipKey) -> Pyramid {
+/// Builds levels 1.. of a `w x h` store whose premultiplied texel (c, r)
+/// is `base(c, r)`: RGBA, or RGBA and coverage when `N` is 5 (an image with
+/// partial alpha, [`Level::cover`]). Each level is built from the f64
+/// values of the one above and stored as f32.
+pub fn build<const N: usize>(
+    base: impl Fn(u32, u32) -> [f64; N],
+    w: u32,
+    h: u32,
+    key: MipKey,
+) -> Pyramid {
     let mut levels = Vec::new();
-    let mut cur: Vec<[f64; 4]> = base.to_vec();
-    let mut from = s0;
-    for to in level_sizes(s0) {
-        cur = downsample(&cur, from, to, key);
+    let mut cur: Vec<[f64; N]> = Vec::new();
+    let mut from = (w, h);
+    for to in level_dims(w, h) {
+        cur = if levels.is_empty() {
+            downsample(&base, from, to, key)
+        } else {
+            let fw = from.0 as usize;
+            downsample(|c, r| cur[r as usize * fw + c as usize], from, to, key)
+        };
         levels.push(Level {
-            size: to,
-            texels: cur.iter().map(|p| p.map(|x| x as f32)).collect(),
+            width: to.0,
+            height: to.1,
+            texels: cur
+                .iter()
+                .map(|p| [p[0] as f32, p[1] as f32, p[2] as f32, p[3] as f32])
+                .collect(),
+            cover: if N > 4 {
+                cur.iter().map(|p| p[N - 1] as f32).collect()
+            } else {
+                Vec::new()
+            },
         });
         from = to;
     }
@@ -259,6 +382,11 @@ mod tests {
         u: Extend::Repeat,
         v: Extend::Repeat,
     };
+
+    /// [`build`] from a square store's texels in a vector.
+    fn build_vec(base: &[[f64; 4]], s: u32, key: MipKey) -> Pyramid {
+        build(|c, r| base[(r * s + c) as usize], s, s, key)
+    }
 
     /// Premultiplied texels of a black/white checker of single texels.
     fn checker(s: u32) -> Vec<[f64; 4]> {
@@ -284,7 +412,7 @@ mod tests {
     fn every_level_of_a_checker_is_linear_mid_grey() {
         for b in [MipBuild::Box, MipBuild::Mitchell] {
             for s in [16, 48] {
-                let p = build(&checker(s), s, MipKey { build: b, ..REPEAT });
+                let p = build_vec(&checker(s), s, MipKey { build: b, ..REPEAT });
                 for (k, l) in p.levels.iter().enumerate() {
                     for t in &l.texels {
                         assert!(
@@ -327,7 +455,7 @@ mod tests {
                 }
             })
             .collect();
-        let p = build(
+        let p = build_vec(
             &base,
             s,
             MipKey {
@@ -360,7 +488,7 @@ mod tests {
                 [g, g, g, 1.0]
             })
             .collect();
-        let edge = build(
+        let edge = build_vec(
             &base,
             s,
             MipKey {
@@ -369,10 +497,43 @@ mod tests {
                 v: Extend::Edge,
             },
         );
-        let rep = build(&base, s, REPEAT);
+        let rep = build_vec(&base, s, REPEAT);
         let row = |p: &Pyramid| (0..8).map(|c| p.levels[0].at(c, 0)[0]).collect::<Vec<_>>();
         let e = row(&edge);
         assert!(e.windows(2).all(|w| w[0] <= w[1]), "{e:?}");
         assert!(row(&rep)[0] > e[0]);
+    }
+
+    #[test]
+    fn a_non_square_store_halves_each_side_down_to_one() {
+        assert_eq!(
+            level_dims(8, 2),
+            vec![(4, 1), (2, 1), (1, 1)],
+            "the short side stays at 1"
+        );
+        assert_eq!(level_dims(48, 48).len(), level_sizes(48).len());
+        assert_eq!(level_dims(5, 3), vec![(2, 1), (1, 1)]);
+        // A 32 x 16 checker stays linear mid grey at every level.
+        let base: Vec<[f64; 4]> = (0..32 * 16)
+            .map(|i| {
+                let w = ((i % 32 + i / 32) % 2) as f64;
+                [w, w, w, 1.0]
+            })
+            .collect();
+        for b in [MipBuild::Box, MipBuild::Mitchell] {
+            let p = build(
+                |c, r| base[(r * 32 + c) as usize],
+                32,
+                16,
+                MipKey { build: b, ..REPEAT },
+            );
+            assert_eq!(p.levels.len(), 5);
+            for l in &p.levels {
+                assert_eq!(l.texels.len(), (l.width * l.height) as usize);
+                for t in &l.texels {
+                    assert!((t[0] as f64 - 0.5).abs() < F32_TOL, "{b:?} {t:?}");
+                }
+            }
+        }
     }
 }

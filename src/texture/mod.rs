@@ -63,11 +63,14 @@ pub struct PolyTexture {
 impl PolyTexture {
     /// Linear colour of texel cell (k, j) of the placement, after the
     /// boundary conditions; `None` where the pattern's texel is transparent.
+    /// A texel with partial alpha is shown over the polygon's colour, then
+    /// composed ([`Texels::texel_over`]).
     #[inline]
     pub fn texel(&self, k: i64, j: i64) -> Option<[f64; 3]> {
-        match self.bounds.lookup(k, j, self.texels.size()) {
+        let (w, h) = (self.texels.width(), self.texels.height());
+        match self.bounds.lookup(k, j, w, h) {
             boundary::Lookup::Texel(c, r) => self.compose.apply(
-                self.texels.at(c, r),
+                self.texels.texel_over(c, r, self.intrinsic),
                 self.intrinsic,
                 self.compose_colors[0],
                 self.compose_colors[1],

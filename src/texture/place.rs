@@ -149,7 +149,7 @@ pub fn place(
     };
     settings
         .compose
-        .check(texels.has_transparency())
+        .check(texels.has_alpha())
         .map_err(PlaceError::Compose)?;
     if coords.len() != outline.len() {
         return Err(PlaceError::UvCount {

@@ -80,9 +80,10 @@ impl Default for Skips {
 /// cut asks, per strip of a fragment, which of the strip's cells can hold an
 /// opaque texel, and a sparse pattern (dots on a transparent ground) answers
 /// "few or none" without one texel lookup per cell.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, Default)]
 pub struct OpaqueRuns {
-    size: u32,
+    /// The store's width: the period of the tiling along u.
+    width: u32,
     /// Row `r`'s runs are `runs[starts[r]..starts[r + 1]]`.
     starts: Vec<u32>,
     /// Half-open column ranges `[c0, c1)` of opaque texels, ascending and
@@ -91,28 +92,32 @@ pub struct OpaqueRuns {
 }
 
 impl OpaqueRuns {
-    /// The runs of a `size` x `size` pattern whose texel (c, r) is opaque
+    /// The runs of a `width` x `height` store whose texel (c, r) is opaque
     /// when `opaque(c, r)`.
-    pub fn new(size: u32, opaque: impl Fn(u32, u32) -> bool) -> OpaqueRuns {
-        let mut starts = Vec::with_capacity(size as usize + 1);
+    pub fn new(width: u32, height: u32, opaque: impl Fn(u32, u32) -> bool) -> OpaqueRuns {
+        let mut starts = Vec::with_capacity(height as usize + 1);
         let mut runs = Vec::new();
-        for r in 0..size {
+        for r in 0..height {
             starts.push(runs.len() as u32);
             let mut c = 0;
-            while c < size {
+            while c < width {
                 if !opaque(c, r) {
                     c += 1;
                     continue;
                 }
                 let c0 = c;
-                while c < size && opaque(c, r) {
+                while c < width && opaque(c, r) {
                     c += 1;
                 }
                 runs.push((c0, c));
             }
         }
         starts.push(runs.len() as u32);
-        OpaqueRuns { size, starts, runs }
+        OpaqueRuns {
+            width,
+            starts,
+            runs,
+        }
     }
 
     /// The opaque runs of pattern row `r < SIZE`.
@@ -122,9 +127,9 @@ impl OpaqueRuns {
 
     /// The inclusive spans of tiled columns `k` in `k_lo..=k_hi` whose texel
     /// in pattern row `r` is opaque, ascending, when the pattern repeats
-    /// along u (column `k mod SIZE`, SPEC §2).
+    /// along u (column `k mod width`, SPEC §2).
     pub fn spans(&self, r: u32, k_lo: i64, k_hi: i64) -> impl Iterator<Item = (i64, i64)> + '_ {
-        let s = self.size as i64;
+        let s = self.width as i64;
         let row = self.row(r);
         let periods = if row.is_empty() || k_hi < k_lo {
             0..0
@@ -142,7 +147,7 @@ impl OpaqueRuns {
 
     /// Whether any tiled column in `k_lo..=k_hi` of pattern row `r` is opaque.
     pub fn any(&self, r: u32, k_lo: i64, k_hi: i64) -> bool {
-        if k_hi - k_lo + 1 >= self.size as i64 {
+        if k_hi - k_lo + 1 >= self.width as i64 {
             return !self.row(r).is_empty();
         }
         self.spans(r, k_lo, k_hi).next().is_some()
@@ -174,7 +179,7 @@ mod tests {
             len in 0i64..40,
         ) {
             let opaque = |c: u32, r: u32| bits[((r * size + c) % 64) as usize];
-            let runs = OpaqueRuns::new(size, opaque);
+            let runs = OpaqueRuns::new(size, size, opaque);
             let r = r % size;
             let k_hi = k_lo + len - 1;
             let got: Vec<i64> = runs.spans(r, k_lo, k_hi).flat_map(|(a, b)| a..=b).collect();

@@ -7,6 +7,7 @@ mod util;
 mod documented;
 mod faults;
 mod host;
+mod image_texture;
 mod make;
 mod man_pages;
 mod pat_from_image;

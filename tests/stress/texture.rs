@@ -35,8 +35,8 @@ proptest! {
         let size = 1u32 << size_log;
         let s = Texels::new(&pattern(size));
         let (col, row) = (col % size as i64, row % size as i64);
-        let far = s.texel(k * size as i64 + col, j * size as i64 + row);
-        prop_assert_eq!(far, s.texel(col, row));
+        let far = s.texel(k * size as i64 + col, j * size as i64 + row, [0.0; 3]);
+        prop_assert_eq!(far, s.texel(col, row, [0.0; 3]));
         let c = far.unwrap();
         prop_assert!(c.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)));
     }
