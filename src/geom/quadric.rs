@@ -6,8 +6,11 @@
 //!
 //! - **Sphere** of radius r about the z axis: `t` runs from 0 at z = -r to 1
 //!   at z = r, linearly along the meridians; `s` runs from 0 at the +y axis,
-//!   0.25 at +x, 0.5 at -y, 0.75 at -x, back to 1 at +y. A point is
-//!   `(r sin(πt) sin(2πs), r sin(πt) cos(2πs), -r cos(πt))`.
+//!   0.25 at -x, 0.5 at -y, 0.75 at +x, back to 1 at +y. A point is
+//!   `(-r sin(πt) sin(2πs), r sin(πt) cos(2πs), -r cos(πt))`. This is the
+//!   SGI reference GLU's `gluSphere`: slice i at angle 2πi/n from +y towards
+//!   +x, with s = 1 - i/n; so a map of the Earth wrapped round it reads east
+//!   to the right, seen from outside.
 //! - **Cylinder** (`base` radius at z = 0, `top` at z = height; a cone when
 //!   top is 0): `t` from 0 at z = 0 to 1 at z = height, `s` as the sphere's.
 //! - **Disk** (inner and outer radius in the z = 0 plane, facing +z):
@@ -285,7 +288,8 @@ impl Quadric {
         };
         segments("slices", slices, MIN_SLICES)?;
         segments("stacks", stacks, min_stacks)?;
-        // Angle from +y towards +x, so s = 0.25 lands on +x (GLU).
+        // Angle from +y towards -x, so s = 0.25 lands on -x (GLU: s = 1 - i/n
+        // at angle 2πi/n from +y towards +x).
         let around = |s: f64| {
             let a = 2.0 * PI * s;
             // Exact at the quarter turns, so the seam column matches column 0.
@@ -294,7 +298,7 @@ impl Quadric {
             } else {
                 math::sin_cos(a)
             };
-            (sin, cos)
+            (-sin, cos)
         };
         let point = |s: f64, t: f64| -> DVec3 {
             let (sin, cos) = around(s);
@@ -335,9 +339,11 @@ impl Quadric {
                     let p = point(s, t);
                     (p, st_of(s, t, p))
                 });
-                // A disk faces +z: with its radius as t the listed order
-                // would face -z, so it runs the other way round.
-                if matches!(self, Quadric::Disk { .. }) {
+                // With s turning from +y towards -x, the listed order runs
+                // clockwise seen from outside a sphere or cylinder: reverse
+                // it. A disk (facing +z, its radius as t) already runs
+                // counter-clockwise.
+                if !matches!(self, Quadric::Disk { .. }) {
                     quad.reverse();
                 }
                 for tri in [[0, 1, 2], [0, 2, 3]] {
@@ -482,9 +488,9 @@ mod tests {
         assert_eq!(tris.len(), 8);
         for t in &tris {
             for (p, st) in t.v.iter().zip(&t.st) {
-                // s = 0.25 is +x, s = 0 is +y; t = 0 is z = -r.
+                // s = 0.25 is -x, s = 0 is +y; t = 0 is z = -r.
                 if (st[0] - 0.25).abs() < 1e-12 && (st[1] - 0.5).abs() < 1e-12 {
-                    assert!((*p - DVec3::new(2.0, 0.0, 0.0)).length() < 1e-12);
+                    assert!((*p - DVec3::new(-2.0, 0.0, 0.0)).length() < 1e-12);
                 }
                 if st[1] == 0.0 {
                     assert_eq!(p.z, -2.0);

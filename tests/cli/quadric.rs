@@ -103,8 +103,9 @@ clitest!(
 clitest!(no_texel_wraps_across_the_seam, |dir| {
     dir.write("half.pat", half_pattern());
     // Rotated +90 about x, the seam (s = 0 and 1, own +y) faces the viewer
-    // (+z) down the middle of the image: s runs up to 1 (blue) on its left
-    // and from 0 (red) on its right.
+    // (+z) down the middle of the image, the sphere's north (own +z) down:
+    // upside down, so s (east, GLU) runs from 0 (red) on the seam's left
+    // and up to 1 (blue) on its right.
     dir.write(
         "s.json",
         r#"{"sphere": {"radius": 40, "slices": 24, "stacks": 12},
@@ -132,11 +133,11 @@ clitest!(no_texel_wraps_across_the_seam, |dir| {
         // At most the anti-aliased pixel on the seam itself: a texel wrapping
         // across it would paint the whole pattern squeezed into one slice.
         assert!(mixed <= 1, "row {y}: {mixed} mixed pixels: {row:?}");
-        assert_eq!(row[0], [0, 0, 255], "row {y}: left of the seam is s near 1");
+        assert_eq!(row[0], [255, 0, 0], "row {y}: left of the seam is s near 0");
         assert_eq!(
             row[39],
-            [255, 0, 0],
-            "row {y}: right of the seam is s near 0"
+            [0, 0, 255],
+            "row {y}: right of the seam is s near 1"
         );
     }
 });
