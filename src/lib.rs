@@ -64,6 +64,7 @@
 pub mod color;
 pub mod error;
 pub mod math;
+pub mod progress;
 pub mod text;
 
 pub mod io;

@@ -12,5 +12,6 @@ complete -c pat-from-image -l length -d 'With --stripe: the map\'s length, a pow
 complete -c pat-from-image -l crop -d 'Take the central N x N pixels of the image as they are, without resampling. The image must be at least N x N'
 complete -c pat-from-image -l report -d 'Print the pattern\'s size, colours and PSNR against the resampled image (8-bit sRGB, over coloured texels) to standard error'
 complete -c pat-from-image -l stripe -d 'Write a stripe modulation map instead of a pattern: the image\'s luminance (linear light, alpha-weighted) averaged along the stripes, its profile across them resampled to --length entries and encoded to 0..=255 sRGB'
+complete -c pat-from-image -l no-progress -d 'Show no progress bar. Bars are drawn on standard error only when it is a terminal (and TERM is not "dumb"), never into a pipe or a file, and cleared when the job ends'
 complete -c pat-from-image -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c pat-from-image -s V -l version -d 'Print version'

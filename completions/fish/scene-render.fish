@@ -98,5 +98,6 @@ complete -c scene-render -l reference -d 'Render the SPEC §4 reference image in
 complete -c scene-render -l json -d 'Print the --compare, --reference and --max-error reports as JSON'
 complete -c scene-render -l timings -d 'Print the time of each phase (read and project, render, write) to standard error'
 complete -c scene-render -l animate -d 'With --frames: write one animated PNG (APNG) to -o, a plain name such as turn.png, instead of one file per frame. It loops forever; every frame is whole, and frame 0 is also the still image shown by viewers without APNG support'
+complete -c scene-render -l no-progress -d 'Show no progress bar. Bars are drawn on standard error only when it is a terminal (and TERM is not "dumb"), never into a pipe or a file, and cleared when the job ends'
 complete -c scene-render -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c scene-render -s V -l version -d 'Print version'

@@ -16,6 +16,7 @@ pub mod pat_from_image;
 pub mod pat_info;
 pub mod pat_tile;
 pub mod polyfill3;
+pub mod progress;
 pub mod scene_render;
 pub mod scene_stripe;
 pub mod scene_texture;
@@ -177,6 +178,34 @@ pub fn check_stdout() -> anyhow::Result<()> {
         anyhow::bail!("standard output is closed: nothing could be written (use -o FILE)");
     }
     Ok(())
+}
+
+/// When a tool's coloured output (`pat-info --preview`) uses colour
+/// (<https://no-color.org>).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ColorWhen {
+    /// When standard output is a terminal and NO_COLOR is unset or empty.
+    #[default]
+    Auto,
+    /// Always, even into a pipe and whatever NO_COLOR says.
+    Always,
+    /// Never.
+    Never,
+}
+
+impl ColorWhen {
+    /// Whether output to standard output gets colour.
+    pub fn stdout_wants_colour(self) -> bool {
+        use std::io::IsTerminal;
+        match self {
+            ColorWhen::Always => true,
+            ColorWhen::Never => false,
+            ColorWhen::Auto => {
+                std::env::var_os("NO_COLOR").map_or(true, |v| v.is_empty())
+                    && std::io::stdout().is_terminal()
+            }
+        }
+    }
 }
 
 /// Prints a warning in the SPEC §5 form.

@@ -6,6 +6,7 @@ use crate::cli::usage_bail;
 use crate::color::Rgb8;
 use crate::io::{self, display_name, Output};
 use crate::pat::{self, Pattern};
+use crate::progress::Progress;
 use crate::quantize::{self, Dither, Options, DEFAULT_COLORS, MAX_QUANT_COLORS};
 use anyhow::{Context, Result};
 use clap::Parser;
@@ -122,6 +123,9 @@ pub struct Args {
     /// With --stripe: the map's length, a power of two from 1 to 65536.
     #[arg(long, default_value_t = crate::stripe::map::DEFAULT_LEN as u64, value_name = "N", requires = "stripe")]
     pub length: u64,
+
+    #[command(flatten)]
+    pub progress: super::progress::ProgressArgs,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -151,7 +155,10 @@ pub fn run(args: Args) -> Result<()> {
         None => None,
     };
     let name = display_name(&args.input);
+    let bar = args.progress.bar("pat-from-image");
+    bar.phase("reading", 0);
     let img = read_photo(&args.input)?;
+    bar.phase("resampling", 0);
     let square = if args.crop {
         quantize::crop_square(&img, size, name)?
     } else {
@@ -164,7 +171,8 @@ pub fn run(args: Args) -> Result<()> {
         alpha_threshold: args.alpha_threshold,
         transparent: args.transparent,
     };
-    let pattern = quantize::quantize(&square, &opts)?;
+    let pattern = quantize::quantize_with(&square, &opts, &bar)?;
+    drop(bar);
     write_pattern(&pattern, &args.output)?;
     if args.report {
         let (_, transparent) = pattern.histogram();

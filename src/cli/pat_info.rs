@@ -65,9 +65,17 @@ pub struct Args {
     pub at: Option<IntPair>,
 
     /// Draw the pattern in the terminal with 24-bit colour, two texels per
-    /// character cell; transparent texels show as a grey checker.
+    /// character cell; transparent texels show as a grey checker. Without
+    /// colour (--color), one character per texel names its palette index
+    /// (`.` transparent), with a legend.
     #[arg(long, conflicts_with_all = ["check", "json"])]
     pub preview: bool,
+
+    /// When the preview uses colour: `auto` when standard output is a
+    /// terminal and NO_COLOR is unset or empty (<https://no-color.org>),
+    /// `always` (even into a pipe, whatever NO_COLOR says), or `never`.
+    #[arg(long, value_name = "WHEN", default_value = "auto")]
+    pub color: super::ColorWhen,
 
     /// Widest preview in texels; larger patterns are shown subsampled.
     #[arg(long, value_name = "N", default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=4096))]
@@ -83,6 +91,7 @@ pub fn run(args: Args) -> Result<()> {
         }
         return record_report(&args.files[0], n, args.json);
     }
+    let colour = args.color.stdout_wants_colour();
     let mut stdout = std::io::stdout().lock();
     let mut failures = 0usize;
     let mut reports = Vec::new();
@@ -109,7 +118,7 @@ pub fn run(args: Args) -> Result<()> {
                     Ok(m) => {
                         write!(stdout, "{}", map_text(name, &m))?;
                         if args.preview {
-                            write!(stdout, "{}", map_preview(&m, args.preview_size))?;
+                            write!(stdout, "{}", map_preview(&m, args.preview_size, colour))?;
                         }
                     }
                 }
@@ -135,8 +144,10 @@ pub fn run(args: Args) -> Result<()> {
             reports.push(json_report(name, &pattern, at));
         } else {
             write!(stdout, "{}", text_report(name, &pattern, at))?;
-            if args.preview {
+            if args.preview && colour {
                 write!(stdout, "{}", preview(&pattern, args.preview_size))?;
+            } else if args.preview {
+                write!(stdout, "{}", plain_preview(&pattern, args.preview_size))?;
             }
         }
     }
@@ -322,17 +333,26 @@ fn round4(x: f64) -> f64 {
     (x * 1e4).round() / 1e4
 }
 
-/// One line of grey cells per level, finest first, at most `max` cells wide.
-fn map_preview(m: &ModulationMap, max: u32) -> String {
+/// Characters from dark to light for a modulation map without colour.
+const GREY_RAMP: &[u8] = b" .:-=+*#%@";
+
+/// One line of grey cells per level, finest first, at most `max` cells wide;
+/// without colour, one character of [`GREY_RAMP`] per cell.
+fn map_preview(m: &ModulationMap, max: u32, colour: bool) -> String {
     use std::fmt::Write;
     let mut s = String::new();
     for level in m.pyramid() {
         let step = level.len().div_ceil(max as usize).max(1);
         for v in level.iter().step_by(step) {
             let g = crate::color::linear_to_srgb(*v as f32);
-            let _ = write!(s, "\x1b[48;2;{g};{g};{g}m ");
+            if colour {
+                let _ = write!(s, "\x1b[48;2;{g};{g};{g}m ");
+            } else {
+                let k = g as usize * GREY_RAMP.len() / 256;
+                s.push(GREY_RAMP[k] as char);
+            }
         }
-        s.push_str("\x1b[0m\n");
+        s.push_str(if colour { "\x1b[0m\n" } else { "\n" });
     }
     s
 }
@@ -595,6 +615,33 @@ fn preview(p: &Pattern, max: u32) -> String {
         }
         s.push_str("\x1b[0m\n");
         y -= 2;
+    }
+    s
+}
+
+/// Characters naming palette indices 0, 1, ... in a preview without colour.
+const INDEX_CHARS: &[u8] = b"0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz";
+
+/// Preview without colour: one character per texel, its palette index
+/// ([`INDEX_CHARS`]; `.` transparent, `?` beyond them), top row first, then
+/// a legend of the indices shown. Subsampled like [`preview`].
+fn plain_preview(p: &Pattern, max: u32) -> String {
+    use std::fmt::Write;
+    let size = p.size();
+    let step = size.div_ceil(max).max(1);
+    let cells = size.div_ceil(step);
+    let mut s = String::new();
+    for y in (0..cells).rev() {
+        for x in 0..cells {
+            s.push(match p.index_at(x * step, y * step) {
+                None => '.',
+                Some(i) => INDEX_CHARS.get(i as usize).map_or('?', |&c| c as char),
+            });
+        }
+        s.push('\n');
+    }
+    for (i, c) in p.palette().iter().enumerate().take(INDEX_CHARS.len()) {
+        let _ = writeln!(s, "  {} {}", INDEX_CHARS[i] as char, c.hex());
     }
     s
 }

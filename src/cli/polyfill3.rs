@@ -144,6 +144,9 @@ pub struct Args {
     /// input, the patterns, --camera, --pattern), as `cc -MD` does. Needs -o.
     #[arg(long, value_name = "FILE")]
     pub depfile: Option<String>,
+
+    #[command(flatten)]
+    pub progress: super::progress::ProgressArgs,
 }
 
 /// Runs `polyfill3`: checks the flags, then the library's partition job.
@@ -203,11 +206,14 @@ pub fn run(args: Args) -> Result<()> {
     let start = Instant::now();
     let source = display_name(&args.input).to_string();
     let base = stream::base_dir(&args.input);
+    let bar = args.progress.bar("polyfill3");
     let reader: Box<dyn BufRead> = if args.input == STDIO {
-        Box::new(BufReader::with_capacity(1 << 16, std::io::stdin().lock()))
+        let stdin = Box::new(BufReader::with_capacity(1 << 16, std::io::stdin().lock()));
+        bar.reading(&source, 0, stdin)
     } else {
         let f = std::fs::File::open(&args.input).with_context(|| args.input.clone())?;
-        Box::new(BufReader::with_capacity(1 << 16, f))
+        let len = f.metadata().map(|m| m.len()).unwrap_or(0);
+        bar.reading(&source, len, Box::new(BufReader::with_capacity(1 << 16, f)))
     };
     if args.output == STDIO {
         super::check_stdout()?;
@@ -231,6 +237,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     let mut warn = |message: String| super::warn("polyfill3", message);
     let (out, s) = partition_stream(reader, &source, &base, out, &options, &mut warn)?;
+    drop(bar);
     out.commit()?;
     if let Some(depfile) = &args.depfile {
         let mut deps = vec![args.input.clone()];

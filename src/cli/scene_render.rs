@@ -7,6 +7,7 @@ use crate::camera::Camera;
 use crate::cli::usage_bail;
 use crate::color::Rgb8;
 use crate::io::{decode_image, display_name, read_input, Image, ImageFormat, PngOptions};
+use crate::progress::Progress;
 use crate::raster::{self, compare, reference, Aa, Background, Cull};
 use crate::scene::{self, DrawOptions, Resolve, Scene};
 use crate::texture::place::TextureSettings;
@@ -199,6 +200,9 @@ pub struct Args {
     /// Worker threads (default: all cores). The output is identical for any N.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
+
+    #[command(flatten)]
+    pub progress: super::progress::ProgressArgs,
 }
 
 /// `--max-error E`: a finite RMSE budget, not negative.
@@ -412,9 +416,11 @@ fn run_in_pool(args: Args) -> Result<()> {
         .with_context(|| display_name(&args.input).to_string())?;
     warn_if_blank(&args, (&view, camera_given), 0, &tally);
     let t_render = std::time::Instant::now();
+    let bar = args.progress.bar(TOOL);
     let (img, residual, plan) = if args.reference {
-        let pass =
-            |bg: &Background| reference::render(&polys, bg, width, height, args.reference_samples);
+        let pass = |bg: &Background| {
+            reference::render_with(&polys, bg, width, height, args.reference_samples, &bar)
+        };
         let r = if bg.is_transparent() {
             pass(&bg.opaque(Rgb8::BLACK))
         } else {
@@ -429,9 +435,10 @@ fn run_in_pool(args: Args) -> Result<()> {
         };
         (img, Some(res), None)
     } else {
-        let (img, plan) = scene::render(&polys, &bg, width, height, resolve(&args));
+        let (img, plan) = scene::render_with(&polys, &bg, width, height, resolve(&args), &bar);
         (img, None, plan)
     };
+    drop(bar);
     let t_write = std::time::Instant::now();
     let reports = Reports { residual, plan };
     finish(&args, output.zip(format), img, reference_img, reports)?;
@@ -732,6 +739,8 @@ fn render_frames(
     let mut stream = (pattern == crate::io::STDIO && !args.animate)
         .then(|| crate::io::Output::create(pattern, true))
         .transpose()?;
+    let bar = args.progress.bar(TOOL);
+    bar.phase("frames", frames.len() as u64);
     for k in frames {
         let name = frame_name(pattern, k).unwrap_or_else(|| pattern.to_string());
         let t0 = std::time::Instant::now();
@@ -774,6 +783,7 @@ fn render_frames(
                 polys.len()
             );
         }
+        bar.advance(1);
     }
     if let Some(a) = apng {
         a.finish()?;

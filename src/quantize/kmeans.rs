@@ -16,6 +16,7 @@
 
 use super::median_cut::{apply_cut, best_cut, moments_of, Moments};
 use super::space::{dist2, Nearest, Point};
+use crate::progress::Progress;
 
 /// At most this many Lloyd iterations. On 256x256 photos k-means still gains
 /// about 0.1% of its error every ten iterations after 60; with Hamerly's bounds
@@ -238,12 +239,19 @@ const SPLIT_MERGE_CANDIDATES: usize = 3;
 /// Moves are tried by falling (gain - cost) even when the cost exceeds the
 /// gain, since k-means' re-convergence is what finds the better optimum.
 /// Deterministic, like everything here.
-pub(super) fn split_merge(points: &[(Point, f64)], mut best: Clustering) -> Clustering {
+/// Each trial is reported to `progress` (phase "split/merge", at most the
+/// trial budget).
+pub(super) fn split_merge(
+    points: &[(Point, f64)],
+    mut best: Clustering,
+    progress: &dyn Progress,
+) -> Clustering {
     let k = best.centres.len();
     if k < 3 {
         return best;
     }
     let budget = (SPLIT_MERGE_WORK / points.len().max(1)).min(SPLIT_MERGE_TRIALS);
+    progress.phase("split/merge", budget as u64);
     let mut trials = 0;
     'rounds: while trials < budget {
         let mut members: Vec<Vec<(Point, f64)>> = vec![Vec::new(); k];
@@ -307,6 +315,7 @@ pub(super) fn split_merge(points: &[(Point, f64)], mut best: Clustering) -> Clus
                 break 'rounds;
             }
             trials += 1;
+            progress.advance(1);
             let (_, sc, left, right) = splits[si];
             let mut centres = best.centres.clone();
             centres[sc] = left;
@@ -452,7 +461,12 @@ mod tests {
         let points: Vec<(Point, f64)> = hist.iter().map(|(c, n)| (point(*c), *n as f64)).collect();
         for k in [2, 4, 8, 16, 32] {
             let mc = median_cut(&points, k);
-            let km = split_merge(&points, kmeans(&points, mc.clone())).centres;
+            let km = split_merge(
+                &points,
+                kmeans(&points, mc.clone()),
+                &crate::progress::Silent,
+            )
+            .centres;
             assert_eq!(mc.len(), k);
             assert!(weighted_error(&points, &km) <= weighted_error(&points, &mc) + 1e-6);
             assert_eq!(choose_palette(&hist, k), choose_palette(&hist, k));

@@ -51,14 +51,15 @@ mod space;
 #[cfg(test)]
 mod test_data;
 
-pub use self::palette::{choose_palette, histogram};
+pub use self::palette::{choose_palette, choose_palette_with, histogram};
 pub use self::palette_file::parse_palette_file;
 pub use self::psnr::psnr;
-pub use self::remap::{remap, Dither};
+pub use self::remap::{remap, remap_with, Dither};
 pub use self::resample::{crop_square, resample_square, SquareImage};
 
 use crate::color::Rgb8;
 use crate::pat::{InvalidPattern, Pattern, TRANSPARENT};
+use crate::progress::{Progress, Silent};
 
 /// The default palette size (the classic 16-colour `.pat` of the thesis).
 pub const DEFAULT_COLORS: usize = 16;
@@ -118,6 +119,16 @@ impl Default for Options {
 /// Fails only if the options break the `.pat` limits: a forced palette of
 /// more colours than a pattern holds.
 pub fn quantize(img: &SquareImage, opts: &Options) -> Result<Pattern, InvalidPattern> {
+    quantize_with(img, opts, &Silent)
+}
+
+/// [`quantize`], telling `progress` its steps: the palette search
+/// ([`choose_palette_with`]'s phases) and the remapping, row by row.
+pub fn quantize_with(
+    img: &SquareImage,
+    opts: &Options,
+    progress: &dyn Progress,
+) -> Result<Pattern, InvalidPattern> {
     let opaque = opaque_mask(img, opts);
     let colors: Vec<[u8; 3]> = img.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
     let palette = match &opts.palette {
@@ -130,10 +141,10 @@ pub fn quantize(img: &SquareImage, opts: &Options) -> Result<Pattern, InvalidPat
                     .filter(|(_, &o)| o)
                     .map(|(c, _)| *c),
             );
-            choose_palette(&hist, opts.colors)
+            choose_palette_with(&hist, opts.colors, progress)
         }
     };
-    let top_down = remap(&colors, &opaque, img.size, &palette, opts.dither);
+    let top_down = remap_with(&colors, &opaque, img.size, &palette, opts.dither, progress);
     let mut texels = Vec::with_capacity(top_down.len());
     for row in top_down.chunks_exact(img.size as usize).rev() {
         texels.extend_from_slice(row);

@@ -9,6 +9,7 @@ use super::kmeans::{integer_lloyd, kmeans, neighbour_search, split_merge};
 use super::median_cut::median_cut;
 use super::space::{point, Point};
 use crate::color::Rgb8;
+use crate::progress::{Progress, Silent};
 
 /// Distinct colours and their pixel counts, sorted by colour (deterministic).
 pub fn histogram(colors: impl Iterator<Item = [u8; 3]>) -> Vec<([u8; 3], u64)> {
@@ -30,13 +31,26 @@ pub fn histogram(colors: impl Iterator<Item = [u8; 3]>) -> Vec<([u8; 3], u64)> {
 /// Chooses at most `k` colours for the weighted colour histogram `hist`. With
 /// `k` or fewer distinct colours the palette is exactly those colours.
 pub fn choose_palette(hist: &[([u8; 3], u64)], k: usize) -> Vec<Rgb8> {
+    choose_palette_with(hist, k, &Silent)
+}
+
+/// [`choose_palette`], telling `progress` each step as it begins ("median
+/// cut", "k-means", "split/merge" trial by trial, "refine").
+pub fn choose_palette_with(
+    hist: &[([u8; 3], u64)],
+    k: usize,
+    progress: &dyn Progress,
+) -> Vec<Rgb8> {
     let k = k.max(1);
     if hist.len() <= k {
         return hist.iter().map(|(c, _)| Rgb8(*c)).collect();
     }
     let points: Vec<(Point, f64)> = hist.iter().map(|(c, n)| (point(*c), *n as f64)).collect();
+    progress.phase("median cut", 0);
     let centres = median_cut(&points, k);
-    let clustering = split_merge(&points, kmeans(&points, centres));
+    progress.phase("k-means", 0);
+    let clustering = split_merge(&points, kmeans(&points, centres), progress);
+    progress.phase("refine", 0);
     let mut palette: Vec<Rgb8> = neighbour_search(&points, integer_lloyd(&points, clustering))
         .iter()
         .map(|c| Rgb8(c.map(|v| v as u8)))

@@ -11,6 +11,7 @@
 use super::space::{dist2, point, Nearest, Point};
 use crate::color::{decode_table, linear_to_srgb, Rgb8};
 use crate::pat::TRANSPARENT;
+use crate::progress::{Progress, Silent};
 
 /// The classic 8x8 Bayer threshold matrix (values 0..64).
 const BAYER8: [[u8; 8]; 8] = [
@@ -54,7 +55,20 @@ pub fn remap(
     palette: &[Rgb8],
     dither: Dither,
 ) -> Vec<u16> {
+    remap_with(colors, opaque, size, palette, dither, &Silent)
+}
+
+/// [`remap`], reporting each row done to `progress` (phase "remap").
+pub fn remap_with(
+    colors: &[[u8; 3]],
+    opaque: &[bool],
+    size: u32,
+    palette: &[Rgb8],
+    dither: Dither,
+    progress: &dyn Progress,
+) -> Vec<u16> {
     let n = size as usize;
+    progress.phase("remap", n as u64);
     let mut out = vec![TRANSPARENT; colors.len()];
     if palette.is_empty() {
         return out;
@@ -64,11 +78,14 @@ pub fn remap(
     match dither {
         Dither::None => {
             let mut hint = 0;
-            for i in 0..colors.len() {
-                if opaque[i] {
-                    hint = nearest.find(point(colors[i]), hint).0;
-                    out[i] = hint as u16;
+            for start in (0..colors.len()).step_by(n.max(1)) {
+                for i in start..(start + n).min(colors.len()) {
+                    if opaque[i] {
+                        hint = nearest.find(point(colors[i]), hint).0;
+                        out[i] = hint as u16;
+                    }
                 }
+                progress.advance(1);
             }
         }
         Dither::Ordered => {
@@ -85,6 +102,7 @@ pub fn remap(
                     hint = nearest.find(p, hint).0;
                     out[i] = hint as u16;
                 }
+                progress.advance(1);
             }
         }
         Dither::FloydSteinberg => {
@@ -133,6 +151,7 @@ pub fn remap(
                 }
                 std::mem::swap(&mut cur, &mut next);
                 next.iter_mut().for_each(|e| *e = [0.0; 3]);
+                progress.advance(1);
             }
         }
     }

@@ -30,6 +30,7 @@
 
 use super::{bin, coverage, scan, tiles, Aa, Background, Frame, ScreenPoly, Shader};
 use crate::color::linear_to_srgb;
+use crate::progress::{Progress, Silent};
 
 /// The methods to choose from, cheapest first: one sample, 2x2
 /// supersampling, and exact coverage. (4x4 supersampling is left out: in
@@ -231,6 +232,19 @@ pub fn render_within(
     height: u32,
     max_error: f64,
 ) -> (Frame, Plan) {
+    render_within_with(polys, bg, width, height, max_error, &Silent)
+}
+
+/// [`render_within`], reporting each tile done to `progress` (phases
+/// "pilot" and "render").
+pub fn render_within_with(
+    polys: &[ScreenPoly],
+    bg: &Background,
+    width: u32,
+    height: u32,
+    max_error: f64,
+    progress: &dyn Progress,
+) -> (Frame, Plan) {
     use rayon::prelude::*;
     assert!(max_error.is_finite() && max_error >= 0.0);
     let tiles = tiles(width, height);
@@ -264,6 +278,9 @@ pub fn render_within(
     }
     let pilot_tiles: Vec<usize> = pilots.concat();
     let snapped_pilot = Snapped::new(polys, if pilot_tiles.is_empty() { &[] } else { &LADDER });
+    if !pilot_tiles.is_empty() {
+        progress.phase("pilot", pilot_tiles.len() as u64);
+    }
     let pilot_results: Vec<(Vec<[f32; 3]>, [f64; N])> = pilot_tiles
         .par_iter()
         .map(|&t| {
@@ -273,6 +290,7 @@ pub fn render_within(
                 let block = snapped_pilot.tile(polys, &bins[t], bg, tiles[t], *aa);
                 sse[m] = squared_error(&block, &exact);
             }
+            progress.advance(1);
             (exact, sse)
         })
         .collect();
@@ -324,13 +342,18 @@ pub fn render_within(
     for (i, &t) in pilot_tiles.iter().enumerate() {
         pilot_of[t] = i;
     }
+    progress.phase("render", tiles.len() as u64);
     let blocks: Vec<Vec<[f32; 3]>> = (0..tiles.len())
         .into_par_iter()
-        .map(|t| match (pilot_of[t], regions[t]) {
-            (i, _) if i != usize::MAX => pilot_results[i].0.clone(),
-            (_, Region::Empty) => snapped.tile(polys, &bins[t], bg, tiles[t], Aa::None),
-            (_, Region::Flat) => snapped.tile(polys, &bins[t], bg, tiles[t], chosen[0]),
-            (_, Region::Textured) => snapped.tile(polys, &bins[t], bg, tiles[t], chosen[1]),
+        .map(|t| {
+            let block = match (pilot_of[t], regions[t]) {
+                (i, _) if i != usize::MAX => pilot_results[i].0.clone(),
+                (_, Region::Empty) => snapped.tile(polys, &bins[t], bg, tiles[t], Aa::None),
+                (_, Region::Flat) => snapped.tile(polys, &bins[t], bg, tiles[t], chosen[0]),
+                (_, Region::Textured) => snapped.tile(polys, &bins[t], bg, tiles[t], chosen[1]),
+            };
+            progress.advance(1);
+            block
         })
         .collect();
 

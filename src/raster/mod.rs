@@ -46,6 +46,7 @@ pub mod reference;
 pub mod scan;
 mod visible;
 
+use crate::progress::{Progress, Silent};
 pub use frame::{Background, Frame};
 #[cfg(test)]
 pub(crate) use project::project;
@@ -156,14 +157,31 @@ pub fn bin(polys: &[ScreenPoly], width: u32, height: u32) -> Vec<Vec<u32>> {
 /// Renders projected polygons with the chosen anti-aliasing. Runs on the
 /// current rayon pool; the result does not depend on its size.
 pub fn render(polys: &[ScreenPoly], bg: &Background, width: u32, height: u32, aa: Aa) -> Frame {
+    render_with(polys, bg, width, height, aa, &Silent)
+}
+
+/// [`render`], reporting each tile done to `progress` (phase "render").
+pub fn render_with(
+    polys: &[ScreenPoly],
+    bg: &Background,
+    width: u32,
+    height: u32,
+    aa: Aa,
+    progress: &dyn Progress,
+) -> Frame {
     use rayon::prelude::*;
     let tiles = tiles(width, height);
     let bins = bin(polys, width, height);
+    progress.phase("render", tiles.len() as u64);
     let blocks: Vec<Vec<[f32; 3]>> = match aa {
         Aa::Exact => tiles
             .par_iter()
             .zip(&bins)
-            .map(|(t, b)| coverage::render_bin(polys, b, bg, *t))
+            .map(|(t, b)| {
+                let block = coverage::render_bin(polys, b, bg, *t);
+                progress.advance(1);
+                block
+            })
             .collect(),
         Aa::None | Aa::Ss(_) => {
             let k = if let Aa::Ss(k) = aa { k } else { 1 };
@@ -174,7 +192,11 @@ pub fn render(polys: &[ScreenPoly], bg: &Background, width: u32, height: u32, aa
             tiles
                 .par_iter()
                 .zip(&bins)
-                .map(|(t, b)| scan::render_tile(polys, &snapped, b, bg, *t, k))
+                .map(|(t, b)| {
+                    let block = scan::render_tile(polys, &snapped, b, bg, *t, k);
+                    progress.advance(1);
+                    block
+                })
                 .collect()
         }
     };

@@ -37,6 +37,7 @@
 
 use super::{tie_tolerance, Background, Frame, ScreenPoly};
 use crate::color::linear_to_srgb;
+use crate::progress::{Progress, Silent};
 
 /// Default grid strips per pixel (on top of the events; a multiple of 3).
 pub const DEFAULT_LINES: u32 = 24;
@@ -101,14 +102,31 @@ pub fn render(
     height: u32,
     lines: u32,
 ) -> Reference {
+    render_with(polys, bg, width, height, lines, &Silent)
+}
+
+/// [`render`], reporting each tile done to `progress` (phase "reference").
+pub fn render_with(
+    polys: &[ScreenPoly],
+    bg: &Background,
+    width: u32,
+    height: u32,
+    lines: u32,
+    progress: &dyn Progress,
+) -> Reference {
     use rayon::prelude::*;
     let lines = (lines / 3).max(1) * 3;
     let tiles = super::tiles(width, height);
     let bins = super::bin(polys, width, height);
+    progress.phase("reference", tiles.len() as u64);
     let blocks: Vec<(Vec<[f32; 3]>, Vec<f32>)> = tiles
         .par_iter()
         .zip(&bins)
-        .map(|(t, b)| render_tile(polys, b, bg, *t, lines))
+        .map(|(t, b)| {
+            let block = render_tile(polys, b, bg, *t, lines);
+            progress.advance(1);
+            block
+        })
         .collect();
     let (colors, errs): (Vec<_>, Vec<_>) = blocks.into_iter().unzip();
     let frame = Frame::from_tiles(width, height, &tiles, colors);

@@ -47,6 +47,7 @@ use crate::color::Rgb8;
 use crate::geom::transform::Transform;
 use crate::geom::Shape;
 use crate::io::Image;
+use crate::progress::{Progress, Silent};
 use crate::raster::{self, Aa, Background, Cull, Frame, ScreenPoly, Shader, Tally};
 use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, PatternRef, Record};
 use crate::stripe::record::StripeLoader;
@@ -778,16 +779,29 @@ pub fn render(
     height: u32,
     how: Resolve,
 ) -> (Image, Option<raster::budget::Plan>) {
+    render_with(polys, bg, width, height, how, &Silent)
+}
+
+/// [`render`], reporting its tiles to `progress` (a transparent background
+/// renders twice, so its phases come twice).
+pub fn render_with(
+    polys: &[ScreenPoly],
+    bg: &Background,
+    width: u32,
+    height: u32,
+    how: Resolve,
+    progress: &dyn Progress,
+) -> (Image, Option<raster::budget::Plan>) {
     build_mips_eagerly(polys);
     if bg.is_transparent() {
         // Two passes, over black and over white: the difference is the
         // coverage (Background::transparent).
         let (black, white) = (bg.opaque(Rgb8::BLACK), bg.opaque(Rgb8::WHITE));
-        let (over_black, plan) = render_frame(polys, &black, width, height, how);
-        let (over_white, _) = render_frame(polys, &white, width, height, how);
+        let (over_black, plan) = render_frame(polys, &black, width, height, how, progress);
+        let (over_white, _) = render_frame(polys, &white, width, height, how, progress);
         return (Frame::to_image_with_alpha(&over_black, &over_white), plan);
     }
-    let (frame, plan) = render_frame(polys, bg, width, height, how);
+    let (frame, plan) = render_frame(polys, bg, width, height, how, progress);
     (frame.to_image(), plan)
 }
 
@@ -798,13 +812,18 @@ fn render_frame(
     width: u32,
     height: u32,
     how: Resolve,
+    progress: &dyn Progress,
 ) -> (Frame, Option<raster::budget::Plan>) {
     match how {
         Resolve::WithinError(e) => {
-            let (frame, plan) = raster::budget::render_within(polys, bg, width, height, e);
+            let (frame, plan) =
+                raster::budget::render_within_with(polys, bg, width, height, e, progress);
             (frame, Some(plan))
         }
-        Resolve::Aa(aa) => (raster::render(polys, bg, width, height, aa), None),
+        Resolve::Aa(aa) => (
+            raster::render_with(polys, bg, width, height, aa, progress),
+            None,
+        ),
     }
 }
 

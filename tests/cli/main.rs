@@ -14,6 +14,7 @@ mod pat_from_image;
 mod pat_info;
 mod pat_tile;
 mod polyfill3;
+mod progress;
 mod quadric;
 mod scene_render;
 mod skips;

@@ -125,7 +125,7 @@ clitest!(preview_draws_24_bit_half_blocks, |dir| {
     dir.write("c.pat", checker16());
     let out = dir
         .cmd("pat-info")
-        .args(["--preview", "c.pat"])
+        .args(["--preview", "--color", "always", "c.pat"])
         .assert()
         .success();
     let text = String::from_utf8(out.get_output().stdout.clone()).unwrap();
