@@ -29,7 +29,7 @@ pub struct ProgressArgs {
 impl ProgressArgs {
     /// A bar headed `tool`, hidden unless it is wanted (module docs).
     pub fn bar(&self, tool: &str) -> Bar {
-        let term_ok = std::env::var_os("TERM").map_or(true, |t| t != "dumb");
+        let term_ok = std::env::var_os("TERM").is_none_or(|t| t != "dumb");
         if self.no_progress || !term_ok || !std::io::stderr().is_terminal() {
             return Bar(None);
         }
