@@ -153,6 +153,17 @@ fn option_error<'a>(layer: &'a (dyn std::error::Error + 'static)) -> Option<&'a 
         .and_then(|inner| inner.downcast_ref::<OptionError>())
 }
 
+/// The C library's `pow`, replaced in the tools by the pure-Rust `libm`
+/// one: indicatif's ETA estimate calls `f64::powf`, which would import `pow`
+/// from the host's C library. Nothing on the pixel path calls it (that uses
+/// [`crate::math`]), but the tools import no maths from the C library at all,
+/// so no host can change a byte they print (test
+/// `binaries_import_no_maths_from_the_c_library`).
+#[no_mangle]
+pub extern "C" fn pow(x: f64, y: f64) -> f64 {
+    libm::pow(x, y)
+}
+
 /// Whether standard output was closed when the tool started (`tool >&-`).
 /// Rust's runtime opens /dev/null in its place before `main`, after which a
 /// closed output and `> /dev/null` cannot be told apart, so this is read

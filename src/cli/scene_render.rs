@@ -671,32 +671,26 @@ fn warn_if_blank(args: &Args, (view, camera_given): (&View, bool), k: u64, tally
             tally.drawn_area,
         )
     };
-    let mut why = Vec::new();
-    if tally.outside > 0 {
-        why.push(format!(
-            "{} outside the view volume",
-            plural(tally.outside, "lies", "lie")
-        ));
-    }
-    if tally.culled > 0 {
-        why.push(format!(
-            "{} culled (--cull {})",
-            plural(tally.culled, "was", "were"),
-            cull_name(args.cull)
-        ));
-    }
-    if tally.no_area > 0 {
-        why.push(format!(
-            "{} no area on screen (edge-on)",
-            plural(tally.no_area, "has", "have")
-        ));
-    }
-    if tally.not_finite > 0 {
-        why.push(format!(
-            "{} a coordinate that overflows",
-            plural(tally.not_finite, "has", "have")
-        ));
-    }
+    let culled = format!("culled (--cull {})", cull_name(args.cull));
+    let reasons = [
+        (tally.outside, ["lies", "lie"], "outside the view volume"),
+        (tally.culled, ["was", "were"], culled.as_str()),
+        (
+            tally.no_area,
+            ["has", "have"],
+            "no area on screen (edge-on)",
+        ),
+        (
+            tally.not_finite,
+            ["has", "have"],
+            "a coordinate that overflows",
+        ),
+    ];
+    let mut why: Vec<String> = reasons
+        .iter()
+        .filter(|(n, _, _)| *n > 0)
+        .map(|&(n, [one, many], what)| format!("{} {what}", plural(n, one, many)))
+        .collect();
     if why.is_empty() {
         why.push("none is lost: they are that small on screen".to_string());
     }

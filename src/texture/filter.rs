@@ -372,16 +372,7 @@ pub(crate) mod tests {
     use crate::texture::Texels;
     use std::sync::Arc;
 
-    pub const ALL: [Filter; 8] = [
-        Filter::Box,
-        Filter::Point,
-        Filter::Bilinear,
-        Filter::MipPoint,
-        Filter::MipBilinear,
-        Filter::MipPointLinear,
-        Filter::Trilinear,
-        Filter::Ewa,
-    ];
+    pub const ALL: [Filter; 8] = Filter::ALL;
 
     /// A pattern of side `s` from a texel → palette index function.
     pub fn pattern(s: u32, colors: &[Rgb8], mut f: impl FnMut(u32, u32) -> u16) -> Arc<Texels> {

@@ -446,7 +446,7 @@ clitest!(pat_info_previews_a_map_one_line_per_level, |dir| {
     dir.write("m.map", MAP8);
     let out = dir
         .cmd("pat-info")
-        .args(["--preview", "m.map"])
+        .args(["--preview", "--color", "always", "m.map"])
         .assert()
         .success();
     let text = stdout_of(&out);
