@@ -364,6 +364,11 @@ impl Output {
                     .write(true)
                     .open(&path)
                     .map_err(write_error(name, WriteStep::Open))?;
+                // `-o /dev/stdout` or `-o /dev/tty` on a terminal: refused
+                // as `-` is, or the picture's bytes would garble the screen.
+                if binary && f.is_terminal() {
+                    return Err(IoError::BinaryToTerminal);
+                }
                 return Ok(Output {
                     inner: OutputInner::Device(BufWriter::with_capacity(1 << 16, f)),
                     failed: None,

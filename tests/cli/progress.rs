@@ -146,3 +146,42 @@ clitest!(preview_colour_obeys_color_and_no_color, |dir| {
     assert!(esc(&run(Some(""))), "an empty NO_COLOR is unset");
     assert!(!esc(&run(Some("1"))));
 });
+
+clitest!(
+    binary_output_named_as_the_terminal_is_refused_like_standard_output,
+    |dir| {
+        // Issue 18, item 3: `-o /dev/stdout` bypassed the refusal of `-`.
+        dir.write(
+            "s.json",
+            r#"[{"rect": [1, 1, 6, 6], "color": [255, 0, 0]}]"#,
+        );
+        let bin = assert_cmd::cargo::cargo_bin("scene-render");
+        for output in ["-", "/dev/stdout"] {
+            let out = Command::new("script")
+                .args([
+                    "-qec",
+                    &format!("{} --size 8x8 s.json -o {output}", bin.display()),
+                    "/dev/null",
+                ])
+                .current_dir(dir.path())
+                .env("TERM", "xterm")
+                .output()
+                .expect("util-linux `script` runs a command under a pseudo-terminal");
+            let shown = String::from_utf8_lossy(&out.stdout);
+            assert_eq!(out.status.code(), Some(1), "-o {output}: {shown:?}");
+            assert!(
+                shown.contains("refusing to write binary output to a terminal"),
+                "-o {output}: {shown:?}"
+            );
+            assert!(
+                !shown.contains("PNG"),
+                "-o {output}: the picture reached the terminal"
+            );
+        }
+        // Into a file through the same name, it writes.
+        dir.cmd("scene-render")
+            .args(["--size", "8x8", "s.json", "-o", "/dev/stdout"])
+            .assert()
+            .success();
+    }
+);
