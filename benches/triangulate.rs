@@ -14,6 +14,7 @@ use glam::{DVec2, DVec3};
 use patkit::geom::polygon::area2;
 use patkit::geom::simple;
 use patkit::geom::triangulate::triangulate;
+use patkit::math::sum_compensated;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
@@ -161,27 +162,12 @@ fn in_triangle(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> bool {
         && (a - c).perp_dot(p - c) >= 0.0
 }
 
-/// A sum without the rounding of its additions (Neumaier).
-fn sum_exactly(terms: impl Iterator<Item = f64>) -> f64 {
-    let (mut s, mut c) = (0.0f64, 0.0f64);
-    for x in terms {
-        let t = s + x;
-        c += if s.abs() >= x.abs() {
-            (s - t) + x
-        } else {
-            (x - t) + s
-        };
-        s = t;
-    }
-    s + c
-}
-
 /// Relative difference between the triangles' total area and the outline's.
 fn area_error(p: &[DVec2], tris: &[[u32; 3]]) -> f64 {
     let o = p[0];
     let n = p.len();
-    let whole = sum_exactly((0..n).map(|i| (p[i] - o).perp_dot(p[(i + 1) % n] - o)));
-    let parts = sum_exactly(
+    let whole = sum_compensated((0..n).map(|i| (p[i] - o).perp_dot(p[(i + 1) % n] - o)));
+    let parts = sum_compensated(
         tris.iter()
             .map(|t| area2(&[p[t[0] as usize], p[t[1] as usize], p[t[2] as usize]])),
     );

@@ -781,19 +781,31 @@ pub struct Photo {
     pub icc_profile: Option<Vec<u8>>,
 }
 
+/// The error of a file that is not an image this tool reads.
+fn not_an_image(name: &str) -> impl Fn(image::ImageError) -> IoError + '_ {
+    move |error| IoError::NotAnImage {
+        input: name.to_string(),
+        error,
+    }
+}
+
+/// A decoder for `bytes`, its format guessed from the content, before any
+/// pixel is decoded (so sizes can be checked first).
+fn open_decoder<'a>(bytes: &'a [u8], name: &str) -> Result<impl image::ImageDecoder + 'a, IoError> {
+    image::ImageReader::new(io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| not_an_image(name)(image::ImageError::IoError(e)))?
+        .into_decoder()
+        .map_err(not_an_image(name))
+}
+
 /// [`decode_image`] for pictures from cameras and phones: the EXIF
 /// orientation (JPEG, PNG's `eXIf`, TIFF, WebP) is applied, and an ICC
 /// profile is reported so the caller can warn that it is not.
 pub fn decode_photo(bytes: &[u8], name: &str) -> Result<Photo, IoError> {
     use image::ImageDecoder as _;
-    let not_an_image = |error| IoError::NotAnImage {
-        input: name.to_string(),
-        error,
-    };
-    let reader = image::ImageReader::new(io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| not_an_image(image::ImageError::IoError(e)))?;
-    let mut decoder = reader.into_decoder().map_err(not_an_image)?;
+    let not_an_image = not_an_image(name);
+    let mut decoder = open_decoder(bytes, name)?;
     let orientation = decoder
         .orientation()
         .unwrap_or(image::metadata::Orientation::NoTransforms);
@@ -833,14 +845,8 @@ pub fn decode_texture(
     max_pixels: u64,
 ) -> Result<(u32, u32, RgbaPixels), IoError> {
     use image::ImageDecoder as _;
-    let not_an_image = |error| IoError::NotAnImage {
-        input: name.to_string(),
-        error,
-    };
-    let reader = image::ImageReader::new(io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| not_an_image(image::ImageError::IoError(e)))?;
-    let mut decoder = reader.into_decoder().map_err(not_an_image)?;
+    let not_an_image = not_an_image(name);
+    let mut decoder = open_decoder(bytes, name)?;
     let (width, height) = decoder.dimensions();
     if width as u64 * height as u64 > max_pixels {
         return Err(IoError::TextureTooLarge {

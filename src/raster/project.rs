@@ -398,6 +398,7 @@ fn concave_pieces(
 mod tests {
     use super::super::tests::poly2;
     use super::*;
+    use crate::math::sum_compensated;
     use crate::view::tests::perspective;
 
     #[test]
@@ -459,30 +460,15 @@ mod tests {
         assert!(!is_convex(&circle));
     }
 
-    /// A sum without the rounding of its additions (Neumaier): a million
-    /// terms summed plainly drift by more than the 1e-12 checked here.
-    fn sum_exactly(terms: impl Iterator<Item = f64>) -> f64 {
-        let (mut s, mut c) = (0.0f64, 0.0f64);
-        for x in terms {
-            let t = s + x;
-            c += if s.abs() >= x.abs() {
-                (s - t) + x
-            } else {
-                (x - t) + s
-            };
-            s = t;
-        }
-        s + c
-    }
-
     /// The pieces of a concave polygon: counter-clockwise, with positive
     /// area, adding up to the outline's area within 1e-12.
     fn assert_tiled(p: &ScreenPoly) {
         assert!(!p.pieces.is_empty());
         assert!(p.pieces.iter().all(|t| area2(t) > 0.0));
-        let sum = sum_exactly(p.pieces.iter().map(|t| area2(t)));
+        let sum = sum_compensated(p.pieces.iter().map(|t| area2(t)));
         let (o, n) = (p.verts[0], p.verts.len());
-        let a = sum_exactly((0..n).map(|i| (p.verts[i] - o).perp_dot(p.verts[(i + 1) % n] - o)));
+        let a =
+            sum_compensated((0..n).map(|i| (p.verts[i] - o).perp_dot(p.verts[(i + 1) % n] - o)));
         assert!((sum - a).abs() <= 1e-12 * a, "{sum} vs {a}");
     }
 
