@@ -249,7 +249,7 @@ clitest!(polyfill3_asks_for_a_pat_when_given_an_image, |dir| {
         );
 });
 
-/// The photograph of fixtures/images/ATTRIBUTION.md.
+/// The photographs of fixtures/images/ATTRIBUTION.md.
 const EARTH: &str = "fixtures/images/earth-nasa.jpg";
 
 clitest!(
@@ -299,4 +299,74 @@ clitest!(the_earth_photo_example_scene_renders, |dir| {
         .success();
     let deps = String::from_utf8(dir.read("e.d")).unwrap();
     assert!(deps.contains("earth-nasa.jpg"), "{deps}");
+    assert!(deps.contains("moon-usgs.jpg"), "{deps}");
+    // Both photographs show: the moon's disc (right of centre) is grey
+    // relief, not one flat colour.
+    let img = image::open(dir.path().join("e.png")).unwrap().into_rgb8();
+    let moon: std::collections::HashSet<_> = (65..85)
+        .flat_map(|y| (155..175).map(move |x| (x, y)))
+        .map(|(x, y)| img.get_pixel(x, y).0)
+        .collect();
+    assert!(moon.len() > 20, "{} colours on the moon", moon.len());
 });
+
+clitest!(
+    a_4096_texture_with_its_mip_pyramid_renders_under_a_memory_ceiling,
+    |dir| {
+        // The largest image texture accepted (4096 x 4096, 64 MB of sRGB
+        // codes; its MIP pyramid a third more in f32 levels) rendered under
+        // an address-space limit (`ulimit -v`, the OS's own accounting):
+        // a runaway guard at several times what bench/image_texture_memory.sh
+        // measures (release, 640x480: --aa none 117 MB resident, trilinear
+        // 294 MB, exact 685 MB), not a target. One more column (4097 x 4096 pixels) is refused.
+        let img = image::RgbImage::from_fn(4096, 4096, |x, y| {
+            image::Rgb([(x % 251) as u8, (y % 241) as u8, ((x ^ y) & 0xff) as u8])
+        });
+        img.save(dir.path().join("big.png")).unwrap();
+        dir.write(
+            "plane.json",
+            r#"{"vertices":[[-4,-1,-1.5],[4,-1,-1.5],[4,-1,-40],[-4,-1,-40]],"uv":[[0,0],[4096,0],[4096,4096],[0,4096]],"color":[90,90,90],"pattern":{"file":"big.png"}}"#,
+        );
+        let bin = std::path::Path::new(env!("CARGO_BIN_EXE_scene-render"));
+        // The last run shows that the ceiling bites: the texels alone need
+        // 64 MiB.
+        for (flags, limit_mib, fits) in [
+            ("--aa none", 1024, true),
+            ("--filter trilinear", 2048, true),
+            ("--filter trilinear", 64, false),
+        ] {
+            let script = format!(
+                "ulimit -v {}; exec '{}' --size 80x60 --perspective 60,1.333,0.1,100 \
+                 --lookat 0,0.5,1,0,-0.5,-5 {flags} plane.json -o out.png",
+                limit_mib * 1024,
+                bin.display()
+            );
+            let out = std::process::Command::new("sh")
+                .args(["-c", &script])
+                .current_dir(dir.path())
+                .output()
+                .unwrap();
+            assert_eq!(
+                out.status.success(),
+                fits,
+                "{flags} under {limit_mib} MiB: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+        image::RgbImage::new(4097, 4096)
+            .save(dir.path().join("big.png"))
+            .unwrap();
+        dir.cmd("scene-render")
+            .args(["--size", "80x60", "--perspective", "60,1.333,0.1,100"])
+            .args([
+                "--lookat",
+                "0,0.5,1,0,-0.5,-5",
+                "plane.json",
+                "-o",
+                "out.png",
+            ])
+            .assert()
+            .failure()
+            .stderr(predicates::str::contains("4097"));
+    }
+);
