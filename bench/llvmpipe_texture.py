@@ -7,14 +7,15 @@ OpenGL program would, and writes a PNG that `scene-render --compare` measures.
                         [--msaa 0|4] [--cull back] [--background R,G,B]
                         --pat-tile PATH -o OUT.png
 
-What is drawn (SPEC §2 through OpenGL):
+What is drawn (docs/rendering.md's model through OpenGL):
 - "uv" records: per-vertex texture coordinates in texel units, divided by the
-  pattern's SIZE; one tile of the pattern as an sRGB8_ALPHA8 texture (from
-  `pat-tile --size SxS`, rows flipped: the image's top row is the pattern's
-  last row, GL's row 0 is the bottom), wrap REPEAT, perspective-correct
-  interpolation (GL's default for `in` variables).
+  texture's width and height; one tile of the pattern as an sRGB8_ALPHA8
+  texture (from `pat-tile --size SxS`, rows flipped: the image's top row is
+  the pattern's last row, GL's row 0 is the bottom), or an image texture's
+  own pixels (Pillow, rows flipped the same way), wrap REPEAT,
+  perspective-correct interpolation (GL's default for `in` variables).
 - "screen" records (demo 1's IRIS patterns): `texelFetch` at the window
-  position modulo SIZE, pixel (0, 0) at the lower left as in SPEC §2.
+  position modulo SIZE, pixel (0, 0) at the lower left as scene-render places them.
 - records without a pattern: their flat colour.
 Transparent texels are discarded where the filtered alpha is below one half
 (the alpha test of fixed-function GL), showing what lies behind.
@@ -25,7 +26,7 @@ GL_TEXTURE_MAX_ANISOTROPY 16; refused if the driver offers less).
 
 The framebuffer is sRGB8_ALPHA8 with GL_FRAMEBUFFER_SRGB enabled, so shading
 writes linear light that is encoded on store, the MSAA resolve (a blit)
-averages in linear light, and the read back is 8-bit sRGB: SPEC §4's rules.
+averages in linear light, and the read back is 8-bit sRGB: scene-render's rules.
 
 Prints one JSON object: the render-only time (texture and vertex upload, draw,
 MSAA resolve, read back; seconds), the time before it (Python start, imports,
@@ -67,7 +68,7 @@ void main() { gl_Position = mvp * vec4(in_pos, 1.0); uv = in_uv; col = in_col; }
 FS = """#version 330
 uniform sampler2D tex;
 uniform int mode;      // 0 flat colour, 1 uv, 2 screen
-uniform float size;    // the pattern's SIZE in texels
+uniform vec2 size;     // the texture's width and height in texels
 uniform float cutoff;
 in vec2 uv; in vec3 col; out vec4 frag;
 void main() {
@@ -76,7 +77,7 @@ void main() {
     if (mode == 1) {
         t = texture(tex, uv / size);
     } else {
-        ivec2 p = ivec2(gl_FragCoord.xy) % ivec2(int(size));
+        ivec2 p = ivec2(gl_FragCoord.xy) % ivec2(size);
         t = texelFetch(tex, p, 0);
     }
     if (t.a < cutoff) discard;
@@ -132,14 +133,20 @@ def read_pam(data):
 
 
 def texels(pat_tile, path):
-    """One tile of the pattern, GL row order (row 0 = the pattern's row 0,
-    the bottom), and its SIZE."""
+    """One tile of the texture in GL row order (row 0 = the texture's row 0,
+    the bottom), and its (width, height) in texels. A .pat through pat-tile;
+    any other file is an image texture (issue 19), read with Pillow: its
+    bottom row is texel row 0, as scene-render places it."""
+    if not path.endswith(".pat"):
+        from PIL import Image
+        img = np.asarray(Image.open(path).convert("RGBA"))
+        return np.ascontiguousarray(img[::-1]), (img.shape[1], img.shape[0])
     with open(path) as fh:
         size = int(fh.readline().split()[0])
     out = subprocess.run([pat_tile, "--size", f"{size}x{size}", "--format", "pam", path, "-o", "-"],
                          check=True, capture_output=True).stdout
     img = read_pam(out)
-    return np.ascontiguousarray(img[::-1]), size
+    return np.ascontiguousarray(img[::-1]), (size, size)
 
 
 def load(stream):
@@ -182,7 +189,7 @@ def render(ctx, groups, textures, mvp, w, h, a):
     released = [prog]
     gl_tex = {}
     for key, (img, size) in textures.items():
-        t = ctx.texture((size, size), 4, img.tobytes(), internal_format=GL_SRGB8_ALPHA8)
+        t = ctx.texture(size, 4, img.tobytes(), internal_format=GL_SRGB8_ALPHA8)
         t.repeat_x = t.repeat_y = True
         if a.filter == "nearest":
             t.filter = (moderngl.NEAREST, moderngl.NEAREST)
@@ -213,7 +220,7 @@ def render(ctx, groups, textures, mvp, w, h, a):
     ctx.depth_func = "<="
     if a.cull:
         ctx.enable(moderngl.CULL_FACE)
-        ctx.cull_face = "back"  # counter-clockwise fronts (SPEC §2), GL's default
+        ctx.cull_face = "back"  # counter-clockwise fronts (as scene-render), GL's default
     else:
         ctx.disable(moderngl.CULL_FACE)
     for (mode, key), verts in groups.items():
@@ -223,7 +230,7 @@ def render(ctx, groups, textures, mvp, w, h, a):
         if mode:
             gl_tex[key].use(0)
             prog["tex"].value = 0
-            prog["size"].value = float(textures[key][1])
+            prog["size"].value = tuple(float(x) for x in textures[key][1])
         vao.render(moderngl.TRIANGLES)
         released += [vao, vbo]
     if a.msaa:

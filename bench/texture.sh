@@ -7,10 +7,13 @@
 # computed from the numbers.
 #
 #   bench/texture.sh > bench/RESULTS-texture.md
+#   bench/texture.sh photo-plane photo-sphere > bench/RESULTS-texture-photo.md
 #
 # Scenes: a checkered plane receding to the horizon (heavy minification), a
 # close-up wall (magnification, crisp texel edges), and the thesis's demo 2
-# (App. C) drawn directly. The driver is bench/texbench.py; llvmpipe draws
+# (App. C) drawn directly; and a 1024x1024 photograph (an image texture, no
+# .pat: issue 19) on the plane and wrapped around a sphere. Name scenes to
+# run only those. The driver is bench/texbench.py; llvmpipe draws
 # `polyfill3 --uv` streams with bench/llvmpipe_texture.py.
 set -eu
 cd "$(dirname "$0")/.."
@@ -19,4 +22,4 @@ cargo build --release --bins >&2
 WORK="$TARGET/bench-texture"
 mkdir -p "$WORK"
 . bench/venv.sh
-"$VENV/bin/python" bench/texbench.py texture "$TARGET/release" "$WORK"
+"$VENV/bin/python" bench/texbench.py texture "$TARGET/release" "$WORK" "$@"
