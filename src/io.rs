@@ -305,6 +305,21 @@ pub fn remove_unfinished_outputs() -> usize {
         .count()
 }
 
+/// [`remove_unfinished_outputs`] for a caller that must neither block nor
+/// allocate (an allocation failure, where the failing thread may hold the
+/// list's lock): skips the removal if the lock is taken. `remove_file`
+/// converts paths shorter than a few hundred bytes on the stack.
+pub fn remove_unfinished_outputs_now() -> usize {
+    let list = match UNFINISHED.try_lock() {
+        Ok(list) => list,
+        Err(std::sync::TryLockError::Poisoned(p)) => p.into_inner(),
+        Err(std::sync::TryLockError::WouldBlock) => return 0,
+    };
+    list.iter()
+        .filter(|p| std::fs::remove_file(p).is_ok())
+        .count()
+}
+
 /// Notes or forgets an unfinished output's temporary file.
 fn unfinished(path: &Path, pending: bool) {
     let mut list = UNFINISHED.lock().unwrap_or_else(|p| p.into_inner());

@@ -11,6 +11,7 @@ use clap::CommandFactory;
 use std::fmt;
 use std::str::FromStr;
 
+pub mod alloc;
 pub mod camera;
 pub mod pat_from_image;
 pub mod pat_info;
@@ -63,6 +64,7 @@ pub const EXIT_USAGE: i32 = 2;
 /// A closed output pipe (`| head`) ends the tool quietly with status 0.
 pub fn main<A: clap::Parser>(run: fn(A) -> anyhow::Result<()>) -> ! {
     let tool = A::command().get_name().to_string();
+    alloc::set_tool_name(&tool);
     clean_up_on_signals();
     let args = match A::try_parse() {
         Ok(args) => args,

@@ -342,3 +342,36 @@ clitest!(pat_from_image_takes_its_size_as_n_or_nxn, |dir| {
             "invalid size `32x16`: patterns are square (NxN)",
         ));
 });
+
+clitest!(out_of_memory_is_an_error_line_and_leaves_nothing, |dir| {
+    // Under an address-space limit (the OS's own accounting), a frame of
+    // 16000 x 16000 pixels and a radius-10000 sphere cut into texels need
+    // more than the limit: the tools say so as `TOOL: error: out of memory`
+    // with status 1 (not an abort, status 134) and leave no temporary file.
+    dir.write(
+        "s.json",
+        format!(
+            r#"{{"sphere":{{"radius":10000}},"color":[1,2,3],"pattern":{{"file":"{}"}}}}"#,
+            repo("fixtures/patterns/brick.pat").display()
+        ),
+    );
+    for (script, tool) in [
+        (
+            "ulimit -v 1000000; exec scene-render --size 16000x16000 -o out.png /dev/null",
+            "scene-render",
+        ),
+        (
+            "ulimit -v 600000; exec polyfill3 s.json -o cells.json",
+            "polyfill3",
+        ),
+    ] {
+        let out = sh(dir.path(), script);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{tool}: {err}");
+        assert!(
+            err.starts_with(&format!("{tool}: error: out of memory: a request for ")),
+            "{err}"
+        );
+        assert_eq!(dir.files(), ["s.json"], "{tool} left files behind");
+    }
+});
