@@ -129,15 +129,29 @@ pub fn report(tool: &str, result: anyhow::Result<()>) -> i32 {
 
 /// The error chain as `a: b: c` (anyhow's `{:#}`), with every library
 /// [`OptionError`] naming its option by the flag that sets it: the field
-/// `max_polygons` is `--max-polygons`.
+/// `max_polygons` is `--max-polygons`. A layer whose text already ends
+/// the line is left out: decoders (the `image` crate's) print their cause
+/// in their own message and give it again as their source.
 fn in_flag_words(e: &anyhow::Error) -> String {
-    e.chain()
-        .map(|layer| match option_error(layer) {
+    const REPEAT_MIN_CHARS: usize = 12;
+    let mut line = String::new();
+    for layer in e.chain() {
+        let text = match option_error(layer) {
             Some(o) => o.worded(&format!("--{}", o.option.replace('_', "-"))),
             None => layer.to_string(),
-        })
-        .collect::<Vec<_>>()
-        .join(": ")
+        };
+        let said = line.trim_end_matches(['.', ' ']);
+        let cause = text.trim_end_matches(['.', ' ']);
+        // (Short causes, a number or a word, may end a message by chance.)
+        if cause.len() >= REPEAT_MIN_CHARS && said.ends_with(cause) {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(": ");
+        }
+        line.push_str(&text);
+    }
+    line
 }
 
 /// The [`OptionError`] a chain layer is, or carries as its whole message
@@ -489,6 +503,37 @@ mod tests {
         assert_eq!(in_flag_words(&e), "--compat thesis: no");
         let plain = anyhow::anyhow!("root").context("outer");
         assert_eq!(in_flag_words(&plain), format!("{plain:#}"));
+    }
+
+    #[test]
+    fn a_cause_the_message_already_ends_with_is_not_repeated() {
+        #[derive(Debug)]
+        struct Inner;
+        impl fmt::Display for Inner {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("chunk too short.")
+            }
+        }
+        impl std::error::Error for Inner {}
+        #[derive(Debug)]
+        struct Outer(Inner);
+        impl fmt::Display for Outer {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(f, "Format error decoding Png: {}", self.0)
+            }
+        }
+        impl std::error::Error for Outer {
+            fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+                Some(&self.0)
+            }
+        }
+        let e = anyhow::Error::new(Outer(Inner)).context("x.png: not an image");
+        assert_eq!(
+            in_flag_words(&e),
+            "x.png: not an image: Format error decoding Png: chunk too short."
+        );
+        let e = anyhow::anyhow!("b").context("a");
+        assert_eq!(in_flag_words(&e), "a: b");
     }
 
     #[test]

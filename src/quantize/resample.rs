@@ -38,25 +38,24 @@ pub fn resample_square(img: &image::RgbaImage, size: u32) -> SquareImage {
     let lut = decode_table();
     let src_n = side as usize;
     let dst_n = size as usize;
-    // Premultiplied linear RGBA of the source square.
-    let mut src = Vec::with_capacity(src_n * src_n);
-    for y in 0..side {
-        for x in 0..side {
-            let p = img.get_pixel(x0 + x, y0 + y).0;
+    let weights = filter_weights(src_n, dst_n);
+    // Horizontal pass: src_n rows of dst_n, each source row brought to
+    // premultiplied linear RGBA only while it is read (16 bytes a pixel
+    // for the whole picture would be 3 GB at 14000 x 14000; issue 17).
+    let mut row = Vec::with_capacity(src_n);
+    let mut tmp = vec![[0f32; 4]; src_n * dst_n];
+    for y in 0..src_n {
+        row.clear();
+        row.extend((0..side).map(|x| {
+            let p = img.get_pixel(x0 + x, y0 + y as u32).0;
             let a = p[3] as f32 / 255.0;
-            src.push([
+            [
                 lut[p[0] as usize] * a,
                 lut[p[1] as usize] * a,
                 lut[p[2] as usize] * a,
                 a,
-            ]);
-        }
-    }
-    let weights = filter_weights(src_n, dst_n);
-    // Horizontal pass: src_n rows of dst_n.
-    let mut tmp = vec![[0f32; 4]; src_n * dst_n];
-    for y in 0..src_n {
-        let row = &src[y * src_n..(y + 1) * src_n];
+            ]
+        }));
         for (x, (start, ws)) in weights.iter().enumerate() {
             tmp[y * dst_n + x] =
                 weighted_sum(ws.iter().enumerate().map(|(k, &wt)| (row[start + k], wt)));
