@@ -247,9 +247,83 @@ pub fn readable(x: f64) -> String {
     }
 }
 
+/// Longest run of digits (with its sign and point) that a message keeps as
+/// written: `u64::MAX` has 20 digits; Rust prints an `f64` without an
+/// exponent, so 1e-300 is a 302-character decimal and 1e300 a 301-digit one.
+const LONGEST_PLAIN_NUMBER: usize = 21;
+
+/// `message` with every number longer than [`LONGEST_PLAIN_NUMBER`]
+/// characters written with an exponent, the same value to the last bit (its
+/// shortest round-trip form): `right 0.000…0001` (302 characters) becomes
+/// `right 1e-300`. For messages that echo numbers as Rust displays them.
+pub fn shorten_long_numbers(message: &str) -> std::borrow::Cow<'_, str> {
+    let bytes = message.as_bytes();
+    let is_num = |b: u8| b.is_ascii_digit() || b == b'.';
+    let mut out = String::new();
+    let (mut copied, mut i) = (0, 0);
+    while i < bytes.len() {
+        if !bytes[i].is_ascii_digit() {
+            i += 1;
+            continue;
+        }
+        let start = if i > 0 && bytes[i - 1] == b'-' {
+            i - 1
+        } else {
+            i
+        };
+        let mut end = i;
+        while end < bytes.len() && is_num(bytes[end]) {
+            end += 1;
+        }
+        // A sentence's full stop is not part of the number.
+        let mut num_end = end;
+        while num_end > i && bytes[num_end - 1] == b'.' {
+            num_end -= 1;
+        }
+        let token = &message[start..num_end];
+        if token.len() > LONGEST_PLAIN_NUMBER {
+            if let Ok(x) = token.parse::<f64>() {
+                out.push_str(&message[copied..start]);
+                out.push_str(&format!("{x:e}"));
+                copied = num_end;
+            }
+        }
+        i = end;
+    }
+    if copied == 0 {
+        return std::borrow::Cow::Borrowed(message);
+    }
+    out.push_str(&message[copied..]);
+    std::borrow::Cow::Owned(out)
+}
+
 #[cfg(test)]
 mod tests {
-    use super::readable;
+    use super::{readable, shorten_long_numbers};
+
+    #[test]
+    fn long_numbers_in_messages_get_an_exponent() {
+        let tiny = format!("left 0 equals right {}: zero-width", 1e-300);
+        assert!(tiny.len() > 300);
+        assert_eq!(
+            shorten_long_numbers(&tiny),
+            "left 0 equals right 1e-300: zero-width"
+        );
+        let huge = format!("x {} and -{}.", 1e300, 2.5e-30);
+        assert_eq!(shorten_long_numbers(&huge), "x 1e300 and -2.5e-30.");
+        // Numbers a person writes stay as they are, and so do u64 counts.
+        for keep in [
+            "record 12: 0.25 of 1.4142135623730951",
+            "549755813888 polygons, 18446744073709551615 at most",
+            "version 1.2.3",
+        ] {
+            assert_eq!(shorten_long_numbers(keep), keep);
+        }
+        // The exponent form is the same value.
+        let x = 1.2345678901234567e-25;
+        let s = shorten_long_numbers(&format!("{x}")).into_owned();
+        assert_eq!(s.parse::<f64>().unwrap(), x);
+    }
 
     #[test]
     fn readable_numbers() {

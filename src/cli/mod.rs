@@ -117,7 +117,10 @@ pub fn report(tool: &str, result: anyhow::Result<()>) -> i32 {
         Err(e) if is_broken_pipe(&e) => EXIT_OK,
         Err(e) if e.downcast_ref::<AlreadyReported>().is_some() => EXIT_FAILURE,
         Err(e) => {
-            eprintln!("{tool}: error: {}", in_flag_words(&e));
+            eprintln!(
+                "{tool}: error: {}",
+                crate::text::shorten_long_numbers(&in_flag_words(&e))
+            );
             if e.downcast_ref::<UsageError>().is_some() {
                 EXIT_USAGE
             } else {
@@ -237,7 +240,11 @@ impl ColorWhen {
 
 /// Prints a warning in the SPEC §5 form.
 pub fn warn(tool: &str, message: impl fmt::Display) {
-    eprintln!("{tool}: warning: {message}");
+    let message = message.to_string();
+    eprintln!(
+        "{tool}: warning: {}",
+        crate::text::shorten_long_numbers(&message)
+    );
 }
 
 fn is_broken_pipe(e: &anyhow::Error) -> bool {

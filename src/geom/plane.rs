@@ -18,6 +18,7 @@
 
 use super::polygon::area2;
 use crate::math;
+use crate::text::readable;
 use glam::{DVec2, DVec3};
 use std::fmt;
 
@@ -121,7 +122,10 @@ impl fmt::Display for PlaneError {
             PlaneError::NotFinite => f.write_str("a vertex coordinate is not finite"),
             PlaneError::ZeroArea { area, size } => write!(
                 f,
-                "the polygon has no area (area {area:e} for size {size:e}): its vertices are collinear or repeated"
+                "the polygon has no area (area {} for size {}): its vertices are collinear \
+                 or repeated, or its outline crosses itself so that its parts cancel (a bow-tie)",
+                readable(area),
+                readable(size)
             ),
             PlaneError::NonPlanar {
                 deviation,
@@ -130,9 +134,12 @@ impl fmt::Display for PlaneError {
                 tolerance,
             } => write!(
                 f,
-                "the polygon is not planar: vertex {vertex} is {deviation:e} from its plane, \
-                 {:e} of its size {size:e} (--planarity-tol {tolerance:e})",
-                deviation / size
+                "the polygon is not planar: vertex {vertex} is {} from its plane, \
+                 {} of its size {} (--planarity-tol {})",
+                readable(deviation),
+                readable(deviation / size),
+                readable(size),
+                readable(tolerance)
             ),
         }
     }

@@ -130,9 +130,17 @@ impl Transform {
             .iter()
             .fold(0.0f64, |a, &x| a.max(x.abs()));
         let det = lin.determinant();
+        if !det.is_finite() || !scale.powi(3).is_finite() {
+            return Err(TransformError(format!(
+                "overflows: entries up to {} make its determinant beyond the range of \
+                 numbers (about 1e308), so no point it moves could be drawn",
+                crate::text::readable(scale)
+            )));
+        }
         if scale == 0.0 || det.abs() <= SINGULAR_RELATIVE_DET * scale.powi(3) {
             return Err(TransformError(format!(
-                "singular: determinant {det:e} squashes space flat, so polygons would vanish"
+                "singular: determinant {} squashes space flat, so polygons would vanish",
+                crate::text::readable(det)
             )));
         }
         Ok(Transform(m))
@@ -462,6 +470,9 @@ mod tests {
         assert!(e(json!({"spin": 3})).contains("expected one of"));
         assert!(e(json!({"translate": [1, 2, 3], "scale": 2})).contains("unexpected key"));
         assert!(e(json!({"scale": 1e-200})).contains("singular"));
+        // An overflowing scale is named as such, not as singular.
+        let big = e(json!({"scale": 1e200}));
+        assert!(big.contains("overflows: entries up to 1e200"), "{big}");
         assert!(e(json!("x")).starts_with("transform: expected a list"));
     }
 }

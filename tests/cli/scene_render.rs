@@ -1047,3 +1047,33 @@ clitest!(
         }
     }
 );
+
+clitest!(
+    numbers_in_messages_are_written_as_a_person_writes_them,
+    |dir| {
+        // Issue 17: not a 302-character decimal for 1e-300, not `0e0` or
+        // `1.4142135623730951e1` for an area and a size.
+        dir.write(
+            "t.json",
+            r#"{"vertices":[[0,0],[1,0],[1,1]],"color":[1,1,1]}"#,
+        );
+        dir.cmd("scene-render")
+        .args(["--ortho2", "0,1e-300,0,1", "t.json", "-o", "o.png"])
+        .assert()
+        .code(2)
+        .stderr("scene-render: error: camera flags: --ortho2: left 0 equals right 1e-300: zero-width\n");
+        dir.write(
+            "line.json",
+            r#"{"vertices":[[0,0,0],[1,1,0],[2,2,0]],"color":[1,1,1],"pattern":{"file":"p.pat"}}"#,
+        );
+        dir.write("p.pat", crate::util::checker16());
+        let out = dir
+            .cmd("polyfill3")
+            .args(["line.json", "-o", "c.json"])
+            .assert()
+            .failure();
+        let err = String::from_utf8_lossy(&out.get_output().stderr).into_owned();
+        assert!(err.contains("(area 0 for size 2.828)"), "{err}");
+        assert!(err.contains("a bow-tie"), "{err}");
+    }
+);
