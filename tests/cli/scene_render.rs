@@ -1077,3 +1077,41 @@ clitest!(
         assert!(err.contains("a bow-tie"), "{err}");
     }
 );
+
+clitest!(huge_coordinates_and_a_tiny_fovy_render_right, |dir| {
+    // Issue 17, item 6: a white square at ±1e18 covered 25% of the frame, a
+    // circle of radius 1e30 38%, a square seen with fovy 1e-300 25%: the
+    // clipper's crossings rounded (t = 0.5 - 1.6e-17 became 0.5). Each
+    // covers the whole frame, in every resolver.
+    dir.write(
+        "square.json",
+        r#"{"vertices":[[-1e18,-1e18],[1e18,-1e18],[1e18,1e18],[-1e18,1e18]],"color":[255,255,255]}"#,
+    );
+    dir.write(
+        "circle.json",
+        r#"{"circle":{"center":[32,32],"radius":1e30},"color":[255,255,255]}"#,
+    );
+    dir.write(
+        "near.json",
+        r#"{"vertices":[[-1,-1,-5],[1,-1,-5],[1,1,-5],[-1,1,-5]],"color":[255,255,255]}"#,
+    );
+    let cases: [(&str, &[&str]); 3] = [
+        ("square.json", &[]),
+        ("circle.json", &[]),
+        ("near.json", &["--perspective", "1e-300,1,1,10"]),
+    ];
+    for (scene, camera) in cases {
+        for mode in [&["--aa", "exact"][..], &["--aa", "none"], &["--reference"]] {
+            let png = dir
+                .cmd("scene-render")
+                .args(["--size", "64x64"])
+                .args(camera)
+                .args(mode)
+                .args([scene, "-o", "-"])
+                .ok_stdout();
+            let img = image::load_from_memory(&png).unwrap().into_rgb8();
+            let dark = img.pixels().filter(|p| p.0 != [255, 255, 255]).count();
+            assert_eq!(dark, 0, "{scene} {mode:?}: {dark} pixels not covered");
+        }
+    }
+});
