@@ -252,7 +252,7 @@ pub fn readable(x: f64) -> String {
 /// exponent, so 1e-300 is a 302-character decimal and 1e300 a 301-digit one.
 const LONGEST_PLAIN_NUMBER: usize = 21;
 
-/// `message` with every number longer than [`LONGEST_PLAIN_NUMBER`]
+/// `message` with every number longer than `LONGEST_PLAIN_NUMBER` (21)
 /// characters written with an exponent, the same value to the last bit (its
 /// shortest round-trip form): `right 0.000…0001` (302 characters) becomes
 /// `right 1e-300`. For messages that echo numbers as Rust displays them.

@@ -14,7 +14,7 @@
 //! edge (traversed in opposite directions) get bit-identical new vertices.
 //!
 //! Precision: each plane's value is a sum of two coordinates, taken exactly
-//! ([`DoubleDouble::sum`]; its rounded part decides inside and outside, as
+//! ([`crate::math::DoubleDouble::sum`]; its rounded part decides inside and outside, as
 //! a plain `f64` sum would), and the crossing `t = d_a / (d_a - d_b)` and
 //! the new vertex `a + (b - a) t` are computed in double-double, then
 //! rounded once. In plain `f64` an edge from -3e16 to 3e16 crossed the
