@@ -263,21 +263,91 @@ fn is_a_directory() -> io::Error {
     io::Error::new(io::ErrorKind::InvalidInput, "is a directory, not a file")
 }
 
-/// Reads a file by name, or standard input for `-`. Errors carry the name.
-pub fn read_input(name: &str) -> Result<Vec<u8>, IoError> {
+/// The most bytes an image file read from the command line may have: a
+/// picture of [`MAX_IMAGE_PIXELS`] at 16 bits a channel, RGBA, uncompressed
+/// (PAM), is 2 GiB.
+pub const MAX_PICTURE_FILE_BYTES: u64 = MAX_IMAGE_PIXELS * 8 + (1 << 16);
+
+/// Bytes of an input read before its start is checked ([`InputKind`]).
+const SNIFF_BYTES: usize = 4096;
+
+/// What an input read from the command line must start as, which bounds how
+/// much of it is read: `pat-info /dev/zero` is refused after its first
+/// bytes, not after reading gigabytes (issue 17, item 4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum InputKind {
+    /// A text format of bounded size (`.pat`, modulation map, palette): no
+    /// NUL byte in its first 4096 bytes (`SNIFF_BYTES`), at most
+    /// [`MAX_NAMED_FILE_BYTES`].
+    Text,
+    /// A polygon stream: text, of any size.
+    Stream,
+    /// An image file the `image` crate recognises from its first bytes, at
+    /// most [`MAX_PICTURE_FILE_BYTES`].
+    Image,
+    /// A pattern as `.pat` text or as an image (a background pattern).
+    TextOrImage,
+}
+
+impl InputKind {
+    /// Checks the first bytes; returns the size limit of what follows.
+    fn check_start(self, start: &[u8]) -> io::Result<u64> {
+        let text = || match start.iter().position(|&b| b == 0) {
+            None => Ok(()),
+            Some(at) => Err(io::Error::new(
+                io::ErrorKind::InvalidData,
+                format!("byte 0x00 at offset {at} is not text (a text format is expected)"),
+            )),
+        };
+        let image = || image::guess_format(start).is_ok();
+        match self {
+            InputKind::Text => text().map(|()| MAX_NAMED_FILE_BYTES),
+            InputKind::Stream => text().map(|()| u64::MAX),
+            InputKind::Image if image() => Ok(MAX_PICTURE_FILE_BYTES),
+            InputKind::Image => Err(io::Error::new(
+                io::ErrorKind::InvalidData,
+                "not an image this tool can read (it does not start as PNG, JPEG, GIF, BMP, \
+                 TIFF, WebP or PNM)",
+            )),
+            InputKind::TextOrImage if image() => Ok(MAX_PICTURE_FILE_BYTES),
+            InputKind::TextOrImage => text().map(|()| MAX_NAMED_FILE_BYTES),
+        }
+    }
+}
+
+/// Reads a file by name, or standard input for `-`, as `kind`: its first
+/// bytes are checked before the rest is read, and no more than the kind's
+/// limit is read. Errors carry the name.
+pub fn read_input(name: &str, kind: InputKind) -> Result<Vec<u8>, IoError> {
     let read = if name == STDIO {
-        let mut buf = Vec::new();
-        io::stdin().lock().read_to_end(&mut buf).map(|_| buf)
+        read_checked(io::stdin().lock(), kind)
     } else if Path::new(name).is_dir() {
         Err(is_a_directory())
     } else {
         // Any file the user names, FIFOs and `<(...)` included.
-        std::fs::read(name)
+        std::fs::File::open(name).and_then(|f| read_checked(f, kind))
     };
     read.map_err(|error| IoError::Read {
         input: name.to_string(),
         error,
     })
+}
+
+/// [`read_input`]'s reading: the start, its check, then the rest up to the
+/// limit.
+fn read_checked(mut r: impl Read, kind: InputKind) -> io::Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    (&mut r).take(SNIFF_BYTES as u64).read_to_end(&mut bytes)?;
+    let limit = kind.check_start(&bytes)?;
+    r.take(limit.saturating_sub(bytes.len() as u64).saturating_add(1))
+        .read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!("is larger than the {limit} bytes this input may have"),
+        ));
+    }
+    Ok(bytes)
 }
 
 /// The name to show in errors for an input argument.

@@ -149,7 +149,8 @@ pub fn run(args: Args) -> Result<()> {
     }
     let palette = match &args.palette {
         Some(file) => {
-            let bytes = io::read_input(file).context("reading the --palette file")?;
+            let bytes =
+                io::read_input(file, io::InputKind::Text).context("reading the --palette file")?;
             Some(quantize::parse_palette_file(&bytes, display_name(file))?)
         }
         None => None,
@@ -194,7 +195,7 @@ pub fn run(args: Args) -> Result<()> {
 /// profile, which is not applied.
 fn read_photo(input: &str) -> Result<image::RgbaImage> {
     let name = display_name(input);
-    let photo = io::decode_photo(&io::read_input(input)?, name)?;
+    let photo = io::decode_photo(&io::read_input(input, io::InputKind::Image)?, name)?;
     if photo.icc_profile.is_some() {
         super::warn(
             "pat-from-image",

@@ -97,7 +97,7 @@ pub fn run(args: Args) -> Result<()> {
     let mut reports = Vec::new();
     for file in &args.files {
         let name = display_name(file);
-        let bytes = read_input(file);
+        let bytes = read_input(file, crate::io::InputKind::Text);
         if let Ok(b) = &bytes {
             if ModulationMap::sniff(b) {
                 let result = ModulationMap::parse(b, name)
@@ -362,7 +362,7 @@ fn map_preview(m: &ModulationMap, max: u32, colour: bool) -> String {
 /// polygon it draws that has one, as `record N, polygon K`.
 fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
     let name = display_name(file);
-    let bytes = read_input(file)?;
+    let bytes = read_input(file, crate::io::InputKind::Stream)?;
     let (item, drawn) = match crate::stream::nth_item(bytes.as_slice(), name, n)? {
         Ok(found) => found,
         Err(count) => anyhow::bail!(

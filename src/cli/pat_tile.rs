@@ -87,7 +87,7 @@ pub fn run(args: Args) -> Result<()> {
         Some(super::output_format(args.format, &args.output)?)
     };
     let name = display_name(&args.input);
-    let bytes = read_input(&args.input)?;
+    let bytes = read_input(&args.input, crate::io::InputKind::Text)?;
     let pattern = Pattern::parse(&bytes, name)?;
 
     let Some(format) = format else {

@@ -384,7 +384,10 @@ fn run_in_pool(args: Args) -> Result<()> {
     let view = View::new(&camera, width, height);
     let bg_pattern = match &args.background_pattern {
         // A command-line input: `<(...)` works as well as a file.
-        Some(p) => Some(Texels::parse(&read_input(p)?, display_name(p))?),
+        Some(p) => Some(Texels::parse(
+            &read_input(p, crate::io::InputKind::TextOrImage)?,
+            display_name(p),
+        )?),
         None => None,
     };
     let bg = match args.background {
@@ -612,7 +615,7 @@ fn finish(
 }
 
 fn load_image(name: &str) -> Result<Image> {
-    let bytes = read_input(name)?;
+    let bytes = read_input(name, crate::io::InputKind::Image)?;
     let rgba = decode_image(&bytes, display_name(name))?;
     let (width, height) = rgba.dimensions();
     Ok(Image {

@@ -140,6 +140,21 @@ pub fn for_each_item<R: BufRead, E: From<StreamError>>(
     };
     match first {
         None => Ok(()),
+        // A stream is an array or objects, one a line: anything else is
+        // refused at its first byte, before a line of it is read (`/dev/zero`
+        // has no newline to end one; issue 17, item 4).
+        Some(b) if b != b'[' && b != b'{' => Err(stream_err(
+            Some(0),
+            format!(
+                "invalid JSON: the stream starts with {}, not `[` (an array) or `{{` (a record)",
+                if b.is_ascii_graphic() {
+                    format!("`{}`", b as char)
+                } else {
+                    format!("byte 0x{b:02x}")
+                }
+            ),
+        )
+        .into()),
         Some(b'[') => {
             let mut de = serde_json::Deserializer::from_reader(reader);
             let mut failure: Option<E> = None;

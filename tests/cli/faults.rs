@@ -375,3 +375,50 @@ clitest!(out_of_memory_is_an_error_line_and_leaves_nothing, |dir| {
         assert_eq!(dir.files(), ["s.json"], "{tool} left files behind");
     }
 });
+
+clitest!(
+    dev_zero_is_refused_at_its_first_bytes_by_every_tool,
+    |dir| {
+        // Issue 17, item 4: `pat-info /dev/zero` grew to 3.1 GB in 15 s and
+        // `scene-render /dev/zero` aborted. Every input is checked as its first
+        // bytes arrive: refused at once, under a 512 MiB address-space ceiling.
+        dir.write(
+            "t.json",
+            r#"{"vertices":[[0,0],[1,0],[1,1]],"color":[1,1,1]}"#,
+        );
+        for (cmd, says) in [
+            ("pat-info /dev/zero", "byte 0x00 at offset 0 is not text"),
+            ("pat-info --record 0 /dev/zero", "is not text"),
+            ("pat-tile /dev/zero -o z.png", "is not text"),
+            (
+                "pat-from-image /dev/zero -o z.pat",
+                "not an image this tool can read",
+            ),
+            (
+                "scene-render /dev/zero -o z.png",
+                "starts with byte 0x00, not `[`",
+            ),
+            (
+                "polyfill3 /dev/zero -o z.json",
+                "starts with byte 0x00, not `[`",
+            ),
+            (
+                "scene-render --image /dev/zero --compare /dev/zero",
+                "not an image this tool can read",
+            ),
+            (
+                "scene-render --background-pattern /dev/zero t.json -o z.png",
+                "is not text",
+            ),
+        ] {
+            let out = sh(dir.path(), &format!("ulimit -v 524288; exec {cmd}"));
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(1), "{cmd}: {err}");
+            assert!(
+                err.contains("/dev/zero: ") && err.contains(says),
+                "{cmd}: {err}"
+            );
+            assert_eq!(dir.files(), ["t.json"], "{cmd} left files behind");
+        }
+    }
+);

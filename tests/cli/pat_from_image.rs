@@ -218,8 +218,13 @@ fn bad_inputs_fail_with_the_right_status_and_leave_no_output() {
     fails(&["missing.png"], None, 1, "missing.png");
     fails(&[dirname], None, 1, "is a directory");
     fails(&[junk], None, 1, "junk.png: not an image");
-    fails(&["-"], Some(b"junk".to_vec()), 1, "<stdin>: not an image");
-    fails(&["-"], Some(Vec::new()), 1, "<stdin>: not an image");
+    fails(
+        &["-"],
+        Some(b"junk".to_vec()),
+        1,
+        "standard input: not an image",
+    );
+    fails(&["-"], Some(Vec::new()), 1, "standard input: not an image");
     for size in ["0", "17", "8192"] {
         fails(&["--size", size, png], None, 2, &format!("--size `{size}`"));
     }

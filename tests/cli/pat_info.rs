@@ -100,7 +100,9 @@ clitest!(reports_the_good_files_even_when_one_is_bad, |dir| {
         .assert()
         .code(1)
         .stdout(predicate::str::contains("good.pat: 16x16"))
-        .stderr(predicate::str::contains("bad.pat:1: byte 0x00 is not text"));
+        .stderr(predicate::str::contains(
+            "bad.pat: byte 0x00 at offset 0 is not text",
+        ));
 });
 
 clitest!(usage_errors_exit_2_with_empty_stdout, |dir| {
