@@ -244,7 +244,7 @@ def main():
         gl = f"{t_gl:.3f}" if t_gl is not None else ""
         if m:
             psnr = f"{m['psnr']:.2f}" if m["psnr"] is not None else "inf"
-            err = f"{m['rmse']:.3f} | {psnr} | {m['max_error']} | {100 * m['share_off']:.3f}%"
+            err = f"{m['rmse']:.3f} | {psnr} | {m['largest_error']} | {100 * m['share_off']:.3f}%"
         else:
             err = "| | |"
         tr = f"{t_gl / peer[1]:.2f}" if peer and peer[1] and t_gl is not None else ""

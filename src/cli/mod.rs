@@ -59,6 +59,28 @@ pub const EXIT_OK: i32 = 0;
 pub const EXIT_FAILURE: i32 = 1;
 pub const EXIT_USAGE: i32 = 2;
 
+/// The version of every tool's `--json` output (docs/json.md). Scripts
+/// check it before reading keys: a key renamed or retyped raises it, a key
+/// added does not.
+pub const JSON_VERSION: u32 = 1;
+
+/// The top of every `--json` document: `{"version", "tool", KEY: items}`.
+/// One object shape for every tool (not a bare array here and an object
+/// there), so that a script can tell what it reads and a version can grow.
+pub fn json_document(tool: &str, key: &str, items: Vec<serde_json::Value>) -> serde_json::Value {
+    let mut doc = json_head(tool);
+    doc.insert(key.into(), serde_json::Value::Array(items));
+    serde_json::Value::Object(doc)
+}
+
+/// The `"version"` and `"tool"` keys that open every `--json` document.
+pub fn json_head(tool: &str) -> serde_json::Map<String, serde_json::Value> {
+    let mut doc = serde_json::Map::new();
+    doc.insert("version".into(), JSON_VERSION.into());
+    doc.insert("tool".into(), tool.into());
+    doc
+}
+
 /// The whole `main` of a tool: parse arguments (clap exits 2 on a usage error),
 /// run, print the error chain as `TOOL: error: a: b: c`, exit 0/1/2.
 /// A closed output pipe (`| head`) ends the tool quietly with status 0.

@@ -71,12 +71,13 @@ coordinates at each vertex) and \"pattern\": {\"file\", \"mode\": \"uv\"}, \
 so that a renderer with per-vertex texture coordinates (OpenGL) draws the \
 same texture.\n\n\
 Files named by the records written (pattern \"file\"s; a stripe's \"map\", \
-\"colours\" and translation file), in objects too, are rewritten for a reader \
+\"colors\" and translation file), in objects too, are rewritten for a reader \
 in another directory: on standard output as absolute paths without . or .. \
 (the reader's directory is unknown), with -o FILE relative to FILE's \
 directory, so that the output and the files it names move together. \
 Everything else is copied as read.\n\n\
---json prints a summary (records, polygons, objects, instances, seconds) to standard error.",
+--json prints a summary (records, polygons, objects, instances, seconds) to standard error, \
+one JSON object described in docs/json.md.",
     after_help = EXAMPLES
 )]
 pub struct Args {
@@ -137,7 +138,8 @@ pub struct Args {
     /// take texture coordinates. --cull drops whole polygons.
     #[arg(long, conflicts_with_all = ["merge", "compat"])]
     pub uv: bool,
-    /// Print a JSON summary to standard error.
+    /// Print a JSON summary to standard error: {"version": 1, "tool":
+    /// "polyfill3", ...} (docs/json.md).
     #[arg(long)]
     pub json: bool,
     /// Write the make rule of the output: every file the run read (the
@@ -250,6 +252,7 @@ pub fn run(args: Args) -> Result<()> {
         eprintln!(
             "{}",
             serde_json::json!({
+                "version": super::JSON_VERSION,
                 "tool": "polyfill3",
                 "input": source,
                 "records": s.records,

@@ -141,7 +141,11 @@ pub struct Args {
     #[arg(long, value_name = "FILE", requires = "compare")]
     pub diff: Option<String>,
 
-    /// Print the --compare, --reference and --max-error reports as JSON.
+    /// Print the --compare, --reference and --max-error reports as one JSON
+    /// object, {"version": 1, "tool": "scene-render", ...}; with --frames or
+    /// --frame, the --max-error report of each frame in its "frames" array
+    /// (docs/json.md). It goes to standard output, or standard error when
+    /// the image does.
     #[arg(long)]
     pub json: bool,
 
@@ -571,7 +575,7 @@ fn finish(
     // Reports go to standard output unless the image does.
     let mut text = String::new();
     if args.json {
-        let mut obj = serde_json::Map::new();
+        let mut obj = super::json_head(TOOL);
         if let Some(m) = &metrics {
             obj.insert("compare".into(), serde_json::to_value(m)?);
         }
@@ -733,6 +737,10 @@ fn render_frames(
     let mut stream = (pattern == crate::io::STDIO && !args.animate)
         .then(|| crate::io::Output::create(pattern, true))
         .transpose()?;
+    // --json with --max-error: every frame's plan, printed as one document
+    // when all frames are written (a document per frame would not parse as
+    // one JSON value).
+    let mut frame_reports = Vec::new();
     let bar = args.progress.bar(TOOL);
     bar.phase("frames", frames.len() as u64);
     for k in frames {
@@ -745,7 +753,14 @@ fn render_frames(
         let t1 = std::time::Instant::now();
         let (img, plan) = scene::render(&polys, bg, view.width, view.height, resolve(args));
         if let Some(p) = plan {
-            eprintln!("{TOOL}: frame {k}: {}", p.report());
+            if args.json {
+                let mut o = serde_json::Map::new();
+                o.insert("frame".into(), k.into());
+                o.insert("max_error".into(), serde_json::to_value(&p)?);
+                frame_reports.push(serde_json::Value::Object(o));
+            } else {
+                eprintln!("{TOOL}: frame {k}: {}", p.report());
+            }
         }
         let t2 = std::time::Instant::now();
         if args.animate {
@@ -782,8 +797,23 @@ fn render_frames(
     if let Some(a) = apng {
         a.finish()?;
     }
+    let on_stdout = stream.is_some();
     if let Some(out) = stream {
         out.commit()?;
+    }
+    drop(bar);
+    if args.json {
+        let doc = super::json_document(TOOL, "frames", frame_reports);
+        let text = serde_json::to_string_pretty(&doc)? + "\n";
+        if on_stdout {
+            eprint!("{text}");
+        } else {
+            super::check_stdout()?;
+            let mut out = std::io::stdout().lock();
+            out.write_all(text.as_bytes())
+                .and_then(|()| out.flush())
+                .context("writing standard output")?;
+        }
     }
     Ok(())
 }

@@ -82,7 +82,10 @@ pub enum Region {
 /// What [`render_within`] chose and why.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Plan {
-    /// The budget `E` (RMSE, 8-bit sRGB units).
+    /// The budget `E` (RMSE, 8-bit sRGB units). Serialized as `budget`:
+    /// the report itself is `scene-render --json`'s `max_error`, and a key
+    /// repeated inside it would read as a second meaning (docs/json.md).
+    #[serde(rename = "budget")]
     pub max_error: f64,
     /// Method of the non-pilot tiles of the flat region (`none`, `ss4`,
     /// `exact`).

@@ -58,7 +58,10 @@ pub struct Metrics {
     pub rmse: f64,
     /// `20 log10(255 / rmse)` in dB; `None` (JSON null) for identical images.
     pub psnr: Option<f64>,
-    /// Largest absolute channel difference.
+    /// Largest absolute channel difference. Serialized as `largest_error`:
+    /// `max_error` names `--max-error`'s report in `scene-render --json`,
+    /// and one key should mean one thing (docs/json.md).
+    #[serde(rename = "largest_error")]
     pub max_error: u8,
     /// Share (0..=1) of pixels with a channel off by more than [`OFF_THRESHOLD`].
     pub share_off: f64,

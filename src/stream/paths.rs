@@ -122,9 +122,11 @@ fn relative(file: &Path, dir: &Path) -> PathBuf {
 /// The file names of a record, as `(object, key)` pairs: a pattern's file,
 /// a stripe texture's map, colour table and translation file (a translation
 /// given as a string other than `"identity"`, docs/stripe.md).
-const FILE_REFS: [(&str, &str); 4] = [
+const FILE_REFS: [(&str, &str); 5] = [
     ("pattern", "file"),
     ("stripe", "map"),
+    ("stripe", "colors"),
+    // The old spelling, still read (crate::stripe::record::OLD_KEYS).
     ("stripe", "colours"),
     ("stripe", "translation"),
 ];

@@ -356,6 +356,7 @@ macro_rules! documented {
 documented! {
     readme: markdown_commands("README.md");
     docs_camera: markdown_commands("docs/camera.md");
+    docs_json: markdown_commands("docs/json.md");
     docs_objects: markdown_commands("docs/objects.md");
     docs_stripe: markdown_commands("docs/stripe.md");
     help_pat_from_image: help_commands("pat-from-image");
