@@ -88,7 +88,7 @@ void main() { frag = vec4(col, 1.0); }"""
 
 def llvmpipe(ctx, tris, mvp, samples, out_png, cull=False):
     """Draws linear colours into a float multisample buffer (so the MSAA resolve
-    averages in linear light, as SPEC §4 asks), reads back, encodes sRGB.
+    averages in linear light, as docs/rendering.md asks), reads back, encodes sRGB.
     Returns the GL time (upload, draw, resolve, read back) in seconds."""
     import moderngl
     pos, col = tris
@@ -108,7 +108,7 @@ def llvmpipe(ctx, tris, mvp, samples, out_png, cull=False):
     ctx.enable(moderngl.DEPTH_TEST)
     ctx.depth_func = "<"
     if cull:
-        # Counter-clockwise is the front (SPEC §2), as GL's default.
+        # Counter-clockwise is the front (docs/stream-format.md), as GL's default.
         ctx.enable(moderngl.CULL_FACE)
         ctx.cull_face = "back"
     else:

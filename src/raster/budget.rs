@@ -1,7 +1,7 @@
 //! `--max-error`: the cheapest anti-aliasing that keeps a frame within an
 //! error budget, chosen per region of the image.
 //!
-//! The budget `E` is an RMSE in 8-bit sRGB units over R, G and B (SPEC §4,
+//! The budget `E` is an RMSE in 8-bit sRGB units over R, G and B (docs/rendering.md,
 //! [`super::compare`]). The exact resolver ([`super::coverage`]) is the most
 //! accurate method (it equals `--reference` on every benchmark scene), so it
 //! serves as the truth here and the plan is made in three steps:

@@ -1,4 +1,4 @@
-//! Image error against a reference (SPEC §4): RMSE in 8-bit sRGB units over
+//! Image error against a reference (docs/rendering.md): RMSE in 8-bit sRGB units over
 //! the R, G and B channels of every pixel, PSNR, the largest channel error, and
 //! the share of pixels with some channel off by more than [`OFF_THRESHOLD`].
 //! Alpha, if any, is ignored (both images are compared as opaque RGB).

@@ -465,7 +465,7 @@ clitest!(pat_info_previews_a_map_one_line_per_level, |dir| {
 // ---------------------------------------------------------------------------
 // scene-render with stripe records.
 
-/// Decodes an 8-bit image to linear-light RGB per pixel (SPEC §4 sRGB).
+/// Decodes an 8-bit image to linear-light RGB per pixel (docs/rendering.md sRGB).
 fn linear_pixels(png: &[u8]) -> Vec<[f64; 3]> {
     let img = image::load_from_memory(png).unwrap().to_rgb8();
     img.pixels()

@@ -27,7 +27,7 @@ pub fn pattern3() -> String {
     )
 }
 
-/// A canonical .pat text (SPEC §1) from a texel → colour-index function.
+/// A canonical .pat text (docs/pat-format.md) from a texel → colour-index function.
 pub fn pattern_from(f: impl Fn(u32, u32) -> Option<u32>, colors: &[[u8; 3]]) -> String {
     let mut s = format!("16 {}\n", colors.len());
     for (i, c) in colors.iter().enumerate() {
