@@ -1,5 +1,5 @@
 //! `scene-render`: the polygon stream through a camera to an image, with exact
-//! anti-aliasing, the SPEC §4 reference image, and image comparison.
+//! anti-aliasing, the reference image (docs/rendering.md), and image comparison.
 
 use super::camera::CameraArgs;
 use super::Size;
@@ -47,7 +47,7 @@ Without a camera the view is ortho2(0, W, 0, H) for a WxH image: 2D records
 (rect, circle, arc) and [x,y] polygons map one world unit to one pixel, origin
 at the lower-left.";
 
-/// Render a polygon stream (SPEC §2) to PNG, PPM or PAM: homogeneous clipping,
+/// Render a polygon stream (patkit-stream(5)) to PNG, PPM or PAM: homogeneous clipping,
 /// depth buffering, and exact-area anti-aliasing in linear light.
 #[derive(Parser, Debug)]
 #[command(name = "scene-render", version, after_help = EXAMPLES)]
@@ -115,7 +115,8 @@ pub struct Args {
           value_parser = parse_max_error, allow_negative_numbers = true)]
     pub max_error: Option<f64>,
 
-    /// Render the SPEC §4 reference image instead (an independent, slower
+    /// Render the reference image instead (each pixel the exact average of the
+    /// scene over its square in linear light, by an independent, slower
     /// method: exact along lines, exact between events along y); its own error
     /// estimate is reported on standard error.
     #[arg(long, conflicts_with = "aa")]
