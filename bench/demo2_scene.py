@@ -3,7 +3,7 @@
 
 A stand-in for `polyfill3` used by bench/scene_render.sh when polyfill3 is not
 built: each polygon is partitioned into its texture point polygons exactly as
-SPEC §2 object mode says (origin at vertex 0, +x along vertex0->vertex1, +y 90
+docs/stream-format.md object mode says (origin at vertex 0, +x along vertex0->vertex1, +y 90
 degrees counter-clockwise from the front, texel squares of side `incr` from the
 plane bounding box's lower-left, shifted by horz/vert texels), each texel square
 clipped to the polygon; transparent texels are left out.

@@ -19,7 +19,7 @@ mkdir -p "$WORK"
 
 # Demo 2 (App. C, examples/scenes/demo2.json): through polyfill3 when it is built
 # (it is, once polyfill3 is on the branch), else through the
-# stand-in partitioner bench/demo2_scene.py (same SPEC §2 object-mode rule).
+# stand-in partitioner bench/demo2_scene.py (same docs/stream-format.md object-mode rule).
 for incr in 2 1; do
     scene="$WORK/demo2-incr$incr.ndjson"
     if [ -x "$TARGET/release/polyfill3" ]; then

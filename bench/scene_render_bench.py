@@ -88,7 +88,7 @@ void main() { frag = vec4(col, 1.0); }"""
 
 def llvmpipe(ctx, tris, mvp, samples, out_png, cull=False):
     """Draws linear colours into a float multisample buffer (so the MSAA resolve
-    averages in linear light, as SPEC §4 asks), reads back, encodes sRGB.
+    averages in linear light, as docs/rendering.md asks), reads back, encodes sRGB.
     Returns the GL time (upload, draw, resolve, read back) in seconds."""
     import moderngl
     pos, col = tris
@@ -108,7 +108,7 @@ def llvmpipe(ctx, tris, mvp, samples, out_png, cull=False):
     ctx.enable(moderngl.DEPTH_TEST)
     ctx.depth_func = "<"
     if cull:
-        # Counter-clockwise is the front (SPEC §2), as GL's default.
+        # Counter-clockwise is the front (docs/stream-format.md), as GL's default.
         ctx.enable(moderngl.CULL_FACE)
         ctx.cull_face = "back"
     else:
@@ -244,7 +244,7 @@ def main():
         gl = f"{t_gl:.3f}" if t_gl is not None else ""
         if m:
             psnr = f"{m['psnr']:.2f}" if m["psnr"] is not None else "inf"
-            err = f"{m['rmse']:.3f} | {psnr} | {m['max_error']} | {100 * m['share_off']:.3f}%"
+            err = f"{m['rmse']:.3f} | {psnr} | {m['largest_error']} | {100 * m['share_off']:.3f}%"
         else:
             err = "| | |"
         tr = f"{t_gl / peer[1]:.2f}" if peer and peer[1] and t_gl is not None else ""

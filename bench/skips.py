@@ -32,7 +32,7 @@ REFERENCED_FILES = 200
 
 
 def write_pat(path, size, colors, index):
-    """A pattern file (SPEC §1): `SIZE NCOLORS`, then per colour its RGB and
+    """A pattern file (docs/pat-format.md): `SIZE NCOLORS`, then per colour its RGB and
     one row of 16-bit hex words per texel row; `index(c, r)` is a texel's
     colour or None (transparent)."""
     out = [f"{size} {len(colors)}\n"]

@@ -359,7 +359,7 @@ def fmt_t(t):
 
 def fmt_err(c):
     psnr = "inf" if c["psnr"] is None else f"{c['psnr']:.2f}"
-    return f"{c['rmse']:.4f} | {psnr} | {c['max_error']} | {100 * c['share_off']:.3f}%"
+    return f"{c['rmse']:.4f} | {psnr} | {c['largest_error']} | {100 * c['share_off']:.3f}%"
 
 
 def header(runs, stat_name):
@@ -498,7 +498,7 @@ def tradeoff(bins, work, png, python):
     rows = []
     for name, (scene, size, cam) in sc.items():
         ref, t_ref = runner.reference(name, scene, size, cam)
-        rows.append((name, "reference", t_ref, None, {"rmse": 0.0, "psnr": None, "max_error": 0,
+        rows.append((name, "reference", t_ref, None, {"rmse": 0.0, "psnr": None, "largest_error": 0,
                                                       "share_off": 0.0}))
         for m in methods:
             r = runner.run(m, name, scene, size, cam, ref)

@@ -2,7 +2,7 @@
 //!
 //! `cargo run --release --example psnr -- REFERENCE CANDIDATE` prints one line,
 //! `PSNR_SRGB LINEAR_PSNR OKLAB_DE`:
-//! - PSNR in dB over RGB in 8-bit sRGB (SPEC §4, the benchmark's main score);
+//! - PSNR in dB over RGB in 8-bit sRGB (docs/rendering.md, the benchmark's main score);
 //! - PSNR in dB of linear-light values (peak 1), which weighs highlights more;
 //! - mean OKLab distance x 100, a perceptual error (about 1 is just noticeable).
 //!

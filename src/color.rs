@@ -1,4 +1,4 @@
-//! sRGB and linear light (SPEC §4).
+//! sRGB and linear light (docs/rendering.md).
 //!
 //! Every 8-bit colour in the toolchain is sRGB. Anything that averages colours
 //! (anti-aliasing, texture filtering, MIP levels, resampling, quantization error)
@@ -61,7 +61,7 @@ impl std::error::Error for ColorParseError {}
 impl FromStr for Rgb8 {
     type Err = ColorParseError;
 
-    /// SPEC §5: COLOR is `r,g,b` (decimal 0..=255) or `#rrggbb`.
+    /// COLOR is `r,g,b` (decimal 0..=255) or `#rrggbb` (the README's Conventions).
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         let err = || ColorParseError(s.to_string());
         let t = s.trim();

@@ -1,5 +1,5 @@
 //! Streams and images: `-` for standard input/output, atomic output files,
-//! and the three image formats every tool writes (SPEC §5).
+//! and the three image formats every tool writes (the README's Conventions).
 
 use crate::error::OptionError;
 use std::io::{self, BufWriter, IsTerminal, Read, Write};

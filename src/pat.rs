@@ -1,4 +1,4 @@
-//! The `.pat` multi-colour texture pattern (SPEC §1; thesis Fig. 3.3, 3.4, 4.6).
+//! The `.pat` multi-colour texture pattern (docs/pat-format.md; thesis Fig. 3.3, 3.4, 4.6).
 //!
 //! In memory a pattern is a square grid of palette indices with one reserved
 //! [`TRANSPARENT`] value. The per-colour bit masks of the file exist only at the
@@ -61,7 +61,7 @@ impl fmt::Display for InvalidPattern {
 }
 impl std::error::Error for InvalidPattern {}
 
-/// Checks a pattern side against SPEC §1.
+/// Checks a pattern side against docs/pat-format.md.
 pub fn check_size(size: u64) -> Result<u32, InvalidPattern> {
     if size == 0 || size > MAX_SIZE as u64 || !size.is_multiple_of(WORD_BITS as u64) {
         Err(InvalidPattern(format!(
@@ -134,7 +134,7 @@ impl Pattern {
     }
 
     /// Colour at any integer texel coordinate, the pattern repeating in both
-    /// directions (SPEC §2: `floor(u) mod SIZE`): the plain formula the tests
+    /// directions (docs/stream-format.md: `floor(u) mod SIZE`): the plain formula the tests
     /// check the fast paths against.
     #[cfg(test)]
     pub(crate) fn color_wrapped(&self, col: i64, row: i64) -> Option<Rgb8> {
@@ -149,12 +149,12 @@ impl Pattern {
         Pattern::parse(&bytes, &name)
     }
 
-    /// Parses the texted format (SPEC §1) from bytes; `name` is used in errors.
+    /// Parses the texted format (docs/pat-format.md) from bytes; `name` is used in errors.
     pub fn parse(bytes: &[u8], name: &str) -> Result<Pattern, ParseError> {
         Parser::new(bytes, name).pattern()
     }
 
-    /// The canonical text (SPEC §1), as one string.
+    /// The canonical text (docs/pat-format.md), as one string.
     pub fn to_canonical(&self) -> String {
         let mut out = Vec::with_capacity(self.canonical_len());
         self.write_canonical(&mut out)
@@ -352,7 +352,7 @@ impl Pattern {
 /// What a `.pat` file holds, for the "empty file" and "not text" messages.
 const PAT_CONTENTS: &str = "`SIZE NCOLORS` and colour blocks of hex words";
 
-/// The `.pat` grammar (SPEC §1) over the shared word tokenizer. The format has
+/// The `.pat` grammar (docs/pat-format.md) over the shared word tokenizer. The format has
 /// no comments: a `#` is a word, and so trailing garbage or a bad number.
 struct Parser<'a> {
     words: Words<'a>,

@@ -577,7 +577,7 @@ def docs():
                     "translation": {"contrast": 1.5}, "select": "rgb", "code": 20}},
         {"vertices": [[-10, 0, -40], [10, 0, -40], [10, 8, -40], [-10, 8, -40]], "color": [90, 90, 200],
          "stripe": {"map": "crops.map", "spacing": 0.02, "plane": "xy", "theta": 15,
-                    "translation": "s-curve.tm", "colours": "terrain.ct", "code": 3}},
+                    "translation": "s-curve.tm", "colors": "terrain.ct", "code": 3}},
         {"vertices": [[12, 0, -45], [12, 0, -35], [12, 8, -35], [12, 8, -45]], "color": [200, 90, 90],
          "stripe": {"map": "runway.map", "spacing": 0.05, "plane": "yz", "theta": -40,
                     "translation": {"brightness": -30}, "select": "g"}},

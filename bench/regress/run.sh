@@ -139,8 +139,8 @@ r info-all "$PI" fixtures/patterns/*.pat
 r info-all-json "$PI" --json fixtures/patterns/*.pat
 r info-all-preview "$PI" --preview fixtures/patterns/*.pat
 rp info-all-check-valid "$PI --check fixtures/patterns/*.pat && echo valid"
-rp info-readme-jq "$PI --json --at 3,5 fixtures/patterns/brick.pat | jq '.[0].texel'"
-rp info-help-jq "$PI --at 3,5 --json fixtures/patterns/brick.pat | jq '.[0].texel'"
+rp info-readme-jq "$PI --json --at 3,5 fixtures/patterns/brick.pat | jq '.files[0].texel'"
+rp info-help-jq "$PI --at 3,5 --json fixtures/patterns/brick.pat | jq '.files[0].texel'"
 rp info-help-pipe "$PT --pat --size 256x256 fixtures/patterns/brick.pat | $PI -"
 r info-generated-marble "$PI" "$O/make/marble.pat"
 for f in fixtures/stripes/*.map; do

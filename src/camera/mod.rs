@@ -1,4 +1,4 @@
-//! The camera (SPEC §3): world → eye → clip matrices from either of the seeds'
+//! The camera (docs/camera.md): world → eye → clip matrices from either of the seeds'
 //! two viewing models, with every degenerate specification rejected by name.
 //!
 //! # Why one `Camera` for two models
@@ -14,7 +14,7 @@
 //!
 //! # Coordinates
 //!
-//! * World: right-handed, y up (SPEC §3).
+//! * World: right-handed, y up (docs/camera.md).
 //! * Eye ([`Camera::view`]): right-handed, x right and y up on the image, looking
 //!   down −z; the origin is the centre of projection for perspective views and
 //!   the view reference point (or the GL eye) for parallel views.

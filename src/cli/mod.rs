@@ -1,6 +1,7 @@
 //! Command-line plumbing shared by every tool: the `main` shim, error reporting
-//! and exit codes (SPEC §5), the common argument types, and each tool's argument
-//! definitions (kept here so the man pages can be generated from them).
+//! and exit codes (the README's "Conventions", each man page's EXIT STATUS),
+//! the common argument types, and each tool's argument definitions (kept here
+//! so the man pages can be generated from them).
 //!
 //! Each tool module holds `Args` (clap) and `run(Args) -> anyhow::Result<()>`;
 //! its file in `src/bin/` is one line that hands both to [`main`].
@@ -54,10 +55,32 @@ macro_rules! usage_bail {
 }
 pub(crate) use usage_bail;
 
-/// Exit statuses (SPEC §5).
+/// Exit statuses (each man page's EXIT STATUS).
 pub const EXIT_OK: i32 = 0;
 pub const EXIT_FAILURE: i32 = 1;
 pub const EXIT_USAGE: i32 = 2;
+
+/// The version of every tool's `--json` output (docs/json.md). Scripts
+/// check it before reading keys: a key renamed or retyped raises it, a key
+/// added does not.
+pub const JSON_VERSION: u32 = 1;
+
+/// The top of every `--json` document: `{"version", "tool", KEY: items}`.
+/// One object shape for every tool (not a bare array here and an object
+/// there), so that a script can tell what it reads and a version can grow.
+pub fn json_document(tool: &str, key: &str, items: Vec<serde_json::Value>) -> serde_json::Value {
+    let mut doc = json_head(tool);
+    doc.insert(key.into(), serde_json::Value::Array(items));
+    serde_json::Value::Object(doc)
+}
+
+/// The `"version"` and `"tool"` keys that open every `--json` document.
+pub fn json_head(tool: &str) -> serde_json::Map<String, serde_json::Value> {
+    let mut doc = serde_json::Map::new();
+    doc.insert("version".into(), JSON_VERSION.into());
+    doc.insert("tool".into(), tool.into());
+    doc
+}
 
 /// The whole `main` of a tool: parse arguments (clap exits 2 on a usage error),
 /// run, print the error chain as `TOOL: error: a: b: c`, exit 0/1/2.
@@ -94,7 +117,7 @@ fn clean_up_on_signals() {
 }
 
 /// Prints clap's verdict: `--help` and `--version` to stdout with status 0,
-/// anything else as `TOOL: error: ...` (SPEC §5) with status 2.
+/// anything else as `TOOL: error: ...` with status 2.
 fn exit_usage(tool: &str, e: clap::Error) -> ! {
     use clap::error::ErrorKind;
     match e.kind() {
@@ -238,7 +261,7 @@ impl ColorWhen {
     }
 }
 
-/// Prints a warning in the SPEC §5 form.
+/// Prints a warning as `TOOL: warning: ...`, the form every tool uses.
 pub fn warn(tool: &str, message: impl fmt::Display) {
     let message = message.to_string();
     eprintln!(
@@ -365,13 +388,110 @@ pub fn commands() -> Vec<clap::Command> {
     ]
 }
 
-/// Renders one tool's man page (roff) from its argument definitions.
+/// Renders one tool's man page (roff) from its argument definitions, then
+/// the sections clap_mangen does not make: EXIT STATUS, ENVIRONMENT, FILES
+/// and SEE ALSO ([`man_sections`]).
 pub fn man_page(cmd: clap::Command) -> String {
+    let name = cmd.get_name().to_string();
     let mut out = Vec::new();
     clap_mangen::Man::new(cmd)
         .render(&mut out)
         .expect("rendering to a Vec cannot fail");
-    String::from_utf8(out).expect("clap_mangen writes UTF-8")
+    let mut page = String::from_utf8(out).expect("clap_mangen writes UTF-8");
+    page.push_str(&man_sections(&name));
+    page
+}
+
+/// The section-5 man pages of the formats the tools read and write (made
+/// from their `docs/` pages, installed by `make install`), which every
+/// tool's SEE ALSO names.
+pub const FORMAT_PAGES: [&str; 5] = [
+    "pat",
+    "patkit-stream",
+    "patkit-camera",
+    "patkit-stripe",
+    "patkit-json",
+];
+
+/// The man page sections of `tool` that its arguments do not give, written
+/// here beside the code whose behaviour they state: the exit statuses of
+/// [`main`], [`report`] and the signal handler, the variables the tools
+/// read, the files each reads and writes, and the pages to read next. An
+/// installed tool's user has these pages only, so they cite man pages,
+/// never a file of the repository.
+pub fn man_sections(tool: &str) -> String {
+    let mut s = String::from(".SH \"EXIT STATUS\"\n");
+    let mut item = |tag: &str, text: &str| {
+        s.push_str(&format!(".TP\n{tag}\n{text}\n"));
+    };
+    let ok = match tool {
+        "pat-info" => "Success: every file was read and is valid. A closed output pipe (| head) also ends the tool quietly with status 0.",
+        _ => "Success. A closed output pipe (| head) also ends the tool quietly with status 0.",
+    };
+    item("0", ok);
+    let failure = match tool {
+        "pat-info" => "Failure: a file could not be read or is invalid (each such file is reported on standard error, the others are still examined), or an output could not be written, or memory ran out.",
+        _ => "Failure: an input could not be read or is invalid, an output could not be written, or memory ran out. The error is printed as TOOL: error: FILE:LINE: ... and no output file is left behind.",
+    };
+    item("1", failure);
+    item(
+        "2",
+        "Usage error: an unknown flag, a bad flag value, or flags that contradict each other.",
+    );
+    item(
+        "128 + N",
+        "Killed by signal N: SIGHUP (129), SIGINT (130) or SIGTERM (143). The output being written is removed first, then the tool dies of the signal.",
+    );
+    s.push_str(".SH ENVIRONMENT\n");
+    let mut item = |tag: &str, text: &str| {
+        s.push_str(&format!(".TP\n.B {tag}\n{text}\n"));
+    };
+    if tool == "pat-info" {
+        item(
+            "NO_COLOR",
+            "When set and not empty, --color auto draws the --preview without colour (https://no-color.org).",
+        );
+    }
+    if matches!(tool, "pat-from-image" | "polyfill3" | "scene-render") {
+        item(
+            "TERM",
+            "When dumb, no progress bar is drawn (it is drawn on standard error only when that is a terminal).",
+        );
+    }
+    match tool {
+        "scene-render" => item(
+            "RAYON_NUM_THREADS",
+            "The number of worker threads when --threads is not given (default: one per core). The output does not depend on it.",
+        ),
+        "pat-from-image" => item(
+            "RAYON_NUM_THREADS",
+            "The number of worker threads of the palette search (default: one per core). The output does not depend on it.",
+        ),
+        _ => {}
+    }
+    s.push_str(".PP\nNo other variable changes what the tool does.\n");
+    s.push_str(".SH FILES\n");
+    let files = match tool {
+        "pat-from-image" => "Reads a picture (PNG, JPEG, GIF, BMP, TIFF, WebP, PNM) and, with --palette, a .pat file (pat(5)) or a list of colours; writes a .pat file (pat(5)) or with --stripe a modulation map (patkit-stripe(5)).",
+        "pat-info" => "Reads .pat files (pat(5)) and modulation maps (patkit-stripe(5)); with --record, a polygon stream (patkit-stream(5)) and the stripe files it names. --json prints the report of patkit-json(5).",
+        "pat-tile" => "Reads a .pat file (pat(5)); writes a PNG, PPM or PAM image, or with --pat a .pat file.",
+        "polyfill3" => "Reads a polygon stream (patkit-stream(5)), the pattern and stripe files its records name (relative to the stream's directory), --pattern (pat(5)) and --camera (patkit-camera(5)); writes a polygon stream and, with --depfile, a make rule. --json prints the summary of patkit-json(5).",
+        _ => "Reads a polygon stream (patkit-stream(5)), the pattern, image and stripe files its records name (pat(5), patkit-stripe(5); relative to the stream's directory), --camera (patkit-camera(5)), --background-pattern and --compare images; writes a PNG, PPM or PAM image (or frames, or an animated PNG) and, with --depfile, a make rule. --json prints the reports of patkit-json(5).",
+    };
+    s.push_str(&format!(".PP\n{files}\n"));
+    if tool != "pat-info" {
+        s.push_str(".PP\nAn output file is written to a temporary file .patkit-*.tmp in its directory and renamed into place when complete.\n");
+    }
+    let mut see: Vec<String> = commands()
+        .iter()
+        .map(|c| c.get_name().to_string())
+        .filter(|n| n != tool)
+        .map(|n| format!("{n}(1)"))
+        .collect();
+    see.extend(FORMAT_PAGES.map(|p| format!("{p}(5)")));
+    s.push_str(&format!(".SH \"SEE ALSO\"\n{}\n", see.join(", ")));
+    // In roff a bare `-` is a hyphen; flags and names need the minus.
+    s.replace('-', "\\-")
 }
 
 /// The shells completion scripts are made for, with where each script of

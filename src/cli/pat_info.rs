@@ -21,7 +21,7 @@ Examples:
   pat-info fixtures/patterns/brick.pat
   pat-info --preview fixtures/patterns/*.pat
   pat-info --check *.pat && echo all valid
-  pat-info --at 3,5 --json brick.pat | jq '.[0].texel'
+  pat-info --at 3,5 --json brick.pat | jq '.files[0].texel'
   pat-tile --pat --size 256x256 brick.pat | pat-info -
   pat-info fixtures/stripes/furrow.map
       A modulation map: its length and, per level of detail, min/max/mean.
@@ -47,7 +47,7 @@ pub struct Args {
     /// too): the numbers error messages give. For an object definition
     /// (drawn untransformed) or an instance, every polygon it draws that has
     /// a stripe is shown, as `record N, polygon K` (K from 0 in drawing
-    /// order), and --json prints an array of them.
+    /// order), each an element of --json's "records".
     #[arg(long, value_name = "N", conflicts_with_all = ["check", "at", "preview"])]
     pub record: Option<usize>,
 
@@ -56,7 +56,9 @@ pub struct Args {
     #[arg(long)]
     pub check: bool,
 
-    /// Print one JSON array with an object per file instead of text.
+    /// Print one JSON object instead of text: {"version": 1, "tool":
+    /// "pat-info", "files": [...]} with an object per file, or with --record
+    /// "records": [...] (docs/json.md).
     #[arg(long, conflicts_with = "check")]
     pub json: bool,
 
@@ -152,7 +154,10 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
     if args.json {
-        serde_json::to_writer_pretty(&mut stdout, &Value::Array(reports))?;
+        serde_json::to_writer_pretty(
+            &mut stdout,
+            &super::json_document("pat-info", "files", reports),
+        )?;
         writeln!(stdout)?;
     }
     stdout.flush()?;
@@ -267,13 +272,14 @@ fn json_report(name: &str, p: &Pattern, at: Option<(u32, u32, Option<u16>)>) -> 
         .zip(&counts)
         .enumerate()
         .map(|(i, (c, &n))| {
-            json!({"colour": i + 1, "rgb": c.0, "hex": c.hex(), "texels": n, "coverage": n as f64 / total as f64})
+            json!({"index": i + 1, "rgb": c.0, "hex": c.hex(), "texels": n, "coverage": n as f64 / total as f64})
         })
         .collect();
     let mut obj = json!({
         "file": name,
+        "kind": "pattern",
         "size": p.size(),
-        "colours": colors,
+        "colors": colors,
         "transparent": {"texels": transparent, "share": transparent as f64 / total as f64},
         "tiling": {"left_right": seam_json(&h), "bottom_top": seam_json(&v)},
     });
@@ -281,7 +287,7 @@ fn json_report(name: &str, p: &Pattern, at: Option<(u32, u32, Option<u16>)>) -> 
         obj["texel"] = match idx {
             Some(i) => {
                 let col = p.palette()[i as usize];
-                json!({"column": c, "row": r, "colour": i + 1, "rgb": col.0, "hex": col.hex()})
+                json!({"column": c, "row": r, "index": i + 1, "rgb": col.0, "hex": col.hex()})
             }
             None => json!({"column": c, "row": r, "transparent": true}),
         };
@@ -394,7 +400,8 @@ fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
             let mut stdout = std::io::stdout().lock();
             if as_json {
                 let o = record_json(name, n, &loaded, record.color);
-                serde_json::to_writer_pretty(&mut stdout, &o)?;
+                let doc = super::json_document("pat-info", "records", vec![o]);
+                serde_json::to_writer_pretty(&mut stdout, &doc)?;
                 writeln!(stdout)?;
             } else {
                 let title = format!("{label}: stripe texture");
@@ -443,7 +450,8 @@ fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
                 Value::Object(m)
             })
             .collect();
-        serde_json::to_writer_pretty(&mut stdout, &list)?;
+        let doc = super::json_document("pat-info", "records", list);
+        serde_json::to_writer_pretty(&mut stdout, &doc)?;
         writeln!(stdout)?;
     } else {
         for (_, label, loaded, colour) in &shown {
@@ -571,7 +579,7 @@ fn record_json(
         None => colour,
     };
     if let Some(rgb) = face {
-        o["colour"] = json!({"rgb": rgb.0, "hex": rgb.hex()});
+        o["color"] = json!({"rgb": rgb.0, "hex": rgb.hex()});
     }
     o
 }

@@ -1,5 +1,5 @@
 //! `polyfill3`: partition 3D polygons into texture point polygons (the thesis's
-//! `polcolorf3`, ch. IV, with SPEC §2 "object" placement).
+//! `polcolorf3`, ch. IV, with the "object" placement of docs/stream-format.md).
 
 use crate::cli::usage_bail;
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
@@ -37,7 +37,7 @@ Examples:
     name = "polyfill3",
     version,
     about = "Partition 3D polygons into flat-coloured texture point polygons",
-    long_about = "Reads a polygon stream (SPEC §2: a JSON array or NDJSON), and writes, for \
+    long_about = "Reads a polygon stream (patkit-stream(5): a JSON array or NDJSON), and writes, for \
 every polygon with a \"pattern\" in \"object\" mode, one flat-coloured polygon per \
 non-transparent texel cell it covers, in the polygon's plane and winding: the \
 thesis's polcolorf3. Each output record keeps the input's other fields, with \
@@ -58,7 +58,7 @@ Objects and instances (docs/objects.md) stay intact: an object definition is \
 written back with its records partitioned, once however many instances place \
 it (the thesis's Fig. 5.1), and instances pass through unchanged. --cull does \
 not apply inside objects.\n\n\
-Placement (SPEC §2): plane x along the edge vertex0->vertex1 rotated by \
+Placement (patkit-stream(5)): plane x along the edge vertex0->vertex1 rotated by \
 \"rotate\" degrees counter-clockwise, y 90 degrees counter-clockwise from it \
 seen from the front; texel column floor((x - xmin)/incr - horz) mod SIZE, row \
 floor((y - ymin)/incr - vert) mod SIZE. Concave polygons are supported; a \
@@ -71,12 +71,13 @@ coordinates at each vertex) and \"pattern\": {\"file\", \"mode\": \"uv\"}, \
 so that a renderer with per-vertex texture coordinates (OpenGL) draws the \
 same texture.\n\n\
 Files named by the records written (pattern \"file\"s; a stripe's \"map\", \
-\"colours\" and translation file), in objects too, are rewritten for a reader \
+\"colors\" and translation file), in objects too, are rewritten for a reader \
 in another directory: on standard output as absolute paths without . or .. \
 (the reader's directory is unknown), with -o FILE relative to FILE's \
 directory, so that the output and the files it names move together. \
 Everything else is copied as read.\n\n\
---json prints a summary (records, polygons, objects, instances, seconds) to standard error.",
+--json prints a summary (records, polygons, objects, instances, seconds) to standard error, \
+one JSON object described in docs/json.md.",
     after_help = EXAMPLES
 )]
 pub struct Args {
@@ -124,7 +125,7 @@ pub struct Args {
     /// world units (for "circle" and "arc" records).
     #[arg(long, default_value_t = DEFAULT_TOLERANCE)]
     pub tolerance: f64,
-    /// Camera JSON file (SPEC §3, docs/camera.md) for --cull.
+    /// Camera JSON file (patkit-camera(5)) for --cull.
     #[arg(long, value_name = "FILE")]
     pub camera: Option<String>,
     /// Drop polygons facing away from the --camera and cells wholly outside
@@ -137,7 +138,8 @@ pub struct Args {
     /// take texture coordinates. --cull drops whole polygons.
     #[arg(long, conflicts_with_all = ["merge", "compat"])]
     pub uv: bool,
-    /// Print a JSON summary to standard error.
+    /// Print a JSON summary to standard error: {"version": 1, "tool":
+    /// "polyfill3", ...} (docs/json.md).
     #[arg(long)]
     pub json: bool,
     /// Write the make rule of the output: every file the run read (the
@@ -250,6 +252,7 @@ pub fn run(args: Args) -> Result<()> {
         eprintln!(
             "{}",
             serde_json::json!({
+                "version": super::JSON_VERSION,
                 "tool": "polyfill3",
                 "input": source,
                 "records": s.records,

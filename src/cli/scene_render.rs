@@ -1,5 +1,5 @@
 //! `scene-render`: the polygon stream through a camera to an image, with exact
-//! anti-aliasing, the SPEC §4 reference image, and image comparison.
+//! anti-aliasing, the reference image (docs/rendering.md), and image comparison.
 
 use super::camera::CameraArgs;
 use super::Size;
@@ -47,7 +47,7 @@ Without a camera the view is ortho2(0, W, 0, H) for a WxH image: 2D records
 (rect, circle, arc) and [x,y] polygons map one world unit to one pixel, origin
 at the lower-left.";
 
-/// Render a polygon stream (SPEC §2) to PNG, PPM or PAM: homogeneous clipping,
+/// Render a polygon stream (patkit-stream(5)) to PNG, PPM or PAM: homogeneous clipping,
 /// depth buffering, and exact-area anti-aliasing in linear light.
 #[derive(Parser, Debug)]
 #[command(name = "scene-render", version, after_help = EXAMPLES)]
@@ -115,7 +115,8 @@ pub struct Args {
           value_parser = parse_max_error, allow_negative_numbers = true)]
     pub max_error: Option<f64>,
 
-    /// Render the SPEC §4 reference image instead (an independent, slower
+    /// Render the reference image instead (each pixel the exact average of the
+    /// scene over its square in linear light, by an independent, slower
     /// method: exact along lines, exact between events along y); its own error
     /// estimate is reported on standard error.
     #[arg(long, conflicts_with = "aa")]
@@ -141,7 +142,11 @@ pub struct Args {
     #[arg(long, value_name = "FILE", requires = "compare")]
     pub diff: Option<String>,
 
-    /// Print the --compare, --reference and --max-error reports as JSON.
+    /// Print the --compare, --reference and --max-error reports as one JSON
+    /// object, {"version": 1, "tool": "scene-render", ...}; with --frames or
+    /// --frame, the --max-error report of each frame in its "frames" array
+    /// (docs/json.md). It goes to standard output, or standard error when
+    /// the image does.
     #[arg(long)]
     pub json: bool,
 
@@ -574,7 +579,7 @@ fn finish(
     // Reports go to standard output unless the image does.
     let mut text = String::new();
     if args.json {
-        let mut obj = serde_json::Map::new();
+        let mut obj = super::json_head(TOOL);
         if let Some(m) = &metrics {
             obj.insert("compare".into(), serde_json::to_value(m)?);
         }
@@ -736,6 +741,10 @@ fn render_frames(
     let mut stream = (pattern == crate::io::STDIO && !args.animate)
         .then(|| crate::io::Output::create(pattern, true))
         .transpose()?;
+    // --json with --max-error: every frame's plan, printed as one document
+    // when all frames are written (a document per frame would not parse as
+    // one JSON value).
+    let mut frame_reports = Vec::new();
     let bar = args.progress.bar(TOOL);
     bar.phase("frames", frames.len() as u64);
     for k in frames {
@@ -748,7 +757,14 @@ fn render_frames(
         let t1 = std::time::Instant::now();
         let (img, plan) = scene::render(&polys, bg, view.width, view.height, resolve(args));
         if let Some(p) = plan {
-            eprintln!("{TOOL}: frame {k}: {}", p.report());
+            if args.json {
+                let mut o = serde_json::Map::new();
+                o.insert("frame".into(), k.into());
+                o.insert("max_error".into(), serde_json::to_value(&p)?);
+                frame_reports.push(serde_json::Value::Object(o));
+            } else {
+                eprintln!("{TOOL}: frame {k}: {}", p.report());
+            }
         }
         let t2 = std::time::Instant::now();
         if args.animate {
@@ -785,8 +801,23 @@ fn render_frames(
     if let Some(a) = apng {
         a.finish()?;
     }
+    let on_stdout = stream.is_some();
     if let Some(out) = stream {
         out.commit()?;
+    }
+    drop(bar);
+    if args.json {
+        let doc = super::json_document(TOOL, "frames", frame_reports);
+        let text = serde_json::to_string_pretty(&doc)? + "\n";
+        if on_stdout {
+            eprint!("{text}");
+        } else {
+            super::check_stdout()?;
+            let mut out = std::io::stdout().lock();
+            out.write_all(text.as_bytes())
+                .and_then(|()| out.flush())
+                .context("writing standard output")?;
+        }
     }
     Ok(())
 }

@@ -17,7 +17,7 @@ use crate::texture::skip::Skips;
 #[derive(clap::Args, Debug, Clone)]
 pub struct TextureArgs {
     /// What a pattern shows outside its bounds (texel columns and rows outside
-    /// 0..SIZE), XGL's boundary conditions: repeat (XGL wrap; SPEC §2 tiling),
+    /// 0..SIZE), XGL's boundary conditions: repeat (XGL wrap; the tiling of patkit-stream(5)),
     /// transparent (the polygon's own colour, as if untextured), clamp (the
     /// --boundary-color), mirror, edge (the closest boundary texel). A record's "pattern"
     /// key "boundary" overrides it.

@@ -56,7 +56,7 @@ use crate::math;
 use glam::DVec3;
 use std::f64::consts::PI;
 
-/// The geometry of a stream record (SPEC §2), in its own coordinates.
+/// The geometry of a stream record (docs/stream-format.md), in its own coordinates.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
     /// A planar polygon, counter-clockwise seen from its front. `[x,y]` means z = 0.

@@ -1,5 +1,5 @@
 //! Partition of a planar polygon into texture point polygons (the thesis's
-//! `polcolorf3`, Fig. 4.7, with SPEC §2 "object" placement).
+//! `polcolorf3`, Fig. 4.7, with docs/stream-format.md "object" placement).
 //!
 //! The thesis clips the whole polygon against the four lines of every cell of
 //! the bounding box (Fig. 4.5): O(V) per cell, convex polygons only, and its
@@ -28,14 +28,14 @@
 //!
 //! Concave polygons and repeated or collinear vertices need nothing special:
 //! clipping handles them, and the inside test of a run is even-odd.
-//! Self-intersecting polygons are outside the contract (SPEC §2 asks for
+//! Self-intersecting polygons are outside the contract (docs/stream-format.md asks for
 //! planar polygons; the result is then the clip of the signed regions).
 
 use super::clip::{clip_closed, clip_tagged, split_on_border, Axis, TVertex, Tag};
 use super::plane::{newell_normal, signed_area, PlanePolygon};
 use glam::{DVec2, DVec3};
 
-/// Pattern placement in a polygon's plane (SPEC §2): texel side and shifts.
+/// Pattern placement in a polygon's plane (docs/stream-format.md): texel side and shifts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Placement {
     /// Side of one texel in world units, > 0.
@@ -47,12 +47,12 @@ pub struct Placement {
 }
 
 /// The grid of texel cells laid over a polygon. Cell (k, j) spans
-/// `[gx(k), gx(k+1)] x [gy(j), gy(j+1)]`, where SPEC §2's u = k..k+1 and
+/// `[gx(k), gx(k+1)] x [gy(j), gy(j+1)]`, where docs/stream-format.md's u = k..k+1 and
 /// v = j..j+1; its texel is `(k mod SIZE, j mod SIZE)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Grid {
     /// The polygon's bounding box in plane coordinates (the origin of the
-    /// placement: SPEC §2 counts u from `xmin`, v from `ymin`).
+    /// placement: docs/stream-format.md counts u from `xmin`, v from `ymin`).
     pub xmin: f64,
     /// See [`Grid::xmin`].
     pub ymin: f64,
@@ -209,7 +209,7 @@ impl Grid {
         Ok(g)
     }
 
-    /// x of column line k: where SPEC §2's u equals k. Computed from the
+    /// x of column line k: where docs/stream-format.md's u equals k. Computed from the
     /// integer index every time, never accumulated.
     #[inline]
     pub fn gx(&self, k: i64) -> f64 {

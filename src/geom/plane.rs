@@ -1,4 +1,4 @@
-//! The plane of a 3D polygon and the 2D frame the pattern is laid in (SPEC §2,
+//! The plane of a 3D polygon and the 2D frame the pattern is laid in (docs/stream-format.md,
 //! "object" mode; the thesis's `map_to_xy_plane`, ch. IV.B).
 //!
 //! The thesis rotates the polygon into the x-y plane with Euler angles about y
@@ -14,7 +14,7 @@
 //! world origin: a polygon 1e7 away from the origin keeps its full precision in
 //! the plane. Only translation-invariant quantities (xmin, ymin, the grid)
 //! depend on plane coordinates, so the choice of origin does not move the
-//! pattern (SPEC §2 puts it at vertex 0; the offset cancels in `x - xmin`).
+//! pattern (docs/stream-format.md puts it at vertex 0; the offset cancels in `x - xmin`).
 
 use super::polygon::area2;
 use crate::math;

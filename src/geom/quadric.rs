@@ -2,7 +2,7 @@
 //! `gluQuadricTexture`) as triangles with texture coordinates.
 //!
 //! The GLU conventions, kept here (GLU 1.3, `GLU_OUTSIDE`, so every triangle
-//! runs counter-clockwise seen from outside, SPEC §2):
+//! runs counter-clockwise seen from outside, docs/stream-format.md):
 //!
 //! - **Sphere** of radius r about the z axis: `t` runs from 0 at z = -r to 1
 //!   at z = r, linearly along the meridians; `s` runs from 0 at the +y axis,

@@ -1,6 +1,6 @@
 //! Whether a polygon is simple, and if not, where it meets itself.
 //!
-//! SPEC §2's polygons are planar and simple (docs/rendering.md): the
+//! docs/stream-format.md's polygons are planar and simple (docs/rendering.md): the
 //! resolvers fill by nonzero winding, the exact one by triangles, polyfill3 by
 //! even-odd runs, and these only agree on simple polygons. A polygon is
 //! *simple* here when no edge meets another except its two neighbours, each at

@@ -1,10 +1,10 @@
-//! Colour quantization and dithering: an image becomes a `.pat` (SPEC §1).
+//! Colour quantization and dithering: an image becomes a `.pat` (docs/pat-format.md).
 //!
 //! The pipeline is resample → histogram → palette → remap, one file per idea:
 //!
 //! 1. `resample.rs`: [`resample_square`] (or [`crop_square`]) brings the image
 //!    to SIZE x SIZE. Filtering is done in linear light with premultiplied
-//!    alpha (SPEC §4): a box filter (exact area average) when shrinking, a
+//!    alpha (docs/rendering.md): a box filter (exact area average) when shrinking, a
 //!    separable Mitchell–Netravali filter when enlarging. The result is rounded
 //!    once to 8-bit sRGB: this "resampled image" ([`SquareImage`]) is what the
 //!    pattern is measured against.
@@ -35,7 +35,7 @@
 //! perceptually uniform (its curve approximates lightness), linear light is not:
 //! k-means in linear light spends most palette entries on highlights and crushes
 //! the shadows into one or two colours. OKLab would be more uniform still, but its
-//! nearest colour is not the nearest in the 8-bit sRGB error that SPEC §4 uses to
+//! nearest colour is not the nearest in the 8-bit sRGB error that docs/rendering.md uses to
 //! measure every image (RMSE/PSNR over sRGB codes); clustering in that space makes
 //! the k-means objective *be* the metric, so every Lloyd step provably lowers it.
 //! Exactly representable palette entries and exact round trips come with it.
@@ -114,7 +114,7 @@ impl Default for Options {
 }
 
 /// Quantizes a square image to a pattern. The pattern's row 0 is the image's
-/// bottom row (SPEC §1).
+/// bottom row (docs/pat-format.md).
 ///
 /// Fails only if the options break the `.pat` limits: a forced palette of
 /// more colours than a pattern holds.

@@ -1,4 +1,4 @@
-//! How good a pattern is: PSNR over 8-bit sRGB codes (SPEC §4), against the
+//! How good a pattern is: PSNR over 8-bit sRGB codes (docs/rendering.md), against the
 //! resampled image and over the coloured texels only. This is the error that
 //! the palette choice minimises (see the clustering space in
 //! [`crate::quantize`]).
@@ -11,7 +11,7 @@ use crate::pat::Pattern;
 const PEAK: f64 = 255.0;
 
 /// PSNR in dB of the pattern against the square image it came from, over the
-/// RGB of texels that are coloured in the pattern (SPEC §4: 8-bit sRGB).
+/// RGB of texels that are coloured in the pattern (docs/rendering.md: 8-bit sRGB).
 /// `None` if no texel is coloured; infinite for an exact match.
 pub fn psnr(pattern: &Pattern, img: &SquareImage) -> Option<f64> {
     let n = img.size;

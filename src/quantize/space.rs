@@ -1,7 +1,7 @@
 //! The clustering space, shared by palette choice and remapping: colours as
 //! their 8-bit sRGB codes (as floats), compared by squared Euclidean distance.
 //!
-//! That distance is the 8-bit sRGB error by which SPEC §4 measures every image,
+//! That distance is the 8-bit sRGB error by which docs/rendering.md measures every image,
 //! so minimising it is minimising the metric (the module doc of
 //! [`crate::quantize`] says why neither linear light nor OKLab is used).
 //! [`Nearest`] answers "which palette colour is nearest" for every k-means

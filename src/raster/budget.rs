@@ -1,7 +1,7 @@
 //! `--max-error`: the cheapest anti-aliasing that keeps a frame within an
 //! error budget, chosen per region of the image.
 //!
-//! The budget `E` is an RMSE in 8-bit sRGB units over R, G and B (SPEC §4,
+//! The budget `E` is an RMSE in 8-bit sRGB units over R, G and B (docs/rendering.md,
 //! [`super::compare`]). The exact resolver ([`super::coverage`]) is the most
 //! accurate method (it equals `--reference` on every benchmark scene), so it
 //! serves as the truth here and the plan is made in three steps:
@@ -82,7 +82,10 @@ pub enum Region {
 /// What [`render_within`] chose and why.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Plan {
-    /// The budget `E` (RMSE, 8-bit sRGB units).
+    /// The budget `E` (RMSE, 8-bit sRGB units). Serialized as `budget`:
+    /// the report itself is `scene-render --json`'s `max_error`, and a key
+    /// repeated inside it would read as a second meaning (docs/json.md).
+    #[serde(rename = "budget")]
     pub max_error: f64,
     /// Method of the non-pilot tiles of the flat region (`none`, `ss4`,
     /// `exact`).

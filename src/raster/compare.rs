@@ -1,4 +1,4 @@
-//! Image error against a reference (SPEC §4): RMSE in 8-bit sRGB units over
+//! Image error against a reference (docs/rendering.md): RMSE in 8-bit sRGB units over
 //! the R, G and B channels of every pixel, PSNR, the largest channel error, and
 //! the share of pixels with some channel off by more than [`OFF_THRESHOLD`].
 //! Alpha, if any, is ignored (both images are compared as opaque RGB).
@@ -58,7 +58,10 @@ pub struct Metrics {
     pub rmse: f64,
     /// `20 log10(255 / rmse)` in dB; `None` (JSON null) for identical images.
     pub psnr: Option<f64>,
-    /// Largest absolute channel difference.
+    /// Largest absolute channel difference. Serialized as `largest_error`:
+    /// `max_error` names `--max-error`'s report in `scene-render --json`,
+    /// and one key should mean one thing (docs/json.md).
+    #[serde(rename = "largest_error")]
     pub max_error: u8,
     /// Share (0..=1) of pixels with a channel off by more than [`OFF_THRESHOLD`].
     pub share_off: f64,

@@ -17,8 +17,8 @@
 //!    [`scan`] (point sampling, `--aa none` and `--aa ss<N>`, watertight on exact
 //!    integer edge functions), [`coverage`] (`--aa exact`: the exact area of every
 //!    visible polygon in every pixel; its tile's geometry in [`gather`], the
-//!    visibility within a pixel in `visible`), [`reference`](mod@reference) (`--reference`: the SPEC §4
-//!    reference by an independent method, with its own error estimate).
+//!    visibility within a pixel in `visible`), [`reference`](mod@reference) (`--reference`: the
+//!    reference (docs/rendering.md) by an independent method, with its own error estimate).
 //!    [`budget`] picks among them per region for an error budget.
 //! 4. [`Frame::to_image`] encodes linear light to sRGB once, rounding
 //!    ([`Background`] is what lies behind every polygon).

@@ -17,7 +17,7 @@ use crate::view::{clip, View};
 use glam::{DVec2, DVec3, DVec4};
 use std::sync::Arc;
 
-/// Which faces to drop (SPEC §2: vertices counter-clockwise seen from the front).
+/// Which faces to drop (docs/stream-format.md: vertices counter-clockwise seen from the front).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Cull {
@@ -37,11 +37,11 @@ pub enum Shader {
     /// `color` everywhere.
     #[default]
     Flat,
-    /// A screen-mode pattern (SPEC §2, the IRIS `setpattern`) that replaces
+    /// A screen-mode pattern (docs/stream-format.md, the IRIS `setpattern`) that replaces
     /// `color`: pixel (x, y) from the lower-left shows texel (x mod SIZE,
     /// y mod SIZE), and the polygon is absent where that texel is transparent.
     Screen(Arc<Texels>),
-    /// A pattern in "object" or "uv" placement (SPEC §2), sampled per pixel
+    /// A pattern in "object" or "uv" placement (docs/stream-format.md), sampled per pixel
     /// through its screen → texel map (`crate::texture`). Each resolver
     /// integrates it exactly over texel cells; transparent texels leave the
     /// polygon absent there.

@@ -1,4 +1,4 @@
-//! The reference image (SPEC §4) by a path independent of [`super::scan`] and
+//! The reference image (docs/rendering.md) by a path independent of [`super::scan`] and
 //! [`super::coverage`]: exact in x, and exact in y by integrating between events.
 //!
 //! A pixel is integrated over horizontal lines. On each line the visible

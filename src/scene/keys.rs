@@ -9,12 +9,27 @@ use crate::stream::{Fields, PATTERN_KEYS};
 use serde_json::Value;
 use std::collections::HashSet;
 
-/// The objects whose keys are checked, and their known keys (two lists for
-/// "pattern", one for "stripe"): static, so a record whose keys are all
-/// known costs a few string comparisons and no allocation.
-const CHECKED: [(&str, [&[&str]; 2]); 2] = [
-    ("pattern", [&PATTERN_KEYS, &crate::texture::state::KEYS]),
-    ("stripe", [&crate::stripe::record::KEYS, &[]]),
+/// The objects whose keys are checked, their known keys (two lists for
+/// "pattern", one for "stripe") and the keys still read under an old
+/// spelling, as `(old, new)`, which warn naming the new one instead of as
+/// unknown: static, so a record whose keys are all known costs a few string
+/// comparisons and no allocation.
+type Checked = (
+    &'static str,
+    [&'static [&'static str]; 2],
+    &'static [(&'static str, &'static str)],
+);
+const CHECKED: [Checked; 2] = [
+    (
+        "pattern",
+        [&PATTERN_KEYS, &crate::texture::state::KEYS],
+        &[],
+    ),
+    (
+        "stripe",
+        [&crate::stripe::record::KEYS, &[]],
+        &crate::stripe::record::OLD_KEYS,
+    ),
 ];
 
 /// The keys already warned about in this run, per checked object.
@@ -28,12 +43,24 @@ impl UnknownKeys {
     /// `"stripe"` not warned about before, in the form `record N: unknown key
     /// "boundry" in "pattern" (known: file, mode, ...)`.
     pub fn check(&mut self, index: usize, fields: &Fields, mut warn: impl FnMut(String)) {
-        for ((object, known), seen) in CHECKED.iter().zip(&mut self.seen) {
+        for ((object, known, renamed), seen) in CHECKED.iter().zip(&mut self.seen) {
             let Some(Value::Object(obj)) = fields.get(object) else {
                 continue;
             };
             for k in obj.keys() {
                 if known.iter().any(|list| list.contains(&k.as_str())) {
+                    continue;
+                }
+                if let Some((_, new)) = renamed.iter().find(|(old, _)| old == k) {
+                    if !seen.contains(k.as_str()) {
+                        seen.insert(k.clone());
+                        warn(format!(
+                            "record {index}: {} in \"{object}\" is the old spelling of {}: it is read, but write {}",
+                            Value::String(k.clone()),
+                            Value::String((*new).into()),
+                            Value::String((*new).into()),
+                        ));
+                    }
                     continue;
                 }
                 // Looked up before inserting: a stray key on every record
@@ -82,5 +109,21 @@ mod tests {
             r#"record 0: unknown key "boundry" in "pattern" (known: file, mode, incr, rotate, horz, vert, filter,"#
         ));
         assert!(said[1].starts_with(r#"record 7: unknown key "boundry" in "stripe" (known: map,"#));
+    }
+
+    #[test]
+    fn an_old_spelling_warns_once_naming_the_new_one() {
+        let mut keys = UnknownKeys::default();
+        let mut said = Vec::new();
+        let rec = fields(r#"{"stripe": {"map": "m", "colours": "t.ct"}}"#);
+        for i in 0..3 {
+            keys.check(i, &rec, |w| said.push(w));
+        }
+        assert_eq!(
+            said,
+            [
+                r#"record 0: "colours" in "stripe" is the old spelling of "colors": it is read, but write "colors""#
+            ]
+        );
     }
 }

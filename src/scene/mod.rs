@@ -70,7 +70,7 @@ use std::sync::Arc;
 pub enum TextureSource {
     /// The record's `"color"` alone.
     Flat,
-    /// A screen-mode pattern (SPEC §2, the IRIS `setpattern`): pixel (x, y)
+    /// A screen-mode pattern (docs/stream-format.md, the IRIS `setpattern`): pixel (x, y)
     /// shows texel (x mod SIZE, y mod SIZE).
     Screen(Arc<Texels>),
     /// An "object" or "uv" pattern, placed through its screen → texel map

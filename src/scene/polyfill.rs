@@ -1,5 +1,5 @@
 //! The partition job of `polyfill3` (the thesis's `polcolorf3`, ch. IV, with
-//! SPEC §2 "object" placement): a stream's patterned polygons cut into texture
+//! docs/stream-format.md "object" placement): a stream's patterned polygons cut into texture
 //! point polygons, one per texel cell, written as NDJSON records by
 //! [`CellWriter`]. Objects stay objects (a face is partitioned once and
 //! placed by its instances, Fig. 5.1); records without an object-mode pattern
@@ -358,7 +358,7 @@ impl<W: Write> Job<'_, W> {
         Ok(())
     }
 
-    /// [`PartitionOptions::uv`]: writes the record whole, its SPEC §2 object placement turned
+    /// [`PartitionOptions::uv`]: writes the record whole, its docs/stream-format.md object placement turned
     /// into per-vertex texel coordinates by the same [`object_uv`] that
     /// `scene-render` uses for direct texturing, so both draw the same texture
     /// (texture coordinates are affine over a planar polygon, so the vertex
@@ -402,7 +402,7 @@ impl<W: Write> Job<'_, W> {
     /// "uv" field set and the pattern put in "uv" mode (its object placement
     /// fields dropped: they no longer apply), or, for a record without a
     /// "pattern" (one that takes [`PartitionOptions::pattern`]), added.
-    /// Other fields, in the pattern too, are kept (SPEC §2).
+    /// Other fields, in the pattern too, are kept (docs/stream-format.md).
     fn whole(
         &self,
         rec: &Record,

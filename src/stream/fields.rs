@@ -1,7 +1,7 @@
 //! A record's JSON object as the tools keep it ([`Fields`]): the fields they
 //! read are parsed ([`Field::Value`]), every other field is kept as the text
 //! it was written in ([`Field::Raw`], serde_json's `RawValue`), so that a tool
-//! forwarding records passes unknown fields through unchanged (SPEC §2) — an
+//! forwarding records passes unknown fields through unchanged (docs/stream-format.md) — an
 //! `"id"` of `123456789012345678901234567890` stays that, where a parsed
 //! number would come out as `1.2345678901234568e+29`.
 //!

@@ -1,4 +1,4 @@
-//! The polygon stream (SPEC §2): one JSON array of records, or NDJSON.
+//! The polygon stream (docs/stream-format.md): one JSON array of records, or NDJSON.
 //!
 //! Records are read one at a time whichever form the input takes, so memory does
 //! not grow with the number of records. Every record keeps its full JSON object

@@ -1,4 +1,4 @@
-//! Where the files a record names are found (SPEC §2): relative to the
+//! Where the files a record names are found (docs/stream-format.md): relative to the
 //! stream's own file, so that a scene and its patterns move together. Apart
 //! from the reader because the tools resolve paths long after reading.
 //!
@@ -12,7 +12,7 @@ use super::fields::Fields;
 use serde_json::Value;
 use std::path::{Component, Path, PathBuf};
 
-/// Where relative pattern paths resolve (SPEC §2): the stream file's directory,
+/// Where relative pattern paths resolve (docs/stream-format.md): the stream file's directory,
 /// or the current directory for standard input.
 pub fn base_dir(input_name: &str) -> PathBuf {
     if input_name == crate::io::STDIO {
@@ -122,9 +122,11 @@ fn relative(file: &Path, dir: &Path) -> PathBuf {
 /// The file names of a record, as `(object, key)` pairs: a pattern's file,
 /// a stripe texture's map, colour table and translation file (a translation
 /// given as a string other than `"identity"`, docs/stripe.md).
-const FILE_REFS: [(&str, &str); 4] = [
+const FILE_REFS: [(&str, &str); 5] = [
     ("pattern", "file"),
     ("stripe", "map"),
+    ("stripe", "colors"),
+    // The old spelling, still read (crate::stripe::record::OLD_KEYS).
     ("stripe", "colours"),
     ("stripe", "translation"),
 ];

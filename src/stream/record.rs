@@ -1,4 +1,4 @@
-//! One record of the stream (SPEC §2): its typed view ([`Record`]) and the
+//! One record of the stream (docs/stream-format.md): its typed view ([`Record`]) and the
 //! parsers of its fields (geometry, colour, pattern, texture coordinates,
 //! quadric parameters). Kept apart from the reader so that the rules of what
 //! a record may hold, and the wording of every field error, live in one place
@@ -12,7 +12,7 @@ use crate::geom::Shape;
 use glam::DVec3;
 use serde_json::Value;
 
-/// How a pattern is fixed to a polygon (SPEC §2).
+/// How a pattern is fixed to a polygon (docs/stream-format.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum PatternMode {

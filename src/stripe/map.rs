@@ -22,7 +22,7 @@
 //! LOD is reached whereby there is only one entry." Level `k` therefore has
 //! `N / 2^k` entries, `L = log2 N` is the last level, and entry `i` of level `k`
 //! covers level-0 samples `i 2^k .. (i+1) 2^k`: it is their box average, taken
-//! in linear light (SPEC §4), as the average of two entries of level `k - 1`.
+//! in linear light (docs/rendering.md), as the average of two entries of level `k - 1`.
 //!
 //! "Similarly, the amplitude range of the waveform decreases with LOD. The
 //! purpose is to reduce the noticeable contrast as range increases." The seed
@@ -36,7 +36,7 @@
 //! i.e. each level keeps `(L - k) / (L - k + 1)` of the contrast the previous
 //! level had after box averaging (for `N = 1024`: 9/10, 8/9, ..., 1/2, 0). The
 //! fade `none` keeps the plain box averages, which is what the box-filtered
-//! reference (SPEC §4) implies; the fade is a deliberate departure from it, so
+//! reference (docs/rendering.md) implies; the fade is a deliberate departure from it, so
 //! benchmarks report both.
 
 use crate::color::{linear_to_srgb_f64, srgb_to_linear_f64};

@@ -36,7 +36,7 @@
 //! **`P(x, y) = (C1 x + C2 y + C3) / (C4 x + C5 y + C6)`** with
 //! `C1 = u·Kx, C2 = u·Ky, C3 = u·K0, C4 = Kx_w, C5 = Ky_w, C6 = K0_w`.
 //!
-//! This holds for every camera of SPEC §3 (off-axis and oblique too); for a
+//! This holds for every camera of docs/camera.md (off-axis and oblique too); for a
 //! parallel projection `C4 = C5 = 0` and `P` is affine in the screen position.
 //! The computation is done with the origin moved to `Q`, so large world
 //! coordinates do not cancel.

@@ -12,7 +12,7 @@
 //! colour, which comes from a **colour-code table** ([`tables`]). Records carry
 //! all of this in a `"stripe"` object ([`record`]; schema in `docs/stripe.md`).
 //!
-//! # Colour (SPEC §4)
+//! # Colour (docs/rendering.md)
 //!
 //! Map values, translated values and face colours are 8-bit sRGB. The
 //! modulation is a multiplication in linear light: a modulated channel is

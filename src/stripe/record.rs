@@ -34,8 +34,14 @@ pub const KEYS: [&str; 11] = [
     "translation",
     "select",
     "code",
-    "colours",
+    "colors",
 ];
+
+/// Keys of a `"stripe"` object read under an old spelling, as `(old, new)`:
+/// `"colours"` was the table's key until issue 18 gave every key the
+/// stream's one spelling, `color`. Still read, with a warning
+/// ([`crate::scene::keys`]), so that streams written before keep working.
+pub const OLD_KEYS: [(&str, &str); 1] = [("colours", "colors")];
 
 /// Why a record's stripe texture cannot be used. Errors of the `"stripe"`
 /// object name its field (`stripe.spacing: ...`), errors of its files the
@@ -105,7 +111,8 @@ pub struct StripeSpec {
     /// Face colour code into the colour-code table; without it the record's
     /// `"color"` is the face colour.
     pub code: Option<u8>,
-    /// A colour-code table file replacing entries of the default table.
+    /// A colour-code table file replacing entries of the default table
+    /// (`"colors"`, or the old `"colours"`).
     pub colours: Option<String>,
 }
 
@@ -144,7 +151,8 @@ impl StripeSpec {
         let obj = v
             .as_object()
             .ok_or_else(|| format!("stripe: expected an object, found {v}"))?;
-        if let Some(k) = obj.keys().find(|k| !KEYS.contains(&k.as_str())) {
+        let known = |k: &str| KEYS.contains(&k) || OLD_KEYS.iter().any(|(old, _)| *old == k);
+        if let Some(k) = obj.keys().find(|k| !known(k)) {
             return Err(format!(
                 "stripe.{k}: unknown key: expected one of {}",
                 KEYS.join(", ")
@@ -226,8 +234,16 @@ impl StripeSpec {
                     format!("stripe.code: expected a colour code 0..=255, found {v}")
                 })? as u8),
             };
-        let colours =
-            string(obj, "colours", "the path of a colour-code table")?.map(str::to_string);
+        let what = "the path of a colour-code table";
+        let colours = match (string(obj, "colors", what)?, string(obj, "colours", what)?) {
+            (Some(_), Some(_)) => {
+                return Err(
+                    "stripe.colours: the old spelling of stripe.colors, given beside it: keep \"colors\""
+                        .into(),
+                )
+            }
+            (new, old) => new.or(old).map(str::to_string),
+        };
         Ok(StripeSpec {
             map,
             vector,
@@ -464,10 +480,20 @@ mod tests {
     }
 
     #[test]
+    fn the_old_colours_spelling_is_read_and_not_beside_colors() {
+        let old = spec(json!({"map": "m.map", "spacing": 1, "yaw": 0, "colours": "c.ct"})).unwrap();
+        assert_eq!(old.colours.as_deref(), Some("c.ct"));
+        let both = spec(
+            json!({"map": "m.map", "spacing": 1, "yaw": 0, "colours": "c.ct", "colors": "d.ct"}),
+        );
+        assert!(both.unwrap_err().contains("keep \"colors\""));
+    }
+
+    #[test]
     fn a_full_record_parses() {
         let s = spec(
             json!({"map": "furrow.map", "spacing": 0.5, "phase": 12, "yaw": 30, "pitch": -10,
-            "translation": {"contrast": 1.5}, "select": "g", "code": 20, "colours": "c.ct"}),
+            "translation": {"contrast": 1.5}, "select": "g", "code": 20, "colors": "c.ct"}),
         )
         .unwrap();
         assert_eq!(s.map, "furrow.map");
@@ -525,6 +551,7 @@ mod tests {
         );
         assert!(with("plane", json!("zx")).contains("not both"));
         assert!(with("spaceing", json!(1)).contains("stripe.spaceing: unknown key"));
+        assert!(with("colours", json!(7)).contains("stripe.colours: expected the path"));
         assert!(spec(json!({"map": "m", "spacing": 1}))
             .unwrap_err()
             .contains("missing orientation"));

@@ -15,7 +15,7 @@
 //! # Orientation and world axes
 //!
 //! The seed's data base is East/North/vertical; this toolchain's world is
-//! right-handed with y up (SPEC §3). They are matched as **East = +x, Up = +y,
+//! right-handed with y up (docs/camera.md). They are matched as **East = +x, Up = +y,
 //! North = −z** (so South is +z, the right-handed completion).
 //!
 //! * Yaw and pitch (the examine/modify commands `PVA pn,st,sp,ya,pi`; routines

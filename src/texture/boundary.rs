@@ -7,7 +7,7 @@
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Boundary {
-    /// `XGL_TEXTURE_BOUNDARY_WRAP`: the pattern repeats (SPEC §2's tiling;
+    /// `XGL_TEXTURE_BOUNDARY_WRAP`: the pattern repeats (the tiling of patkit-stream(5);
     /// OpenGL's `GL_REPEAT`).
     #[default]
     Repeat,

@@ -2,7 +2,7 @@
 //! texel cells.
 //!
 //! A pattern is piecewise constant over texel squares in the polygon's plane
-//! (SPEC §2; the thesis's texture point polygons). The box-filtered pixel is
+//! (docs/stream-format.md; the thesis's texture point polygons). The box-filtered pixel is
 //! therefore the sum, over the cells the pixel's visible part overlaps, of
 //! the cell's colour times the exact area of (fragment ∩ cell) on the screen:
 //! what `polyfill3 | scene-render --aa exact` draws, without writing one

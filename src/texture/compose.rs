@@ -14,7 +14,7 @@ use crate::error::OptionError;
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Compose {
     /// `XGL_TEXTURE_OP_REPLACE`: the texel replaces the polygon's colour
-    /// (SPEC §2; transparent texels show what is behind).
+    /// (patkit-stream(5); transparent texels show what is behind).
     #[default]
     Replace,
     /// `XGL_TEXTURE_OP_MODULATE`: texel times the polygon's colour.

@@ -1,5 +1,5 @@
 //! Where a pattern lies on a projected polygon: the map from screen pixels to
-//! texel coordinates (u, v), for the "object" and "uv" placements of SPEC §2.
+//! texel coordinates (u, v), for the "object" and "uv" placements of docs/stream-format.md.
 //!
 //! Texture coordinates are affine over a planar polygon in world space, and a
 //! perspective projection makes `u/w`, `v/w` and `1/w` affine over the screen
@@ -188,7 +188,7 @@ impl std::fmt::Display for ObjectUvError {
 
 impl std::error::Error for ObjectUvError {}
 
-/// SPEC §2 object placement, computed by `polyfill3`'s own functions: the
+/// docs/stream-format.md object placement, computed by `polyfill3`'s own functions: the
 /// plane frame of [`map_to_plane`] and the grid of [`Grid::new`], so that
 /// `u = (x - xmin)/incr - horz`, `v = (y - ymin)/incr - vert` at each vertex.
 /// The texel cell (k, j) then spans exactly `polyfill3`'s cell (k, j), from

@@ -2,7 +2,7 @@
 //!
 //! - Screen mode (this file): the IRIS hardware pattern (`defpattern`/
 //!   `setpattern`, and `colorclear`): pixel (px, py), counted from the
-//!   LOWER-left of the image, takes texel (px mod SIZE, py mod SIZE) (SPEC §2).
+//!   LOWER-left of the image, takes texel (px mod SIZE, py mod SIZE) (docs/stream-format.md).
 //! - [`map`]: where a pattern lies on a projected polygon in "object" and
 //!   "uv" placement (the screen → texel projective map).
 //! - [`cells`]: the exact box filter, a fragment cut into its texel cells.
@@ -43,7 +43,7 @@ pub struct PolyTexture {
     pub texels: Arc<Texels>,
     /// Screen (pixels, y up) → texel coordinates of this polygon.
     pub map: map::TexMap,
-    /// What lies outside the pattern's bounds (default: repeat, SPEC §2).
+    /// What lies outside the pattern's bounds (default: repeat, docs/stream-format.md).
     pub bounds: boundary::Bounds,
     /// The polygon's own colour, linear (XGL's intrinsic colour): shown
     /// outside the bounds under [`boundary::Boundary::Transparent`].

@@ -1,4 +1,4 @@
-//! Placing a record's "object" or "uv" pattern (SPEC §2) on its projected
+//! Placing a record's "object" or "uv" pattern (docs/stream-format.md) on its projected
 //! polygon: the texel coordinates of its vertices, then the screen → texel
 //! map, so that the pattern is sampled per pixel instead of being exploded
 //! into texel polygons by `polyfill3` first.
@@ -31,7 +31,7 @@ pub const DEFAULT_PLACEMENT: Placement = Placement {
 /// How placed patterns are applied (`scene-render`'s texture flags).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TextureSettings {
-    /// XGL's boundary conditions per axis. Default value: repeat (SPEC §2).
+    /// XGL's boundary conditions per axis. Default value: repeat (docs/stream-format.md).
     pub bounds: Bounds,
     /// The constant colour of [`Boundary::Clamp`]. Default value: black.
     pub boundary_color: Rgb8,

@@ -127,7 +127,7 @@ impl OpaqueRuns {
 
     /// The inclusive spans of tiled columns `k` in `k_lo..=k_hi` whose texel
     /// in pattern row `r` is opaque, ascending, when the pattern repeats
-    /// along u (column `k mod width`, SPEC §2).
+    /// along u (column `k mod width`, docs/stream-format.md).
     pub fn spans(&self, r: u32, k_lo: i64, k_hi: i64) -> impl Iterator<Item = (i64, i64)> + '_ {
         let s = self.width as i64;
         let row = self.row(r);

@@ -122,7 +122,7 @@ pub enum LoadError {
 }
 
 impl Texels {
-    /// The texels of `p` (SPEC §1: row 0 at the bottom), each an sRGB
+    /// The texels of `p` (docs/pat-format.md: row 0 at the bottom), each an sRGB
     /// colour or transparent.
     pub fn new(p: &Pattern) -> Texels {
         let size = p.size();
@@ -139,7 +139,7 @@ impl Texels {
     }
 
     /// Reads a texture file: an image (any format the `image` crate reads,
-    /// told by its content, not its name) or else a `.pat` (SPEC §1).
+    /// told by its content, not its name) or else a `.pat` (docs/pat-format.md).
     /// Errors name the file; an image of more than [`MAX_TEXELS`] pixels is
     /// refused before it is decoded.
     pub fn read_file(path: &Path) -> Result<Texels, LoadError> {
@@ -328,7 +328,7 @@ impl Texels {
     }
 
     /// Linear colour of pixel (x, y) counted from the lower-left in screen
-    /// mode (column `x mod width`, row `y mod height`, SPEC §2), shown over
+    /// mode (column `x mod width`, row `y mod height`, docs/stream-format.md), shown over
     /// `under`; `None` where transparent.
     #[inline]
     pub fn at_over(&self, x: u32, y: u32, under: [f64; 3]) -> Option<[f64; 3]> {
@@ -336,7 +336,7 @@ impl Texels {
     }
 
     /// Linear colour of texel cell (k, j) of the infinite tiling: column
-    /// `k mod width`, row `j mod height` (SPEC §2), over `under`; `None` is
+    /// `k mod width`, row `j mod height` (docs/stream-format.md), over `under`; `None` is
     /// transparent.
     #[inline]
     pub fn texel(&self, k: i64, j: i64, under: [f64; 3]) -> Option<[f64; 3]> {

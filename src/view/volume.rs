@@ -4,7 +4,7 @@
 //!
 //! Written against the two matrices of a camera (world→eye looking down -z,
 //! eye→clip) and its near/far distances, so it does not depend on how the
-//! camera was specified (SPEC §3 has two models). Unlike [`super::View`] it
+//! camera was specified (docs/camera.md has two models). Unlike [`super::View`] it
 //! needs no image: it decides in world space.
 
 use crate::camera::Camera;

@@ -356,6 +356,10 @@ macro_rules! documented {
 documented! {
     readme: markdown_commands("README.md");
     docs_camera: markdown_commands("docs/camera.md");
+    docs_json: markdown_commands("docs/json.md");
+    docs_pat_format: markdown_commands("docs/pat-format.md");
+    docs_stream_format: markdown_commands("docs/stream-format.md");
+    docs_stripe_files: markdown_commands("docs/stripe-files.md");
     docs_objects: markdown_commands("docs/objects.md");
     docs_stripe: markdown_commands("docs/stripe.md");
     help_pat_from_image: help_commands("pat-from-image");

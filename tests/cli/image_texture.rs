@@ -279,7 +279,7 @@ clitest!(
             .args(["--image", "exact.png", "--compare", "ref.png", "--json"])
             .ok_stdout();
         let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
-        assert!(v["compare"]["max_error"].as_u64().unwrap() <= 1, "{v}");
+        assert!(v["compare"]["largest_error"].as_u64().unwrap() <= 1, "{v}");
         // Not a flat colour: the photograph shows.
         let img = image::open(dir.path().join("exact.png"))
             .unwrap()

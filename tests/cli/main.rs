@@ -8,6 +8,7 @@ mod documented;
 mod faults;
 mod host;
 mod image_texture;
+mod json;
 mod make;
 mod man_pages;
 mod pat_from_image;

@@ -184,6 +184,15 @@ clitest!(
                 String::from_utf8_lossy(&complete.stderr)
             );
         }
+        // The file formats' section-5 pages, which every SEE ALSO names.
+        for page in patkit::cli::FORMAT_PAGES {
+            let man = std::fs::read_to_string(prefix.join(format!("share/man/man5/{page}.5")))
+                .unwrap_or_else(|e| panic!("{page}.5: {e}"));
+            assert!(
+                man.starts_with(&format!(".TH {} 5", page.to_uppercase())),
+                "{page}.5"
+            );
+        }
         run("uninstall");
         let left: Vec<_> = walk(&prefix).into_iter().filter(|p| p.is_file()).collect();
         assert!(left.is_empty(), "left after uninstall: {left:?}");

@@ -16,7 +16,7 @@ clitest!(text_report_counts_colours_and_transparency, |dir| {
     assert!(text.contains("left/right seamless"), "{text}");
 });
 
-clitest!(json_report_is_one_array_for_scripts, |dir| {
+clitest!(json_report_is_one_versioned_object_for_scripts, |dir| {
     dir.write("c.pat", checker16());
     let out = dir
         .cmd("pat-info")
@@ -24,12 +24,18 @@ clitest!(json_report_is_one_array_for_scripts, |dir| {
         .write_stdin(checker16())
         .assert()
         .success();
-    let v: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).unwrap();
+    let doc: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).unwrap();
+    assert_eq!(
+        (&doc["version"], &doc["tool"]),
+        (&1.into(), &"pat-info".into())
+    );
+    let v = &doc["files"];
     assert_eq!(v.as_array().unwrap().len(), 2);
+    assert_eq!(v[0]["kind"], "pattern");
     assert_eq!(v[0]["size"], 16);
     assert_eq!(v[0]["transparent"]["texels"], 1);
-    assert_eq!(v[0]["colours"][1]["hex"], "#0000ff");
-    assert_eq!(v[0]["texel"]["colour"], 2);
+    assert_eq!(v[0]["colors"][1]["hex"], "#0000ff");
+    assert_eq!(v[0]["texel"]["index"], 2);
     assert_eq!(v[1]["file"], "<stdin>");
     assert_eq!(v[0]["tiling"]["left_right"]["seamless"], true);
 });

@@ -346,6 +346,7 @@ fn json_summary_rotation_and_compat_shifts() {
         .success();
     let o = out.get_output();
     let summary: Value = serde_json::from_slice(&o.stderr).unwrap();
+    assert_eq!(summary["version"], 1);
     assert_eq!(summary["records"], 2);
     assert_eq!(summary["passed_through"], 1);
     assert_eq!(summary["partitioned"], 1);
@@ -676,14 +677,16 @@ clitest!(readme_pattern_example_cuts_plain_faces, |dir| {
     assert!(recs.iter().all(|r| r.get("texel").is_some()));
 });
 
-/// Every `"file"`, `"map"` and `"colours"` of a stream (recursively: object
+/// Every `"file"`, `"map"` and `"colors"` (or the old `"colours"`) of a stream (recursively: object
 /// definitions hold records).
 fn file_refs(v: &Value, out: &mut Vec<String>) {
     match v {
         Value::Object(m) => {
             for (k, x) in m {
                 match (k.as_str(), x) {
-                    ("file" | "map" | "colours", Value::String(s)) => out.push(s.clone()),
+                    ("file" | "map" | "colors" | "colours", Value::String(s)) => {
+                        out.push(s.clone())
+                    }
                     _ => file_refs(x, out),
                 }
             }

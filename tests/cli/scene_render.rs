@@ -71,7 +71,7 @@ clitest!(exact_matches_the_reference_and_compare_reports, |dir| {
         .assert()
         .success();
     let v: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).unwrap();
-    assert!(v["compare"]["max_error"].as_u64().unwrap() <= 1, "{v}");
+    assert!(v["compare"]["largest_error"].as_u64().unwrap() <= 1, "{v}");
     // Point sampling is measurably worse, and the diff image is written.
     dir.cmd("scene-render")
         .args([
@@ -757,6 +757,7 @@ clitest!(max_error_keeps_the_achieved_rmse_within_the_budget, |dir| {
             .success();
         let v: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).unwrap();
         let plan = &v["max_error"];
+        assert_eq!(plan["budget"].as_f64().unwrap(), e.parse::<f64>().unwrap());
         assert!(
             plan["estimate"].as_f64().unwrap() <= e.parse::<f64>().unwrap(),
             "{v}"

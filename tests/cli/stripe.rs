@@ -36,6 +36,7 @@ clitest!(pat_info_json_mixes_maps_and_patterns, |dir| {
         .assert()
         .success();
     let v: Value = serde_json::from_slice(&out.get_output().stdout).unwrap();
+    let v = &v["files"];
     assert_eq!(v[0]["kind"], "modulation map");
     assert_eq!(v[0]["length"], 8);
     assert_eq!(v[0]["levels"].as_array().unwrap().len(), 4);
@@ -139,6 +140,9 @@ clitest!(pat_info_record_prints_the_seeds_terms, |dir| {
         .assert()
         .success();
     let v: Value = serde_json::from_slice(&out.get_output().stdout).unwrap();
+    let records = v["records"].as_array().unwrap();
+    assert_eq!(records.len(), 1, "{v}");
+    let v = &records[0];
     assert_eq!(v["plane"], "yz");
     assert_eq!(v["theta"], 30.0);
     assert_eq!(v["select"], "rb");
@@ -146,7 +150,7 @@ clitest!(pat_info_record_prints_the_seeds_terms, |dir| {
     // yz, theta 30: 30 degrees from Up towards North: yaw 90, pitch 60.
     assert!((v["yaw"].as_f64().unwrap() - 90.0).abs() < 1e-9, "{v}");
     assert!((v["pitch"].as_f64().unwrap() - 60.0).abs() < 1e-9, "{v}");
-    assert_eq!(v["colour"]["hex"], "#c8c8c8");
+    assert_eq!(v["color"]["hex"], "#c8c8c8");
 });
 
 clitest!(pat_info_record_errors_name_the_record_and_field, |dir| {
@@ -335,7 +339,7 @@ clitest!(
 clitest!(pat_info_record_lists_the_polygons_an_object_draws, |dir| {
     // An instance draws its object's polygons, all record N in errors;
     // `--record N` tells them apart as polygon 0, 1, ... in drawing order
-    // and shows those with a stripe. --json gives an array for them.
+    // and shows those with a stripe. --json lists them in "records".
     dir.write("m.map", MAP8);
     let plain = r#"{"vertices": [[0,0],[1,0],[0,1]], "color": [1,2,3]}"#;
     dir.write(
@@ -351,7 +355,7 @@ clitest!(pat_info_record_lists_the_polygons_an_object_draws, |dir| {
         .args(["--record", "2", "--json", "u.json"])
         .ok_stdout();
     let v: Value = serde_json::from_slice(&out).unwrap();
-    let list = v.as_array().unwrap();
+    let list = v["records"].as_array().unwrap();
     assert_eq!(list.len(), 2, "{v}");
     assert_eq!(list[0]["record"], 2);
     assert_eq!(list[0]["polygon"], 1);
@@ -461,7 +465,7 @@ clitest!(pat_info_previews_a_map_one_line_per_level, |dir| {
 // ---------------------------------------------------------------------------
 // scene-render with stripe records.
 
-/// Decodes an 8-bit image to linear-light RGB per pixel (SPEC §4 sRGB).
+/// Decodes an 8-bit image to linear-light RGB per pixel (docs/rendering.md sRGB).
 fn linear_pixels(png: &[u8]) -> Vec<[f64; 3]> {
     let img = image::load_from_memory(png).unwrap().to_rgb8();
     img.pixels()

@@ -27,7 +27,7 @@ pub fn pattern3() -> String {
     )
 }
 
-/// A canonical .pat text (SPEC §1) from a texel → colour-index function.
+/// A canonical .pat text (docs/pat-format.md) from a texel → colour-index function.
 pub fn pattern_from(f: impl Fn(u32, u32) -> Option<u32>, colors: &[[u8; 3]]) -> String {
     let mut s = format!("16 {}\n", colors.len());
     for (i, c) in colors.iter().enumerate() {
@@ -50,7 +50,7 @@ fn max_error(dir: &Dir, img: &str, reference: &str) -> u64 {
         .args(["--image", img, "--compare", reference, "--json"])
         .ok_stdout();
     let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
-    v["compare"]["max_error"].as_u64().unwrap()
+    v["compare"]["largest_error"].as_u64().unwrap()
 }
 
 pub const SCENE: &str = r#"{"vertices":[[-3,-1,-2],[3,-1,-2],[3,-1,-12],[-3,-1,-12]],"color":[200,200,200],"pattern":{"file":"p.pat","incr":0.37,"rotate":10,"horz":0.3,"vert":0.6}}
