@@ -269,6 +269,53 @@ impl Quadric {
     /// GLU texture coordinates. Triangles that collapse at a pole or a cone's
     /// apex are left out.
     pub fn tessellate(&self, slices: u32, stacks: u32) -> Result<Vec<Triangle>, QuadricError> {
+        let mut out = Vec::with_capacity(2 * (slices as usize) * (stacks as usize));
+        self.for_each_triangle(slices, stacks, |t| {
+            out.push(t);
+            Ok::<(), QuadricError>(())
+        })?;
+        Ok(out)
+    }
+
+    /// How many triangles [`Quadric::tessellate`] makes, computed without
+    /// making them, so a budget can be checked first: two per quad, less one
+    /// for each of a quad's rings that is a single point (a sphere's poles,
+    /// a cone's apex, a full disk's centre), whose triangle there has no
+    /// area and is left out. Exact unless distinct points round to the same
+    /// one (radii near the smallest `f64`), and never too small.
+    pub fn triangle_bound(&self, slices: u32, stacks: u32) -> u64 {
+        let collapsed = |t: f64| -> u64 {
+            let radius = match *self {
+                Quadric::Sphere { .. } => {
+                    if t == 0.0 || t == 1.0 {
+                        0.0
+                    } else {
+                        1.0
+                    }
+                }
+                Quadric::Cylinder { base, top, .. } => base + (top - base) * t,
+                Quadric::Disk { inner, outer } => inner + (outer - inner) * t,
+            };
+            (radius == 0.0) as u64
+        };
+        (0..stacks)
+            .map(|j| {
+                let (t0, t1) = (j as f64 / stacks as f64, (j + 1) as f64 / stacks as f64);
+                2u64.saturating_sub(collapsed(t0) + collapsed(t1)) * slices as u64
+            })
+            .sum()
+    }
+
+    /// [`Quadric::tessellate`]'s triangles handed to `each` one at a time, in
+    /// the same order, so a tool that writes them as it goes (`polyfill3`)
+    /// holds none of them: ten million triangles of a large sphere took 2.3 GB
+    /// as a list (issue 17, item 2).
+    pub fn for_each_triangle<E: From<QuadricError>>(
+        &self,
+        slices: u32,
+        stacks: u32,
+        mut each: impl FnMut(Triangle) -> Result<(), E>,
+    ) -> Result<(), E> {
         self.check()?;
         let min_stacks = match self {
             Quadric::Sphere { .. } => MIN_SPHERE_STACKS,
@@ -329,7 +376,6 @@ impl Quadric {
                 _ => [s, t],
             }
         };
-        let mut out = Vec::with_capacity(2 * (slices * stacks) as usize);
         for j in 0..stacks {
             let (t0, t1) = (j as f64 / stacks as f64, (j + 1) as f64 / stacks as f64);
             for i in 0..slices {
@@ -351,14 +397,14 @@ impl Quadric {
                     if a.0 == b.0 || b.0 == c.0 || a.0 == c.0 {
                         continue;
                     }
-                    out.push(Triangle {
+                    each(Triangle {
                         v: [a.0, b.0, c.0],
                         st: [a.1, b.1, c.1],
-                    });
+                    })?;
                 }
             }
         }
-        Ok(out)
+        Ok(())
     }
 }
 
@@ -439,6 +485,12 @@ impl QuadricShape {
         (self.slices.unwrap_or(sl), self.stacks.unwrap_or(st))
     }
 
+    /// [`Quadric::triangle_bound`] at the segments `tolerance` gives.
+    pub fn triangle_bound(&self, tolerance: f64) -> u64 {
+        let (slices, stacks) = self.segments(tolerance);
+        self.quadric.triangle_bound(slices, stacks)
+    }
+
     /// The triangles of the quadric at `tolerance` (own units, used only for
     /// the segment counts the record leaves out), moved by the record's
     /// transform, with GLU's (s, t) scaled to texels of a `width x height`
@@ -448,34 +500,106 @@ impl QuadricShape {
     pub fn texel_triangles(
         &self,
         tolerance: f64,
-        (width, height): (u32, u32),
+        size: (u32, u32),
     ) -> Result<Vec<TexelTriangle>, QuadricError> {
+        let mut out = Vec::new();
+        self.for_each_texel_triangle(tolerance, size, |t| {
+            out.push(t);
+            Ok::<(), QuadricError>(())
+        })?;
+        Ok(out)
+    }
+
+    /// [`QuadricShape::texel_triangles`] handed to `each` one at a time; a
+    /// triangle with a coordinate that is not finite stops it with
+    /// [`QuadricError::NotFinite`].
+    pub fn for_each_texel_triangle<E: From<QuadricError>>(
+        &self,
+        tolerance: f64,
+        (width, height): (u32, u32),
+        mut each: impl FnMut(TexelTriangle) -> Result<(), E>,
+    ) -> Result<(), E> {
         let (slices, stacks) = self.segments(tolerance);
         let (su, sv) = (
             width as f64 * self.repeat[0],
             height as f64 * self.repeat[1],
         );
-        let tris = self
-            .quadric
-            .tessellate(slices, stacks)
-            .map_err(|e| e.for_kind(self.kind))?;
-        let out: Vec<TexelTriangle> = tris
-            .iter()
-            .map(|t| TexelTriangle {
-                v: t.v.map(|p| self.transform.apply(p)),
-                uv: t.st.map(|[s, t]| [s * su, t * sv]),
+        self.quadric
+            .for_each_triangle(slices, stacks, |t| {
+                let t = TexelTriangle {
+                    v: t.v.map(|p| self.transform.apply(p)),
+                    uv: t.st.map(|[s, t]| [s * su, t * sv]),
+                };
+                if t.v.iter().any(|p| !p.is_finite()) {
+                    return Err(Stop::Caller(E::from(QuadricError::NotFinite {
+                        kind: self.kind,
+                    })));
+                }
+                each(t).map_err(Stop::Caller)
             })
-            .collect();
-        if out.iter().any(|t| t.v.iter().any(|p| !p.is_finite())) {
-            return Err(QuadricError::NotFinite { kind: self.kind });
-        }
-        Ok(out)
+            .map_err(|e| match e {
+                Stop::Quadric(q) => E::from(q.for_kind(self.kind)),
+                Stop::Caller(e) => e,
+            })
+    }
+}
+
+/// Why [`QuadricShape::for_each_texel_triangle`] stopped: the tessellation's
+/// own error (renamed for the record's kind) or the caller's.
+enum Stop<E> {
+    Quadric(QuadricError),
+    Caller(E),
+}
+
+impl<E> From<QuadricError> for Stop<E> {
+    fn from(e: QuadricError) -> Self {
+        Stop::Quadric(e)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_triangle_bound_is_the_count_tessellate_makes() {
+        let shapes = [
+            Quadric::Sphere { radius: 2.0 },
+            Quadric::Cylinder {
+                base: 1.0,
+                top: 0.5,
+                height: 2.0,
+            },
+            Quadric::Cylinder {
+                base: 1.0,
+                top: 0.0,
+                height: 2.0,
+            },
+            Quadric::Cylinder {
+                base: 0.0,
+                top: 3.0,
+                height: 1.0,
+            },
+            Quadric::Disk {
+                inner: 0.0,
+                outer: 1.0,
+            },
+            Quadric::Disk {
+                inner: 0.5,
+                outer: 1.0,
+            },
+        ];
+        for q in shapes {
+            for (slices, stacks) in [(3, 2), (4, 2), (7, 5), (32, 16)] {
+                let made = q.tessellate(slices, stacks).unwrap().len() as u64;
+                assert_eq!(
+                    q.triangle_bound(slices, stacks),
+                    made,
+                    "{q:?} {slices}x{stacks}"
+                );
+            }
+        }
+    }
 
     fn normal(t: &Triangle) -> DVec3 {
         (t.v[1] - t.v[0]).cross(t.v[2] - t.v[0])

@@ -333,27 +333,31 @@ impl<W: Write> Job<'_, W> {
             }
             _ => None,
         };
-        let tris =
-            stream::quadric_triangles(rec, self.args.tolerance, size).expect("a quadric record")?;
-        let total = self.summary.polygons + tris.len() as u64;
-        if total > self.args.max_polygons {
-            return Err(OptionError::new(
-                format!(
-                    "{} triangles of the quadric would take the output past ",
-                    tris.len()
-                ),
+        // The budget first, from the slices and stacks alone: nothing is
+        // tessellated for a record that cannot be written.
+        let over = |count: u64| {
+            OptionError::new(
+                format!("{count} triangles of the quadric would take the output past "),
                 "max_polygons",
                 format!(
                     " {} ({} written so far)",
                     self.args.max_polygons, self.summary.polygons
                 ),
             )
-            .into());
+        };
+        let bound =
+            stream::quadric_triangle_bound(rec, self.args.tolerance).expect("a quadric record");
+        if self.summary.polygons.saturating_add(bound) > self.args.max_polygons {
+            return Err(over(bound).into());
         }
-        for t in &tris {
-            self.writer.pass(t)?;
-        }
-        self.summary.polygons = total;
+        // Within the bound, so within the budget: each triangle is written
+        // as it is made.
+        let writer = &mut self.writer;
+        let written = stream::for_each_quadric_triangle(rec, self.args.tolerance, size, |t| {
+            writer.pass(&t).map_err(CellsError::from)
+        })
+        .expect("a quadric record")?;
+        self.summary.polygons += written;
         self.summary.passed += 1;
         Ok(())
     }

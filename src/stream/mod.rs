@@ -18,7 +18,7 @@
 //! - `objects.rs`: object definitions and instances ([`Item`], [`Objects`]),
 //!   and moving a record by an instance's transform ([`transform_record`]).
 //! - `triangles.rs`: a quadric record as triangle records, for tools that
-//!   forward polygons ([`quadric_triangles`]).
+//!   forward polygons ([`for_each_quadric_triangle`]).
 //! - `read.rs`: the streaming reader of both forms ([`for_each_record`],
 //!   [`for_each_item`]) and its JSON error messages.
 //! - `plain.rs`: the reader's fast path for plain NDJSON polygon lines.
@@ -44,7 +44,7 @@ pub use objects::{transform_record, Instance, Item, ObjectDef, Objects, INSTANCE
 pub use paths::{base_dir, forward_file_refs, names_files, resolve, RefTarget};
 pub use read::{for_each_item, for_each_record, nth_item};
 pub use record::{parse_color, PatternMode, PatternRef, Record, PATTERN_KEYS, QUADRIC_KEYS};
-pub use triangles::quadric_triangles;
+pub use triangles::{for_each_quadric_triangle, quadric_triangle_bound};
 pub use write::write_ndjson;
 
 /// A stream error, naming the input and the record.

@@ -8,6 +8,30 @@ use super::record::{PatternMode, Record};
 use crate::geom::Shape;
 use serde_json::Value;
 
+/// The triangles a quadric record expands into at `tolerance` (chords in
+/// the record's space, for the slices and stacks it leaves out), at most
+/// ([`crate::geom::quadric::Quadric::triangle_bound`]), known before anything
+/// is tessellated, so a tool
+/// can refuse a record over its budget first (issue 17, item 2). Not a
+/// quadric: `None`.
+pub fn quadric_triangle_bound(r: &Record, tolerance: f64) -> Option<u64> {
+    let Shape::Quadric(q) = &r.shape else {
+        return None;
+    };
+    Some(q.triangle_bound(tolerance / stretch(q)))
+}
+
+/// How much the record's transform stretches chords: at most its largest
+/// column length (an upper bound on its largest singular value within
+/// sqrt(3)), so chords in the quadric's own units are scaled by it.
+fn stretch(q: &crate::geom::quadric::QuadricShape) -> f64 {
+    let m = q.transform.matrix();
+    [m.x_axis, m.y_axis, m.z_axis]
+        .iter()
+        .map(|c| c.truncate().length())
+        .fold(0.0, f64::max)
+}
+
 /// A quadric record as plain triangle records, for tools that forward
 /// polygons (`polyfill3`): each triangle keeps the record's other fields
 /// (unknown ones as written),
@@ -15,27 +39,18 @@ use serde_json::Value;
 /// has a pattern, `"uv"` in texels of a `pattern_size` pattern with the
 /// pattern's mode set to `"uv"` (see [`crate::geom::quadric::QuadricShape::texel_triangles`]).
 /// `tolerance` is the chord tolerance in the record's space, for the slices
-/// and stacks it leaves out. Not a quadric: `None`.
-pub fn quadric_triangles(
+/// and stacks it leaves out. Each record is made and handed to `each` as
+/// the tessellation reaches it, so none is held: a million triangles as JSON
+/// values at once took 2.9 GB, and as triangles 2.3 GB at ten million.
+/// Returns how many were handed over; not a quadric: `None`.
+pub fn for_each_quadric_triangle<E: From<crate::geom::quadric::QuadricError>>(
     r: &Record,
     tolerance: f64,
     pattern_size: Option<u32>,
-) -> Option<Result<Vec<Fields>, crate::geom::quadric::QuadricError>> {
+    mut each: impl FnMut(Fields) -> Result<(), E>,
+) -> Option<Result<u64, E>> {
     let Shape::Quadric(q) = &r.shape else {
         return None;
-    };
-    // Chords in the quadric's own units: the transform stretches them by at
-    // most its largest column length (an upper bound on its largest
-    // singular value within sqrt(3)).
-    let m = q.transform.matrix();
-    let stretch = [m.x_axis, m.y_axis, m.z_axis]
-        .iter()
-        .map(|c| c.truncate().length())
-        .fold(0.0, f64::max);
-    let side = pattern_size.unwrap_or(1);
-    let tris = match q.texel_triangles(tolerance / stretch, (side, side)) {
-        Ok(t) => t,
-        Err(e) => return Some(Err(e)),
     };
     let mut base = r.fields.clone();
     base.remove(q.kind);
@@ -48,27 +63,28 @@ pub fn quadric_triangles(
     if let (true, Some(Value::Object(p))) = (uv, base.get_mut("pattern")) {
         p.insert("mode".into(), Value::from("uv"));
     }
-    Some(Ok(tris
-        .iter()
-        .map(|t| {
-            let mut f = base.clone();
+    let side = pattern_size.unwrap_or(1);
+    let mut count = 0u64;
+    let done = q.for_each_texel_triangle(tolerance / stretch(q), (side, side), |t| {
+        let mut f = base.clone();
+        f.insert(
+            "vertices",
+            Value::Array(
+                t.v.iter()
+                    .map(|p| serde_json::json!([p.x, p.y, p.z]))
+                    .collect(),
+            ),
+        );
+        if uv {
             f.insert(
-                "vertices",
-                Value::Array(
-                    t.v.iter()
-                        .map(|p| serde_json::json!([p.x, p.y, p.z]))
-                        .collect(),
-                ),
+                "uv",
+                Value::Array(t.uv.iter().map(|c| serde_json::json!(c)).collect()),
             );
-            if uv {
-                f.insert(
-                    "uv",
-                    Value::Array(t.uv.iter().map(|c| serde_json::json!(c)).collect()),
-                );
-            }
-            f
-        })
-        .collect()))
+        }
+        count += 1;
+        each(f)
+    });
+    Some(done.map(|()| count))
 }
 
 #[cfg(test)]
@@ -84,8 +100,15 @@ mod tests {
                {"rect": [0,0,1,1], "color": [0,0,0]}"#,
         )
         .unwrap();
-        let tris = quadric_triangles(&recs[0], 0.1, Some(16)).unwrap().unwrap();
-        assert_eq!(tris.len(), 8);
+        let mut tris = Vec::new();
+        let n = for_each_quadric_triangle(&recs[0], 0.1, Some(16), |t| {
+            tris.push(t);
+            Ok::<(), crate::geom::quadric::QuadricError>(())
+        })
+        .unwrap()
+        .unwrap();
+        assert_eq!((n, tris.len()), (8, 8));
+        assert_eq!(quadric_triangle_bound(&recs[0], 0.1), Some(8));
         for t in &tris {
             assert_eq!(t.field("id").unwrap().to_string(), "7");
             assert_eq!(t["pattern"]["mode"], "uv");
@@ -103,6 +126,10 @@ mod tests {
                 .iter()
                 .all(|c| (0.0..=16.0).contains(&c[0])));
         }
-        assert!(quadric_triangles(&recs[1], 0.1, None).is_none());
+        assert!(for_each_quadric_triangle(&recs[1], 0.1, None, |_| Ok::<
+            (),
+            crate::geom::quadric::QuadricError,
+        >(()))
+        .is_none());
     }
 }
