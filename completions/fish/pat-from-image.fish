@@ -9,6 +9,7 @@ complete -c pat-from-image -l alpha-threshold -d 'Pixels whose alpha (0-255) is 
 complete -c pat-from-image -l transparent -d 'Pixels of exactly this colour (`r,g,b` or `#rrggbb`, after resampling) become transparent texels too. Default: none' -r
 complete -c pat-from-image -l angle -d 'With --stripe: the direction across the stripes, degrees counter-clockwise from the image\'s +x axis (0: the map runs left to right; 90: bottom to top)' -r
 complete -c pat-from-image -l length -d 'With --stripe: the map\'s length, a power of two from 1 to 65536' -r
+complete -c pat-from-image -l threads -d 'Worker threads (default: all cores). The output is identical for any N' -r
 complete -c pat-from-image -l crop -d 'Take the central N x N pixels of the image as they are, without resampling. The image must be at least N x N'
 complete -c pat-from-image -l report -d 'Print the pattern\'s size, colours and PSNR against the resampled image (8-bit sRGB, over coloured texels) to standard error'
 complete -c pat-from-image -l stripe -d 'Write a stripe modulation map instead of a pattern: the image\'s luminance (linear light, alpha-weighted) averaged along the stripes, its profile across them resampled to --length entries and encoded to 0..=255 sRGB'

@@ -313,6 +313,28 @@ pub fn output_format(
         .map_err(|e| UsageError(e.worded("--format")).into())
 }
 
+/// `--threads N`, shared by the tools that run a pool of workers
+/// (`#[command(flatten)]`), so the flag reads and behaves the same in each.
+#[derive(clap::Args, Debug, Clone, Copy, Default)]
+pub struct ThreadArgs {
+    /// Worker threads (default: all cores). The output is identical for any N.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+}
+
+impl ThreadArgs {
+    /// Runs `job` in a pool of that many workers (rayon's, which the library
+    /// uses wherever it works in parallel).
+    pub fn install<R: Send>(self, job: impl FnOnce() -> R + Send) -> anyhow::Result<R> {
+        let mut pool = rayon::ThreadPoolBuilder::new();
+        if let Some(n) = self.threads {
+            pool = pool.num_threads(n as usize);
+        }
+        let pool = anyhow::Context::context(pool.build(), "starting worker threads")?;
+        Ok(pool.install(job))
+    }
+}
+
 /// `--size N` or `--size NxN` for a square pattern side, as the other tools
 /// write sizes (`pat-tile --pat --size 32x32`).
 pub fn parse_pattern_side(s: &str) -> Result<u64, String> {

@@ -125,10 +125,17 @@ pub struct Args {
     pub length: u64,
 
     #[command(flatten)]
+    pub threads: super::ThreadArgs,
+
+    #[command(flatten)]
     pub progress: super::progress::ProgressArgs,
 }
 
 pub fn run(args: Args) -> Result<()> {
+    args.threads.install(|| run_in_pool(args))?
+}
+
+fn run_in_pool(args: Args) -> Result<()> {
     if args.output == io::STDIO {
         super::check_stdout()?;
     }

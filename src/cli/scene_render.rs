@@ -202,9 +202,8 @@ pub struct Args {
     #[arg(long, value_name = "N", default_value_t = crate::scene::LoadOptions::DEFAULT.max_polygons)]
     pub max_polygons: u64,
 
-    /// Worker threads (default: all cores). The output is identical for any N.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
-    pub threads: Option<u32>,
+    #[command(flatten)]
+    pub threads: super::ThreadArgs,
 
     #[command(flatten)]
     pub progress: super::progress::ProgressArgs,
@@ -248,12 +247,7 @@ pub fn run(args: Args) -> Result<()> {
     if to_stdout {
         super::check_stdout()?;
     }
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(n) = args.threads {
-        pool = pool.num_threads(n as usize);
-    }
-    let pool = pool.build().context("starting worker threads")?;
-    pool.install(|| run_in_pool(args))
+    args.threads.install(|| run_in_pool(args))?
 }
 
 /// The most frames one run renders: a day of film at 24 frames a second,

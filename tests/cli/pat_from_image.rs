@@ -377,3 +377,30 @@ clitest!(
             .stderr("");
     }
 );
+
+clitest!(
+    pat_from_image_output_is_the_same_for_any_thread_count,
+    |dir| {
+        // `--threads N`, as scene-render has it (issue 18, item 3): the palette
+        // search runs on N workers, and the pattern is byte-identical for any N.
+        let photo = crate::util::repo("fixtures/images/earth-nasa.jpg");
+        let mut outs = Vec::new();
+        for n in ["1", "2", "3"] {
+            let out = format!("e{n}.pat");
+            dir.cmd("pat-from-image")
+                .args(["--threads", n, "--colors", "32", "--size", "32"])
+                .arg(&photo)
+                .args(["-o", &out])
+                .assert()
+                .success();
+            outs.push(dir.read(&out));
+        }
+        assert!(outs.windows(2).all(|w| w[0] == w[1]));
+        dir.cmd("pat-from-image")
+            .args(["--threads", "0"])
+            .arg(&photo)
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains("'0' for '--threads <N>'"));
+    }
+);
