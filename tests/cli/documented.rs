@@ -376,6 +376,7 @@ documented! {
 fn docs_without_commands() {
     for page in [
         "docs/architecture.md",
+        "docs/conventions.md",
         "docs/polyfill3.md",
         "docs/rendering.md",
     ] {

@@ -4,6 +4,7 @@
 #[macro_use]
 mod util;
 
+mod conventions;
 mod documented;
 mod faults;
 mod host;
