@@ -125,12 +125,13 @@ pub struct Args {
     /// world units (for "circle" and "arc" records).
     #[arg(long, default_value_t = DEFAULT_TOLERANCE)]
     pub tolerance: f64,
-    /// Camera JSON file (patkit-camera(5)) for --cull.
-    #[arg(long, value_name = "FILE")]
-    pub camera: Option<String>,
-    /// Drop polygons facing away from the --camera and cells wholly outside
-    /// its view volume before they are written.
-    #[arg(long, requires = "camera")]
+    /// The camera for --cull: a camera file (patkit-camera(5)) or the same
+    /// camera flags as scene-render's.
+    #[command(flatten)]
+    pub camera: super::camera::CameraArgs,
+    /// Drop polygons facing away from the camera and cells wholly outside
+    /// its view volume before they are written. Needs a camera.
+    #[arg(long)]
     pub cull: bool,
     /// Do not partition: write each "object"-mode polygon whole (curves
     /// flattened) with its placement as per-vertex "uv" texel coordinates and
@@ -179,26 +180,35 @@ pub fn run(args: Args) -> Result<()> {
     }
     super::stdin_read_once(&[
         ("the stream", Some(&args.input)),
-        ("--camera", args.camera.as_deref()),
+        ("--camera", args.camera.camera.as_deref()),
         (
             "--pattern",
             args.pattern.as_deref().and_then(|p| p.to_str()),
         ),
     ])?;
-    if args.camera.is_some() && !args.cull {
-        usage_bail!("--camera is only used by --cull: add --cull, or leave out --camera");
+    let camera = args.camera.resolve()?;
+    match (&camera, args.cull) {
+        (Some(_), false) => {
+            usage_bail!("a camera is only used by --cull: add --cull, or leave out the camera flags")
+        }
+        (None, true) => usage_bail!(
+            "--cull needs a camera: --camera FILE, or camera flags such as --perspective and --lookat"
+        ),
+        _ => {}
     }
     if args.depfile.is_some() && args.output == STDIO {
         usage_bail!("--depfile needs -o FILE: the make rule names the output as its target");
     }
-    let volume = match &args.camera {
-        Some(path) => {
-            let cam = crate::camera::Camera::load(path)?;
+    let volume = match camera {
+        Some(cam) => {
             if cam.aspect_from_image {
                 anyhow::bail!(
                     "{}: perspective.aspect \"auto\" is the image's width/height, and \
                      polyfill3 draws no image: give the ratio as a number",
-                    display_name(path)
+                    args.camera
+                        .camera
+                        .as_deref()
+                        .map_or("--perspective", display_name)
                 );
             }
             Some(ViewVolume::new(&cam))
@@ -243,7 +253,7 @@ pub fn run(args: Args) -> Result<()> {
     out.commit()?;
     if let Some(depfile) = &args.depfile {
         let mut deps = vec![args.input.clone()];
-        deps.extend(args.camera.iter().cloned());
+        deps.extend(args.camera.camera.iter().cloned());
         deps.extend(args.pattern.iter().map(|p| super::dep_name(p)));
         deps.extend(s.files.iter().map(|p| super::dep_name(p)));
         super::write_depfile(depfile, std::slice::from_ref(&args.output), &deps)?;

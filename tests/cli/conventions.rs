@@ -277,6 +277,38 @@ fn check(key: &str, j: &Job, yes: bool, dir: &Dir) {
             ok(&o, "two inputs");
         }
         ("several-inputs", false) => usage(&run(dir, tool, &["in", "in"], None), "two inputs"),
+        ("camera-flags", true) => {
+            // polyfill3 uses its camera for --cull only.
+            let cull: &[&str] = if tool == "polyfill3" {
+                &["--cull"]
+            } else {
+                &[]
+            };
+            dir.write(
+                "cam.json",
+                r#"{"lookat": {"eye": [30, 30, 100], "center": [30, 30, 0]},
+                    "perspective": {"fovy": 40, "aspect": 1, "near": 1, "far": 1000}}"#,
+            );
+            let file = [cull, &["--camera", "cam.json", "in"]].concat();
+            let flags = [
+                cull,
+                &[
+                    "--perspective",
+                    "40,1,1,1000",
+                    "--lookat",
+                    "30,30,100,30,30,0",
+                    "in",
+                ],
+            ]
+            .concat();
+            let (a, b) = (run(dir, tool, &file, None), run(dir, tool, &flags, None));
+            ok(&a, "--camera");
+            ok(&b, "camera flags");
+            assert!(
+                !a.stdout.is_empty() && a.stdout == b.stdout,
+                "{tool}: file and flags differ"
+            );
+        }
         (key, yes) => panic!("docs/conventions.md: no check for `{key}` = {yes}"),
     }
 }

@@ -914,3 +914,33 @@ clitest!(unknown_fields_may_hold_any_json, |dir| {
             "bad.ndjson: record 0: invalid JSON",
         ));
 });
+
+clitest!(
+    polyfill3_cull_needs_a_camera_given_as_a_file_or_as_flags,
+    |dir| {
+        // Issue 18, item 3: polyfill3 takes scene-render's camera flags.
+        dir.write(
+            "s.json",
+            r#"{"vertices":[[0,0,0],[1,0,0],[1,1,0]],"color":[1,2,3]}"#,
+        );
+        dir.cmd("polyfill3")
+        .args(["--cull", "s.json"])
+        .assert()
+        .code(2)
+        .stderr("polyfill3: error: --cull needs a camera: --camera FILE, or camera flags such as --perspective and --lookat\n");
+        dir.cmd("polyfill3")
+            .args(["--ortho2", "0,1,0,1", "s.json"])
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains("a camera is only used by --cull"));
+        dir.cmd("polyfill3")
+            .args(["--cull", "--ortho2", "0,1,0,1", "s.json"])
+            .assert()
+            .success();
+        dir.cmd("polyfill3")
+            .args(["--cull", "--perspective", "60,auto,1,10", "s.json"])
+            .assert()
+            .failure()
+            .stderr(predicates::str::contains("polyfill3 draws no image"));
+    }
+);
