@@ -599,8 +599,22 @@ impl ImageFormat {
             .map(|e| e.to_ascii_lowercase());
         match ext.as_deref() {
             Some("png") => Ok(ImageFormat::Png),
+            // `.pnm` is netpbm's name for any of its three formats: the
+            // colour one is written, as netpbm's tools write PPM for colour.
             Some("ppm") | Some("pnm") => Ok(ImageFormat::Ppm),
             Some("pam") => Ok(ImageFormat::Pam),
+            // Grey and bilevel: the tools write colour, and a silent
+            // conversion would lose it.
+            Some(grey @ ("pgm" | "pbm")) => Err(OptionError::new(
+                format!(
+                    "{output}: `.{grey}` is netpbm's {} format and the image is in colour: \
+                     write .ppm (or .pnm) and convert with {}, or give ",
+                    if grey == "pgm" { "greyscale" } else { "black-and-white" },
+                    if grey == "pgm" { "ppmtopgm" } else { "ppmtopgm | pamditherbw" },
+                ),
+                "format",
+                "",
+            )),
             Some(other) => Err(OptionError::new(
                 format!(
                     "{output}: unknown image extension `.{other}`: expected .png, .ppm or .pam, or give "

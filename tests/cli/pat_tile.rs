@@ -190,3 +190,38 @@ fn a_closed_output_pipe_ends_quietly() {
     assert_eq!(String::from_utf8_lossy(&out.stderr), "");
     assert!(head.starts_with(b"P6\n4096 4096\n255\n"));
 }
+
+clitest!(netpbm_extensions_follow_netpbm, |dir| {
+    // Issue 18, item 3: `.pnm` (netpbm's name for any of its formats) is
+    // written as PPM, the colour one; `.pgm` and `.pbm` (grey, bilevel)
+    // are refused as a usage error naming the converter, not written as
+    // PPM or refused as unknown.
+    dir.write("p.pat", crate::util::checker16());
+    for tool in ["pat-tile", "scene-render"] {
+        let input = if tool == "pat-tile" {
+            "p.pat"
+        } else {
+            "s.json"
+        };
+        dir.write(
+            "s.json",
+            r#"{"vertices":[[0,0],[9,0],[9,9]],"color":[200,10,10]}"#,
+        );
+        dir.cmd(tool)
+            .args([input, "--background", "0,0,0", "-o", "x.pnm"])
+            .assert()
+            .success();
+        assert!(dir.read("x.pnm").starts_with(b"P6\n"), "{tool}");
+        for (ext, says) in [("pgm", "ppmtopgm"), ("pbm", "pamditherbw")] {
+            dir.cmd(tool)
+                .args([input, "-o", &format!("x.{ext}")])
+                .assert()
+                .code(2)
+                .stderr(predicates::str::contains(format!(
+                    "x.{ext}: `.{ext}` is netpbm's"
+                )))
+                .stderr(predicates::str::contains(says));
+            assert!(!dir.path().join(format!("x.{ext}")).exists());
+        }
+    }
+});
