@@ -345,15 +345,22 @@ clitest!(pat_from_image_takes_its_size_as_n_or_nxn, |dir| {
 
 clitest!(out_of_memory_is_an_error_line_and_leaves_nothing, |dir| {
     // Under an address-space limit (the OS's own accounting), a frame of
-    // 16000 x 16000 pixels and a radius-10000 sphere cut into texels need
-    // more than the limit: the tools say so as `TOOL: error: out of memory`
-    // with status 1 (not an abort, status 134) and leave no temporary file.
+    // 16000 x 16000 pixels, and a 4096 x 4096 pattern (32 MiB of texel
+    // indices) under 32 MiB, need more than the limit: the tools say so as
+    // `TOOL: error: out of memory` with status 1 (not an abort, status 134)
+    // and leave no temporary file.
+    let row = format!("{}\n", vec!["aaaa"; 256].join(" "));
+    dir.write(
+        "big.pat",
+        format!(
+            "4096 2\n255 0 0\n{}0 0 255\n{}",
+            row.repeat(4096),
+            row.replace('a', "5").repeat(4096)
+        ),
+    );
     dir.write(
         "s.json",
-        format!(
-            r#"{{"sphere":{{"radius":10000}},"color":[1,2,3],"pattern":{{"file":"{}"}}}}"#,
-            repo("fixtures/patterns/brick.pat").display()
-        ),
+        r#"{"vertices":[[0,0,0],[1,0,0],[1,1,0]],"color":[1,2,3],"pattern":{"file":"big.pat"}}"#,
     );
     for (script, tool) in [
         (
@@ -361,7 +368,7 @@ clitest!(out_of_memory_is_an_error_line_and_leaves_nothing, |dir| {
             "scene-render",
         ),
         (
-            "ulimit -v 600000; exec polyfill3 s.json -o cells.json",
+            "ulimit -v 32768; exec polyfill3 s.json -o cells.json",
             "polyfill3",
         ),
     ] {
@@ -372,7 +379,11 @@ clitest!(out_of_memory_is_an_error_line_and_leaves_nothing, |dir| {
             err.starts_with(&format!("{tool}: error: out of memory: a request for ")),
             "{err}"
         );
-        assert_eq!(dir.files(), ["s.json"], "{tool} left files behind");
+        assert_eq!(
+            dir.files(),
+            ["big.pat", "s.json"],
+            "{tool} left files behind"
+        );
     }
 });
 
