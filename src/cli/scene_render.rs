@@ -600,15 +600,7 @@ fn finish(
         }
     }
     if !text.is_empty() {
-        if image_on_stdout {
-            eprint!("{text}");
-        } else {
-            super::check_stdout()?;
-            let mut out = std::io::stdout().lock();
-            out.write_all(text.as_bytes())
-                .and_then(|()| out.flush())
-                .context("writing standard output")?;
-        }
+        print_report(&text, image_on_stdout)?;
     }
     Ok(())
 }
@@ -803,15 +795,21 @@ fn render_frames(
     if args.json {
         let doc = super::json_document(TOOL, "frames", frame_reports);
         let text = serde_json::to_string_pretty(&doc)? + "\n";
-        if on_stdout {
-            eprint!("{text}");
-        } else {
-            super::check_stdout()?;
-            let mut out = std::io::stdout().lock();
-            out.write_all(text.as_bytes())
-                .and_then(|()| out.flush())
-                .context("writing standard output")?;
-        }
+        print_report(&text, on_stdout)?;
     }
     Ok(())
+}
+
+/// Prints a report on standard output, or on standard error when the image
+/// itself goes to standard output.
+fn print_report(text: &str, image_on_stdout: bool) -> Result<()> {
+    if image_on_stdout {
+        eprint!("{text}");
+        return Ok(());
+    }
+    super::check_stdout()?;
+    let mut out = std::io::stdout().lock();
+    out.write_all(text.as_bytes())
+        .and_then(|()| out.flush())
+        .context("writing standard output")
 }

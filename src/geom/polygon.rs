@@ -71,13 +71,46 @@ pub fn area2(v: &[DVec2]) -> f64 {
     s
 }
 
+/// A signed distance to a clip plane, positive on the kept side: a plain
+/// `f64`, or a [`crate::math::DoubleDouble`] where the crossing must not
+/// lose what the rounded values cancel (`view::clip`).
+pub trait SignedDistance: Copy {
+    /// What says where along an edge the crossing is.
+    type Param;
+    /// The distance rounded to `f64`, whose sign decides inside and outside.
+    fn rounded(self) -> f64;
+    /// `inside / (inside - outside)`: where the edge from the inside point
+    /// to the outside one crosses the plane.
+    fn crossing(inside: Self, outside: Self) -> Self::Param;
+}
+
+impl SignedDistance for f64 {
+    type Param = f64;
+    fn rounded(self) -> f64 {
+        self
+    }
+    fn crossing(inside: f64, outside: f64) -> f64 {
+        inside / (inside - outside)
+    }
+}
+
+impl SignedDistance for crate::math::DoubleDouble {
+    type Param = Self;
+    fn rounded(self) -> f64 {
+        self.hi
+    }
+    fn crossing(inside: Self, outside: Self) -> Self {
+        inside / (inside - outside)
+    }
+}
+
 /// One Sutherland–Hodgman pass: keeps the part where `d(p) >= 0`. `lerp(inside,
 /// outside, t)` makes the crossing, always from the inside endpoint.
-pub fn clip_against<T: Copy>(
+pub fn clip_against<T: Copy, D: SignedDistance>(
     poly: &[T],
-    d: impl Fn(T) -> f64,
+    d: impl Fn(T) -> D,
     out: &mut Vec<T>,
-    lerp: impl Fn(T, T, f64) -> T,
+    lerp: impl Fn(T, T, D::Param) -> T,
 ) {
     let n = poly.len();
     if n == 0 {
@@ -88,13 +121,14 @@ pub fn clip_against<T: Copy>(
         let j = (i + 1) % n;
         let (a, b, da) = (poly[i], poly[j], db);
         db = d(b);
-        if da >= 0.0 {
+        let (ra, rb) = (da.rounded(), db.rounded());
+        if ra >= 0.0 {
             out.push(a);
-            if db < 0.0 && da > 0.0 {
-                out.push(lerp(a, b, da / (da - db)));
+            if rb < 0.0 && ra > 0.0 {
+                out.push(lerp(a, b, D::crossing(da, db)));
             }
-        } else if db > 0.0 {
-            out.push(lerp(b, a, db / (db - da)));
+        } else if rb > 0.0 {
+            out.push(lerp(b, a, D::crossing(db, da)));
         }
     }
 }

@@ -25,6 +25,7 @@
 //! `f64` products: their rounding is relative to their own size.
 
 use super::{View, W_EPSILON_REL};
+use crate::geom::polygon::clip_against;
 use crate::math::DoubleDouble as Dd;
 use glam::{DVec2, DVec4};
 
@@ -49,36 +50,6 @@ fn planes(view: &View) -> Vec<Plane<'_>> {
     p.push(Box::new(|c: DVec4| Dd::sum(c.w, c.y)));
     p.push(Box::new(|c: DVec4| Dd::sum(c.w, -c.y)));
     p
-}
-
-/// One Sutherland–Hodgman pass keeping `d(p) >= 0` (the sign of `d`'s
-/// rounded part, which is the sign of the exact value), with the crossing
-/// parameter in double-double; `lerp(inside, outside, t)` makes the
-/// crossing, always from the inside endpoint.
-fn clip_against_exact<T: Copy>(
-    poly: &[T],
-    d: impl Fn(T) -> Dd,
-    out: &mut Vec<T>,
-    lerp: impl Fn(T, T, Dd) -> T,
-) {
-    let n = poly.len();
-    if n == 0 {
-        return;
-    }
-    let mut db = d(poly[0]);
-    for i in 0..n {
-        let j = (i + 1) % n;
-        let (a, b, da) = (poly[i], poly[j], db);
-        db = d(b);
-        if da.hi >= 0.0 {
-            out.push(a);
-            if db.hi < 0.0 && da.hi > 0.0 {
-                out.push(lerp(a, b, da / (da - db)));
-            }
-        } else if db.hi > 0.0 {
-            out.push(lerp(b, a, db / (db - da)));
-        }
-    }
 }
 
 /// `a + (b - a) t` in double-double, rounded once.
@@ -107,7 +78,7 @@ pub fn clip_polygon(poly: &[DVec4], view: &View) -> Vec<DVec4> {
             continue;
         }
         next.clear();
-        clip_against_exact(&cur, &f, &mut next, lerp4);
+        clip_against(&cur, &f, &mut next, lerp4);
         std::mem::swap(&mut cur, &mut next);
     }
     cur
@@ -128,7 +99,7 @@ pub fn clip_carrying(poly: &[(DVec4, DVec2)], view: &View) -> Vec<(DVec4, DVec2)
             continue;
         }
         next.clear();
-        clip_against_exact(
+        clip_against(
             &cur,
             |(c, _)| f(c),
             &mut next,
