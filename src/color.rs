@@ -171,6 +171,58 @@ pub fn linear_to_srgb(l: f32) -> u8 {
     c as u8
 }
 
+/// The largest 16-bit code, as a scale factor.
+pub const MAX16: f64 = 65535.0;
+
+/// Linear light to the nearest 16-bit sRGB code. NaN maps to 0; values are
+/// clamped to 0..=1.
+///
+/// **Invariant**: for every f32 `l` in 0..=1 the result is the 16-bit code
+/// nearest the exact sRGB value of `l` (IEC 61966-2-1), `65535 * srgb(l)`
+/// rounded to nearest. It is computed as that expression in f64: `libm`'s
+/// `pow` is within about an ulp (musl's e_pow.c), so the f64 value is within
+/// [`SRGB16_EVAL_ERROR`] codes of the exact one, and the test
+/// `srgb16_rounding_has_margin_at_every_code_boundary` checks, at every one
+/// of the 65535 rounding boundaries, that no f32 lies closer to it than that
+/// (the nearest lies 2.8e-9 codes away, measured; the bound is 1e-10): rounding the f64 value
+/// rounds the exact one. A table search as [`linear_to_srgb`] does would need
+/// 65535 f32 edges, each itself rounded.
+///
+/// **Precision**: what is rounded is the *stored* f32 value. A frame's pixels
+/// are f32 (relative error 2^-24 against the f64 the resolvers sum), which
+/// moves the exact code by `l * 2^-24 * d(code)/dl`: at most 1.6e-4 codes on
+/// the linear segment (largest at its top, `l = 0.0031308`; near black a
+/// code is 1/(65535 * 12.92) = 1.2e-6 linear, 1.1e-13 at the f32 spacing
+/// there) and 1.7e-3 codes on the power segment (largest at `l = 1`, where
+/// a code is 3.5e-5 linear and the f32 spacing 6e-8). So the 16-bit code is
+/// the correctly rounded code of the stored value, and within 0.502 codes of
+/// the unstored one.
+#[inline]
+pub fn linear_to_srgb16(l: f32) -> u16 {
+    if l.is_nan() || l <= 0.0 {
+        return 0;
+    }
+    if l >= 1.0 {
+        return u16::MAX;
+    }
+    (linear_to_srgb_f64(l as f64) * MAX16).round() as u16
+}
+
+/// Bound, in 16-bit codes, on the error of `65535 * linear_to_srgb_f64(l)`
+/// against the exact value. The sRGB value (at most 1) carries `pow`'s ulp,
+/// the rounding of the exponent `1/2.4` (up to 1.6e-16 relative, as
+/// `|ln l| <= 5.8` on the power segment), and the rounding of the multiply
+/// and subtract: about 6e-16 in all, 4e-11 codes once times 65535; 1e-10
+/// leaves room. [`linear_to_srgb16`]'s invariant needs every f32 to lie
+/// farther than this from a rounding boundary.
+pub const SRGB16_EVAL_ERROR: f64 = 1e-10;
+
+/// A 16-bit sRGB code to linear light, in f64.
+#[inline]
+pub fn srgb16_to_linear_f64(c: u16) -> f64 {
+    srgb_to_linear_f64(c as f64 / MAX16)
+}
+
 /// The whole decoding table, for loops that want it in a register-friendly slice.
 pub fn decode_table() -> &'static [f32; 256] {
     &DECODE
@@ -232,6 +284,41 @@ mod tests {
                 "l={l} want {want} got {got}"
             );
         }
+    }
+
+    /// The f64 evaluation of [`linear_to_srgb16`] rounds as the exact value
+    /// would: for each boundary `(k + 0.5) / 65535` between codes, the f32
+    /// values around its linear preimage (which are the f32 values nearest
+    /// it, the transfer function being increasing) lie farther from it than
+    /// the evaluation error. Prints the smallest margin found.
+    #[test]
+    fn srgb16_rounding_has_margin_at_every_code_boundary() {
+        let mut closest = f64::INFINITY;
+        for k in 0..65535u32 {
+            let boundary = k as f64 + 0.5;
+            let pre = srgb_to_linear_f64(boundary / MAX16) as f32;
+            for step in -3i32..=3 {
+                let l = f32::from_bits((pre.to_bits() as i32 + step) as u32);
+                let code = linear_to_srgb_f64(l as f64) * MAX16;
+                closest = closest.min((code - boundary).abs());
+            }
+        }
+        eprintln!("closest f32 to a 16-bit rounding boundary: {closest:.3e} codes");
+        assert!(closest > 10.0 * SRGB16_EVAL_ERROR, "{closest:e}");
+    }
+
+    #[test]
+    fn srgb16_inverts_its_decoding_and_agrees_with_8_bit() {
+        for c in 0..=65535u16 {
+            assert_eq!(linear_to_srgb16(srgb16_to_linear_f64(c) as f32), c);
+        }
+        // An 8-bit code c is the 16-bit code 257 c.
+        for c in 0..=255u8 {
+            assert_eq!(linear_to_srgb16(srgb_to_linear(c)), c as u16 * 257);
+        }
+        assert_eq!(linear_to_srgb16(f32::NAN), 0);
+        assert_eq!(linear_to_srgb16(-1.0), 0);
+        assert_eq!(linear_to_srgb16(2.0), 65535);
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! Streams and images: `-` for standard input/output, atomic output files,
-//! and the three image formats every tool writes (the README's Conventions).
+//! and the image formats the tools write (the README's Conventions): PNG,
+//! PPM and PAM in 8- or 16-bit sRGB, and PFM in linear light.
 
 use crate::error::OptionError;
 use std::io::{self, BufWriter, IsTerminal, Read, Write};
@@ -67,6 +68,15 @@ pub enum IoError {
         /// The decoder's complaint.
         #[source]
         error: image::ImageError,
+    },
+    /// An input that starts as a PFM but is not a valid one.
+    #[error("{input}: not a valid PFM image")]
+    BadPfm {
+        /// The input's name, as errors show it.
+        input: String,
+        /// What is wrong, and where.
+        #[source]
+        error: PfmError,
     },
     /// An image used as a texture has more pixels than a texture may.
     #[error(
@@ -167,17 +177,9 @@ fn without_temp_name(e: io::Error) -> io::Error {
     }
 }
 
-/// An encoder's error as the I/O error it carries, or as an I/O error that
-/// wraps it, of the kind of the I/O error found among its causes: a closed
-/// pipe then reads as `BrokenPipe` whichever encoder met it, however deep.
-fn image_io_error(e: image::ImageError) -> io::Error {
-    match e {
-        image::ImageError::IoError(io) => io,
-        other => wrapped_io_error(other),
-    }
-}
-
-/// [`image_io_error`] for the `png` crate's encoder.
+/// The PNG encoder's error as the I/O error it carries, or as an I/O error
+/// that wraps it, of the kind of the I/O error found among its causes: a
+/// closed pipe then reads as `BrokenPipe`, however deep.
 fn png_io_error(e: png::EncodingError) -> io::Error {
     match e {
         png::EncodingError::IoError(io) => io,
@@ -268,6 +270,10 @@ fn is_a_directory() -> io::Error {
 /// (PAM), is 2 GiB.
 pub const MAX_PICTURE_FILE_BYTES: u64 = MAX_IMAGE_PIXELS * 8 + (1 << 16);
 
+/// The most bytes a PFM read from the command line may have: a picture of
+/// [`MAX_IMAGE_PIXELS`] in three f32 a pixel (3 GiB), and its header.
+pub const MAX_PFM_FILE_BYTES: u64 = MAX_IMAGE_PIXELS * 12 + (1 << 16);
+
 /// Bytes of an input read before its start is checked ([`InputKind`]).
 const SNIFF_BYTES: usize = 4096;
 
@@ -287,6 +293,9 @@ pub enum InputKind {
     Image,
     /// A pattern as `.pat` text or as an image (a background pattern).
     TextOrImage,
+    /// An image as [`InputKind::Image`], or a PFM (`PF` or `Pf`), at most
+    /// [`MAX_PFM_FILE_BYTES`]: an image to measure (`--compare`, `--image`).
+    ImageOrPfm,
 }
 
 impl InputKind {
@@ -308,6 +317,13 @@ impl InputKind {
                 io::ErrorKind::InvalidData,
                 "not an image this tool can read (it does not start as PNG, JPEG, GIF, BMP, \
                  TIFF, WebP or PNM)",
+            )),
+            InputKind::ImageOrPfm if is_pfm(start) => Ok(MAX_PFM_FILE_BYTES),
+            InputKind::ImageOrPfm if image() => Ok(MAX_PICTURE_FILE_BYTES),
+            InputKind::ImageOrPfm => Err(io::Error::new(
+                io::ErrorKind::InvalidData,
+                "not an image this tool can read (it does not start as PNG, JPEG, GIF, BMP, \
+                 TIFF, WebP, PNM or PFM)",
             )),
             InputKind::TextOrImage if image() => Ok(MAX_PICTURE_FILE_BYTES),
             InputKind::TextOrImage => text().map(|()| MAX_NAMED_FILE_BYTES),
@@ -582,11 +598,37 @@ pub enum ImageFormat {
     Ppm,
     /// PAM (P7), RGB or RGB_ALPHA.
     Pam,
+    /// PFM (Portable Float Map, `PF`): RGB in linear light, 32-bit floats,
+    /// little-endian, rows bottom to top; no alpha.
+    Pfm,
 }
 
 impl ImageFormat {
     /// The format named by `--format`, else by the output's extension, else PNG.
     pub fn choose(explicit: Option<ImageFormat>, output: &str) -> Result<ImageFormat, OptionError> {
+        ImageFormat::choose_in(explicit, output, true)
+    }
+
+    /// [`ImageFormat::choose`] for an image of 8-bit colours (a tiled
+    /// pattern, a difference image): `.pfm` is refused, and errors list the
+    /// 8-bit formats only.
+    pub fn choose_8bit(
+        explicit: Option<ImageFormat>,
+        output: &str,
+    ) -> Result<ImageFormat, OptionError> {
+        ImageFormat::choose_in(explicit, output, false)
+    }
+
+    fn choose_in(
+        explicit: Option<ImageFormat>,
+        output: &str,
+        float: bool,
+    ) -> Result<ImageFormat, OptionError> {
+        let expected = if float {
+            ".png, .ppm, .pam or .pfm"
+        } else {
+            ".png, .ppm or .pam"
+        };
         if let Some(f) = explicit {
             return Ok(f);
         }
@@ -603,21 +645,38 @@ impl ImageFormat {
             // colour one is written, as netpbm's tools write PPM for colour.
             Some("ppm") | Some("pnm") => Ok(ImageFormat::Ppm),
             Some("pam") => Ok(ImageFormat::Pam),
+            Some("pfm") if float => Ok(ImageFormat::Pfm),
+            Some("pfm") => Err(OptionError::new(
+                format!(
+                    "{output}: `.pfm` stores a rendered frame's linear light, and this image has \
+                     8-bit colours: expected {expected}, or give "
+                ),
+                "format",
+                "",
+            )),
             // Grey and bilevel: the tools write colour, and a silent
             // conversion would lose it.
             Some(grey @ ("pgm" | "pbm")) => Err(OptionError::new(
                 format!(
                     "{output}: `.{grey}` is netpbm's {} format and the image is in colour: \
                      write .ppm (or .pnm) and convert with {}, or give ",
-                    if grey == "pgm" { "greyscale" } else { "black-and-white" },
-                    if grey == "pgm" { "ppmtopgm" } else { "ppmtopgm | pamditherbw" },
+                    if grey == "pgm" {
+                        "greyscale"
+                    } else {
+                        "black-and-white"
+                    },
+                    if grey == "pgm" {
+                        "ppmtopgm"
+                    } else {
+                        "ppmtopgm | pamditherbw"
+                    },
                 ),
                 "format",
                 "",
             )),
             Some(other) => Err(OptionError::new(
                 format!(
-                    "{output}: unknown image extension `.{other}`: expected .png, .ppm or .pam, or give "
+                    "{output}: unknown image extension `.{other}`: expected {expected}, or give "
                 ),
                 "format",
                 "",
@@ -627,9 +686,55 @@ impl ImageFormat {
         }
     }
 
-    /// Whether the format stores an alpha channel: PNG and PAM do, PPM does not.
+    /// Whether the format stores an alpha channel: PNG and PAM do, PPM and
+    /// PFM do not.
     pub fn supports_alpha(self) -> bool {
-        !matches!(self, ImageFormat::Ppm)
+        !matches!(self, ImageFormat::Ppm | ImageFormat::Pfm)
+    }
+
+    /// What an image in this format at `depth` stores: PFM is linear float
+    /// whatever the depth, the others sRGB codes of `depth` bits.
+    pub fn encoding(self, depth: Depth) -> Encoding {
+        match (self, depth) {
+            (ImageFormat::Pfm, _) => Encoding::LinearF32,
+            (_, Depth::Eight) => Encoding::Srgb8,
+            (_, Depth::Sixteen) => Encoding::Srgb16,
+        }
+    }
+}
+
+/// Bits per channel of the sRGB formats (PNG, PPM, PAM): `--depth`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+pub enum Depth {
+    /// 8 bits, codes 0..=255.
+    #[default]
+    #[cfg_attr(feature = "cli", value(name = "8"))]
+    Eight,
+    /// 16 bits, codes 0..=65535 (PNG bit depth 16, netpbm MAXVAL 65535).
+    #[cfg_attr(feature = "cli", value(name = "16"))]
+    Sixteen,
+}
+
+/// How an image's samples stand for light: what [`AnyImage`] holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Encoding {
+    /// 8-bit sRGB codes ([`Image`]).
+    Srgb8,
+    /// 16-bit sRGB codes ([`Image16`]).
+    Srgb16,
+    /// Linear light in f32 ([`LinearImage`]).
+    LinearF32,
+}
+
+impl Encoding {
+    /// How reports name it: `8-bit sRGB`, `16-bit sRGB`, `linear float`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Encoding::Srgb8 => "8-bit sRGB",
+            Encoding::Srgb16 => "16-bit sRGB",
+            Encoding::LinearF32 => "linear float",
+        }
     }
 }
 
@@ -735,18 +840,14 @@ impl Image {
                 )?;
                 w.write_all(&self.data)?;
             }
-            ImageFormat::Png => {
-                use image::codecs::png::PngEncoder;
-                use image::ImageEncoder;
-                let color = if self.channels == 4 {
-                    image::ExtendedColorType::Rgba8
-                } else {
-                    image::ExtendedColorType::Rgb8
-                };
-                PngEncoder::new_with_quality(&mut *w, png.compression, png.filter)
-                    .write_image(&self.data, wd, ht, color)
-                    .map_err(image_io_error)?;
-            }
+            ImageFormat::Png => write_png(
+                w,
+                (wd, ht, self.channels),
+                png::BitDepth::Eight,
+                &self.data,
+                png,
+            )?,
+            ImageFormat::Pfm => return Err(wrong_encoding(Encoding::Srgb8, format)),
         }
         Ok(())
     }
@@ -757,6 +858,242 @@ impl Image {
     }
 
     /// [`Image::save`] with a choice of PNG settings.
+    pub fn save_with(
+        &self,
+        name: &str,
+        format: ImageFormat,
+        png: PngOptions,
+    ) -> Result<(), IoError> {
+        let mut out = Output::create(name, true)?;
+        self.encode_with(format, png, &mut out)
+            .map_err(|e| write_error(name, WriteStep::Write)(out.cause(e)))?;
+        out.commit()
+    }
+}
+
+/// The `png` crate's settings for `options`, as the `image` crate's
+/// `PngEncoder::new_with_quality` sets them (so PNG bytes are what they were
+/// before the sRGB chunk, apart from that chunk).
+fn png_settings(options: PngOptions) -> (png::Compression, png::Filter) {
+    use image::codecs::png::{CompressionType as C, FilterType as F};
+    let compression = match options.compression {
+        C::Best => png::Compression::High,
+        C::Fast => png::Compression::Fast,
+        C::Uncompressed | C::Level(0) => png::Compression::NoCompression,
+        // `Level(n)` is not used by the tools; image maps it to a level too.
+        C::Default | C::Level(_) => png::Compression::Balanced,
+        _ => png::Compression::Balanced,
+    };
+    let filter = match options.filter {
+        F::NoFilter => png::Filter::NoFilter,
+        F::Sub => png::Filter::Sub,
+        F::Up => png::Filter::Up,
+        F::Avg => png::Filter::Avg,
+        F::Paeth => png::Filter::Paeth,
+        _ => png::Filter::Adaptive,
+    };
+    (compression, filter)
+}
+
+/// A PNG encoder for `(width, height, channels)` (3 or 4) at `depth`,
+/// marked sRGB: the `sRGB` chunk (rendering intent perceptual; PNG 3rd
+/// edition, 11.3.2.5) tells colour-managed viewers what every tool's codes
+/// are, instead of leaving them to guess.
+fn png_encoder<W: Write>(
+    w: W,
+    (width, height, channels): (u32, u32, u8),
+    depth: png::BitDepth,
+    options: PngOptions,
+) -> png::Encoder<'static, W> {
+    let mut enc = png::Encoder::new(w, width, height);
+    enc.set_color(if channels == 4 {
+        png::ColorType::Rgba
+    } else {
+        png::ColorType::Rgb
+    });
+    enc.set_depth(depth);
+    let (compression, filter) = png_settings(options);
+    enc.set_compression(compression);
+    enc.set_filter(filter);
+    enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+    enc
+}
+
+/// Writes one PNG of `data` (samples as PNG stores them: 16-bit ones
+/// big-endian).
+fn write_png<W: Write>(
+    w: &mut W,
+    size: (u32, u32, u8),
+    depth: png::BitDepth,
+    data: &[u8],
+    options: PngOptions,
+) -> io::Result<()> {
+    let mut writer = png_encoder(w, size, depth, options)
+        .write_header()
+        .map_err(png_io_error)?;
+    writer.write_image_data(data).map_err(png_io_error)?;
+    writer.finish().map_err(png_io_error)
+}
+
+/// The error of an image asked to be written in a format that does not
+/// store its encoding (a caller's mistake: the tools choose the encoding
+/// from the format).
+fn wrong_encoding(encoding: Encoding, format: ImageFormat) -> io::Error {
+    io::Error::new(
+        io::ErrorKind::InvalidInput,
+        format!(
+            "a {} image cannot be written as {format:?}",
+            encoding.name()
+        ),
+    )
+}
+
+/// A 16-bit sRGB image, row 0 at the top, 3 or 4 channels interleaved: what
+/// `--depth 16` writes, each code the nearest to the exact sRGB value
+/// ([`crate::color::linear_to_srgb16`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Image16 {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// 3 (RGB) or 4 (RGBA, straight alpha).
+    pub channels: u8,
+    /// `width * height * channels` codes, laid out as [`Image::data`].
+    pub data: Vec<u16>,
+}
+
+impl Image16 {
+    /// Encodes the image as 16-bit PNG, PPM (MAXVAL 65535; alpha dropped)
+    /// or PAM (MAXVAL 65535); PFM is refused (it is written from linear
+    /// light, [`LinearImage`]).
+    pub fn encode_with<W: Write>(
+        &self,
+        format: ImageFormat,
+        png: PngOptions,
+        w: &mut W,
+    ) -> io::Result<()> {
+        let (wd, ht) = (self.width, self.height);
+        // Every 16-bit format here stores big-endian samples (PNG 11.2.1,
+        // netpbm's PPM and PAM with MAXVAL above 255).
+        let be = |samples: &mut dyn Iterator<Item = u16>| -> Vec<u8> {
+            samples.flat_map(u16::to_be_bytes).collect()
+        };
+        match format {
+            ImageFormat::Ppm => {
+                write!(w, "P6\n{wd} {ht}\n65535\n")?;
+                let c = self.channels as usize;
+                let bytes = be(&mut self.data.chunks_exact(c).flat_map(|p| [p[0], p[1], p[2]]));
+                w.write_all(&bytes)?;
+            }
+            ImageFormat::Pam => {
+                let (depth, tupl) = if self.channels == 4 {
+                    (4, "RGB_ALPHA")
+                } else {
+                    (3, "RGB")
+                };
+                write!(
+                    w,
+                    "P7\nWIDTH {wd}\nHEIGHT {ht}\nDEPTH {depth}\nMAXVAL 65535\nTUPLTYPE {tupl}\nENDHDR\n"
+                )?;
+                w.write_all(&be(&mut self.data.iter().copied()))?;
+            }
+            ImageFormat::Png => write_png(
+                w,
+                (wd, ht, self.channels),
+                png::BitDepth::Sixteen,
+                &be(&mut self.data.iter().copied()),
+                png,
+            )?,
+            ImageFormat::Pfm => return Err(wrong_encoding(Encoding::Srgb16, format)),
+        }
+        Ok(())
+    }
+}
+
+/// An image in linear light, f32, row 0 at the top, RGB: what PFM stores
+/// (`-o x.pfm`), the frame's own values unrounded.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinearImage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `width * height * 3` values, laid out as [`Image::data`].
+    pub data: Vec<f32>,
+}
+
+impl LinearImage {
+    /// Encodes the image as PFM (`PF`, scale -1.0: little-endian, rows
+    /// bottom to top, as Debevec's format has them); other formats are
+    /// refused (they store sRGB codes).
+    pub fn encode<W: Write>(&self, format: ImageFormat, w: &mut W) -> io::Result<()> {
+        if format != ImageFormat::Pfm {
+            return Err(wrong_encoding(Encoding::LinearF32, format));
+        }
+        let (wd, ht) = (self.width as usize, self.height as usize);
+        write!(w, "PF\n{wd} {ht}\n-1.0\n")?;
+        let mut row = Vec::with_capacity(wd * 12);
+        for r in (0..ht).rev() {
+            row.clear();
+            row.extend(
+                self.data[r * wd * 3..(r + 1) * wd * 3]
+                    .iter()
+                    .flat_map(|v| v.to_le_bytes()),
+            );
+            w.write_all(&row)?;
+        }
+        Ok(())
+    }
+}
+
+/// An image in any encoding the tools write or measure: 8- or 16-bit sRGB,
+/// or linear float.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AnyImage {
+    /// 8-bit sRGB.
+    Srgb8(Image),
+    /// 16-bit sRGB.
+    Srgb16(Image16),
+    /// Linear light, f32 (PFM).
+    Linear(LinearImage),
+}
+
+impl AnyImage {
+    /// Width and height in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        match self {
+            AnyImage::Srgb8(i) => (i.width, i.height),
+            AnyImage::Srgb16(i) => (i.width, i.height),
+            AnyImage::Linear(i) => (i.width, i.height),
+        }
+    }
+
+    /// What the samples are.
+    pub fn encoding(&self) -> Encoding {
+        match self {
+            AnyImage::Srgb8(_) => Encoding::Srgb8,
+            AnyImage::Srgb16(_) => Encoding::Srgb16,
+            AnyImage::Linear(_) => Encoding::LinearF32,
+        }
+    }
+
+    /// Encodes the image in `format`, which must store its encoding
+    /// ([`ImageFormat::encoding`]).
+    pub fn encode_with<W: Write>(
+        &self,
+        format: ImageFormat,
+        png: PngOptions,
+        w: &mut W,
+    ) -> io::Result<()> {
+        match self {
+            AnyImage::Srgb8(i) => i.encode_with(format, png, w),
+            AnyImage::Srgb16(i) => i.encode_with(format, png, w),
+            AnyImage::Linear(i) => i.encode(format, w),
+        }
+    }
+
+    /// Writes the image to `name` (`-` = standard output) atomically.
     pub fn save_with(
         &self,
         name: &str,
@@ -807,6 +1144,8 @@ impl ApngWriter {
             png::ColorType::Rgb
         });
         enc.set_depth(png::BitDepth::Eight);
+        // As every PNG the tools write (`png_encoder`).
+        enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
         enc.set_animated(frames, 0).map_err(ctx)?;
         enc.set_frame_delay(1, fps).map_err(ctx)?;
         let writer = enc.write_header().map_err(ctx)?;
@@ -970,6 +1309,207 @@ pub fn decode_texture(
     Ok((width, height, pixels))
 }
 
+/// Whether `bytes` start as a PFM: `PF` (colour) or `Pf` (grey) and
+/// whitespace.
+pub fn is_pfm(bytes: &[u8]) -> bool {
+    matches!(bytes, [b'P', b'F' | b'f', ws, ..] if ws.is_ascii_whitespace())
+}
+
+/// What is wrong with a PFM ([`IoError::BadPfm`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PfmError {
+    /// The first two bytes are not `PF` or `Pf`.
+    #[error("it does not start with `PF` or `Pf`")]
+    Magic,
+    /// A header field is missing or not a number.
+    #[error("header: the {field} is `{found}`: expected {expected}")]
+    Header {
+        /// Which field: width, height or scale.
+        field: &'static str,
+        /// What the file has there (shortened), or `end of file`.
+        found: String,
+        /// What it should be.
+        expected: &'static str,
+    },
+    /// The size is empty or beyond the tools' limits.
+    #[error("header: {0}")]
+    Size(#[from] SizeError),
+    /// Fewer bytes of pixels than the header's size needs.
+    #[error("truncated: {width}x{height} pixels of {channels} f32 need {needed} bytes after the header, the file has {found}")]
+    Truncated {
+        /// Width from the header.
+        width: u32,
+        /// Height from the header.
+        height: u32,
+        /// 3 (`PF`) or 1 (`Pf`).
+        channels: u8,
+        /// Bytes the pixels need.
+        needed: u64,
+        /// Bytes there are.
+        found: u64,
+    },
+    /// More bytes than the header's size needs.
+    #[error("{extra} byte(s) after the {width}x{height} pixels the header gives")]
+    Trailing {
+        /// Width from the header.
+        width: u32,
+        /// Height from the header.
+        height: u32,
+        /// Bytes beyond the pixels.
+        extra: u64,
+    },
+    /// A sample is NaN or infinite.
+    #[error("pixel ({x}, {y}) from the top-left, channel {channel}, is {value}: expected a finite number")]
+    NotFinite {
+        /// Column from the left.
+        x: u32,
+        /// Row from the top.
+        y: u32,
+        /// 0, 1, 2 for R, G, B.
+        channel: u8,
+        /// The value, as Rust prints it (`NaN`, `inf`, `-inf`).
+        value: f32,
+    },
+}
+
+/// Reads a PFM (Portable Float Map, Debevec's format as netpbm's `pfmtopam`
+/// reads it): `PF` (RGB) or `Pf` (grey, read as R = G = B), whitespace, the
+/// width and height in decimal, the scale (negative: little-endian,
+/// positive: big-endian; its magnitude is not applied, as a rendering's
+/// values are linear light as they stand), one whitespace byte, then
+/// `width * height` pixels of f32, rows from the bottom. The size is checked
+/// against the tools' limits ([`Image::check_size`]) before anything is
+/// allocated, and every sample must be finite.
+pub fn decode_pfm(bytes: &[u8]) -> Result<LinearImage, PfmError> {
+    if !is_pfm(bytes) {
+        return Err(PfmError::Magic);
+    }
+    let channels: u8 = if bytes[1] == b'F' { 3 } else { 1 };
+    let mut at = 2;
+    // A header token: whitespace, then the bytes up to the next whitespace
+    // (at most 64 of them: no number in a header is longer).
+    let mut token = |field: &'static str, expected: &'static str| {
+        while bytes.get(at).is_some_and(u8::is_ascii_whitespace) {
+            at += 1;
+        }
+        let start = at;
+        while at < bytes.len() && !bytes[at].is_ascii_whitespace() && at - start < 64 {
+            at += 1;
+        }
+        let text = String::from_utf8_lossy(&bytes[start..at]).into_owned();
+        let found = if text.is_empty() {
+            "end of file".to_string()
+        } else {
+            text.clone()
+        };
+        (text, move || PfmError::Header {
+            field,
+            found: found.clone(),
+            expected,
+        })
+    };
+    let (w, bad) = token("width", "a whole number of pixels");
+    let width: u32 = w.parse().map_err(|_| bad())?;
+    let (h, bad) = token("height", "a whole number of pixels");
+    let height: u32 = h.parse().map_err(|_| bad())?;
+    Image::check_size(width, height)?;
+    let (sc, bad) = token(
+        "scale",
+        "a finite non-zero number (negative: little-endian)",
+    );
+    let scale: f32 = sc.parse().map_err(|_| bad())?;
+    if !scale.is_finite() || scale == 0.0 {
+        return Err(bad());
+    }
+    // Exactly one whitespace byte ends the header.
+    if !bytes.get(at).is_some_and(u8::is_ascii_whitespace) {
+        return Err(bad());
+    }
+    let data = &bytes[at + 1..];
+    let (wd, ht) = (width as usize, height as usize);
+    let needed = wd as u64 * ht as u64 * channels as u64 * 4;
+    if (data.len() as u64) < needed {
+        return Err(PfmError::Truncated {
+            width,
+            height,
+            channels,
+            needed,
+            found: data.len() as u64,
+        });
+    }
+    if data.len() as u64 > needed {
+        return Err(PfmError::Trailing {
+            width,
+            height,
+            extra: data.len() as u64 - needed,
+        });
+    }
+    let little = scale < 0.0;
+    let mut out = vec![0f32; wd * ht * 3];
+    for (i, b) in data.chunks_exact(4).enumerate() {
+        let b = [b[0], b[1], b[2], b[3]];
+        let v = if little {
+            f32::from_le_bytes(b)
+        } else {
+            f32::from_be_bytes(b)
+        };
+        let px = i / channels as usize;
+        let (x, y) = (px % wd, ht - 1 - px / wd);
+        if !v.is_finite() {
+            return Err(PfmError::NotFinite {
+                x: x as u32,
+                y: y as u32,
+                channel: (i % channels as usize) as u8,
+                value: v,
+            });
+        }
+        let o = (y * wd + x) * 3;
+        if channels == 3 {
+            out[o + i % 3] = v;
+        } else {
+            out[o..o + 3].fill(v);
+        }
+    }
+    Ok(LinearImage {
+        width,
+        height,
+        data: out,
+    })
+}
+
+/// Decodes an image to measure, at the depth it has: a PFM as linear
+/// light, a 16-bit PNG or PNM (MAXVAL above 255) as 16-bit sRGB RGBA, any
+/// other image the `image` crate reads as 8-bit sRGB RGBA (no EXIF
+/// orientation, as [`decode_image`]).
+pub fn decode_any(bytes: &[u8], name: &str) -> Result<AnyImage, IoError> {
+    if is_pfm(bytes) {
+        return decode_pfm(bytes)
+            .map(AnyImage::Linear)
+            .map_err(|error| IoError::BadPfm {
+                input: name.to_string(),
+                error,
+            });
+    }
+    let img = image::load_from_memory(bytes).map_err(not_an_image(name))?;
+    let (width, height) = (img.width(), img.height());
+    let deep = img.color().bytes_per_pixel() / img.color().channel_count() > 1;
+    Ok(if deep {
+        AnyImage::Srgb16(Image16 {
+            width,
+            height,
+            channels: 4,
+            data: img.into_rgba16().into_raw(),
+        })
+    } else {
+        AnyImage::Srgb8(Image {
+            width,
+            height,
+            channels: 4,
+            data: img.into_rgba8().into_raw(),
+        })
+    })
+}
+
 /// Decodes any image the `image` crate reads (PNG, JPEG, GIF, BMP, TIFF, WebP,
 /// PNM/PAM) into RGBA8, as stored (no EXIF orientation: see [`decode_photo`]).
 pub fn decode_image(bytes: &[u8], name: &str) -> Result<image::RgbaImage, IoError> {
@@ -1063,6 +1603,147 @@ mod tests {
         assert!(Image::check_size(70_000, 1).is_err());
         assert!(Image::check_size(60_000, 60_000).is_err());
         assert!(Image::check_size(4096, 4096).is_ok());
+    }
+
+    fn pfm(header: &str, values: &[f32]) -> Vec<u8> {
+        let mut b = header.as_bytes().to_vec();
+        b.extend(values.iter().flat_map(|v| v.to_le_bytes()));
+        b
+    }
+
+    #[test]
+    fn pfm_round_trips_bit_for_bit_with_rows_bottom_to_top() {
+        let img = LinearImage {
+            width: 2,
+            height: 2,
+            data: vec![
+                0.0, 0.25, 0.5, 1.0, 1e-7, 0.75, 0.1, 0.2, 0.3, 2.5, -0.0, 0.9,
+            ],
+        };
+        let mut buf = Vec::new();
+        img.encode(ImageFormat::Pfm, &mut buf).unwrap();
+        assert!(buf.starts_with(b"PF\n2 2\n-1.0\n"));
+        // The file's first pixel is the bottom-left one.
+        let first = f32::from_le_bytes(buf[12..16].try_into().unwrap());
+        assert_eq!(first, 0.1);
+        let back = decode_pfm(&buf).unwrap();
+        assert_eq!(back, img);
+        // Big-endian (positive scale) and grey (`Pf`) are read too.
+        let mut be = b"PF 1 1 1.0\n".to_vec();
+        be.extend([0.5f32, 0.25, 1.0].iter().flat_map(|v| v.to_be_bytes()));
+        assert_eq!(decode_pfm(&be).unwrap().data, vec![0.5, 0.25, 1.0]);
+        assert_eq!(
+            decode_pfm(&pfm("Pf\n1 1\n-1\n", &[0.5])).unwrap().data,
+            vec![0.5; 3]
+        );
+    }
+
+    #[test]
+    fn malformed_pfm_is_refused_with_what_is_wrong() {
+        let cases: [(Vec<u8>, &str); 11] = [
+            (b"P6\n1 1\n255\n".to_vec(), "does not start with `PF`"),
+            (pfm("PF\nabc 1\n-1.0\n", &[0.0; 3]), "the width is `abc`"),
+            (pfm("PF\n1 1\n", &[]), "the scale is `end of file`"),
+            (pfm("PF\n1 -2\n-1.0\n", &[]), "the height is `-2`"),
+            (pfm("PF\n0 1\n-1.0\n", &[]), "is empty"),
+            (pfm("PF\n70000 1\n-1.0\n", &[]), "each side at most 65535"),
+            (
+                pfm("PF\n60000 60000\n-1.0\n", &[]),
+                "at most 268435456 pixels",
+            ),
+            (pfm("PF\n1 1\nnan\n", &[0.0; 3]), "the scale is `nan`"),
+            (
+                pfm("PF\n2 1\n-1.0\n", &[0.0; 5]),
+                "need 24 bytes after the header, the file has 20",
+            ),
+            (
+                pfm("PF\n1 1\n-1.0\n", &[0.0; 4]),
+                "4 byte(s) after the 1x1 pixels",
+            ),
+            (
+                pfm(
+                    "PF\n2 2\n-1.0\n",
+                    &[
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.0,
+                        f32::NAN,
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.0,
+                    ],
+                ),
+                "pixel (1, 1) from the top-left, channel 1, is NaN",
+            ),
+        ];
+        for (bytes, want) in cases {
+            let e = decode_pfm(&bytes).unwrap_err().to_string();
+            assert!(e.contains(want), "{want:?} not in {e:?}");
+        }
+        let e =
+            decode_any(&pfm("PF\n1 1\n-1.0\n", &[f32::INFINITY, 0.0, 0.0]), "x.pfm").unwrap_err();
+        assert_eq!(e.to_string(), "x.pfm: not a valid PFM image");
+        assert!(std::error::Error::source(&e)
+            .unwrap()
+            .to_string()
+            .contains("is inf"));
+    }
+
+    #[test]
+    fn sixteen_bit_formats_round_trip_and_pngs_say_srgb() {
+        let img = Image16 {
+            width: 2,
+            height: 1,
+            channels: 4,
+            data: vec![1, 258, 65534, 65535, 40000, 3, 0, 12345],
+        };
+        for f in [ImageFormat::Ppm, ImageFormat::Pam, ImageFormat::Png] {
+            let mut buf = Vec::new();
+            img.encode_with(f, PngOptions::GENERAL, &mut buf).unwrap();
+            let AnyImage::Srgb16(back) = decode_any(&buf, "x").unwrap() else {
+                panic!("{f:?} not read back as 16-bit");
+            };
+            let alpha = if f == ImageFormat::Ppm {
+                [65535, 65535]
+            } else {
+                [65535, 12345]
+            };
+            assert_eq!(
+                back.data,
+                vec![1, 258, 65534, alpha[0], 40000, 3, 0, alpha[1]],
+                "{f:?}"
+            );
+            if f == ImageFormat::Png {
+                let info = png::Decoder::new(io::Cursor::new(&buf))
+                    .read_info()
+                    .unwrap();
+                let info = info.info();
+                assert_eq!(info.bit_depth, png::BitDepth::Sixteen);
+                assert_eq!(info.srgb, Some(png::SrgbRenderingIntent::Perceptual));
+            }
+        }
+        let eight = Image {
+            width: 1,
+            height: 1,
+            channels: 3,
+            data: vec![1, 2, 3],
+        };
+        let mut buf = Vec::new();
+        eight.encode(ImageFormat::Png, &mut buf).unwrap();
+        let info = png::Decoder::new(io::Cursor::new(&buf))
+            .read_info()
+            .unwrap();
+        assert_eq!(info.info().srgb, Some(png::SrgbRenderingIntent::Perceptual));
+        assert!(eight.encode(ImageFormat::Pfm, &mut Vec::new()).is_err());
+        assert_eq!(
+            ImageFormat::choose(None, "a.PFM").unwrap(),
+            ImageFormat::Pfm
+        );
     }
 
     #[test]

@@ -3,7 +3,7 @@ complete -c pat-tile -l size -d 'Image size (WxH), or with --pat the new pattern
 complete -c pat-tile -l scale -d 'Each texel becomes an N x N block of pixels' -r
 complete -c pat-tile -l offset -d 'The texel shown at the lower-left pixel (COL,ROW); negative values allowed' -r
 complete -c pat-tile -l background -d 'Colour for transparent texels (`r,g,b` or `#rrggbb`). Without it, PNG and PAM keep transparency as alpha and PPM shows black with a warning' -r
-complete -c pat-tile -l format -d 'Image format; by default from the output\'s extension, PNG on standard output' -r -f -a "png\t'PNG, lossless, with alpha when the image has transparency'
+complete -c pat-tile -l format -d 'Image format; by default from the output\'s extension, PNG on standard output. Always 8-bit sRGB: a pattern\'s colours are 8-bit codes, which more bits or PFM\'s floats would only repeat' -r -f -a "png\t'PNG, lossless, with alpha when the image has transparency'
 ppm\t'Binary PPM (P6); transparency is flattened'
 pam\t'PAM (P7), RGB or RGB_ALPHA'"
 complete -c pat-tile -l pat -d 'Write a tiled .pat of --size instead of an image'

@@ -1,7 +1,10 @@
 complete -c scene-render -s o -l output -d 'Output image; `-` is standard output. Default: standard output, or no image with --compare (only the report)' -r
-complete -c scene-render -l format -d 'Image format; by default from the output\'s extension, PNG on standard output' -r -f -a "png\t'PNG, lossless, with alpha when the image has transparency'
+complete -c scene-render -l format -d 'Image format; by default from the output\'s extension (.png, .ppm, .pnm, .pam, .pfm), PNG on standard output. PFM stores the frame\'s linear-light values as 32-bit floats, unrounded, and no alpha' -r -f -a "png\t'PNG, lossless, with alpha when the image has transparency'
 ppm\t'Binary PPM (P6); transparency is flattened'
-pam\t'PAM (P7), RGB or RGB_ALPHA'"
+pam\t'PAM (P7), RGB or RGB_ALPHA'
+pfm\t'PFM (Portable Float Map, `PF`): RGB in linear light, 32-bit floats, little-endian, rows bottom to top; no alpha'"
+complete -c scene-render -l depth -d 'Bits per channel of PNG, PPM and PAM output: 8, or 16 (each code the nearest to the exact sRGB value; MAXVAL 65535 in PPM and PAM). Not for PFM, which is float, nor --animate' -r -f -a "8\t'8 bits, codes 0..=255'
+16\t'16 bits, codes 0..=65535 (PNG bit depth 16, netpbm MAXVAL 65535)'"
 complete -c scene-render -l size -d 'Image size (WxH). The default is the IRIS screen' -r
 complete -c scene-render -l background -d 'Background colour (`r,g,b` or `#rrggbb`), or `none`: what polygons leave uncovered is transparent, and the image carries their coverage as alpha (PNG, PAM; twice the render time)' -r
 complete -c scene-render -l background-pattern -d 'A .pat or an image (PNG, JPEG, ...: told by content) tiled over the background in screen mode (the thesis\'s colorclear): pixel (x, y) from the lower-left takes texel (x mod W, y mod H), an image\'s bottom row being texel row 0; transparent texels (alpha below one half) show --background' -r
@@ -82,9 +85,9 @@ front\t'Drop polygons seen from the front (counter-clockwise on screen)'"
 complete -c scene-render -l aa -d 'Anti-aliasing: none (pixel centres), ss<N> (N = k*k samples on a k x k grid, N up to 256), or exact (the exact visible area of every polygon in each pixel, box filter)' -r
 complete -c scene-render -l max-error -d 'Instead of one --aa for the whole frame, use the cheapest methods expected to keep the frame\'s RMSE (8-bit sRGB units, as --compare measures it) within E, chosen per region (empty, flat, textured tiles) from a pilot sample rendered every way; prints the choice and its estimate to standard error (or in --json)' -r
 complete -c scene-render -l reference-samples -d 'Uniform strips per pixel added to the reference\'s events (a multiple of 3; more only tightens the error estimate)' -r
-complete -c scene-render -l compare -d 'Compare the image with this reference image and print RMSE, PSNR, the largest error and the share of pixels off by more than 4 (8-bit sRGB, over RGB)' -r
+complete -c scene-render -l compare -d 'Compare the image with this reference image and print RMSE, PSNR, the largest error and the share of pixels off by more than 4 (8-bit sRGB, over RGB). A 16-bit PNG, PPM or PAM, or a PFM, on either side is measured in fractional 8-bit codes and in linear light too' -r
 complete -c scene-render -l image -d 'With --compare: measure this existing image instead of rendering a scene' -r
-complete -c scene-render -l diff -d 'With --compare: write the difference, amplified 16x per channel, here' -r
+complete -c scene-render -l diff -d 'With --compare: write the difference, amplified 16x per channel, here (an 8-bit PNG, PPM or PAM, whatever the inputs\' depth)' -r
 complete -c scene-render -l frames -d 'Render an animation of N frames (docs/objects.md): numbers of instance transforms written `{"start": a, "step": s}` are `a + s*k` in frame k (0-based), and so are those of quadric records\' "transform". -o must then be a pattern such as frame-%04d.png, or a plain name with --animate' -r
 complete -c scene-render -l fps -d 'With --animate: frames per second (each frame shows for 1/FPS s)' -r
 complete -c scene-render -l quadric-tolerance -d 'Largest distance, in pixels, of a quadric\'s chords from its true surface, for quadric records that leave out slices or stacks (docs/objects.md): measured at the nearest point of the quadric\'s bounding sphere as drawn by this camera' -r

@@ -313,6 +313,16 @@ pub fn output_format(
         .map_err(|e| UsageError(e.worded("--format")).into())
 }
 
+/// [`output_format`] for an image of 8-bit colours
+/// ([`crate::io::ImageFormat::choose_8bit`]): `.pfm` is a usage error.
+pub fn output_format_8bit(
+    explicit: Option<crate::io::ImageFormat>,
+    output: &str,
+) -> anyhow::Result<crate::io::ImageFormat> {
+    crate::io::ImageFormat::choose_8bit(explicit, output)
+        .map_err(|e| UsageError(e.worded("--format")).into())
+}
+
 /// `--threads N`, shared by the tools that run a pool of workers
 /// (`#[command(flatten)]`), so the flag reads and behaves the same in each.
 #[derive(clap::Args, Debug, Clone, Copy, Default)]
@@ -498,7 +508,7 @@ pub fn man_sections(tool: &str) -> String {
         "pat-info" => "Reads .pat files (pat(5)) and modulation maps (patkit-stripe(5)); with --record, a polygon stream (patkit-stream(5)) and the stripe files it names. --json prints the report of patkit-json(5).",
         "pat-tile" => "Reads a .pat file (pat(5)); writes a PNG, PPM or PAM image, or with --pat a .pat file.",
         "polyfill3" => "Reads a polygon stream (patkit-stream(5)), the pattern and stripe files its records name (relative to the stream's directory), --pattern (pat(5)) and --camera (patkit-camera(5)); writes a polygon stream and, with --depfile, a make rule. --json prints the summary of patkit-json(5).",
-        _ => "Reads a polygon stream (patkit-stream(5)), the pattern, image and stripe files its records name (pat(5), patkit-stripe(5); relative to the stream's directory), --camera (patkit-camera(5)), --background-pattern and --compare images; writes a PNG, PPM or PAM image (or frames, or an animated PNG) and, with --depfile, a make rule. --json prints the reports of patkit-json(5).",
+        _ => "Reads a polygon stream (patkit-stream(5)), the pattern, image and stripe files its records name (pat(5), patkit-stripe(5); relative to the stream's directory), --camera (patkit-camera(5)), --background-pattern and --compare and --image images (PFM too); writes a PNG, PPM or PAM image in 8- or 16-bit sRGB or a PFM in linear light (or frames, or an animated PNG) and, with --depfile, a make rule. --json prints the reports of patkit-json(5).",
     };
     s.push_str(&format!(".PP\n{files}\n"));
     if tool != "pat-info" {

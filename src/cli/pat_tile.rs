@@ -53,8 +53,10 @@ pub struct Args {
     #[arg(long, value_name = "COLOR")]
     pub background: Option<Rgb8>,
 
-    /// Image format; by default from the output's extension, PNG on standard output.
-    #[arg(long, value_enum)]
+    /// Image format; by default from the output's extension, PNG on standard
+    /// output. Always 8-bit sRGB: a pattern's colours are 8-bit codes, which
+    /// more bits or PFM's floats would only repeat.
+    #[arg(long, value_parser = eight_bit_formats())]
     pub format: Option<ImageFormat>,
 
     /// Write a tiled .pat of --size instead of an image.
@@ -84,7 +86,9 @@ pub fn run(args: Args) -> Result<()> {
     let format = if args.pat {
         None
     } else {
-        Some(super::output_format(args.format, &args.output)?)
+        // A pattern's colours are 8-bit codes: PFM's floats would only
+        // repeat them (scene-render writes PFM, from linear light).
+        Some(super::output_format_8bit(args.format, &args.output)?)
     };
     let name = display_name(&args.input);
     let bytes = read_input(&args.input, crate::io::InputKind::Text)?;
@@ -120,4 +124,16 @@ pub fn run(args: Args) -> Result<()> {
         background,
     );
     Ok(image.save_with(&args.output, format, PngOptions::FLAT_REPEATING)?)
+}
+
+/// `--format`'s values: the 8-bit formats, not PFM (scene-render's).
+fn eight_bit_formats() -> impl clap::builder::TypedValueParser<Value = ImageFormat> {
+    use clap::builder::TypedValueParser as _;
+    use clap::ValueEnum as _;
+    let eight_bit = ImageFormat::value_variants()
+        .iter()
+        .filter(|f| **f != ImageFormat::Pfm)
+        .filter_map(ImageFormat::to_possible_value);
+    clap::builder::PossibleValuesParser::new(eight_bit)
+        .map(|s| ImageFormat::from_str(&s, false).expect("a listed format"))
 }

@@ -6,7 +6,7 @@ use super::Size;
 use crate::camera::Camera;
 use crate::cli::usage_bail;
 use crate::color::Rgb8;
-use crate::io::{decode_image, display_name, read_input, Image, ImageFormat, PngOptions};
+use crate::io::{decode_any, display_name, read_input, AnyImage, Depth, ImageFormat, PngOptions};
 use crate::progress::Progress;
 use crate::raster::{self, compare, reference, Aa, Background, Cull};
 use crate::scene::{self, DrawOptions, Resolve, Scene};
@@ -34,6 +34,11 @@ Examples:
   scene-render --camera cam.json --cull back scene.json --compare reference.png --diff diff.png
   scene-render --image ss16.png --compare reference.png --json
       Measure any image of the same size against the reference.
+  scene-render --camera cam.json --cull back scene.json -o exact.pfm
+  scene-render --camera cam.json --cull back --depth 16 scene.json -o exact16.png
+  scene-render --image exact16.png --compare exact.pfm
+      The frame's linear values unrounded (PFM), and 16-bit sRGB: errors
+      below one 8-bit code can be measured.
   scene-render --camera cam.json --frames 36 -o frame-%04d.png spin.json
       An animation: instance transforms with {\"start\": a, \"step\": s} numbers.
   scene-render --camera cam.json --frames 36 --frame 7 -o frame-%04d.png spin.json
@@ -47,8 +52,9 @@ Without a camera the view is ortho2(0, W, 0, H) for a WxH image: 2D records
 (rect, circle, arc) and [x,y] polygons map one world unit to one pixel, origin
 at the lower-left.";
 
-/// Render a polygon stream (patkit-stream(5)) to PNG, PPM or PAM: homogeneous clipping,
-/// depth buffering, and exact-area anti-aliasing in linear light.
+/// Render a polygon stream (patkit-stream(5)) to PNG, PPM or PAM (8- or 16-bit sRGB)
+/// or PFM (linear float): homogeneous clipping, depth buffering, and exact-area
+/// anti-aliasing in linear light.
 #[derive(Parser, Debug)]
 #[command(name = "scene-render", version, after_help = EXAMPLES)]
 pub struct Args {
@@ -61,9 +67,18 @@ pub struct Args {
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<String>,
 
-    /// Image format; by default from the output's extension, PNG on standard output.
+    /// Image format; by default from the output's extension (.png, .ppm,
+    /// .pnm, .pam, .pfm), PNG on standard output. PFM stores the frame's
+    /// linear-light values as 32-bit floats, unrounded, and no alpha.
     #[arg(long, value_enum)]
     pub format: Option<ImageFormat>,
+
+    /// Bits per channel of PNG, PPM and PAM output: 8, or 16 (each code the
+    /// nearest to the exact sRGB value; MAXVAL 65535 in PPM and PAM). Not
+    /// for PFM, which is float, nor --animate.
+    #[arg(long, value_enum, value_name = "8|16", hide_possible_values = true,
+          conflicts_with_all = ["image", "animate"])]
+    pub depth: Option<Depth>,
 
     /// Image size (WxH). The default is the IRIS screen.
     #[arg(long, default_value = "1024x768")]
@@ -130,7 +145,8 @@ pub struct Args {
 
     /// Compare the image with this reference image and print RMSE, PSNR, the
     /// largest error and the share of pixels off by more than 4 (8-bit sRGB,
-    /// over RGB).
+    /// over RGB). A 16-bit PNG, PPM or PAM, or a PFM, on either side is
+    /// measured in fractional 8-bit codes and in linear light too.
     #[arg(long, value_name = "REF")]
     pub compare: Option<String>,
 
@@ -138,7 +154,8 @@ pub struct Args {
     #[arg(long, value_name = "IMAGE", requires = "compare")]
     pub image: Option<String>,
 
-    /// With --compare: write the difference, amplified 16x per channel, here.
+    /// With --compare: write the difference, amplified 16x per channel, here
+    /// (an 8-bit PNG, PPM or PAM, whatever the inputs' depth).
     #[arg(long, value_name = "FILE", requires = "compare")]
     pub diff: Option<String>,
 
@@ -331,6 +348,10 @@ fn run_in_pool(args: Args) -> Result<()> {
     for extra in [&args.diff, &args.depfile].into_iter().flatten() {
         crate::io::check_output(extra, false)?;
     }
+    if let Some(d) = &args.diff {
+        // The difference is an 8-bit picture.
+        super::output_format_8bit(None, d)?;
+    }
     // Everything that can fail is checked before anything is written.
     let reference_img = match &args.compare {
         Some(r) => Some(load_image(r)?),
@@ -376,6 +397,19 @@ fn run_in_pool(args: Args) -> Result<()> {
     if transparent && format == Some(ImageFormat::Ppm) {
         usage_bail!("--background none: PPM has no alpha channel: write PNG or PAM");
     }
+    // The format written, or without an output (--compare alone) the one
+    // --format names, else PNG: the image is measured as it would be written.
+    let written = format.or(args.format).unwrap_or(ImageFormat::Png);
+    if transparent && written == ImageFormat::Pfm {
+        usage_bail!("--background none: PFM has no alpha channel: write PNG or PAM");
+    }
+    if let (ImageFormat::Pfm, Some(d)) = (written, args.depth) {
+        usage_bail!(
+            "--depth {}: PFM stores 32-bit floats in linear light: --depth is for PNG, PPM and PAM",
+            if d == Depth::Sixteen { 16 } else { 8 }
+        );
+    }
+    let encoding = written.encoding(args.depth.unwrap_or_default());
     let Size { width, height } = args.size;
     let given = args.camera.resolve()?;
     let camera_given = given.is_some();
@@ -410,7 +444,14 @@ fn run_in_pool(args: Args) -> Result<()> {
     let how = draw_options(&args, texture);
     if animation || args.animate {
         let format = format.expect("animations have an output");
-        render_frames(&args, &how, &scene, (&view, camera_given), &bg, format)?;
+        render_frames(
+            &args,
+            &how,
+            &scene,
+            (&view, camera_given),
+            &bg,
+            (format, encoding),
+        )?;
         return write_depfile(&args, Some(&scene));
     }
     let (polys, tally) = scene
@@ -431,13 +472,14 @@ fn run_in_pool(args: Args) -> Result<()> {
         let res = r.residual(args.reference_samples);
         let img = if bg.is_transparent() {
             let over_white = pass(&bg.opaque(Rgb8::WHITE));
-            raster::Frame::to_image_with_alpha(&r.frame, &over_white.frame)
+            raster::Frame::encode_with_alpha(&r.frame, &over_white.frame, encoding)
         } else {
-            r.frame.to_image()
+            r.frame.encode(encoding)
         };
         (img, Some(res), None)
     } else {
-        let (img, plan) = scene::render_with(&polys, &bg, width, height, resolve(&args), &bar);
+        let (img, plan) =
+            scene::render_encoded(&polys, &bg, (width, height), resolve(&args), &bar, encoding);
         (img, None, plan)
     };
     drop(bar);
@@ -526,26 +568,30 @@ struct Reports {
 fn finish(
     args: &Args,
     output: Option<(String, ImageFormat)>,
-    img: Image,
-    reference_img: Option<Image>,
+    img: AnyImage,
+    reference_img: Option<AnyImage>,
     reports: Reports,
 ) -> Result<()> {
     let Reports { residual, plan } = reports;
     let metrics = match &reference_img {
-        Some(r) => Some(compare::compare(&img, r).with_context(|| {
+        Some(r) => Some(compare::compare_any(&img, r).with_context(|| {
             format!("comparing with {}", args.compare.as_deref().unwrap_or(""))
         })?),
         None => None,
     };
     let diff = match &reference_img {
-        Some(r) if args.diff.is_some() => Some(compare::diff_image(&img, r, compare::DIFF_GAIN)?),
+        Some(r) if args.diff.is_some() => Some(AnyImage::Srgb8(compare::diff_any(
+            &img,
+            r,
+            compare::DIFF_GAIN,
+        )?)),
         _ => None,
     };
     let image_on_stdout = output.as_ref().is_some_and(|(o, _)| o == crate::io::STDIO);
     // The image and the difference appear together or not at all: both are
     // written to their temporary files first, then both moved into place.
     let mut written = Vec::new();
-    let mut write = |image: &Image, name: &str, format: ImageFormat| -> Result<()> {
+    let mut write = |image: &AnyImage, name: &str, format: ImageFormat| -> Result<()> {
         let mut out = crate::io::Output::create(name, true)?;
         image
             .encode_with(format, PngOptions::GENERAL, &mut out)
@@ -565,7 +611,7 @@ fn finish(
         write(&img, o, *f)?;
     }
     if let (Some(d), Some(name)) = (diff, &args.diff) {
-        write(&d, name, super::output_format(None, name)?)?;
+        write(&d, name, super::output_format_8bit(None, name)?)?;
     }
     for out in written {
         out.commit()?;
@@ -605,16 +651,11 @@ fn finish(
     Ok(())
 }
 
-fn load_image(name: &str) -> Result<Image> {
-    let bytes = read_input(name, crate::io::InputKind::Image)?;
-    let rgba = decode_image(&bytes, display_name(name))?;
-    let (width, height) = rgba.dimensions();
-    Ok(Image {
-        width,
-        height,
-        channels: 4,
-        data: rgba.into_raw(),
-    })
+/// An image to measure (`--compare`, `--image`), at the depth it has: 8-
+/// or 16-bit sRGB, or a PFM's linear light.
+fn load_image(name: &str) -> Result<AnyImage> {
+    let bytes = read_input(name, crate::io::InputKind::ImageOrPfm)?;
+    Ok(decode_any(&bytes, display_name(name))?)
 }
 
 /// `%d` or `%0Nd` in an output name replaced by the frame number; `None`
@@ -715,7 +756,7 @@ fn render_frames(
     scene: &Scene,
     (view, camera_given): (&View, bool),
     bg: &raster::Background,
-    format: ImageFormat,
+    (format, encoding): (ImageFormat, crate::io::Encoding),
 ) -> Result<()> {
     let pattern = args.output.as_deref().expect("checked by run_in_pool");
     let frames: Vec<u64> = match args.frame {
@@ -741,7 +782,14 @@ fn render_frames(
             .with_context(|| display_name(&args.input).to_string())?;
         warn_if_blank(args, (view, camera_given), k, &tally);
         let t1 = std::time::Instant::now();
-        let (img, plan) = scene::render(&polys, bg, view.width, view.height, resolve(args));
+        let (img, plan) = scene::render_encoded(
+            &polys,
+            bg,
+            (view.width, view.height),
+            resolve(args),
+            &crate::progress::Silent,
+            encoding,
+        );
         if let Some(p) = plan {
             if args.json {
                 let mut o = serde_json::Map::new();
@@ -754,6 +802,9 @@ fn render_frames(
         }
         let t2 = std::time::Instant::now();
         if args.animate {
+            let AnyImage::Srgb8(img) = img else {
+                unreachable!("--animate writes 8-bit (--depth conflicts with it)")
+            };
             if apng.is_none() {
                 let frames = u32::try_from(args.frames).context("too many frames for an APNG")?;
                 apng = Some(crate::io::ApngWriter::create(

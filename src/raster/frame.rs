@@ -1,9 +1,10 @@
 //! The two ends of a resolver: what lies behind every polygon
 //! ([`Background`]) and the linear-light pixels it fills ([`Frame`]), encoded
-//! to 8-bit sRGB once, rounding, by [`Frame::to_image`].
+//! to 8-bit sRGB once, rounding, by [`Frame::to_image`] (16-bit sRGB by
+//! [`Frame::to_image16`], kept linear by [`Frame::to_linear_image`]).
 
-use crate::color::{linear_to_srgb, srgb_to_linear_f64, Rgb8};
-use crate::io::Image;
+use crate::color::{linear_to_srgb, linear_to_srgb16, srgb_to_linear_f64, Rgb8};
+use crate::io::{AnyImage, Encoding, Image, Image16, LinearImage};
 use crate::texture::Texels;
 
 /// What lies behind every polygon: a colour, or the thesis's `colorclear`
@@ -146,6 +147,109 @@ impl Frame {
             width: over_black.width,
             height: over_black.height,
             channels: 4,
+            data,
+        }
+    }
+
+    /// The image in `encoding`: [`Frame::to_image`], [`Frame::to_image16`]
+    /// or [`Frame::to_linear_image`].
+    pub fn encode(&self, encoding: Encoding) -> AnyImage {
+        match encoding {
+            Encoding::Srgb8 => AnyImage::Srgb8(self.to_image()),
+            Encoding::Srgb16 => AnyImage::Srgb16(self.to_image16()),
+            Encoding::LinearF32 => AnyImage::Linear(self.to_linear_image()),
+        }
+    }
+
+    /// [`Frame::to_image_with_alpha`] in `encoding`. Linear float has no
+    /// alpha (PFM stores none): it is the colour over black, as
+    /// `over_black` holds it (colours premultiplied by their coverage).
+    pub fn encode_with_alpha(
+        over_black: &Frame,
+        over_white: &Frame,
+        encoding: Encoding,
+    ) -> AnyImage {
+        match encoding {
+            Encoding::Srgb8 => AnyImage::Srgb8(Frame::to_image_with_alpha(over_black, over_white)),
+            Encoding::Srgb16 => {
+                AnyImage::Srgb16(Frame::to_image16_with_alpha(over_black, over_white))
+            }
+            Encoding::LinearF32 => AnyImage::Linear(over_black.to_linear_image()),
+        }
+    }
+
+    /// [`Frame::to_image_with_alpha`] in 16 bits: the colour and the alpha
+    /// each the nearest 16-bit code, a pixel transparent below half a
+    /// 16-bit step of alpha.
+    pub fn to_image16_with_alpha(over_black: &Frame, over_white: &Frame) -> Image16 {
+        assert_eq!(
+            (over_black.width, over_black.height),
+            (over_white.width, over_white.height),
+            "two passes of one frame"
+        );
+        let (w, h) = (over_black.width as usize, over_black.height as usize);
+        let mut data = vec![0u16; w * h * 4];
+        for (r, out) in data.chunks_exact_mut((w * 4).max(1)).enumerate().take(h) {
+            let y = h - 1 - r;
+            for (x, o) in out.chunks_exact_mut(4).enumerate() {
+                let (b, wh) = (over_black.pixels[y * w + x], over_white.pixels[y * w + x]);
+                let uncovered: f32 = (0..3).map(|c| wh[c] - b[c]).sum::<f32>() / 3.0;
+                let alpha = (1.0 - uncovered).clamp(0.0, 1.0);
+                if alpha < 0.5 / 65535.0 {
+                    continue;
+                }
+                let colour = b.map(|c| linear_to_srgb16((c / alpha).clamp(0.0, 1.0)));
+                o[..3].copy_from_slice(&colour);
+                o[3] = (alpha * 65535.0).round() as u16;
+            }
+        }
+        Image16 {
+            width: over_black.width,
+            height: over_black.height,
+            channels: 4,
+            data,
+        }
+    }
+
+    /// Encodes to 16-bit sRGB, each code the nearest to the exact sRGB value
+    /// of the stored linear value ([`linear_to_srgb16`], whose doc gives
+    /// the precision argument); row 0 of the image is the top. Rows in
+    /// parallel, as [`Frame::to_image`].
+    pub fn to_image16(&self) -> Image16 {
+        use rayon::prelude::*;
+        let (w, h) = (self.width as usize, self.height as usize);
+        let mut data = vec![0u16; w * h * 3];
+        if w > 0 {
+            data.par_chunks_mut(w * 3).enumerate().for_each(|(r, out)| {
+                let y = h - 1 - r;
+                for (o, p) in out
+                    .chunks_exact_mut(3)
+                    .zip(&self.pixels[y * w..(y + 1) * w])
+                {
+                    o.copy_from_slice(&p.map(linear_to_srgb16));
+                }
+            });
+        }
+        Image16 {
+            width: self.width,
+            height: self.height,
+            channels: 3,
+            data,
+        }
+    }
+
+    /// The frame's linear values as they are stored, unrounded, row 0 at
+    /// the top (what PFM writes).
+    pub fn to_linear_image(&self) -> LinearImage {
+        let (w, h) = (self.width as usize, self.height as usize);
+        let mut data = Vec::with_capacity(w * h * 3);
+        for r in 0..h {
+            let y = h - 1 - r;
+            data.extend(self.pixels[y * w..(y + 1) * w].iter().flatten());
+        }
+        LinearImage {
+            width: self.width,
+            height: self.height,
             data,
         }
     }

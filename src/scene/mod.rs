@@ -46,7 +46,7 @@ pub use error::{CellsError, PartitionError, RecordError, SceneError};
 use crate::color::Rgb8;
 use crate::geom::transform::Transform;
 use crate::geom::Shape;
-use crate::io::Image;
+use crate::io::{AnyImage, Encoding, Image};
 use crate::progress::{Progress, Silent};
 use crate::raster::{self, Aa, Background, Cull, Frame, ScreenPoly, Shader, Tally};
 use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, PatternRef, Record};
@@ -803,6 +803,31 @@ pub fn render_with(
     }
     let (frame, plan) = render_frame(polys, bg, width, height, how, progress);
     (frame.to_image(), plan)
+}
+
+/// [`render_with`] in any encoding: 8- or 16-bit sRGB, or the frame's
+/// linear values (PFM). A transparent background in linear float gives the
+/// colour over black ([`Frame::encode_with_alpha`]).
+pub fn render_encoded(
+    polys: &[ScreenPoly],
+    bg: &Background,
+    (width, height): (u32, u32),
+    how: Resolve,
+    progress: &dyn Progress,
+    encoding: Encoding,
+) -> (AnyImage, Option<raster::budget::Plan>) {
+    build_mips_eagerly(polys);
+    if bg.is_transparent() {
+        let (black, white) = (bg.opaque(Rgb8::BLACK), bg.opaque(Rgb8::WHITE));
+        let (over_black, plan) = render_frame(polys, &black, width, height, how, progress);
+        let (over_white, _) = render_frame(polys, &white, width, height, how, progress);
+        return (
+            Frame::encode_with_alpha(&over_black, &over_white, encoding),
+            plan,
+        );
+    }
+    let (frame, plan) = render_frame(polys, bg, width, height, how, progress);
+    (frame.encode(encoding), plan)
 }
 
 /// One pass of [`render`]: the linear-light frame.

@@ -329,10 +329,19 @@ fn run_all(name: &str, commands: &[Documented]) -> Vec<String> {
 /// Why an image file is blank (one colour everywhere), if it is one.
 fn blank_image(path: &Path) -> Option<String> {
     let ext = path.extension()?.to_str()?;
+    let bytes = std::fs::read(path).unwrap();
+    if ext == "pfm" {
+        let img = patkit::io::decode_pfm(&bytes).ok()?;
+        let first = &img.data[..3];
+        return img
+            .data
+            .chunks_exact(3)
+            .all(|p| p == first)
+            .then(|| format!("blank image: every pixel is {first:?} (linear)"));
+    }
     if !["png", "ppm", "pam", "pgm", "pnm"].contains(&ext) {
         return None;
     }
-    let bytes = std::fs::read(path).unwrap();
     let img = patkit::io::decode_image(&bytes, &path.display().to_string()).ok()?;
     let first = *img.get_pixel(0, 0);
     img.pixels()

@@ -182,6 +182,10 @@ fn scene_render(dir: &Dir) {
     let reference = run(&["--reference", "--json", "r.json", "-o", "ref.png"]);
     let within = run(&["--max-error", "1", "--json", "r.json", "-o", "me.png"]);
     let compare = run(&["--image", "me.png", "--compare", "ref.png", "--json"]);
+    // A deep image (PFM, linear light) adds the linear-light errors and
+    // what was compared.
+    run(&["r.json", "-o", "lin.pfm"]);
+    let deep = run(&["--image", "me.png", "--compare", "lin.pfm", "--json"]);
     let frames = run(&[
         "--max-error",
         "1",
@@ -195,7 +199,7 @@ fn scene_render(dir: &Dir) {
     let v: Value = serde_json::from_slice(&frames).unwrap();
     assert_eq!(v["frames"].as_array().map(Vec::len), Some(2), "{v}");
     assert_eq!(v["frames"][1]["frame"], 1, "{v}");
-    check("scene-render", &[reference, within, compare, frames]);
+    check("scene-render", &[reference, within, compare, deep, frames]);
 }
 
 clitest!(

@@ -5,6 +5,7 @@
 mod util;
 
 mod conventions;
+mod deep_output;
 mod documented;
 mod faults;
 mod host;

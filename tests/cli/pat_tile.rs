@@ -143,18 +143,22 @@ clitest!(bad_sizes_and_formats_are_usage_errors, |dir| {
         ));
     // A bad output extension is a usage error, as in scene-render; no
     // extension (`/dev/null`) is PNG, as on standard output.
-    for tool in [
-        &["pat-tile", "c.pat"][..],
-        &["scene-render", "empty.json"][..],
+    // (scene-render also writes PFM; pat-tile's colours are 8-bit.)
+    for (tool, formats) in [
+        (&["pat-tile", "c.pat"][..], ".png, .ppm or .pam"),
+        (
+            &["scene-render", "empty.json"][..],
+            ".png, .ppm, .pam or .pfm",
+        ),
     ] {
         dir.write("empty.json", "[]");
         dir.cmd(tool[0])
             .args(["-o", "x.jpg", tool[1]])
             .assert()
             .code(2)
-            .stderr(predicate::str::contains(
-                "x.jpg: unknown image extension `.jpg`: expected .png, .ppm or .pam, or give --format",
-            ));
+            .stderr(predicate::str::contains(format!(
+                "x.jpg: unknown image extension `.jpg`: expected {formats}, or give --format"
+            )));
         dir.cmd(tool[0])
             .args(["-o", "/dev/null", tool[1]])
             .assert()
