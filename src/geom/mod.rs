@@ -87,6 +87,19 @@ pub enum Shape {
     Quadric(Box<quadric::QuadricShape>),
 }
 
+impl Shape {
+    /// The stream key the shape is written with (docs/stream-format.md), for messages.
+    pub fn key(&self) -> &'static str {
+        match self {
+            Shape::Polygon(_) => "vertices",
+            Shape::Rect(_) => "rect",
+            Shape::Circle { .. } => "circle",
+            Shape::Arc { .. } => "arc",
+            Shape::Quadric(q) => q.kind,
+        }
+    }
+}
+
 /// Fewest segments a full circle is ever drawn with, however coarse the tolerance.
 pub const MIN_CIRCLE_SEGMENTS: usize = 8;
 /// Most segments a full circle is drawn with: past this the chord error is far

@@ -67,8 +67,9 @@ pub enum RecordError {
     Place(PlaceError),
     /// A quadric cannot be tessellated.
     Quadric(QuadricError),
-    /// A quadric's animated transform fails at a frame.
-    QuadricTransform {
+    /// A record's own animated transform fails at a frame.
+    Transform {
+        /// The record's geometry key: `vertices`, `rect`, `circle`, `arc`,
         /// `sphere`, `cylinder`, `cone` or `disk`.
         kind: &'static str,
         /// The frame.
@@ -118,7 +119,7 @@ impl fmt::Display for RecordError {
             RecordError::StripeMapping(e) => e.fmt(f),
             RecordError::Place(e) => e.fmt(f),
             RecordError::Quadric(e) => e.fmt(f),
-            RecordError::QuadricTransform { kind, frame, .. } => {
+            RecordError::Transform { kind, frame, .. } => {
                 write!(f, "{kind}: transform at frame {frame}")
             }
             RecordError::InstanceTransform { object, frame, .. } => {
@@ -131,8 +132,9 @@ impl fmt::Display for RecordError {
 impl Error for RecordError {
     fn source(&self) -> Option<&(dyn Error + 'static)> {
         match self {
-            RecordError::QuadricTransform { error, .. }
-            | RecordError::InstanceTransform { error, .. } => Some(error),
+            RecordError::Transform { error, .. } | RecordError::InstanceTransform { error, .. } => {
+                Some(error)
+            }
             RecordError::PatternAndStripe
             | RecordError::NoPatternFile
             | RecordError::TextureState(_) => None,

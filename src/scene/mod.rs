@@ -102,7 +102,9 @@ struct Drawable {
     texture: TextureSource,
     /// Texture coordinates per vertex, in texels (uv mode).
     uv: Option<Vec<[f64; 2]>>,
-    /// A quadric's "transform" when its numbers vary per frame.
+    /// The record's own "transform" when its numbers vary per frame (a
+    /// static one was applied when the record was read, or, for a quadric,
+    /// is its `QuadricShape::transform`).
     animated: Option<serde_json::Value>,
 }
 
@@ -368,14 +370,13 @@ impl Scene {
                     },
                 };
             }
-            let animated = match rec.shape {
-                Shape::Quadric(_) => rec
-                    .fields
-                    .get("transform")
-                    .filter(|t| Transform::is_animated(t))
-                    .cloned(),
-                _ => None,
-            };
+            // Static transforms of polygons, rects, circles and arcs were
+            // applied when the record was read (`stream::Record`).
+            let animated = rec
+                .fields
+                .get("transform")
+                .filter(|t| Transform::is_animated(t))
+                .cloned();
             let color = match &stripe {
                 Some(st) => st.face,
                 None => rec.color.unwrap_or(Rgb8::BLACK),
@@ -579,6 +580,20 @@ fn project_parts(
                     project_quadric(d, q, view, order, how, frame, out).in_record(None, d.index)?;
                     continue;
                 }
+                // A record's own animated transform moves it as an instance
+                // transform would: the view takes it on.
+                let animated_view;
+                let view = match &d.animated {
+                    Some(v) => {
+                        let t = record_transform_at(d, v, frame).in_record(None, d.index)?;
+                        animated_view = View {
+                            world_to_clip: view.world_to_clip * t.matrix(),
+                            ..view.clone()
+                        };
+                        &animated_view
+                    }
+                    None => view,
+                };
                 let outline = match &d.shape {
                     Shape::Polygon(v) => std::borrow::Cow::Borrowed(v.as_slice()),
                     other => std::borrow::Cow::Owned(crate::geom::outline(
@@ -619,6 +634,19 @@ fn project_parts(
         }
     }
     Ok(())
+}
+
+/// A record's own animated `"transform"` (its JSON, `v`) at `frame`.
+fn record_transform_at(
+    d: &Drawable,
+    v: &serde_json::Value,
+    frame: u64,
+) -> Result<Transform, RecordError> {
+    Transform::from_json_at(v, frame).map_err(|error| RecordError::Transform {
+        kind: d.shape.key(),
+        frame,
+        error,
+    })
 }
 
 /// A record's index as its draw order.
@@ -703,13 +731,7 @@ fn project_quadric(
     let q = match &d.animated {
         Some(v) => {
             let mut m = q.clone();
-            m.transform = Transform::from_json_at(v, frame).map_err(|error| {
-                RecordError::QuadricTransform {
-                    kind: q.kind,
-                    frame,
-                    error,
-                }
-            })?;
+            m.transform = record_transform_at(d, v, frame)?;
             moved = m;
             &moved
         }

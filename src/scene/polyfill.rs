@@ -549,7 +549,14 @@ impl<W: Write> Job<'_, W> {
                 self.warned_coarse = true;
             }
         }
-        if let Some(vol) = &self.volume {
+        // A "transform" still on a record varies per frame (a static one was
+        // applied when it was read): where the record is, only the renderer
+        // knows, so it is not culled, as inside objects; its cells carry it.
+        let volume = match rec.fields.contains_key("transform") {
+            true => None,
+            false => self.volume,
+        };
+        if let Some(vol) = &volume {
             if vol.back_facing(poly.frame.normal, poly.frame.origin) || vol.outside(&vertices) {
                 self.summary.culled += 1;
                 return Ok(());
@@ -604,7 +611,7 @@ impl<W: Write> Job<'_, W> {
             a.merge,
             a.max_polygons - self.summary.polygons,
         );
-        self.writer.volume = self.volume;
+        self.writer.volume = volume;
         match a.compat {
             None => self.partitioner.run(&poly, &grid, &mut self.writer),
             Some(Compat::Thesis) => {

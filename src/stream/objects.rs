@@ -294,6 +294,17 @@ impl Objects {
 /// be a similarity. Windings are kept as listed, so a mirroring transform turns
 /// the record's front face away (as in GL).
 pub fn transform_record(r: &Record, t: &Transform, index: usize) -> Result<Record, String> {
+    move_record(r, t, index, "instance transform")
+}
+
+/// [`transform_record`], with `what` naming the transform in its errors
+/// (an instance's, or the record's own).
+pub(super) fn move_record(
+    r: &Record,
+    t: &Transform,
+    index: usize,
+    what: &str,
+) -> Result<Record, String> {
     if let Shape::Quadric(q) = &r.shape {
         // A quadric stays a quadric: its own placement is followed by `t`,
         // and its JSON "transform" becomes the combined matrix.
@@ -342,11 +353,18 @@ pub fn transform_record(r: &Record, t: &Transform, index: usize) -> Result<Recor
         let object_mode = r.uv.is_none() && p.mode.unwrap_or_default() == PatternMode::Object;
         if object_mode {
             let s = t.similarity_scale().ok_or_else(|| {
-                "the instance transform stretches unevenly, which an object-mode pattern cannot follow: partition the object with polyfill3 first".to_string()
+                {
+                let hint = if what == "instance transform" {
+                    "partition the object with polyfill3 first"
+                } else {
+                    "define the record as an object and place an instance of it (scene-render stretches the pattern with the object)"
+                };
+                format!("the {what} stretches unevenly, which an object-mode pattern cannot follow: {hint}")
+            }
             })?;
             if (s - 1.0).abs() > crate::geom::transform::SIMILARITY_TOLERANCE {
                 let incr = p.incr.ok_or_else(|| {
-                    format!("the instance transform scales by {s}: give the pattern an explicit \"incr\" so it can scale too")
+                    format!("the {what} scales by {s}: give the pattern an explicit \"incr\" so it can scale too")
                 })?;
                 p.incr = Some(incr * s);
                 if let Some(Value::Object(pf)) = fields.get_mut("pattern") {

@@ -88,11 +88,11 @@ impl<'de> de::Deserialize<'de> for Key {
                     // they make the record ambiguous, which the general path
                     // words), the fields `Record::from_value` reads, and the
                     // keys that make an item an object or an instance
-                    // (`Item::from_value`). "records" is read as records.
+                    // (`Item::from_value`). "records" is read as records; a
+                    // "transform" moves the record.
                     "rect" | "circle" | "arc" | "sphere" | "cylinder" | "cone" | "disk"
-                    | "pattern" | "uv" | "stripe" | "object" | "instance" | "records" => {
-                        Key::Decline
-                    }
+                    | "pattern" | "uv" | "stripe" | "transform" | "object" | "instance"
+                    | "records" => Key::Decline,
                     k if is_value_key(k) => Key::Value,
                     _ => Key::Raw,
                 })
@@ -230,7 +230,7 @@ mod tests {
             r#"{"color":[0,0,0],"vertices":[[1.7976931348623157e308,0],[5e-324,0],[0,12345678901234567890]]}"#,
             // Unknown fields are kept as text: any number, any spelling.
             r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"id":123456789012345678901234567890,"x":[1e400,-0,1.50],"s":"\u00e9\/"}"#,
-            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"x":{"records":[1e2]},"transform":{"translate":[1,2,3]}}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"x":{"records":[1e2]}}"#,
         ] {
             let fast = record(line.as_bytes(), 7).expect("plain");
             let slow = general(line).unwrap();
@@ -265,6 +265,7 @@ mod tests {
             r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2]}"#,
             r#"{"vertices":[[0,0],[1,0],[0,1]]}"#,
             r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"transform":1e400}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"transform":{"translate":[1,2,3]}}"#,
             r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"texel":[1e400,0]}"#,
             r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"x":[1,]}"#,
             r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"records":[]}"#,

@@ -210,14 +210,43 @@ impl Record {
                 "no \"color\" and no \"pattern\": expected at least one",
             ));
         }
-        Ok(Record {
+        Record {
             index,
             shape,
             color,
             pattern,
             uv,
             fields,
-        })
+        }
+        .with_own_transform()
+    }
+
+    /// Applies a polygon, rect, circle or arc record's own `"transform"`
+    /// (docs/objects.md, Transforms) as an instance's transform moves it
+    /// ([`super::transform_record`]): the record becomes a polygon in the
+    /// space the transform leads to and the key is dropped, so that every
+    /// tool (and `polyfill3`'s output) sees it already moved. A transform
+    /// whose numbers vary per frame is kept, with the record in its own
+    /// coordinates: only the renderer knows the frame. Quadrics keep theirs
+    /// ([`parse_quadric`]).
+    fn with_own_transform(self) -> Result<Record, StreamError> {
+        let Some(json) = self.fields.get("transform") else {
+            return Ok(self);
+        };
+        if matches!(self.shape, Shape::Quadric(_)) {
+            return Ok(self);
+        }
+        let e = |m: String| field_err(self.index, m);
+        // Frame 0 is checked for an animated one, so that a bad step is
+        // reported when read, as for quadrics and instances.
+        let transform = Transform::from_json(json).map_err(|t| e(t.to_string()))?;
+        if Transform::is_animated(json) {
+            return Ok(self);
+        }
+        let mut moved = super::objects::move_record(&self, &transform, self.index, "transform")
+            .map_err(|m| e(format!("transform: {m}")))?;
+        moved.fields.remove("transform");
+        Ok(moved)
     }
 }
 

@@ -25,3 +25,4 @@ mod stress;
 mod stripe;
 mod texture;
 mod texture_filters;
+mod transforms;
