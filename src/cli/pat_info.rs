@@ -537,6 +537,20 @@ fn record_text(title: &str, l: &LoadedStripe, colour: Option<crate::color::Rgb8>
             };
         }
     }
+    if let Some(b) = l.blend() {
+        let _ = writeln!(
+            s,
+            "  blend         to {} {} ({}), select {} ({})",
+            b.next,
+            b.next.hex(),
+            match l.spec.blend.map(|b| b.next) {
+                Some(crate::stripe::record::NextColour::Code(c)) => format!("next colour code {c}"),
+                _ => "\"next_color\"".to_string(),
+            },
+            b.select.number(),
+            b.select.words()
+        );
+    }
     s
 }
 
@@ -580,6 +594,12 @@ fn record_json(
     };
     if let Some(rgb) = face {
         o["color"] = json!({"rgb": rgb.0, "hex": rgb.hex()});
+    }
+    if let Some(b) = l.blend() {
+        o["blend"] = json!({
+            "next": {"rgb": b.next.0, "hex": b.next.hex()},
+            "select": b.select.number(),
+        });
     }
     o
 }

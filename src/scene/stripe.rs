@@ -22,6 +22,8 @@ pub struct RecordStripe {
     pub loaded: Arc<LoadedStripe>,
     /// The face colour the translation modulates.
     pub face: Rgb8,
+    /// The blend to the next face colour, when the blend flag is set.
+    pub blend: Option<crate::stripe::Blend>,
 }
 
 /// The stripe texture of a record's `fields`, if it has one. Errors name the
@@ -36,9 +38,11 @@ pub fn read(
     };
     let loaded = loader.load(&spec)?;
     let face = loaded.face_colour(colour, DEFAULT_FACE);
+    let blend = loaded.blend();
     Ok(Some(RecordStripe {
         loaded: Arc::new(loaded),
         face,
+        blend,
     }))
 }
 
@@ -60,7 +64,10 @@ pub fn shader(
         mode,
         s.face,
     ) {
-        Ok(t) => Ok(Some(t)),
+        Ok(t) => Ok(Some(match &s.blend {
+            Some(b) => t.with_blend(b),
+            None => t,
+        })),
         Err(NoMapping::EdgeOn) => Ok(None),
         Err(e) => Err(e),
     }

@@ -195,6 +195,52 @@ impl std::error::Error for ReferenceError {}
 /// and is far beyond any pixel of a face that is not at the horizon.
 pub const MAX_REFERENCE_CROSSINGS: u64 = 1 << 20;
 
+/// The blend of a face to its next face colour (seed 001's Face Color Data:
+/// Next Face Color `nc`, Blend Flag `bf`, Blend Select `bs`). The seed names
+/// the fields, not the arithmetic. The reading here: the seed's modulation
+/// takes a selected channel from black (modulation 0) to the face colour
+/// (modulation 1); with the blend flag the next face colour takes black's
+/// place, so the stripes run between two colours, in linear light like the
+/// modulation itself ([`StripeTexture::ends`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Blend {
+    /// The next face colour, 8-bit sRGB.
+    pub next: Rgb8,
+    /// Which end of the modulation takes it.
+    pub select: BlendSelect,
+}
+
+/// Blend Select: which end of the modulation takes the next face colour.
+/// Seed 001 gives it two bits (0..3); 2 and 3 have no reading here and are
+/// refused when read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum BlendSelect {
+    /// 0: where the modulation is 0 (the dark stripes), the next face
+    /// colour; where it is 1, the face colour.
+    #[default]
+    DarkToNext,
+    /// 1: the reverse: the bright stripes take the next face colour.
+    BrightToNext,
+}
+
+impl BlendSelect {
+    /// The seed's 2-bit value.
+    pub fn number(self) -> u8 {
+        match self {
+            BlendSelect::DarkToNext => 0,
+            BlendSelect::BrightToNext => 1,
+        }
+    }
+
+    /// What it does, for reports.
+    pub fn words(self) -> &'static str {
+        match self {
+            BlendSelect::DarkToNext => "dark stripes take the next colour",
+            BlendSelect::BrightToNext => "bright stripes take the next colour",
+        }
+    }
+}
+
 /// A stripe-textured face as the renderer sees it: the shared pyramid, the
 /// face's screen mapping, the colour select and the face colour.
 #[derive(Clone, Debug, PartialEq)]
@@ -209,6 +255,14 @@ pub struct StripeTexture {
     pub select: Select,
     /// The face colour in linear light.
     pub face: [f32; 3],
+    /// The colours of the selected channels where the modulation is 0 and
+    /// where it is 1, linear light: black and the face colour (the seed's
+    /// modulation, a product), or, with the blend flag, the next face
+    /// colour and the face colour ([`Blend`]). A selected channel is
+    /// `ends[0] + (ends[1] − ends[0])·m`: linear in `m`, so every box filter
+    /// of `m` is the box filter of the colour, and with `ends[0]` = 0 it is
+    /// `face·m` to the bit.
+    pub ends: [[f32; 3]; 2],
     /// How each evaluation's levels of detail are chosen.
     pub mode: LodMode,
     /// The width, in pixels, of the screen area one evaluation stands for:
@@ -235,9 +289,21 @@ impl StripeTexture {
             mapping,
             select,
             face: face.to_linear(),
+            ends: [[0.0; 3], face.to_linear()],
             mode,
             footprint: 1.0,
         }
+    }
+
+    /// The same texture blending to the next face colour (the seed's Blend
+    /// Flag set): [`StripeTexture::ends`] as `blend` puts them.
+    pub fn with_blend(self, blend: &Blend) -> StripeTexture {
+        let next = blend.next.to_linear();
+        let ends = match blend.select {
+            BlendSelect::DarkToNext => [next, self.face],
+            BlendSelect::BrightToNext => [self.face, next],
+        };
+        StripeTexture { ends, ..self }
     }
 
     /// The same texture with [`StripeTexture::footprint`] `f` (pixels).
@@ -248,13 +314,28 @@ impl StripeTexture {
         }
     }
 
-    /// The modulated colour, linear light, for modulation factor `m`.
+    /// The modulated colour, linear light, for modulation factor `m`
+    /// ([`StripeTexture::ends`]).
     #[inline]
     fn colour(&self, m: f32) -> [f32; 3] {
         let mut c = self.face;
-        for (ch, on) in c.iter_mut().zip(self.select.0) {
+        for (i, on) in self.select.0.into_iter().enumerate() {
             if on {
-                *ch *= m;
+                let [lo, hi] = [self.ends[0][i], self.ends[1][i]];
+                c[i] = lo + (hi - lo) * m;
+            }
+        }
+        c
+    }
+
+    /// [`StripeTexture::colour`] in f64, for the reference's exact averages.
+    #[inline]
+    fn colour_f64(&self, m: f64) -> [f64; 3] {
+        let mut c = self.face.map(|v| v as f64);
+        for (i, on) in self.select.0.into_iter().enumerate() {
+            if on {
+                let [lo, hi] = [self.ends[0][i] as f64, self.ends[1][i] as f64];
+                c[i] = lo + (hi - lo) * m;
             }
         }
         c
@@ -384,14 +465,7 @@ impl StripeTexture {
     /// linear light, f64: the function the reference integrates.
     #[inline]
     pub fn crisp_linear(&self, x: f64, y: f64) -> [f64; 3] {
-        let m = self.modulation.crisp(self.mapping.p(x, y));
-        let mut c = self.face.map(|v| v as f64);
-        for (ch, on) in c.iter_mut().zip(self.select.0) {
-            if on {
-                *ch *= m;
-            }
-        }
-        c
+        self.colour_f64(self.modulation.crisp(self.mapping.p(x, y)))
     }
 
     /// [`StripeTexture::shade_linear`] encoded to 8-bit sRGB.
@@ -443,14 +517,7 @@ impl StripeTexture {
     /// adds one rounded area difference of relative size 1e-16).
     pub fn reference_linear(&self, px: u32, py: u32) -> Result<[f64; 3], ReferenceError> {
         let square = crate::geom::polygon::pixel_square(px, py);
-        let m = self.reference_modulation(&square)?;
-        let mut c = self.face.map(|v| v as f64);
-        for (ch, on) in c.iter_mut().zip(self.select.0) {
-            if on {
-                *ch *= m;
-            }
-        }
-        Ok(c)
+        Ok(self.colour_f64(self.reference_modulation(&square)?))
     }
 
     /// [`StripeTexture::reference_linear`] encoded to 8-bit sRGB.

@@ -12,7 +12,7 @@ use super::map::ModulationMap;
 use super::tables::TableError;
 use super::tables::{ColourTable, Select, Translation};
 use super::vector::{Orientation, PatternVector, RefPlane};
-use super::{LodMode, Modulation, ScreenMapping, StripeTexture};
+use super::{Blend, BlendSelect, LodMode, Modulation, ScreenMapping, StripeTexture};
 use crate::color::Rgb8;
 use crate::geom::Shape;
 use crate::stream::{resolve, Fields};
@@ -23,7 +23,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 /// The keys a `"stripe"` object may have.
-pub const KEYS: [&str; 11] = [
+pub const KEYS: [&str; 15] = [
     "map",
     "spacing",
     "phase",
@@ -35,6 +35,10 @@ pub const KEYS: [&str; 11] = [
     "select",
     "code",
     "colors",
+    "next_code",
+    "next_color",
+    "blend",
+    "blend_select",
 ];
 
 /// Keys of a `"stripe"` object read under an old spelling, as `(old, new)`:
@@ -114,6 +118,29 @@ pub struct StripeSpec {
     /// A colour-code table file replacing entries of the default table
     /// (`"colors"`, or the old `"colours"`).
     pub colours: Option<String>,
+    /// The next face colour (the TCA's `nc`, a colour code, or `"next_color"`
+    /// as `[r, g, b]`) and the blend select (`bs`), when the Blend Flag
+    /// (`bf`, `"blend"`) is set. Default value: `None`, the seed's plain
+    /// modulation.
+    pub blend: Option<BlendSpec>,
+}
+
+/// A stripe's blend to the next face colour, as the record gives it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BlendSpec {
+    /// The next face colour: a code into the colour-code table or a colour.
+    pub next: NextColour,
+    /// What the modulation blends towards it.
+    pub select: BlendSelect,
+}
+
+/// Where the next face colour comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NextColour {
+    /// `"next_code"`: an entry of the colour-code table, as the seed's `nc`.
+    Code(u8),
+    /// `"next_color"`: `[r, g, b]`, 8-bit sRGB.
+    Colour(Rgb8),
 }
 
 fn number(obj: &Map<String, Value>, key: &str) -> Result<Option<f64>, String> {
@@ -234,6 +261,7 @@ impl StripeSpec {
                     format!("stripe.code: expected a colour code 0..=255, found {v}")
                 })? as u8),
             };
+        let blend = blend_spec(obj)?;
         let what = "the path of a colour-code table";
         let colours = match (string(obj, "colors", what)?, string(obj, "colours", what)?) {
             (Some(_), Some(_)) => {
@@ -251,6 +279,7 @@ impl StripeSpec {
             select,
             code,
             colours,
+            blend,
         })
     }
 
@@ -284,6 +313,76 @@ impl StripeSpec {
             colours,
             modulation,
         })
+    }
+}
+
+/// The blend fields of a `"stripe"` object (seed 001's Face Color Data:
+/// next face colour code `nc`, Blend Flag `bf` 0..1, Blend Select `bs`
+/// 0..3). The seed gives the fields and their widths but not the arithmetic;
+/// [`BlendSelect`] documents the reading taken here, and the two selects it
+/// has no reading for are refused rather than guessed.
+fn blend_spec(obj: &Map<String, Value>) -> Result<Option<BlendSpec>, String> {
+    let flag = match obj.get("blend") {
+        None => false,
+        Some(Value::Bool(b)) => *b,
+        Some(v) => match v.as_u64() {
+            Some(0) => false,
+            Some(1) => true,
+            _ => {
+                return Err(format!(
+                    "stripe.blend: expected the blend flag, 0, 1, false or true, found {v}"
+                ))
+            }
+        },
+    };
+    let next_code =
+        match obj.get("next_code") {
+            None => None,
+            Some(v) => Some(v.as_u64().filter(|&c| c <= 255).ok_or_else(|| {
+                format!("stripe.next_code: expected a colour code 0..=255, found {v}")
+            })? as u8),
+        };
+    let next_colour = obj
+        .get("next_color")
+        .map(|v| crate::stream::parse_color(v).map_err(|e| format!("stripe.next_{e}")))
+        .transpose()?;
+    let select = match obj.get("blend_select") {
+        None => BlendSelect::DarkToNext,
+        Some(v) => match v.as_u64() {
+            Some(0) => BlendSelect::DarkToNext,
+            Some(1) => BlendSelect::BrightToNext,
+            Some(n @ (2 | 3)) => {
+                return Err(format!(
+                    "stripe.blend_select: {n}: seed 001 gives Blend Select 0..3 but no arithmetic;                      0 (dark stripes take the next face colour) and 1 (bright ones do) are read here,                      {n} is not"
+                ))
+            }
+            _ => {
+                return Err(format!(
+                    "stripe.blend_select: expected 0 or 1, found {v}"
+                ))
+            }
+        },
+    };
+    let next = match (next_code, next_colour) {
+        (Some(_), Some(_)) => {
+            return Err(
+                "stripe.next_color: given beside stripe.next_code: give one next face colour"
+                    .into(),
+            )
+        }
+        (Some(c), None) => Some(NextColour::Code(c)),
+        (None, Some(c)) => Some(NextColour::Colour(c)),
+        (None, None) => None,
+    };
+    match (flag, next) {
+        (true, Some(next)) => Ok(Some(BlendSpec { next, select })),
+        (true, None) => Err(
+            "stripe.blend: the blend flag is set but there is no next face colour: give \"next_code\" or \"next_color\""
+                .into(),
+        ),
+        // As on the CIG, the next face colour and the select are kept in
+        // the record and do nothing while the flag is clear.
+        (false, _) => Ok(None),
     }
 }
 
@@ -324,6 +423,18 @@ impl LoadedStripe {
             Some(c) => self.colours.get(c),
             None => record_colour.unwrap_or(default),
         }
+    }
+
+    /// The blend to the next face colour, its code looked up in the table,
+    /// when the record sets the blend flag.
+    pub fn blend(&self) -> Option<Blend> {
+        self.spec.blend.map(|b| Blend {
+            next: match b.next {
+                NextColour::Code(c) => self.colours.get(c),
+                NextColour::Colour(c) => c,
+            },
+            select: b.select,
+        })
     }
 
     /// The per-pixel shader of a face of `shape` seen through `world_to_clip`

@@ -110,9 +110,14 @@ fn check(tool: &str, outputs: &[Vec<u8>]) {
     );
 }
 
-/// A stripe texture record: with `"plane"` and a colour code when `code`.
+/// A stripe texture record: with `"plane"`, and a colour code and a blend
+/// to the next face colour when `code`.
 fn striped(code: bool) -> String {
-    let face = if code { r#", "code": 4"# } else { "" };
+    let face = if code {
+        r#", "code": 4, "next_code": 9, "blend": 1"#
+    } else {
+        ""
+    };
     format!(
         r#"{{"vertices": [[0,0,0],[4,0,0],[4,0,-4],[0,0,-4]], "color": [9,9,9], "stripe": {{"map": "m.map", "spacing": 1, "plane": "yz", "theta": 30{face}}}}}"#
     )

@@ -767,3 +767,150 @@ clitest!(stripes_stay_on_an_instanced_object, |dir| {
     };
     assert!(run("inst.json") == run("flat.json"));
 });
+
+// Seed 001's next face colour: with the blend flag, the dark end of the
+// modulation takes the next face colour instead of black (blend select 0),
+// or the bright end does (1), channel by channel in linear light.
+clitest!(a_stripe_blends_to_the_next_face_colour, |dir| {
+    dir.write("m.map", MAP8);
+    // Four pixels per map sample (ortho, one unit per pixel), so the centre
+    // columns of each sample are inside it and take its value whole.
+    let wall = |extra: &str| {
+        format!(
+            r#"{{"vertices": [[0,0],[64,0],[64,4],[0,4]], "color": [255, 0, 0], "stripe": {{"map": "m.map", "spacing": 4, "yaw": 0{extra}}}}}"#
+        )
+    };
+    let render = |name: &str, extra: &str, flags: &[&str]| -> Vec<u8> {
+        dir.write(name, wall(extra));
+        dir.cmd("scene-render")
+            .args(["--size", "64x4"])
+            .args(flags)
+            .args([name, "-o", "-"])
+            .ok_stdout()
+    };
+    let plain = render("plain.json", "", &[]);
+    // A clear flag, or black as the next colour, is the seed's modulation to the byte.
+    assert_eq!(
+        render(
+            "off.json",
+            r#", "next_color": [0, 0, 255], "blend": 0"#,
+            &[]
+        ),
+        plain
+    );
+    assert_eq!(
+        render(
+            "black.json",
+            r#", "next_color": [0, 0, 0], "blend": true"#,
+            &[]
+        ),
+        plain
+    );
+    let to_blue = render(
+        "blue.json",
+        r#", "next_color": [0, 0, 255], "blend": 1"#,
+        &[],
+    );
+    let reversed = render(
+        "rev.json",
+        r#", "next_color": [0, 0, 255], "blend": 1, "blend_select": 1"#,
+        &[],
+    );
+    let (blue, rev) = (
+        image::load_from_memory(&to_blue).unwrap().to_rgb8(),
+        image::load_from_memory(&reversed).unwrap().to_rgb8(),
+    );
+    let encode = |l: f64| (patkit::color::linear_to_srgb_f64(l) * 255.0).round() as i32;
+    let values = [0, 32, 64, 96, 128, 160, 192, 255];
+    for (k, v) in values.iter().enumerate() {
+        // The sample's modulation, computed here from the sRGB decoding.
+        let w = patkit::color::srgb_to_linear_f64(*v as f64 / 255.0);
+        for x in [4 * k as u32 + 1, 4 * k as u32 + 2] {
+            let p = blue.get_pixel(x, 1).0.map(|c| c as i32);
+            let want = [encode(w), 0, encode(1.0 - w)];
+            for c in 0..3 {
+                assert!(
+                    (p[c] - want[c]).abs() <= 1,
+                    "select 0, x {x}: {p:?} vs {want:?}"
+                );
+            }
+            let p = rev.get_pixel(x, 1).0.map(|c| c as i32);
+            let want = [encode(1.0 - w), 0, encode(w)];
+            for c in 0..3 {
+                assert!(
+                    (p[c] - want[c]).abs() <= 1,
+                    "select 1, x {x}: {p:?} vs {want:?}"
+                );
+            }
+        }
+    }
+    // A colour code works as the next colour too (code 4 is (0, 0, 204)).
+    let coded = render("coded.json", r#", "next_code": 4, "blend": 1"#, &[]);
+    let img = image::load_from_memory(&coded).unwrap().to_rgb8();
+    assert_eq!(img.get_pixel(1, 1).0, [0, 0, 204]);
+    let out = dir
+        .cmd("pat-info")
+        .args(["--record", "0", "coded.json"])
+        .ok_stdout();
+    let text = String::from_utf8(out).unwrap();
+    assert!(
+        text.contains("  blend         to 0,0,204 #0000cc (next colour code 4), select 0 (dark stripes take the next colour)\n"),
+        "{text}"
+    );
+    // The exact default agrees with the reference: the blend is linear in
+    // the modulation, so both filters carry over.
+    let reference = render(
+        "blue.json",
+        r#", "next_color": [0, 0, 255], "blend": 1"#,
+        &["--reference"],
+    );
+    assert!(rmse_codes(&to_blue, &reference) < 0.5);
+});
+
+clitest!(stripe_blend_errors_name_the_field, |dir| {
+    dir.write("m.map", MAP8);
+    for (extra, needle) in [
+        (
+            r#""blend": 1"#,
+            "stripe.blend: the blend flag is set but there is no next face colour",
+        ),
+        (
+            r#""blend": 2, "next_code": 3"#,
+            "stripe.blend: expected the blend flag, 0, 1, false or true, found 2",
+        ),
+        (
+            r#""blend": 1, "next_code": 3, "blend_select": 2"#,
+            "stripe.blend_select: 2: seed 001 gives Blend Select 0..3 but no arithmetic",
+        ),
+        (
+            r#""next_code": 256"#,
+            "stripe.next_code: expected a colour code 0..=255, found 256",
+        ),
+        (
+            r#""next_color": [1, 2]"#,
+            "stripe.next_color: expected [r,g,b], found [1,2]",
+        ),
+        (
+            r#""next_color": [1, 2, 3], "next_code": 3"#,
+            "stripe.next_color: given beside stripe.next_code",
+        ),
+    ] {
+        dir.write(
+            "bad.json",
+            format!(
+                r#"{{"vertices": [[0,0],[8,0],[8,8],[0,8]], "stripe": {{"map": "m.map", "spacing": 1, "yaw": 0, {extra}}}}}"#
+            ),
+        );
+        for tool in ["scene-render", "pat-info"] {
+            let args: &[&str] = match tool {
+                "scene-render" => &["--size", "8x8", "bad.json", "-o", "x.png"],
+                _ => &["--record", "0", "bad.json"],
+            };
+            dir.cmd(tool)
+                .args(args)
+                .assert()
+                .failure()
+                .stderr(predicate::str::contains(needle));
+        }
+    }
+});
