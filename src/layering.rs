@@ -17,7 +17,7 @@ pub const LAYERS: &[&[&str]] = &[
     &["color", "error", "text"],
     &["io"],
     &["pat"],
-    &["quantize", "geom"],
+    &["quantize", "geom", "light"],
     &["stream"],
     &["camera"],
     &["view"],

@@ -20,7 +20,9 @@
 //! **Geometry and the stream**
 //! - [`geom`]: record shapes, the 2D polygon kernel, transforms, planes, the
 //!   partition into texture point polygons, quadrics.
-//! - [`stream`]: the polygon stream of records, objects and instances.
+//! - [`light`]: ambient and Lambert diffuse lighting from directional and
+//!   point lights, in linear light.
+//! - [`stream`]: the polygon stream of records, objects, instances and lights.
 //!
 //! **Seeing**
 //! - [`camera`]: the IRIS GL / GLU and textbook cameras, reduced to matrices.
@@ -73,6 +75,7 @@ pub mod pat;
 pub mod quantize;
 
 pub mod geom;
+pub mod light;
 pub mod stream;
 
 pub mod camera;

@@ -410,6 +410,9 @@ fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
             stdout.flush()?;
             return Ok(());
         }
+        Item::Light(_) => {
+            anyhow::bail!("{name}: record {n} is a light, which has no \"stripe\" texture")
+        }
         Item::Object(def) => (format!("object `{}`", def.name), "object", &def.name),
         Item::Instance(inst) => (
             format!("instance of `{}`", inst.object),

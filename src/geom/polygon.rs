@@ -189,6 +189,28 @@ pub fn newell_plane(v: &[DVec2], q: &[f64]) -> Option<[f64; 3]> {
     plane.iter().all(|c| c.is_finite()).then_some(plane)
 }
 
+/// The area centroid of a polygon; `None` for fewer than three vertices or
+/// no area (a sliver whose centroid is not defined: the caller uses the pixel
+/// centre, which a fragment of no area cannot make visibly wrong).
+pub fn area_centroid(poly: &[DVec2]) -> Option<DVec2> {
+    if poly.len() < 3 {
+        return None;
+    }
+    // Relative to the first vertex: pixel coordinates near 1000 would
+    // otherwise cancel in the cross products.
+    let o = poly[0];
+    let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for i in 0..poly.len() {
+        let (p, q) = (poly[i] - o, poly[(i + 1) % poly.len()] - o);
+        let cross = p.x * q.y - q.x * p.y;
+        a2 += cross;
+        cx += (p.x + q.x) * cross;
+        cy += (p.y + q.y) * cross;
+    }
+    let (x, y) = (o.x + cx / (3.0 * a2), o.y + cy / (3.0 * a2));
+    (a2 != 0.0 && x.is_finite() && y.is_finite()).then_some(DVec2::new(x, y))
+}
+
 /// Relative tolerance of the convexity test: a turn against the polygon's
 /// orientation smaller than this share of the product of the two edge lengths
 /// counts as straight (clipping and projection leave such rounding-level kinks).
@@ -219,4 +241,26 @@ pub fn is_convex(v: &[DVec2]) -> bool {
         e.perp_dot(f)
             >= -(CONVEX_REL * e.length() * f.length()).max(CONVEX_ABS_PX * (c - a).length())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn area_centroid_is_exact_far_from_the_origin() {
+        // A right triangle: centroid at the mean of its vertices, even far
+        // from the origin (the computation is relative to the first vertex).
+        let tri = [
+            DVec2::new(1000.0, 700.0),
+            DVec2::new(1001.0, 700.0),
+            DVec2::new(1000.0, 701.0),
+        ];
+        let c = area_centroid(&tri).unwrap();
+        assert!(
+            (c.x - 1000.0 - 1.0 / 3.0).abs() < 1e-12 && (c.y - 700.0 - 1.0 / 3.0).abs() < 1e-12
+        );
+        assert_eq!(area_centroid(&tri[..2]), None);
+        assert_eq!(area_centroid(&[tri[0], tri[0], tri[0]]), None);
+    }
 }

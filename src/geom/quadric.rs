@@ -75,6 +75,32 @@ pub enum Quadric {
     },
 }
 
+impl Quadric {
+    /// The outward normal (not unit) of the surface at its point `p`, own
+    /// coordinates, as GLU's `GLU_SMOOTH` gives it: a sphere's `p` itself; a
+    /// cylinder's or cone's `(x/r, y/r, (base - top)/height)` at radius `r`,
+    /// the cross product of the surface's tangents around and along the
+    /// axis; a disk's +z. `None` at a cone's apex, where the surface has no
+    /// tangent plane (the caller takes the triangle's own normal there).
+    pub fn normal_at(&self, p: DVec3) -> Option<DVec3> {
+        match *self {
+            Quadric::Sphere { .. } => Some(p),
+            Quadric::Cylinder { base, top, height } => {
+                let r = crate::math::hypot(p.x, p.y);
+                let scale = base.max(top);
+                (r > APEX_RELATIVE * scale)
+                    .then(|| DVec3::new(p.x / r, p.y / r, (base - top) / height))
+            }
+            Quadric::Disk { .. } => Some(DVec3::Z),
+        }
+    }
+}
+
+/// A cone's vertex this close to the axis, relative to the larger radius,
+/// is its apex ([`Quadric::normal_at`]): GLU puts it exactly on the axis, so
+/// any tolerance above rounding will do.
+const APEX_RELATIVE: f64 = 1e-12;
+
 /// One triangle: positions and GLU texture coordinates (s, t) in 0..=1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
@@ -475,6 +501,10 @@ pub struct TexelTriangle {
     /// Texture coordinates `[u, v]` of each vertex in texels: GLU's (s, t)
     /// times the pattern size times `repeat`, v = 0 at the pattern's bottom row.
     pub uv: [[f64; 2]; 3],
+    /// The surface's outward unit normal at each vertex, in the record's
+    /// space ([`Quadric::normal_at`] moved by [`Transform::apply_normal`]),
+    /// for smooth lighting (GLU's `GLU_SMOOTH` normals).
+    pub n: [DVec3; 3],
 }
 
 impl QuadricShape {
@@ -526,9 +556,15 @@ impl QuadricShape {
         );
         self.quadric
             .for_each_triangle(slices, stacks, |t| {
+                let face = (t.v[1] - t.v[0]).cross(t.v[2] - t.v[0]);
+                let normal = |p: DVec3| {
+                    let own = self.quadric.normal_at(p).unwrap_or(face);
+                    self.transform.apply_normal(own)
+                };
                 let t = TexelTriangle {
                     v: t.v.map(|p| self.transform.apply(p)),
                     uv: t.st.map(|[s, t]| [s * su, t * sv]),
+                    n: t.v.map(normal),
                 };
                 if t.v.iter().any(|p| !p.is_finite()) {
                     return Err(Stop::Caller(E::from(QuadricError::NotFinite {

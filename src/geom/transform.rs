@@ -161,6 +161,17 @@ impl Transform {
         self.0.transform_point3(p)
     }
 
+    /// A surface normal moved with the transform, unit length: by the
+    /// inverse transpose of the linear part, which keeps it perpendicular to
+    /// the moved surface under any non-singular transform (a plain
+    /// transform of the vector would not under uneven scaling). A mirroring
+    /// transform keeps the normal on the side the surface's own normal
+    /// gave, as it keeps the listed winding.
+    pub fn apply_normal(&self, n: DVec3) -> DVec3 {
+        let lin = DMat3::from_mat4(self.0);
+        (lin.inverse().transpose() * n).normalize_or_zero()
+    }
+
     /// The matrix in the textbook's row-vector layout.
     pub fn row_matrix(&self) -> [[f64; 4]; 4] {
         self.0.to_cols_array_2d()

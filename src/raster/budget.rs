@@ -138,7 +138,7 @@ fn region_of(polys: &[ScreenPoly], bin: &[u32]) -> Region {
         Region::Empty
     } else if bin.iter().any(|&i| {
         let p = &polys[i as usize];
-        matches!(p.shader, Shader::Texture(_) | Shader::Stripe(_))
+        matches!(p.shader, Shader::Texture(_) | Shader::Stripe(_)) || p.shade.is_some()
     }) {
         Region::Textured
     } else {

@@ -108,6 +108,51 @@ fn push_frag(
     arena: &mut Vec<DVec2>,
     t: &mut TexScratch,
 ) {
+    if let Some(shade) = &p.shade {
+        // Smooth lighting: the fragment's colours, each times the factor
+        // at the fragment's area centroid (the pixel's centre for a whole
+        // pixel), which is the factor's mean over the fragment wherever it
+        // is affine there; docs/lighting.md says where that holds.
+        let (first_colour, first_frag) = (t.colors.len(), frags.len());
+        let centre = DVec2::new(px as f64 + 0.5, py as f64 + 0.5);
+        let c = crate::geom::polygon::area_centroid(verts).unwrap_or(centre);
+        push_frag_unshaded(p, pi, pixel, (px, py), verts, frags, arena, t);
+        for f in &mut frags[first_frag..] {
+            if f.color == POLY_COLOR {
+                match p.color_at(px, py) {
+                    Some(colour) => {
+                        t.colors.push(colour);
+                        f.color = (t.colors.len() - 1) as u32;
+                    }
+                    // A screen pattern's transparent texel: nothing shows.
+                    None => f.len = u32::MAX,
+                }
+            }
+        }
+        frags.retain(|f| f.len != u32::MAX);
+        let f = shade.at(c.x, c.y);
+        for colour in &mut t.colors[first_colour..] {
+            for ch in 0..3 {
+                colour[ch] *= f[ch];
+            }
+        }
+        return;
+    }
+    push_frag_unshaded(p, pi, pixel, (px, py), verts, frags, arena, t);
+}
+
+/// [`push_frag`] without smooth lighting.
+#[allow(clippy::too_many_arguments)]
+fn push_frag_unshaded(
+    p: &ScreenPoly,
+    pi: u32,
+    pixel: u32,
+    (px, py): (u32, u32),
+    verts: &[DVec2],
+    frags: &mut Vec<Frag>,
+    arena: &mut Vec<DVec2>,
+    t: &mut TexScratch,
+) {
     use crate::texture::cells::{split, Split};
     if let Some(stripe) = p.stripe() {
         t.colors
@@ -127,7 +172,7 @@ fn push_frag(
     // fragment shows (hidden pixels are never filtered; `--no-skip hidden`
     // filters them all, for the benchmark).
     if let Some((f, fp)) = tex.filter_at(x + 0.5, y + 0.5) {
-        if tex.always_opaque() && tex.skips.hidden {
+        if tex.always_opaque() && tex.skips.hidden && p.shade.is_none() {
             push_piece(frags, arena, pixel, pi, verts, FILTER_LATER);
         } else if let Some(c) = crate::texture::filter::unpremultiply(tex.sample(f, &fp)) {
             t.colors.push(c);
@@ -475,7 +520,7 @@ fn render_tile(
             } else {
                 (r.cx1, r.cx1)
             };
-            let run_path = fx1 > fx0 && p.is_some_and(box_magnified);
+            let run_path = fx1 > fx0 && p.is_some_and(|p| p.shade.is_none() && box_magnified(p));
             // Where the band is in the arena, and its box, once an open
             // pixel needs it.
             let mut band_at: Option<(u32, u32, [f64; 4])> = None;

@@ -50,7 +50,7 @@ use crate::progress::{Progress, Silent};
 pub use frame::{Background, Frame};
 #[cfg(test)]
 pub(crate) use project::project;
-pub use project::{try_project, Cull, Dropped, ScreenPoly, Shader, Tally};
+pub use project::{try_project, Cull, Dropped, ScreenPoly, ShadeField, Shader, Tally};
 
 /// Side of the square tiles work is split into. 32 keeps a tile's sample
 /// buffers in cache for up to 16x16 supersampling while leaving a 1024x768

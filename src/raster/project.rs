@@ -53,6 +53,64 @@ pub enum Shader {
     Stripe(Arc<StripeTexture>),
 }
 
+/// Smooth (Gouraud) lighting's factor over a polygon: per channel, the lit
+/// colour over the unlit one, given at the vertices and interpolated
+/// perspective-correctly (affine in the polygon's plane, as texture
+/// coordinates are), so a screen point's factor is `F(x, y) = N(x, y) /
+/// D(x, y)` with `N`, `D` affine over the screen. Fitted by
+/// [`crate::texture::map::TexMap::fit`], the texture coordinates' own fit:
+/// exact at the vertices of a triangle; for a polygon of more vertices a
+/// plane fitted through them (Newell), exact where the vertex values are
+/// affine over the polygon.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShadeField {
+    /// Red and green as the map's `u` and `v`.
+    pub rg: crate::texture::map::TexMap,
+    /// Blue as its `u`.
+    pub b: crate::texture::map::TexMap,
+}
+
+impl ShadeField {
+    /// The factor at the screen point `(x, y)`, per channel.
+    #[inline]
+    pub fn at(&self, x: f64, y: f64) -> [f64; 3] {
+        let rg = self.rg.uv(x, y);
+        [rg.x, rg.y, self.b.uv(x, y).x]
+    }
+
+    /// `c` times the factor at `(x, y)`.
+    #[inline]
+    pub fn apply(&self, c: [f64; 3], x: f64, y: f64) -> [f64; 3] {
+        let f = self.at(x, y);
+        [c[0] * f[0], c[1] * f[1], c[2] * f[2]]
+    }
+
+    /// The mean of the factor along the horizontal segment `a..b` at height
+    /// `y`, by 4-point Gauss–Legendre quadrature: the factor is a ratio of
+    /// affine functions whose denominator stays far from 0 over a pixel, so
+    /// the rule's error (of the order of the 8th derivative) is at rounding
+    /// level there; the reference's two-grid residual estimate covers what
+    /// is left.
+    pub fn mean_along(&self, a: f64, b: f64, y: f64) -> [f64; 3] {
+        /// Nodes on [-1, 1] and weights, summing to 2.
+        const GL4: [(f64, f64); 4] = [
+            (-0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
+            (-0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
+            (0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
+            (0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
+        ];
+        let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
+        let mut m = [0.0; 3];
+        for (t, w) in GL4 {
+            let f = self.at(mid + half * t, y);
+            for ch in 0..3 {
+                m[ch] += 0.5 * w * f[ch];
+            }
+        }
+        m
+    }
+}
+
 /// A polygon ready for a resolver: clipped, projected, counter-clockwise on
 /// screen (back faces are reversed when not culled).
 #[derive(Clone, Debug, PartialEq)]
@@ -68,6 +126,11 @@ pub struct ScreenPoly {
     pub shader: Shader,
     /// Position in the stream: draw order, for visibility ties.
     pub order: u32,
+    /// Smooth lighting: a per-channel factor that multiplies the colour the
+    /// shader gives, varying over the polygon ([`ShadeField`]); `None` for
+    /// unlit and flat-lit polygons (flat lighting is already in `color` or
+    /// the texture's intrinsic colour).
+    pub shade: Option<Arc<ShadeField>>,
     /// Convex pieces that tile the polygon exactly: none when it is convex
     /// (it is its own piece, see [`ScreenPoly::piece`]), else its
     /// triangles, clipped and projected (`concave_pieces`). (A copy of a convex polygon's vertices
@@ -158,13 +221,17 @@ impl ScreenPoly {
     #[inline]
     pub fn sample_color(&self, x: u32, y: u32, sx: f64, sy: f64) -> Option<[f64; 3]> {
         use crate::texture::filter::Eval;
-        match self.texture() {
+        let c = match self.texture() {
             Some(t) => match t.eval(sx, sy) {
                 Eval::Box => self.color_at_point(x, y, sx, sy),
                 Eval::Color(c) => c,
             },
             // Stripes and flat colours.
             None => self.color_at_point(x, y, sx, sy),
+        };
+        match &self.shade {
+            Some(s) => c.map(|c| s.apply(c, sx, sy)),
+            None => c,
         }
     }
 
@@ -332,6 +399,7 @@ pub fn try_project(
         color: c,
         shader: Shader::Flat,
         order,
+        shade: None,
         pieces,
         tie_floor: DEPTH_TIE_REL * view.nearness_scale(),
         bbox,

@@ -31,6 +31,14 @@
 //! stripe-textured polygon that hides every other candidate takes
 //! `StripeTexture::reference_linear`, the exact area integral, directly.
 //!
+//! **Smooth lighting** ([`super::ShadeField`]): on each piece of a line
+//! between breaks the shader's colour is constant and the lighting factor a
+//! ratio of affine functions; the piece takes the colour times the factor's
+//! mean along it (Gauss–Legendre, at rounding level over a pixel). Along y
+//! the integrand is then smooth but not linear, so the midpoint rule leaves
+//! an error of the order of the strip height squared, which the two-grid
+//! residual estimate measures and reports.
+//!
 //! Pixels where one polygon covers the whole square and is nearer than every
 //! other candidate at all four corners are exactly its colour and skip the
 //! integration (covering is checked by point-in-polygon on the original polygon).
@@ -254,7 +262,7 @@ fn pixel(
         // A textured polygon's colour varies over the square (and may be
         // transparent): always integrated. A stripe's is integrated exactly
         // over the square below.
-        if f.texture().is_some() || !covers_square(&f.verts, x, y) {
+        if f.texture().is_some() || f.shade.is_some() || !covers_square(&f.verts, x, y) {
             continue;
         }
         let hides_all = cands.iter().all(|&gi| {
@@ -701,7 +709,18 @@ fn line_colour(
                 keep => keep,
             };
         }
-        let c = best.map_or(bgc, |(_, c)| c);
+        let c = match best {
+            None => bgc,
+            // Smooth lighting: the colour is constant between the breaks,
+            // the factor is not; its mean over the piece multiplies it.
+            Some((p, c)) => match &p.shade {
+                Some(s) => {
+                    let f = s.mean_along(a, b, y);
+                    [c[0] * f[0], c[1] * f[1], c[2] * f[2]]
+                }
+                None => c,
+            },
+        };
         for ch in 0..3 {
             acc[ch] += (b - a) * c[ch];
         }

@@ -77,6 +77,10 @@ pub enum RecordError {
         /// Why.
         error: TransformError,
     },
+    /// Smooth lighting on a texture composed by `blend_intrinsic` or
+    /// `decal_intrinsic`, which mix the texel with the lit colour in a way
+    /// only flat lighting gives exactly.
+    SmoothCompose(crate::texture::compose::Compose),
     /// An instance's animated transform fails at a frame.
     InstanceTransform {
         /// The object the instance places.
@@ -125,6 +129,11 @@ impl fmt::Display for RecordError {
             RecordError::InstanceTransform { object, frame, .. } => {
                 write!(f, "instance of `{object}` at frame {frame}")
             }
+            RecordError::SmoothCompose(c) => write!(
+                f,
+                "smooth lighting with compose {}: it mixes the texel with the lit colour, which is exact only when flat: give the record \"shade\": \"flat\", or compose modulate",
+                c.name()
+            ),
         }
     }
 }
@@ -137,7 +146,8 @@ impl Error for RecordError {
             }
             RecordError::PatternAndStripe
             | RecordError::NoPatternFile
-            | RecordError::TextureState(_) => None,
+            | RecordError::TextureState(_)
+            | RecordError::SmoothCompose(_) => None,
             other => other.as_cause().source(),
         }
     }

@@ -47,6 +47,7 @@ use crate::color::Rgb8;
 use crate::geom::transform::Transform;
 use crate::geom::Shape;
 use crate::io::{AnyImage, Encoding, Image};
+use crate::light::{Lights, Shade};
 use crate::progress::{Progress, Silent};
 use crate::raster::{self, Aa, Background, Cull, Frame, ScreenPoly, Shader, Tally};
 use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, PatternRef, Record};
@@ -102,6 +103,10 @@ struct Drawable {
     texture: TextureSource,
     /// Texture coordinates per vertex, in texels (uv mode).
     uv: Option<Vec<[f64; 2]>>,
+    /// Normals per vertex, in the record's coordinates (smooth lighting).
+    normals: Option<Vec<DVec3>>,
+    /// How a lit scene shades it.
+    shade: Shade,
     /// The record's own "transform" when its numbers vary per frame (a
     /// static one was applied when the record was read, or, for a quadric,
     /// is its `QuadricShape::transform`).
@@ -178,6 +183,8 @@ pub struct Scene {
     files: Vec<PathBuf>,
     /// What the reading found worth a warning ([`Scene::warnings`]).
     warnings: Vec<String>,
+    /// The stream's lights; none for an unlit scene.
+    lights: crate::light::Lights,
 }
 
 /// A polygon no larger than one texel of its "object"-mode pattern (area at
@@ -391,6 +398,8 @@ impl Scene {
                 color,
                 texture,
                 uv: rec.uv,
+                normals: rec.normals,
+                shade: rec.shade,
             })
         })?;
         files.extend(stripes.files().iter().cloned());
@@ -444,7 +453,16 @@ impl Scene {
         frame: u64,
     ) -> Result<(Vec<ScreenPoly>, Tally), SceneError> {
         let mut out = Projected::default();
-        project_parts(&self.parts, view, None, None, how, frame, &mut out)?;
+        project_parts(
+            &self.parts,
+            view,
+            None,
+            None,
+            how,
+            frame,
+            &self.lights,
+            &mut out,
+        )?;
         Ok((out.polygons, out.tally))
     }
 }
@@ -519,9 +537,9 @@ fn read_items(
                     parts.push(match it {
                         Item::Record(rec) => Part::Draw(each(rec)?),
                         Item::Instance(inst) => place(inst, &objects),
-                        Item::Object(_) => {
-                            unreachable!("Objects::define rejects nested definitions")
-                        }
+                        Item::Object(_) | Item::Light(_) => unreachable!(
+                            "Objects::define rejects definitions and lights inside objects"
+                        ),
                     });
                 }
                 let size = parts
@@ -530,6 +548,7 @@ fn read_items(
                 sizes.insert(def.name.clone(), size);
                 objects.insert(def.name, Rc::new(parts));
             }
+            Item::Light(light) => scene.lights.add(light.light),
             Item::Instance(inst) => {
                 checks.check_instance(&inst).map_err(|e| e.named(name))?;
                 let index = inst.index;
@@ -549,6 +568,7 @@ fn read_items(
 /// when the instance is expanded. An instance's polygons are never copied:
 /// the view's matrix is multiplied by the instance's, so the clip-space
 /// vertices the clipper makes anyway are the only transformed buffer.
+#[allow(clippy::too_many_arguments)]
 fn project_parts(
     parts: &[Part],
     base: &View,
@@ -556,6 +576,7 @@ fn project_parts(
     order: Option<u32>,
     how: &DrawOptions,
     frame: u64,
+    lights: &Lights,
     out: &mut Projected,
 ) -> Result<(), SceneError> {
     let moved;
@@ -576,23 +597,26 @@ fn project_parts(
                     Some(o) => o,
                     None => draw_order(d.index)?,
                 };
+                let to_world = placed.unwrap_or_default();
                 if let Shape::Quadric(q) = &d.shape {
-                    project_quadric(d, q, view, order, how, frame, out).in_record(None, d.index)?;
+                    let lit = Lit::new(lights, d, to_world);
+                    project_quadric(d, q, view, order, how, frame, lit, out)
+                        .in_record(None, d.index)?;
                     continue;
                 }
                 // A record's own animated transform moves it as an instance
                 // transform would: the view takes it on.
                 let animated_view;
-                let view = match &d.animated {
+                let (view, to_world) = match &d.animated {
                     Some(v) => {
                         let t = record_transform_at(d, v, frame).in_record(None, d.index)?;
                         animated_view = View {
                             world_to_clip: view.world_to_clip * t.matrix(),
                             ..view.clone()
                         };
-                        &animated_view
+                        (&animated_view, t.then(to_world))
                     }
-                    None => view,
+                    None => (view, to_world),
                 };
                 let outline = match &d.shape {
                     Shape::Polygon(v) => std::borrow::Cow::Borrowed(v.as_slice()),
@@ -601,7 +625,11 @@ fn project_parts(
                         curve_tolerance(other, view),
                     )),
                 };
-                draw_polygon(d, view, &outline, d.uv.as_deref(), order, how, out)
+                let lit = Lit::new(lights, d, to_world).map(|l| Lit {
+                    normals: d.normals.as_deref(),
+                    ..l
+                });
+                draw_polygon(d, view, &outline, d.uv.as_deref(), order, how, lit, out)
                     .in_record(None, d.index)?;
             }
             Part::Place {
@@ -629,7 +657,16 @@ fn project_parts(
                     Some(outer) => transform.then(outer),
                     None => *transform,
                 };
-                project_parts(object, base, Some(total), Some(order), how, frame, out)?;
+                project_parts(
+                    object,
+                    base,
+                    Some(total),
+                    Some(order),
+                    how,
+                    frame,
+                    lights,
+                    out,
+                )?;
             }
         }
     }
@@ -654,8 +691,32 @@ fn draw_order(index: usize) -> Result<u32, SceneError> {
     u32::try_from(index).map_err(|_| SceneError::TooManyRecords)
 }
 
+/// How one polygon is lit: the scene's lights, the transform from the
+/// coordinates its outline is given in to the world's (where the lights
+/// are), and its per-vertex normals in those coordinates when it has them.
+#[derive(Clone, Copy)]
+struct Lit<'a> {
+    lights: &'a Lights,
+    to_world: Transform,
+    normals: Option<&'a [DVec3]>,
+    shade: Shade,
+}
+
+impl<'a> Lit<'a> {
+    /// `None` in an unlit scene and for a record that asks not to be lit.
+    fn new(lights: &'a Lights, d: &Drawable, to_world: Transform) -> Option<Lit<'a>> {
+        (!lights.is_empty() && d.shade != Shade::None).then_some(Lit {
+            lights,
+            to_world,
+            normals: None,
+            shade: d.shade,
+        })
+    }
+}
+
 /// Projects one polygon of a record and gives it its texture: `outline` in
 /// the record's coordinates, `uv` its texture coordinates in texels (uv mode).
+#[allow(clippy::too_many_arguments)]
 fn draw_polygon(
     d: &Drawable,
     view: &View,
@@ -663,6 +724,7 @@ fn draw_polygon(
     uv: Option<&[[f64; 2]]>,
     order: u32,
     how: &DrawOptions,
+    lit: Option<Lit>,
     out: &mut Projected,
 ) -> Result<(), RecordError> {
     let mut p = match raster::try_project(view, outline, d.color, order, how.cull) {
@@ -676,7 +738,15 @@ fn draw_polygon(
         TextureSource::Flat => {}
         TextureSource::Screen(texels) => p.shader = Shader::Screen(texels.clone()),
         TextureSource::Stripe(st) => match stripe::shader(st, view, outline, how.stripe_lod)? {
-            Some(t) => p.shader = Shader::Stripe(Arc::new(t.with_footprint(how.stripe_footprint))),
+            Some(t) => {
+                let t = match &lit {
+                    // Stripes are lit flat: the face's irradiance scales
+                    // both ends of the modulation.
+                    Some(l) => t.lit(flat_irradiance(l, outline)),
+                    None => t,
+                };
+                p.shader = Shader::Stripe(Arc::new(t.with_footprint(how.stripe_footprint)))
+            }
             // Edge-on: a sliver of rounding; nothing to draw.
             None => {
                 out.drop(raster::Dropped::NoArea);
@@ -700,7 +770,14 @@ fn draw_polygon(
                 texels.clone(),
             )?;
             match tex {
-                Some(t) => p.shader = Shader::Texture(Arc::new(t)),
+                Some(mut t) => {
+                    if let Some(l) = &lit {
+                        light_texture(&mut t, &mut p, view, outline, l)?;
+                    }
+                    p.shader = Shader::Texture(Arc::new(t));
+                    out.push(p);
+                    return Ok(());
+                }
                 // Visible by the projection but not by the fit: rounding at a
                 // sliver; nothing to draw.
                 None => {
@@ -710,14 +787,127 @@ fn draw_polygon(
             }
         }
     }
+    if let (Some(l), Shader::Flat | Shader::Screen(_)) = (&lit, &p.shader) {
+        let colour = p.color;
+        match smooth_field(l, view, outline, colour) {
+            Some(field) => p.shade = Some(field),
+            None => p.color = lit_flat(colour, flat_irradiance(l, outline)),
+        }
+    }
     out.push(p);
     Ok(())
+}
+
+/// The unit front normal (Newell's, counter-clockwise seen from the front)
+/// and the vertex centroid of `outline`, in world coordinates.
+fn world_plane(l: &Lit, outline: &[DVec3]) -> (DVec3, DVec3) {
+    let world: Vec<DVec3> = outline.iter().map(|&p| l.to_world.apply(p)).collect();
+    let (mut n, mut c) = (DVec3::ZERO, DVec3::ZERO);
+    for (i, &a) in world.iter().enumerate() {
+        let b = world[(i + 1) % world.len()];
+        n += DVec3::new(
+            (a.y - b.y) * (a.z + b.z),
+            (a.z - b.z) * (a.x + b.x),
+            (a.x - b.x) * (a.y + b.y),
+        );
+        c += a;
+    }
+    (n.normalize_or_zero(), c / world.len() as f64)
+}
+
+/// The light a flat-shaded polygon receives: at its centroid, along its
+/// plane's normal (`light::Lights::irradiance`).
+fn flat_irradiance(l: &Lit, outline: &[DVec3]) -> [f64; 3] {
+    let (n, c) = world_plane(l, outline);
+    l.lights.irradiance(c, n)
+}
+
+/// `colour` lit by irradiance `e`: `min(1, C e)` per channel (GL's clamp).
+fn lit_flat(colour: [f64; 3], e: [f64; 3]) -> [f64; 3] {
+    [0, 1, 2].map(|ch| (colour[ch] * e[ch]).min(1.0))
+}
+
+/// Smooth lighting's factor over a polygon of linear colour `colour`, or
+/// `None` where the polygon is lit flat (`"shade": "flat"`, or `"auto"`
+/// without per-vertex normals) or the fit fails (a sliver). At each vertex
+/// the factor is the lit colour over the unlit one, `min(1, C e_i) / C`
+/// (0 where `C` is 0: the product is 0 either way), with `e_i` the light at
+/// the vertex along its normal (the face's where the record gives none);
+/// [`ShadeField`] interpolates it.
+fn smooth_field(
+    l: &Lit,
+    view: &View,
+    outline: &[DVec3],
+    colour: [f64; 3],
+) -> Option<Arc<raster::ShadeField>> {
+    let smooth = match l.shade {
+        Shade::Smooth => true,
+        Shade::Auto => l.normals.is_some(),
+        Shade::Flat | Shade::None => false,
+    };
+    if !smooth {
+        return None;
+    }
+    let (face, _) = world_plane(l, outline);
+    let (mut rg, mut b) = (Vec::new(), Vec::new());
+    for (i, &p) in outline.iter().enumerate() {
+        let n = match l.normals {
+            Some(ns) => l.to_world.apply_normal(ns[i]),
+            None => face,
+        };
+        let e = l.lights.irradiance(l.to_world.apply(p), n);
+        let f = [0, 1, 2].map(|ch| match colour[ch] > 0.0 {
+            true => (colour[ch] * e[ch]).min(1.0) / colour[ch],
+            false => 0.0,
+        });
+        rg.push(glam::DVec2::new(f[0], f[1]));
+        b.push(glam::DVec2::new(f[2], 0.0));
+    }
+    use crate::texture::map::TexMap;
+    Some(Arc::new(raster::ShadeField {
+        rg: TexMap::fit(view, outline, &rg, true)?,
+        b: TexMap::fit(view, outline, &b, true)?,
+    }))
+}
+
+/// Lights a textured polygon as OpenGL's texture environment sees the lit
+/// colour: `modulate` multiplies the texel by it (flat: the intrinsic
+/// colour lit; smooth: the factor over the polygon); `replace`, `blend` and
+/// `decal` do not use the polygon's colour, so light does not reach them;
+/// `blend_intrinsic` and `decal_intrinsic` mix the texel with the colour,
+/// which only flat lighting can give them exactly (smooth is refused).
+fn light_texture(
+    t: &mut crate::texture::PolyTexture,
+    p: &mut ScreenPoly,
+    view: &View,
+    outline: &[DVec3],
+    l: &Lit,
+) -> Result<(), RecordError> {
+    use crate::texture::compose::Compose;
+    match t.compose {
+        Compose::Replace | Compose::Blend | Compose::Decal => Ok(()),
+        Compose::Modulate => {
+            match smooth_field(l, view, outline, t.intrinsic) {
+                Some(field) => p.shade = Some(field),
+                None => t.intrinsic = lit_flat(t.intrinsic, flat_irradiance(l, outline)),
+            }
+            Ok(())
+        }
+        Compose::BlendIntrinsic | Compose::DecalIntrinsic => {
+            if smooth_field(l, view, outline, t.intrinsic).is_some() {
+                return Err(RecordError::SmoothCompose(t.compose));
+            }
+            t.intrinsic = lit_flat(t.intrinsic, flat_irradiance(l, outline));
+            Ok(())
+        }
+    }
 }
 
 /// Tessellates a quadric record for this view (`geom::quadric`: the slices
 /// and stacks it leaves out come from the quadric tolerance at this camera
 /// and this instance's placement, so every instance and frame is as fine as
 /// it needs) and draws its triangles with their texel coordinates.
+#[allow(clippy::too_many_arguments)]
 fn project_quadric(
     d: &Drawable,
     q: &crate::geom::quadric::QuadricShape,
@@ -725,6 +915,7 @@ fn project_quadric(
     order: u32,
     how: &DrawOptions,
     frame: u64,
+    lit: Option<Lit>,
     out: &mut Projected,
 ) -> Result<(), RecordError> {
     let moved;
@@ -751,7 +942,12 @@ fn project_quadric(
     };
     let tris = q.texel_triangles(tolerance, size)?;
     for t in &tris {
-        draw_polygon(d, view, &t.v, Some(&t.uv), order, how, out)?;
+        // GLU's smooth normals: the triangle's vertices' own.
+        let lit = lit.map(|l| Lit {
+            normals: Some(&t.n),
+            ..l
+        });
+        draw_polygon(d, view, &t.v, Some(&t.uv), order, how, lit, out)?;
     }
     Ok(())
 }

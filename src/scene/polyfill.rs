@@ -185,6 +185,8 @@ pub fn partition_stream<W: Write>(
             objects.check_instance(&inst).map_err(|e| e.named(source))?;
             Ok(job.instance(&inst)?)
         }
+        // The renderer's: passed through as written.
+        Item::Light(light) => Ok(job.writer.pass(&light.fields)?),
     })?;
     let summary = job.summary.clone();
     Ok((job.writer.into_inner()?, summary))
@@ -302,7 +304,9 @@ impl<W: Write> Job<'_, W> {
                         })?
                 }
                 Item::Instance(inst) => self.instance(inst)?,
-                Item::Object(_) => unreachable!("Objects::define rejects nested definitions"),
+                Item::Object(_) | Item::Light(_) => {
+                    unreachable!("Objects::define rejects definitions and lights inside objects")
+                }
             }
         }
         Ok(())
@@ -671,9 +675,11 @@ pub struct CellWriter<W: Write> {
 }
 
 /// Fields an output record does not carry over: the geometry, the colour and
-/// the pattern are replaced by the cell's.
-const REPLACED: [&str; 8] = [
-    "vertices", "rect", "circle", "arc", "color", "pattern", "uv", "texel",
+/// the pattern are replaced by the cell's; per-vertex normals belong to the
+/// record's vertices, not the cell's (a cell is flat: in a lit scene it is
+/// lit flat, by its plane).
+const REPLACED: [&str; 9] = [
+    "vertices", "rect", "circle", "arc", "color", "pattern", "uv", "texel", "normals",
 ];
 
 /// Bytes of output gathered before they are handed to the output stream.

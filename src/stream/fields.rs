@@ -58,6 +58,9 @@ pub fn is_value_key(key: &str) -> bool {
             | "transform"
             | "object"
             | "instance"
+            | "light"
+            | "normals"
+            | "shade"
             | "texel"
             | "cells"
     )

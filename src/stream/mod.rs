@@ -40,7 +40,9 @@ mod triangles;
 mod write;
 
 pub use fields::{is_value_key, Field, Fields};
-pub use objects::{transform_record, Instance, Item, ObjectDef, Objects, INSTANCE_CURVE_TOLERANCE};
+pub use objects::{
+    transform_record, Instance, Item, LightDef, ObjectDef, Objects, INSTANCE_CURVE_TOLERANCE,
+};
 pub use paths::{base_dir, forward_file_refs, names_files, resolve, RefTarget};
 pub use read::{for_each_item, for_each_record, nth_item};
 pub use record::{parse_color, PatternMode, PatternRef, Record, PATTERN_KEYS, QUADRIC_KEYS};

@@ -5,10 +5,11 @@
 //! pattern's scale) and checks the order of definitions across the stream.
 
 use super::fields::{Element, Fields};
-use super::record::{field_err, not_an_object, short, PatternMode, Record};
+use super::record::{field_err, not_an_object, short, PatternMode, Record, GEOMETRY_KEYS};
 use super::StreamError;
 use crate::geom::transform::Transform;
 use crate::geom::Shape;
+use crate::light::LightRecord;
 use glam::DVec3;
 use serde_json::Value;
 
@@ -32,6 +33,20 @@ pub enum Item {
     Object(ObjectDef),
     /// `{"instance": name, "transform": ...}`: a placed copy of an object.
     Instance(Instance),
+    /// `{"light": {...}}`: a light of the scene ([`crate::light`]), top
+    /// level only.
+    Light(LightDef),
+}
+
+/// A light element of the stream.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightDef {
+    /// 0-based position in the stream.
+    pub index: usize,
+    /// What it adds to the scene's lights.
+    pub light: LightRecord,
+    /// The element's JSON object, kept whole for tools that forward it.
+    pub fields: Fields,
 }
 
 /// A named group of items, drawn only through instances.
@@ -167,6 +182,22 @@ impl Item {
                 fields,
             }));
         }
+        if object.contains_key("light") {
+            let fields = object.into_fields();
+            if let Some(k) = GEOMETRY_KEYS.iter().find(|k| fields.contains_key(k)) {
+                return Err(field_err(
+                    index,
+                    format!("light: a light has no geometry, found \"{k}\" beside it"),
+                ));
+            }
+            let light =
+                LightRecord::from_json(&fields["light"]).map_err(|m| field_err(index, m))?;
+            return Ok(Item::Light(LightDef {
+                index,
+                light,
+                fields,
+            }));
+        }
         Record::from_fields(index, object.into_fields()).map(Item::Record)
     }
 }
@@ -210,6 +241,11 @@ impl Objects {
                             o.name
                         ))
                     }
+                    Item::Light(_) => {
+                        return Err(format!(
+                            "object `{name}` holds a light: lights are top-level only, in world coordinates"
+                        ))
+                    }
                     _ => {}
                 }
             }
@@ -250,6 +286,8 @@ impl Objects {
     ) -> Result<(), E> {
         match item {
             Item::Record(r) => each(r),
+            // Records only: a light draws nothing.
+            Item::Light(_) => Ok(()),
             Item::Object(def) => Ok(self.define(def).map_err(|e| e.named(source))?),
             Item::Instance(inst) => {
                 self.check_instance(&inst).map_err(|e| e.named(source))?;
@@ -282,7 +320,7 @@ impl Objects {
                     let placed = inner.transform.then(transform);
                     self.place(inner_def, placed, index, source, each)?;
                 }
-                Item::Object(_) => unreachable!("rejected by define"),
+                Item::Object(_) | Item::Light(_) => unreachable!("rejected by define"),
             }
         }
         Ok(())
@@ -373,12 +411,28 @@ pub(super) fn move_record(
             }
         }
     }
+    let normals = r
+        .normals
+        .as_ref()
+        .map(|ns| ns.iter().map(|&n| t.apply_normal(n)).collect::<Vec<_>>());
+    if let Some(ns) = &normals {
+        fields.insert(
+            "normals",
+            Value::Array(
+                ns.iter()
+                    .map(|n| serde_json::json!([n.x, n.y, n.z]))
+                    .collect(),
+            ),
+        );
+    }
     Ok(Record {
         index,
         shape: Shape::Polygon(verts),
         color: r.color,
         pattern,
         uv: r.uv.clone(),
+        normals,
+        shade: r.shade,
         fields,
     })
 }

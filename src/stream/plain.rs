@@ -48,6 +48,8 @@ pub(super) fn record(line: &[u8], index: usize) -> Option<Record> {
         color: Some(Rgb8(color)),
         pattern: None,
         uv: None,
+        normals: None,
+        shade: Default::default(),
         fields: Fields::from_line(line),
     })
 }
@@ -92,7 +94,7 @@ impl<'de> de::Deserialize<'de> for Key {
                     // "transform" moves the record.
                     "rect" | "circle" | "arc" | "sphere" | "cylinder" | "cone" | "disk"
                     | "pattern" | "uv" | "stripe" | "transform" | "object" | "instance"
-                    | "records" => Key::Decline,
+                    | "light" | "normals" | "shade" | "records" => Key::Decline,
                     k if is_value_key(k) => Key::Value,
                     _ => Key::Raw,
                 })

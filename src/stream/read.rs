@@ -70,6 +70,7 @@ pub fn nth_item<R: BufRead>(
         let mut drawn = Vec::new();
         match &item {
             Item::Record(r) => drawn.push(r.clone()),
+            Item::Light(_) => {}
             Item::Object(def) => {
                 let as_placed = Instance {
                     index: n,

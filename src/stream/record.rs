@@ -9,6 +9,7 @@ use super::{StreamError, MAX_VERTICES};
 use crate::color::Rgb8;
 use crate::geom::transform::Transform;
 use crate::geom::Shape;
+use crate::light::Shade;
 use glam::DVec3;
 use serde_json::Value;
 
@@ -65,6 +66,12 @@ pub struct Record {
     pub pattern: Option<PatternRef>,
     /// Per-vertex texture coordinates in texels, one pair per vertex.
     pub uv: Option<Vec<[f64; 2]>>,
+    /// `"normals"`: per-vertex surface normals (non-zero, any length), one
+    /// per vertex of a polygon, for smooth lighting ([`crate::light`]).
+    pub normals: Option<Vec<DVec3>>,
+    /// `"shade"`: how a lit scene shades the record. Default value:
+    /// [`Shade::Auto`].
+    pub shade: Shade,
     /// The record's whole JSON object (including the fields above), unknown
     /// fields kept as written ([`Fields`]).
     pub fields: Fields,
@@ -84,10 +91,7 @@ impl Record {
     /// Builds the typed view of a record's JSON object.
     pub fn from_fields(index: usize, fields: Fields) -> Result<Record, StreamError> {
         let e = |m: String| field_err(index, m);
-        let keys = [
-            "vertices", "rect", "circle", "arc", "sphere", "cylinder", "cone", "disk",
-        ];
-        let present: Vec<&str> = keys
+        let present: Vec<&str> = GEOMETRY_KEYS
             .iter()
             .copied()
             .filter(|k| fields.contains_key(k))
@@ -191,6 +195,24 @@ impl Record {
                 )
             }
         };
+        let normals = match fields.get("normals") {
+            None => None,
+            Some(v) => {
+                let Shape::Polygon(verts) = &shape else {
+                    return Err(field_err(
+                        index,
+                        "normals: only polygons carry per-vertex normals (quadrics make their own)",
+                    ));
+                };
+                Some(parse_normals(v, verts.len()).map_err(e)?)
+            }
+        };
+        let shade = fields
+            .get("shade")
+            .map(Shade::from_json)
+            .transpose()
+            .map_err(e)?
+            .unwrap_or_default();
         if let (Shape::Quadric(q), Some(p)) = (&shape, &pattern) {
             if p.mode == Some(PatternMode::Object) {
                 return Err(field_err(
@@ -216,6 +238,8 @@ impl Record {
             color,
             pattern,
             uv,
+            normals,
+            shade,
             fields,
         }
         .with_own_transform()
@@ -270,6 +294,32 @@ pub fn parse_color(v: &Value) -> Result<Rgb8, String> {
             as u8;
     }
     Ok(Rgb8(c))
+}
+
+/// Parses `"normals"`: `count` vectors `[x, y, z]` of finite numbers, none
+/// of length 0 (it could not be made unit).
+fn parse_normals(v: &Value, count: usize) -> Result<Vec<DVec3>, String> {
+    let arr = v
+        .as_array()
+        .ok_or_else(|| format!("normals: expected an array, found {}", short(v)))?;
+    if arr.len() != count {
+        return Err(format!(
+            "normals: {} for {count} vertices: expected one per vertex",
+            arr.len()
+        ));
+    }
+    arr.iter()
+        .enumerate()
+        .map(|(i, n)| {
+            let [x, y, z] = number_array::<3>(n, &format!("normals[{i}]"))?;
+            let n = DVec3::new(x, y, z);
+            if n.length() > 0.0 && n.length().is_finite() {
+                Ok(n)
+            } else {
+                Err(format!("normals[{i}]: [{x}, {y}, {z}] has no direction"))
+            }
+        })
+        .collect()
 }
 
 /// Parses `"vertices"`: 3 to [`MAX_VERTICES`] points of 2 or 3 finite
@@ -371,6 +421,11 @@ fn parse_pattern(v: &Value) -> Result<PatternRef, String> {
         vert: num("vert")?,
     })
 }
+
+/// The keys that give a record its geometry; exactly one must be present.
+pub const GEOMETRY_KEYS: [&str; 8] = [
+    "vertices", "rect", "circle", "arc", "sphere", "cylinder", "cone", "disk",
+];
 
 /// The record keys of the quadrics, GLU's names (`cone` is a cylinder with
 /// top radius 0).

@@ -38,6 +38,7 @@ mod tests {
                 super::super::Item::Record(r) => &r.fields,
                 super::super::Item::Object(d) => &d.fields,
                 super::super::Item::Instance(i) => &i.fields,
+                super::super::Item::Light(l) => &l.fields,
             };
             write_ndjson(&mut out, fields).map_err(|e| super::super::StreamError {
                 source: String::new(),

@@ -314,6 +314,19 @@ impl StripeTexture {
         }
     }
 
+    /// The same texture on a face receiving light `e` per channel (flat
+    /// lighting, `crate::light`): the face colour and both ends of the
+    /// modulation lit as GL lights a colour, `min(1, c e)`, before the
+    /// modulation, so a lit stripe is the lit face colour modulated.
+    pub fn lit(self, e: [f64; 3]) -> StripeTexture {
+        let light = |c: [f32; 3]| [0, 1, 2].map(|ch| ((c[ch] as f64) * e[ch]).min(1.0) as f32);
+        StripeTexture {
+            face: light(self.face),
+            ends: self.ends.map(light),
+            ..self
+        }
+    }
+
     /// The modulated colour, linear light, for modulation factor `m`
     /// ([`StripeTexture::ends`]).
     #[inline]
@@ -386,7 +399,8 @@ impl StripeTexture {
         if let Some(m) = self.box_modulation_few(shape) {
             return self.colour(m as f32);
         }
-        let (cx, cy) = centroid(verts).unwrap_or((x + 0.5, y + 0.5));
+        let (cx, cy) =
+            crate::geom::polygon::area_centroid(verts).map_or((x + 0.5, y + 0.5), |c| (c.x, c.y));
         self.linear_at(cx, cy)
     }
 
@@ -567,28 +581,6 @@ fn clipped_area_few(poly: &[DVec2], a: f64, b: f64, c: f64) -> f64 {
     } else {
         polygon_area(&out[..len])
     }
-}
-
-/// The area centroid of a polygon; `None` for fewer than three vertices or
-/// no area (a sliver whose centroid is not defined: the caller uses the pixel
-/// centre, which a fragment of no area cannot make visibly wrong).
-fn centroid(poly: &[DVec2]) -> Option<(f64, f64)> {
-    if poly.len() < 3 {
-        return None;
-    }
-    // Relative to the first vertex: pixel coordinates near 1000 would
-    // otherwise cancel in the cross products.
-    let o = poly[0];
-    let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
-    for i in 0..poly.len() {
-        let (p, q) = (poly[i] - o, poly[(i + 1) % poly.len()] - o);
-        let cross = p.x * q.y - q.x * p.y;
-        a2 += cross;
-        cx += (p.x + q.x) * cross;
-        cy += (p.y + q.y) * cross;
-    }
-    let (x, y) = (o.x + cx / (3.0 * a2), o.y + cy / (3.0 * a2));
-    (a2 != 0.0 && x.is_finite() && y.is_finite()).then_some((x, y))
 }
 
 /// Unsigned area of a simple polygon (shoelace).

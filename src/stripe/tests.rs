@@ -298,21 +298,6 @@ fn fragments_are_exact_where_few_samples_cross_and_filtered_elsewhere() {
 }
 
 #[test]
-fn fragment_centroid_is_the_area_centroid() {
-    // A right triangle: centroid at the mean of its vertices, even far from
-    // the origin (the computation is relative to the first vertex).
-    let tri = [
-        DVec2::new(1000.0, 700.0),
-        DVec2::new(1001.0, 700.0),
-        DVec2::new(1000.0, 701.0),
-    ];
-    let (x, y) = centroid(&tri).unwrap();
-    assert!((x - 1000.0 - 1.0 / 3.0).abs() < 1e-12 && (y - 700.0 - 1.0 / 3.0).abs() < 1e-12);
-    assert_eq!(centroid(&tri[..2]), None);
-    assert_eq!(centroid(&[tri[0], tri[0], tri[0]]), None);
-}
-
-#[test]
 fn footprint_scales_the_level_of_detail() {
     let t = ground_texture(&noise_map(64, 3, Fade::None), LodMode::Blend, 320, 240);
     let half = t.clone().with_footprint(0.5);

@@ -371,6 +371,7 @@ documented! {
     docs_stripe_files: markdown_commands("docs/stripe-files.md");
     docs_objects: markdown_commands("docs/objects.md");
     docs_stripe: markdown_commands("docs/stripe.md");
+    docs_lighting: markdown_commands("docs/lighting.md");
     help_pat_from_image: help_commands("pat-from-image");
     help_pat_info: help_commands("pat-info");
     help_pat_tile: help_commands("pat-tile");

@@ -11,6 +11,7 @@ mod faults;
 mod host;
 mod image_texture;
 mod json;
+mod lighting;
 mod make;
 mod man_pages;
 mod pat_from_image;
