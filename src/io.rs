@@ -1273,6 +1273,20 @@ pub fn is_image(bytes: &[u8]) -> bool {
     image::guess_format(bytes).is_ok()
 }
 
+/// The width and height [`decode_texture`] gives `bytes`, read from the
+/// header alone (a quarter turn by the EXIF orientation swaps them): what a
+/// texture's texel coordinates are scaled by before it is decoded.
+pub fn texture_size(bytes: &[u8], name: &str) -> Result<(u32, u32), IoError> {
+    use image::metadata::Orientation as O;
+    use image::ImageDecoder as _;
+    let mut decoder = open_decoder(bytes, name)?;
+    let (w, h) = decoder.dimensions();
+    Ok(match decoder.orientation().unwrap_or(O::NoTransforms) {
+        O::Rotate90 | O::Rotate270 | O::Rotate90FlipH | O::Rotate270FlipH => (h, w),
+        _ => (w, h),
+    })
+}
+
 /// [`decode_photo`] for a texture: the EXIF orientation applied, 16-bit
 /// channels kept (PNG, TIFF, PNM with 16 bits), anything else as 8-bit
 /// RGBA; refused before decoding if the image has more than `max_pixels`

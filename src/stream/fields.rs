@@ -59,6 +59,7 @@ pub fn is_value_key(key: &str) -> bool {
             | "object"
             | "instance"
             | "light"
+            | "mesh"
             | "normals"
             | "shade"
             | "texel"

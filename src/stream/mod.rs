@@ -31,6 +31,8 @@
 use std::fmt;
 
 mod fields;
+pub mod mesh;
+pub mod obj;
 mod objects;
 mod paths;
 mod plain;

@@ -103,15 +103,32 @@ impl ObjectDef {
 }
 
 impl Item {
+    /// The element's 0-based position in the stream.
+    pub fn index(&self) -> usize {
+        match self {
+            Item::Record(r) => r.index,
+            Item::Object(d) => d.index,
+            Item::Instance(i) => i.index,
+            Item::Light(l) => l.index,
+        }
+    }
+
     /// Builds the typed view of one JSON stream element. Unknown fields are
     /// kept as serde_json writes them (a `Value` holds no text): the reader
     /// keeps them as written.
+    /// A mesh record's OBJ file resolves against the current directory.
     pub fn from_value(index: usize, value: Value) -> Result<Item, StreamError> {
-        Item::from_element(index, Element::from(value))
+        Item::from_element(index, Element::from(value), std::path::Path::new("."))
     }
 
-    /// Builds the typed view of one stream element as read.
-    pub(super) fn from_element(index: usize, element: Element) -> Result<Item, StreamError> {
+    /// Builds the typed view of one stream element as read; files that mesh
+    /// records inside an object name resolve against `base`. (A top-level
+    /// mesh is two items, read by [`super::mesh::top_level`].)
+    pub(super) fn from_element(
+        index: usize,
+        element: Element,
+        base: &std::path::Path,
+    ) -> Result<Item, StreamError> {
         let object = match element {
             Element::Object(o) => o,
             Element::Other(v) => return Err(not_an_object(index, &v)),
@@ -138,16 +155,19 @@ impl Item {
                     format!("object `{name}`: expected \"records\": [...]"),
                 )
             })?;
-            let items = records
-                .into_iter()
-                .enumerate()
-                .map(|(i, e)| {
-                    Item::from_element(index, e).map_err(|e| {
-                        let m = e.message;
-                        field_err(index, format!("object `{name}` records[{i}]: {m}"))
-                    })
-                })
-                .collect::<Result<Vec<_>, _>>()?;
+            let mut items = Vec::with_capacity(records.len());
+            for (i, e) in records.into_iter().enumerate() {
+                let inner = |e: StreamError| {
+                    let m = e.message;
+                    field_err(index, format!("object `{name}` records[{i}]: {m}"))
+                };
+                match e {
+                    // A mesh inside an object: its faces are the object's records.
+                    Element::Object(o) if o.contains_key("mesh") => items
+                        .extend(super::mesh::faces(index, &o.into_fields(), base).map_err(inner)?),
+                    e => items.push(Item::from_element(index, e, base).map_err(inner)?),
+                }
+            }
             return Ok(Item::Object(ObjectDef {
                 index,
                 name,

@@ -94,7 +94,7 @@ impl<'de> de::Deserialize<'de> for Key {
                     // "transform" moves the record.
                     "rect" | "circle" | "arc" | "sphere" | "cylinder" | "cone" | "disk"
                     | "pattern" | "uv" | "stripe" | "transform" | "object" | "instance"
-                    | "light" | "normals" | "shade" | "records" => Key::Decline,
+                    | "light" | "mesh" | "normals" | "shade" | "records" => Key::Decline,
                     k if is_value_key(k) => Key::Value,
                     _ => Key::Raw,
                 })
@@ -218,7 +218,7 @@ mod tests {
         index: usize,
         e: super::super::fields::Element,
     ) -> Result<Record, super::super::StreamError> {
-        match super::super::Item::from_element(index, e)? {
+        match super::super::Item::from_element(index, e, std::path::Path::new("."))? {
             super::super::Item::Record(r) => Ok(r),
             other => panic!("not a record: {other:?}"),
         }

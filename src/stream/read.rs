@@ -63,8 +63,10 @@ pub fn nth_item<R: BufRead>(
     let mut found = None;
     let mut count = 0usize;
     let scan = for_each_item(reader, source, |item| {
-        count += 1;
-        if count <= n {
+        // By the element's own number: a mesh element is two items (its
+        // object and its instance), both numbered as the element.
+        count = item.index() + 1;
+        if item.index() < n {
             return objects.expand(item, source, &mut |_| Ok::<(), Stop>(()));
         }
         let mut drawn = Vec::new();
@@ -131,9 +133,19 @@ pub fn for_each_item<R: BufRead, E: From<StreamError>>(
         }
     };
     let mut index = 0usize;
+    let base = super::base_dir(source);
     let mut handle = |value: Parsed, index: &mut usize| -> Result<(), E> {
         let item = match value {
-            Parsed::Element(e) => Item::from_element(*index, e).map_err(|e| e.named(source))?,
+            // A mesh: the object of its faces, then the instance placing it.
+            Parsed::Element(Element::Object(o)) if o.contains_key("mesh") => {
+                let [def, inst] = super::mesh::top_level(*index, o.into_fields(), &base)
+                    .map_err(|e| e.named(source))?;
+                each(def)?;
+                inst
+            }
+            Parsed::Element(e) => {
+                Item::from_element(*index, e, &base).map_err(|e| e.named(source))?
+            }
             Parsed::Item(item) => item,
         };
         *index += 1;

@@ -14,6 +14,7 @@ mod json;
 mod lighting;
 mod make;
 mod man_pages;
+mod mesh;
 mod pat_from_image;
 mod pat_info;
 mod pat_tile;

@@ -1,0 +1,446 @@
+//! Wavefront OBJ meshes and their MTL materials, read for the stream's
+//! `{"mesh": {"obj": FILE}}` records ([`super::mesh`]).
+//!
+//! What is read: `v` (positions; a fourth `w` is refused), `vt` (texture
+//! coordinates, `u v`, a third ignored), `vn` (normals), `f` (faces of any
+//! number of vertices, each `v`, `v/vt`, `v//vn` or `v/vt/vn`, indices from
+//! 1 or negative from the end), `mtllib` and `usemtl`; from a `.mtl`,
+//! `newmtl`, `Kd` and `map_Kd`. Every other statement (`o`, `g`, `s`, `l`,
+//! `Ka`, `Ks`, `Ns`, `illum`, ...) is skipped, as OBJ readers do. Errors
+//! name the file and the line. The file is read whole but bounded
+//! ([`crate::io::read_path`]: a regular file of at most
+//! [`crate::io::MAX_NAMED_FILE_BYTES`]), and everything kept is a fixed
+//! size per statement read, so memory is bounded by the file's size.
+
+use glam::DVec3;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// One corner of a face: 0-based indices into the mesh's arrays.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Corner {
+    /// Into [`Mesh::positions`].
+    pub v: usize,
+    /// Into [`Mesh::texcoords`].
+    pub vt: Option<usize>,
+    /// Into [`Mesh::normals`].
+    pub vn: Option<usize>,
+}
+
+/// A face: its corners in order (counter-clockwise seen from its front, as
+/// OBJ has them) and the material in effect.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Face {
+    /// At least three corners.
+    pub corners: Vec<Corner>,
+    /// Into [`Mesh::materials`], from the last `usemtl`.
+    pub material: Option<usize>,
+    /// The line the face is on, for messages.
+    pub line: usize,
+}
+
+/// A material of an `.mtl` file.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Material {
+    /// Its `newmtl` name.
+    pub name: String,
+    /// `Kd r g b`: the diffuse colour, linear reflectance 0..1.
+    pub kd: Option<[f64; 3]>,
+    /// `map_Kd FILE`: the diffuse texture, resolved against the `.mtl`'s
+    /// directory.
+    pub map_kd: Option<PathBuf>,
+}
+
+/// An OBJ file read.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Mesh {
+    /// `v` statements.
+    pub positions: Vec<DVec3>,
+    /// `vt` statements, `[u, v]`, v up.
+    pub texcoords: Vec<[f64; 2]>,
+    /// `vn` statements.
+    pub normals: Vec<DVec3>,
+    /// `f` statements.
+    pub faces: Vec<Face>,
+    /// The materials of its `mtllib` files, in the order defined.
+    pub materials: Vec<Material>,
+}
+
+/// Why an OBJ or MTL file cannot be used: the file, the line (0 for the file
+/// as a whole) and what is wrong.
+#[derive(Debug, thiserror::Error)]
+#[error("{}{}: {message}", file.display(), if *line > 0 { format!(":{line}") } else { String::new() })]
+pub struct ObjError {
+    /// The file, as resolved.
+    pub file: PathBuf,
+    /// 1-based line, or 0.
+    pub line: usize,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl Mesh {
+    /// Reads the OBJ file at `path` and the `.mtl` files it names (resolved
+    /// against its directory).
+    pub fn read_file(path: &Path) -> Result<Mesh, ObjError> {
+        let bytes = crate::io::read_path(path).map_err(|e| ObjError {
+            file: path.to_path_buf(),
+            line: 0,
+            message: e.to_string(),
+        })?;
+        Mesh::parse(&bytes, path, &mut |p| {
+            crate::io::read_path(p).map_err(|e| e.to_string())
+        })
+    }
+
+    /// Parses OBJ text `bytes` of file `path`; `read` reads an `.mtl`.
+    pub fn parse(
+        bytes: &[u8],
+        path: &Path,
+        read: &mut dyn FnMut(&Path) -> Result<Vec<u8>, String>,
+    ) -> Result<Mesh, ObjError> {
+        let err = |line: usize, message: String| ObjError {
+            file: path.to_path_buf(),
+            line,
+            message,
+        };
+        let text = std::str::from_utf8(bytes)
+            .map_err(|e| err(0, format!("not UTF-8 text ({e}): not an OBJ file")))?;
+        let dir = path.parent().unwrap_or(Path::new(""));
+        let mut mesh = Mesh::default();
+        let mut by_name: HashMap<String, usize> = HashMap::new();
+        let mut current = None;
+        for (i, raw) in text.lines().enumerate() {
+            let n = i + 1;
+            let line = raw.split('#').next().unwrap_or("").trim();
+            let mut words = line.split_whitespace();
+            let Some(key) = words.next() else { continue };
+            let rest: Vec<&str> = words.collect();
+            match key {
+                "v" => {
+                    if rest.len() != 3 {
+                        return Err(err(
+                            n,
+                            format!("v: expected x y z, found {} numbers", rest.len()),
+                        ));
+                    }
+                    let p = numbers::<3>(&rest, "v").map_err(|m| err(n, m))?;
+                    mesh.positions.push(DVec3::from_array(p));
+                }
+                "vt" => {
+                    if !(1..=3).contains(&rest.len()) {
+                        return Err(err(
+                            n,
+                            format!("vt: expected u v, found {} numbers", rest.len()),
+                        ));
+                    }
+                    let mut uv = [0.0; 2];
+                    for (o, w) in uv.iter_mut().zip(&rest) {
+                        *o = number(w, "vt").map_err(|m| err(n, m))?;
+                    }
+                    mesh.texcoords.push(uv);
+                }
+                "vn" => {
+                    if rest.len() != 3 {
+                        return Err(err(
+                            n,
+                            format!("vn: expected x y z, found {} numbers", rest.len()),
+                        ));
+                    }
+                    let v = DVec3::from_array(numbers::<3>(&rest, "vn").map_err(|m| err(n, m))?);
+                    if v.length() == 0.0 {
+                        return Err(err(n, "vn: a normal of length 0".into()));
+                    }
+                    mesh.normals.push(v);
+                }
+                "f" => {
+                    if rest.len() < 3 {
+                        return Err(err(
+                            n,
+                            format!("f: a face needs at least 3 vertices, found {}", rest.len()),
+                        ));
+                    }
+                    let corners = rest
+                        .iter()
+                        .map(|w| corner(w, &mesh))
+                        .collect::<Result<Vec<_>, _>>()
+                        .map_err(|m| err(n, m))?;
+                    mesh.faces.push(Face {
+                        corners,
+                        material: current,
+                        line: n,
+                    });
+                }
+                "mtllib" => {
+                    if rest.is_empty() {
+                        return Err(err(n, "mtllib: expected a file name".into()));
+                    }
+                    // File names may hold spaces: the rest of the line is one.
+                    let name = line["mtllib".len()..].trim();
+                    let mtl = dir.join(name);
+                    let bytes = read(&mtl)
+                        .map_err(|m| err(n, format!("mtllib {name}: {}: {m}", mtl.display())))?;
+                    let start = mesh.materials.len();
+                    parse_mtl(&bytes, &mtl, &mut mesh.materials)?;
+                    for (k, m) in mesh.materials.iter().enumerate().skip(start) {
+                        by_name.insert(m.name.clone(), k);
+                    }
+                }
+                "usemtl" => {
+                    let name = line["usemtl".len()..].trim();
+                    current = Some(*by_name.get(name).ok_or_else(|| {
+                        err(n, format!("usemtl {name}: no material of that name in the mtllib files read so far"))
+                    })?);
+                }
+                _ => {}
+            }
+        }
+        if mesh.faces.is_empty() {
+            return Err(err(0, "no faces (\"f\" lines): nothing to draw".into()));
+        }
+        Ok(mesh)
+    }
+}
+
+/// One face corner `v`, `v/vt`, `v//vn` or `v/vt/vn` against the arrays read so far.
+fn corner(word: &str, mesh: &Mesh) -> Result<Corner, String> {
+    let parts: Vec<&str> = word.split('/').collect();
+    if parts.len() > 3 || parts[0].is_empty() {
+        return Err(format!("f: `{word}` is not v, v/vt, v//vn or v/vt/vn"));
+    }
+    let v = index(parts[0], mesh.positions.len(), ("vertex", "vertices"), word)?;
+    let vt = match parts.get(1) {
+        None | Some(&"") => None,
+        Some(s) => Some(index(
+            s,
+            mesh.texcoords.len(),
+            ("texture coordinate", "texture coordinates"),
+            word,
+        )?),
+    };
+    let vn = match parts.get(2) {
+        None | Some(&"") => None,
+        Some(s) => Some(index(s, mesh.normals.len(), ("normal", "normals"), word)?),
+    };
+    Ok(Corner { v, vt, vn })
+}
+
+/// An OBJ index (1-based, or negative from the end) into an array of `len`.
+fn index(s: &str, len: usize, (what, many): (&str, &str), word: &str) -> Result<usize, String> {
+    let i: i64 = s
+        .parse()
+        .map_err(|_| format!("f: `{word}`: `{s}` is not a whole number"))?;
+    let k = if i > 0 {
+        i - 1
+    } else if i < 0 {
+        len as i64 + i
+    } else {
+        return Err(format!("f: `{word}`: index 0: OBJ counts from 1"));
+    };
+    if k < 0 || k >= len as i64 {
+        return Err(format!(
+            "f: `{word}`: {what} index {i} out of range: {len} {many} defined before this line"
+        ));
+    }
+    Ok(k as usize)
+}
+
+fn number(w: &str, what: &str) -> Result<f64, String> {
+    match w.parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(format!("{what}: `{w}` is not a finite number")),
+    }
+}
+
+fn numbers<const N: usize>(words: &[&str], what: &str) -> Result<[f64; N], String> {
+    let mut out = [0.0; N];
+    for (o, w) in out.iter_mut().zip(words) {
+        *o = number(w, what)?;
+    }
+    Ok(out)
+}
+
+/// Adds the materials of MTL text `bytes` (file `path`) to `out`.
+fn parse_mtl(bytes: &[u8], path: &Path, out: &mut Vec<Material>) -> Result<(), ObjError> {
+    let err = |line: usize, message: String| ObjError {
+        file: path.to_path_buf(),
+        line,
+        message,
+    };
+    let text = std::str::from_utf8(bytes)
+        .map_err(|e| err(0, format!("not UTF-8 text ({e}): not an MTL file")))?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    for (i, raw) in text.lines().enumerate() {
+        let n = i + 1;
+        let line = raw.split('#').next().unwrap_or("").trim();
+        let mut words = line.split_whitespace();
+        let Some(key) = words.next() else { continue };
+        let rest: Vec<&str> = words.collect();
+        let here = || err(n, format!("{key}: before any newmtl"));
+        match key {
+            "newmtl" => out.push(Material {
+                name: line["newmtl".len()..].trim().to_string(),
+                ..Material::default()
+            }),
+            "Kd" => {
+                if rest.len() != 3 {
+                    return Err(err(
+                        n,
+                        format!("Kd: expected r g b, found {} numbers", rest.len()),
+                    ));
+                }
+                let kd = numbers::<3>(&rest, "Kd").map_err(|m| err(n, m))?;
+                if kd.iter().any(|c| !(0.0..=1.0).contains(c)) {
+                    return Err(err(
+                        n,
+                        format!(
+                            "Kd: {} {} {}: expected reflectances 0 to 1",
+                            kd[0], kd[1], kd[2]
+                        ),
+                    ));
+                }
+                out.last_mut().ok_or_else(here)?.kd = Some(kd);
+            }
+            "map_Kd" => {
+                // Options (`-s 1 1 1`, ...) are not read: the file is the last word.
+                let file = rest
+                    .last()
+                    .ok_or_else(|| err(n, "map_Kd: expected a file name".into()))?;
+                out.last_mut().ok_or_else(here)?.map_kd = Some(dir.join(file));
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(obj: &str, mtl: &str) -> Result<Mesh, String> {
+        let mtl = mtl.as_bytes().to_vec();
+        Mesh::parse(obj.as_bytes(), Path::new("m/x.obj"), &mut |p| {
+            if p == Path::new("m/x.mtl") {
+                Ok(mtl.clone())
+            } else {
+                Err("No such file or directory (os error 2)".into())
+            }
+        })
+        .map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn every_face_form_and_negative_indices() {
+        let m = parse(
+            "# a quad and a triangle\nmtllib x.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\n\
+             o thing\ng part\ns 1\nusemtl red\nf 1 2 3 4\nusemtl tex\nf 1/1 2/2 3/3\nf 1//1 2//1 3//1\nf -4/-3/-1 -3/-2/-1 -2/-1/-1\n",
+            "newmtl red\nKd 1 0 0\nnewmtl tex\nmap_Kd -s 1 1 1 wall.png\n",
+        )
+        .unwrap();
+        assert_eq!(m.positions.len(), 4);
+        assert_eq!(m.faces.len(), 4);
+        assert_eq!(m.faces[0].corners.len(), 4);
+        assert_eq!(m.faces[0].material, Some(0));
+        assert_eq!(
+            m.faces[1].corners[2],
+            Corner {
+                v: 2,
+                vt: Some(2),
+                vn: None
+            }
+        );
+        assert_eq!(
+            m.faces[2].corners[0],
+            Corner {
+                v: 0,
+                vt: None,
+                vn: Some(0)
+            }
+        );
+        assert_eq!(
+            m.faces[3].corners[0],
+            Corner {
+                v: 0,
+                vt: Some(0),
+                vn: Some(0)
+            }
+        );
+        assert_eq!(m.materials[0].kd, Some([1.0, 0.0, 0.0]));
+        assert_eq!(
+            m.materials[1].map_kd.as_deref(),
+            Some(Path::new("m/wall.png"))
+        );
+        assert_eq!(m.faces[3].line, 19);
+    }
+
+    #[test]
+    fn bad_input_names_the_file_and_line() {
+        for (obj, needle) in [
+            (
+                "v 0 0 0\nv 1 0 0\nf 1 2 3\n",
+                "m/x.obj:3: f: `3`: vertex index 3 out of range: 2 vertices defined",
+            ),
+            ("v 0 0\n", "m/x.obj:1: v: expected x y z, found 2 numbers"),
+            ("v 0 0 NaN\n", "m/x.obj:1: v: `NaN` is not a finite number"),
+            (
+                "v 0 0 1e999\n",
+                "m/x.obj:1: v: `1e999` is not a finite number",
+            ),
+            (
+                "v 0 0 0\nf 1 1\n",
+                "m/x.obj:2: f: a face needs at least 3 vertices, found 2",
+            ),
+            (
+                "v 0 0 0\nf 0 1 1\n",
+                "m/x.obj:2: f: `0`: index 0: OBJ counts from 1",
+            ),
+            (
+                "v 0 0 0\nf 1 1 99999999999999999999\n",
+                "is not a whole number",
+            ),
+            (
+                "v 0 0 0\nf 1/x 1 1\n",
+                "m/x.obj:2: f: `1/x`: `x` is not a whole number",
+            ),
+            ("v 0 0 0\nf -2 1 1\n", "vertex index -2 out of range"),
+            (
+                "v 0 0 0\nvt 0 0\nf 1/2 1/1 1/1\n",
+                "texture coordinate index 2 out of range",
+            ),
+            ("vn 0 0 0\n", "m/x.obj:1: vn: a normal of length 0"),
+            ("v 0 0 0\n", "m/x.obj: no faces"),
+            (
+                "mtllib other.mtl\n",
+                "m/x.obj:1: mtllib other.mtl: m/other.mtl: No such file",
+            ),
+            (
+                "mtllib x.mtl\nusemtl blue\n",
+                "m/x.obj:2: usemtl blue: no material of that name",
+            ),
+            ("f 1/2/3/4 1 1\n", "is not v, v/vt, v//vn or v/vt/vn"),
+        ] {
+            let e = parse(obj, "newmtl red\nKd 1 0 0\n").unwrap_err();
+            assert!(e.contains(needle), "{obj:?}: {e}");
+        }
+        for (mtl, needle) in [
+            ("Kd 1 0 0\n", "m/x.mtl:1: Kd: before any newmtl"),
+            (
+                "newmtl a\nKd 2 0 0\n",
+                "m/x.mtl:2: Kd: 2 0 0: expected reflectances 0 to 1",
+            ),
+            (
+                "newmtl a\nmap_Kd\n",
+                "m/x.mtl:2: map_Kd: expected a file name",
+            ),
+        ] {
+            let e = parse("mtllib x.mtl\n", mtl).unwrap_err();
+            assert!(e.contains(needle), "{mtl:?}: {e}");
+        }
+        let e = Mesh::parse(&[0xff, 0xfe], Path::new("b.obj"), &mut |_| {
+            Err(String::new())
+        })
+        .unwrap_err();
+        assert!(e.to_string().starts_with("b.obj: not UTF-8 text"), "{e}");
+    }
+}
