@@ -58,6 +58,8 @@ const EXPECT: &[(&str, &str)] = &[
 const GOLDEN: &[(&str, &str)] = &[
     ("demo1.png", "examples/golden/demo1.png"),
     ("demo2.png", "examples/golden/demo2.png"),
+    ("earth-lit.png", "examples/golden/earth-lit.png"),
+    ("house.png", "examples/golden/house.png"),
 ];
 
 /// One runnable command of a text, with where it is written.
