@@ -217,6 +217,29 @@ clitest!(bad_meshes_are_refused_naming_the_file_and_line, |dir| {
             assert!(!dir.path().join("out").exists());
         }
     }
+    // A model over the mesh limit is refused before a face is made: a
+    // 1,000,001-corner face is 999,999 triangles, one more face passes it.
+    let mut huge = String::new();
+    for k in 0..1_000_001u32 {
+        huge.push_str(&format!("v {} {} 0\n", k % 1000, k / 1000));
+    }
+    huge.push('f');
+    for k in 1..=1_000_001u32 {
+        huge.push_str(&format!(" {k}"));
+    }
+    huge.push_str("\nf 1 2 3\nf 1 2 3\n");
+    dir.write("huge.obj", huge);
+    dir.write(
+        "s.json",
+        r#"{"mesh": {"obj": "huge.obj"}, "color": [9, 9, 9]}"#,
+    );
+    dir.cmd("scene-render")
+        .args(["s.json", "-o", "out.png"])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "./huge.obj: 1000001 triangles, over the 1000000 one mesh may have",
+        ));
     // A model with more faces than the polygon budget is refused when read.
     let mut big = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\n");
     for _ in 0..50 {
