@@ -34,14 +34,19 @@ pub fn for_each_record<R: BufRead, E: From<StreamError>>(
     })
 }
 
+/// The most records [`nth_item`] expands one element into: each is a whole
+/// record with its JSON (measured 1.7 KB), so about 170 MB.
+pub const MAX_NTH_RECORDS: u64 = 100_000;
+
 /// Element `n` of a stream, read no further than that element, with the
 /// records it draws. Elements are numbered from 0 in the order of the
 /// stream, every one counting (object definitions and instances as well as
 /// records): the number error messages give. A record draws itself; an
 /// instance, its object's records moved by its transform (nested instances
 /// expanded, as [`for_each_record`] expands them, all numbered `n`); an
-/// object definition, its records as if placed untransformed. The elements
-/// before it are checked as [`for_each_record`] checks them. `Err(count)`
+/// object definition, its records as if placed untransformed; at most
+/// [`MAX_NTH_RECORDS`] of them, else an error. The elements before it are
+/// read and their names checked, not expanded. `Err(count)`
 /// when the stream has only `count` elements.
 pub fn nth_item<R: BufRead>(
     reader: R,
@@ -67,9 +72,34 @@ pub fn nth_item<R: BufRead>(
         // object and its instance), both numbered as the element.
         count = item.index() + 1;
         if item.index() < n {
-            return objects.expand(item, source, &mut |_| Ok::<(), Stop>(()));
+            // Read and checked (definitions kept, instances' objects known),
+            // not expanded: nested instances multiply, and what they draw
+            // before element n is not asked for.
+            return match item {
+                Item::Object(def) => Ok(objects.define(def).map_err(|e| e.named(source))?),
+                Item::Instance(inst) => {
+                    Ok(objects.check_instance(&inst).map_err(|e| e.named(source))?)
+                }
+                Item::Record(_) | Item::Light(_) => Ok(()),
+            };
         }
         let mut drawn = Vec::new();
+        // Nested instances multiply: the expansion stops at a budget.
+        let keep = |r: Record, drawn: &mut Vec<Record>| {
+            if drawn.len() as u64 >= MAX_NTH_RECORDS {
+                return Err(Stop::Failed(
+                    StreamError::in_record(
+                        n,
+                        format!(
+                            "draws more than {MAX_NTH_RECORDS} polygons (nested instances multiply): too many to list"
+                        ),
+                    )
+                    .named(source),
+                ));
+            }
+            drawn.push(r);
+            Ok(())
+        };
         match &item {
             Item::Record(r) => drawn.push(r.clone()),
             Item::Light(_) => {}
@@ -82,14 +112,12 @@ pub fn nth_item<R: BufRead>(
                 };
                 objects.define(def.clone()).map_err(|e| e.named(source))?;
                 objects.expand(Item::Instance(as_placed), source, &mut |r| {
-                    drawn.push(r);
-                    Ok::<(), Stop>(())
+                    keep(r, &mut drawn)
                 })?;
             }
-            Item::Instance(_) => objects.expand(item.clone(), source, &mut |r| {
-                drawn.push(r);
-                Ok::<(), Stop>(())
-            })?,
+            Item::Instance(_) => {
+                objects.expand(item.clone(), source, &mut |r| keep(r, &mut drawn))?
+            }
         }
         found = Some((item, drawn));
         Err(Stop::Found)
