@@ -341,9 +341,16 @@ fn run_in_pool(args: Args) -> Result<()> {
     };
     // Every destination is checked before any work (a missing directory
     // found after an hour of rendering helps nobody).
-    if let Some(o) = &args.output {
-        let first = args.frame.unwrap_or(0);
-        crate::io::check_output(&frame_name(o, first).unwrap_or_else(|| o.clone()), true)?;
+    match &args.output {
+        Some(o) => {
+            let first = args.frame.unwrap_or(0);
+            crate::io::check_output(&frame_name(o, first).unwrap_or_else(|| o.clone()), true)?;
+        }
+        // No -o: the image goes to standard output, unless --compare
+        // only measures it; a terminal there is refused now, not after
+        // the render.
+        None if args.compare.is_none() => crate::io::check_output(crate::io::STDIO, true)?,
+        None => {}
     }
     for extra in [&args.diff, &args.depfile].into_iter().flatten() {
         crate::io::check_output(extra, false)?;
