@@ -205,7 +205,8 @@ fn cases() -> Vec<Case> {
             .leaves("out.png")
             .within(512, 10),
         // --- Signals (item 8).
-        Case::new("SIGTERM mid-render removes the unfinished output", "scene-render --size 4000x4000 --aa ss16 -o out.png $FIX/scenes/demo2-faces.json & pid=$!; sleep 0.5; kill -TERM $pid; wait $pid")
+        Case::new("SIGTERM mid-render removes the unfinished output", "scene-render --size 4000x4000 --ortho2 0,1,0,1 --reference -o out.png s.json & pid=$!; sleep 0.5; kill -TERM $pid; wait $pid")
+            .file("s.json", r#"{"vertices": [[0,0],[1,0],[0.5,1]], "color": [200,100,50]}"#)
             .code(143)
             .within(2048, 20),
         Case::new("SIGINT mid-partition removes the unfinished output", "polyfill3 --pattern $FIX/patterns/brick.pat --incr 0.05 s.json -o cells.ndjson & pid=$!; sleep 0.5; kill -INT $pid; wait $pid")
