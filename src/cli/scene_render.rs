@@ -374,6 +374,7 @@ fn run_in_pool(args: Args) -> Result<()> {
             Reports {
                 residual: None,
                 plan: None,
+                estimated: None,
             },
         )?;
         return write_depfile(&args, None);
@@ -467,7 +468,7 @@ fn run_in_pool(args: Args) -> Result<()> {
     warn_if_blank(&args, (&view, camera_given), 0, &tally);
     let t_render = std::time::Instant::now();
     let bar = args.progress.bar(TOOL);
-    let (img, residual, plan) = if args.reference {
+    let (img, residual, plan, estimated) = if args.reference {
         let pass = |bg: &Background| {
             reference::render_with(&polys, bg, width, height, args.reference_samples, &bar)
         };
@@ -483,15 +484,19 @@ fn run_in_pool(args: Args) -> Result<()> {
         } else {
             r.frame.encode(encoding)
         };
-        (img, Some(res), None)
+        (img, Some(res), None, None)
     } else {
-        let (img, plan) =
-            scene::render_encoded(&polys, &bg, (width, height), resolve(&args), &bar, encoding);
-        (img, None, plan)
+        let r = scene::render_encoded(&polys, &bg, (width, height), resolve(&args), &bar, encoding);
+        let estimated = Estimated::of(&r, &polys);
+        (r.image, None, r.plan, estimated)
     };
     drop(bar);
     let t_write = std::time::Instant::now();
-    let reports = Reports { residual, plan };
+    let reports = Reports {
+        residual,
+        plan,
+        estimated,
+    };
     finish(&args, output.zip(format), img, reference_img, reports)?;
     write_depfile(&args, Some(&scene))?;
     if args.timings {
@@ -569,6 +574,38 @@ struct Reports {
     residual: Option<reference::Residual>,
     /// `--max-error`'s choice.
     plan: Option<raster::budget::Plan>,
+    /// Fragments `--aa exact` estimated rather than integrated.
+    estimated: Option<Estimated>,
+}
+
+/// What `--aa exact` did not integrate exactly (`Frame::estimated`): never
+/// silent, a warning and, with `--json`, the key `estimated`.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+struct Estimated {
+    /// Pixel fragments that took the EWA estimate.
+    fragments: u64,
+    /// How far each can be from its exact value, 8-bit codes: the largest
+    /// contrast of the frame's textures (`PolyTexture::contrast_codes`).
+    bound_codes: u32,
+}
+
+impl Estimated {
+    fn of(r: &scene::Rendered, polys: &[raster::ScreenPoly]) -> Option<Estimated> {
+        r.estimate_bound(polys).map(|bound_codes| Estimated {
+            fragments: r.estimated,
+            bound_codes,
+        })
+    }
+
+    /// The warning, `at` naming the frame of an animation.
+    fn warn(&self, at: &str) {
+        eprintln!(
+            "{TOOL}: warning: {at}{} pixel fragment(s) meet more than {} texel cells (next to a textured plane's horizon): their colour is an estimate (EWA), not the exact box integral, within {} code(s) of it (the textures' contrast)",
+            self.fragments,
+            crate::texture::cells::MAX_EXACT_CELLS,
+            self.bound_codes
+        );
+    }
 }
 
 /// Writes the image and the reports, in that order, once everything is computed.
@@ -579,7 +616,14 @@ fn finish(
     reference_img: Option<AnyImage>,
     reports: Reports,
 ) -> Result<()> {
-    let Reports { residual, plan } = reports;
+    let Reports {
+        residual,
+        plan,
+        estimated,
+    } = reports;
+    if let Some(e) = &estimated {
+        e.warn("");
+    }
     let metrics = match &reference_img {
         Some(r) => Some(compare::compare_any(&img, r).with_context(|| {
             format!("comparing with {}", args.compare.as_deref().unwrap_or(""))
@@ -635,6 +679,9 @@ fn finish(
         }
         if let Some(p) = &plan {
             obj.insert("max_error".into(), serde_json::to_value(p)?);
+        }
+        if let Some(e) = &estimated {
+            obj.insert("estimated".into(), serde_json::to_value(e)?);
         }
         text = serde_json::to_string_pretty(&obj)? + "\n";
     } else {
@@ -789,7 +836,7 @@ fn render_frames(
             .with_context(|| display_name(&args.input).to_string())?;
         warn_if_blank(args, (view, camera_given), k, &tally);
         let t1 = std::time::Instant::now();
-        let (img, plan) = scene::render_encoded(
+        let rendered = scene::render_encoded(
             &polys,
             bg,
             (view.width, view.height),
@@ -797,6 +844,10 @@ fn render_frames(
             &crate::progress::Silent,
             encoding,
         );
+        if let Some(e) = Estimated::of(&rendered, &polys) {
+            e.warn(&format!("frame {k}: "));
+        }
+        let (img, plan) = (rendered.image, rendered.plan);
         if let Some(p) = plan {
             if args.json {
                 let mut o = serde_json::Map::new();

@@ -91,6 +91,77 @@ struct TexScratch {
     pieces: Vec<crate::texture::cells::Piece>,
     verts: Vec<DVec2>,
     cells: crate::texture::cells::Scratch,
+    /// Which polygon alone can meet each pixel of the tile ([`Sole`]).
+    sole: Sole,
+}
+
+/// For each pixel of a tile, the one polygon (its index in the tile) whose
+/// pieces' bounding boxes meet it, if only one does. There that polygon's
+/// fragment is all the pixel shows, whole (one polygon's pieces never
+/// overlap), so a textured fragment's texel pieces need no visibility work:
+/// they are summed into one fragment of their mean colour
+/// ([`crate::texture::cells::Sink::Sum`]), the same area-weighted sum the
+/// sweep would make of them. A plane minified to its horizon cuts thousands
+/// of pieces per pixel, and the sweep was most of their cost (issue 15).
+#[derive(Default)]
+struct Sole {
+    owner: Vec<u32>,
+}
+
+impl Sole {
+    /// [`Sole::owner`] of a pixel no piece meets.
+    const NONE: u32 = u32::MAX;
+    /// [`Sole::owner`] of a pixel two polygons' boxes meet.
+    const MIXED: u32 = u32::MAX - 1;
+    /// Most bounding-box pixels summed over a tile's pieces, in tiles, that
+    /// are marked: beyond, a deep tile would pay more to mark than the
+    /// sums save, and no pixel counts as sole.
+    const MAX_MARKED_TILES: usize = 16;
+
+    /// Marks the pixels of `tile` (`tw` x `th`) under each piece's box, when
+    /// some polygon of the tile is textured under the box filter (the only
+    /// ones [`Sole::alone`] is asked about).
+    fn mark(&mut self, polys: &[ScreenPoly], geom: &TileGeom, tile: [u32; 4]) {
+        self.owner.clear();
+        let cut = |l: &Local| {
+            !l.plain
+                && polys[l.global as usize]
+                    .texture()
+                    .is_some_and(|t| t.filters.is_box() && t.always_opaque())
+        };
+        if !geom.locals.iter().any(cut) {
+            return;
+        }
+        let (tw, th) = ((tile[2] - tile[0]) as usize, (tile[3] - tile[1]) as usize);
+        let span = |r: &super::gather::PieceRef| {
+            let [x0, y0, x1, y1] = pixel_range(&r.bb, tile);
+            (x1.saturating_sub(x0) as usize) * (y1.saturating_sub(y0) as usize)
+        };
+        let marked: usize = geom.pieces.iter().map(span).sum();
+        if marked > Self::MAX_MARKED_TILES * tw * th {
+            return;
+        }
+        self.owner.resize(tw * th, Self::NONE);
+        for r in &geom.pieces {
+            let [x0, y0, x1, y1] = pixel_range(&r.bb, tile);
+            for y in y0..y1 {
+                let row = (y - tile[1]) as usize * tw;
+                for x in x0..x1 {
+                    let o = &mut self.owner[row + (x - tile[0]) as usize];
+                    if *o == Self::NONE {
+                        *o = r.local;
+                    } else if *o != r.local {
+                        *o = Self::MIXED;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Whether polygon `pi` alone meets tile pixel `pixel`.
+    fn alone(&self, pixel: u32, pi: u32) -> bool {
+        self.owner.get(pixel as usize) == Some(&pi)
+    }
 }
 
 /// Pushes one fragment of polygon `pi` in `pixel` (`verts` empty = the full
@@ -153,7 +224,7 @@ fn push_frag_unshaded(
     arena: &mut Vec<DVec2>,
     t: &mut TexScratch,
 ) {
-    use crate::texture::cells::{split, Split};
+    use crate::texture::cells::{split, Sink, Split, Summed};
     if let Some(stripe) = p.stripe() {
         t.colors
             .push(stripe.fragment_linear(px, py, verts).map(f64::from));
@@ -198,20 +269,26 @@ fn push_frag_unshaded(
     let shape: &[DVec2] = if verts.is_empty() { &square } else { verts };
     t.pieces.clear();
     t.verts.clear();
-    match split(
-        shape,
-        px,
-        py,
-        tex,
-        &mut t.verts,
-        &mut t.pieces,
-        &mut t.cells,
-    ) {
+    let mut sum = Summed::default();
+    let summed = tex.always_opaque() && t.sole.alone(pixel, pi);
+    let mut sink = if summed {
+        Sink::Sum(&mut sum)
+    } else {
+        Sink::Pieces(&mut t.verts, &mut t.pieces)
+    };
+    match split(shape, px, py, tex, &mut sink, &mut t.cells) {
         Split::Whole(None) => {}
         Split::Whole(Some(c)) => {
             t.colors.push(c);
             let color = (t.colors.len() - 1) as u32;
             push_piece(frags, arena, pixel, pi, verts, color);
+        }
+        Split::Pieces if summed => {
+            if let Some(c) = sum.mean() {
+                t.colors.push(c);
+                let color = (t.colors.len() - 1) as u32;
+                push_piece(frags, arena, pixel, pi, verts, color);
+            }
         }
         Split::Pieces => {
             for piece in &t.pieces {
@@ -435,9 +512,22 @@ pub fn render_bin(
     bg: &Background,
     tile: [u32; 4],
 ) -> Vec<[f32; 3]> {
+    render_bin_counted(polys, bin, bg, tile).0
+}
+
+/// [`render_bin`], with the number of textured fragments whose colour was
+/// estimated rather than integrated ([`crate::texture::cells::Scratch::estimated`]).
+pub fn render_bin_counted(
+    polys: &[ScreenPoly],
+    bin: &[u32],
+    bg: &Background,
+    tile: [u32; 4],
+) -> (Vec<[f32; 3]>, u64) {
     let render = |s: &mut TileScratch, g: &mut TileGeom| {
         g.gather(polys, bin, tile);
-        render_tile(polys, g, bg, tile, s)
+        let before = s.tex.cells.estimated;
+        let block = render_tile(polys, g, bg, tile, s);
+        (block, s.tex.cells.estimated - before)
     };
     SCRATCH.with(|cell| match cell.try_borrow_mut() {
         Ok(mut held) => {
@@ -484,6 +574,7 @@ fn render_tile(
     arena.clear();
     tex.colors.clear();
     pixels.reset(tw * th, &mut resolve.pool);
+    tex.sole.mark(polys, geom, tile);
     let locals = &geom.locals[..];
     let tile_box = [tx0 as f64, ty0 as f64, tx1 as f64, tile[3] as f64];
     let pixel_of = |x: u32, py: u32| ((py - ty0) as usize * tw + (x - tx0) as usize) as u32;

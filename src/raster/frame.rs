@@ -86,6 +86,12 @@ pub struct Frame {
     pub height: u32,
     /// Linear RGB, `(y * width + x)`, y from the bottom.
     pub pixels: Vec<[f32; 3]>,
+    /// Textured fragments (a polygon's part of a pixel) whose colour `--aa
+    /// exact` estimated instead of integrating: more than
+    /// `texture::cells::MAX_EXACT_CELLS` texel cells under them, or beyond a
+    /// plane's horizon. 0 for the other resolvers, which estimate
+    /// everywhere.
+    pub estimated: u64,
 }
 
 impl Frame {
@@ -110,6 +116,7 @@ impl Frame {
             width,
             height,
             pixels,
+            estimated: 0,
         }
     }
 

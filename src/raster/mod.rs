@@ -173,16 +173,21 @@ pub fn render_with(
     let tiles = tiles(width, height);
     let bins = bin(polys, width, height);
     progress.phase("render", tiles.len() as u64);
+    let mut estimated = 0;
     let blocks: Vec<Vec<[f32; 3]>> = match aa {
-        Aa::Exact => tiles
-            .par_iter()
-            .zip(&bins)
-            .map(|(t, b)| {
-                let block = coverage::render_bin(polys, b, bg, *t);
-                progress.advance(1);
-                block
-            })
-            .collect(),
+        Aa::Exact => {
+            let counted: Vec<(Vec<[f32; 3]>, u64)> = tiles
+                .par_iter()
+                .zip(&bins)
+                .map(|(t, b)| {
+                    let block = coverage::render_bin_counted(polys, b, bg, *t);
+                    progress.advance(1);
+                    block
+                })
+                .collect();
+            estimated = counted.iter().map(|c| c.1).sum();
+            counted.into_iter().map(|c| c.0).collect()
+        }
         Aa::None | Aa::Ss(_) => {
             let k = if let Aa::Ss(k) = aa { k } else { 1 };
             let snapped: Vec<scan::FixedPoly> = polys
@@ -200,7 +205,9 @@ pub fn render_with(
                 .collect()
         }
     };
-    Frame::from_tiles(width, height, &tiles, blocks)
+    let mut frame = Frame::from_tiles(width, height, &tiles, blocks);
+    frame.estimated = estimated;
+    frame
 }
 
 #[cfg(test)]

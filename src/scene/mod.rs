@@ -36,6 +36,8 @@
 //! ```
 
 mod error;
+#[cfg(test)]
+mod horizon_tests;
 pub mod keys;
 pub mod polyfill;
 pub mod stripe;
@@ -1023,6 +1025,43 @@ pub fn render_with(
     (frame.to_image(), plan)
 }
 
+/// A frame rendered by [`render_encoded`].
+pub struct Rendered {
+    /// The image in the encoding asked for.
+    pub image: AnyImage,
+    /// The `--max-error` plan, when that chose the methods.
+    pub plan: Option<raster::budget::Plan>,
+    /// Textured fragments `--aa exact` estimated rather than integrated
+    /// ([`Frame::estimated`]); 0 elsewhere.
+    pub estimated: u64,
+}
+
+impl Rendered {
+    /// How far an estimated fragment can be from its exact value, in 8-bit
+    /// codes: the largest [`crate::texture::PolyTexture::contrast_codes`]
+    /// of the frame's textures (each texture once), or `None` when nothing
+    /// was estimated.
+    pub fn estimate_bound(&self, polys: &[ScreenPoly]) -> Option<u32> {
+        if self.estimated == 0 {
+            return None;
+        }
+        let mut seen = Vec::new();
+        polys
+            .iter()
+            .filter_map(ScreenPoly::texture)
+            .filter(|t| {
+                let key = t.appearance();
+                let new = !seen.contains(&key);
+                if new {
+                    seen.push(key);
+                }
+                new
+            })
+            .map(|t| t.contrast_codes())
+            .max()
+    }
+}
+
 /// [`render_with`] in any encoding: 8- or 16-bit sRGB, or the frame's
 /// linear values (PFM). A transparent background in linear float gives the
 /// colour over black ([`Frame::encode_with_alpha`]).
@@ -1033,19 +1072,24 @@ pub fn render_encoded(
     how: Resolve,
     progress: &dyn Progress,
     encoding: Encoding,
-) -> (AnyImage, Option<raster::budget::Plan>) {
+) -> Rendered {
     build_mips_eagerly(polys);
     if bg.is_transparent() {
         let (black, white) = (bg.opaque(Rgb8::BLACK), bg.opaque(Rgb8::WHITE));
         let (over_black, plan) = render_frame(polys, &black, width, height, how, progress);
         let (over_white, _) = render_frame(polys, &white, width, height, how, progress);
-        return (
-            Frame::encode_with_alpha(&over_black, &over_white, encoding),
+        return Rendered {
+            image: Frame::encode_with_alpha(&over_black, &over_white, encoding),
             plan,
-        );
+            estimated: over_black.estimated,
+        };
     }
     let (frame, plan) = render_frame(polys, bg, width, height, how, progress);
-    (frame.encode(encoding), plan)
+    Rendered {
+        image: frame.encode(encoding),
+        plan,
+        estimated: frame.estimated,
+    }
 }
 
 /// One pass of [`render`]: the linear-light frame.

@@ -61,6 +61,66 @@ pub struct PolyTexture {
 }
 
 impl PolyTexture {
+    /// The least and greatest linear value of each channel over the colours
+    /// this texture can show (composition applied, transparent texels left
+    /// out; the intrinsic and constant colours too unless both axes
+    /// repeat), or `None` when it shows none. Any box average of it lies
+    /// within. O(texels): for bounds and reports, not for rendering.
+    pub fn colour_range(&self) -> Option<([f64; 3], [f64; 3])> {
+        use boundary::Boundary;
+        let (w, h) = (self.texels.width() as i64, self.texels.height() as i64);
+        let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
+        let repeats = self.bounds.u == Boundary::Repeat && self.bounds.v == Boundary::Repeat;
+        let edges = (!repeats).then_some([Some(self.intrinsic), Some(self.constant)]);
+        let texels = (0..h).flat_map(|j| (0..w).map(move |k| (k, j)));
+        let shown = texels
+            .map(|(k, j)| self.texel(k, j))
+            .chain(edges.into_iter().flatten());
+        for c in shown.flatten() {
+            for ch in 0..3 {
+                lo[ch] = lo[ch].min(c[ch]);
+                hi[ch] = hi[ch].max(c[ch]);
+            }
+        }
+        (lo[0] <= hi[0]).then_some((lo, hi))
+    }
+
+    /// The largest channel difference between two colours of
+    /// [`PolyTexture::colour_range`], linear: how far any estimate of a box
+    /// average within that range can be from the exact one.
+    pub fn contrast_linear(&self) -> f64 {
+        self.colour_range().map_or(0.0, |(lo, hi)| {
+            (0..3).map(|ch| hi[ch] - lo[ch]).fold(0.0, f64::max)
+        })
+    }
+
+    /// [`PolyTexture::contrast_linear`] in 8-bit sRGB codes: the bound
+    /// `scene-render` reports for fragments over more than
+    /// [`cells::MAX_EXACT_CELLS`] cells, which take the EWA estimate.
+    pub fn contrast_codes(&self) -> u32 {
+        let code = |l: f64| Rgb8::from_linear([l as f32; 3]).0[0] as u32;
+        self.colour_range().map_or(0, |(lo, hi)| {
+            (0..3)
+                .map(|ch| code(hi[ch]) - code(lo[ch]))
+                .max()
+                .unwrap_or(0)
+        })
+    }
+
+    /// What decides the colours this texture shows, all but its map:
+    /// polygons that share it share [`PolyTexture::colour_range`].
+    pub fn appearance(&self) -> Appearance {
+        let bits = |c: [f64; 3]| c.map(f64::to_bits);
+        Appearance {
+            texels: Arc::as_ptr(&self.texels) as usize,
+            intrinsic: bits(self.intrinsic),
+            constant: bits(self.constant),
+            compose_colors: self.compose_colors.map(bits),
+            compose: self.compose,
+            bounds: self.bounds,
+        }
+    }
+
     /// Linear colour of texel cell (k, j) of the placement, after the
     /// boundary conditions; `None` where the pattern's texel is transparent.
     /// A texel with partial alpha is shown over the polygon's colour, then
@@ -79,6 +139,18 @@ impl PolyTexture {
             boundary::Lookup::Constant => Some(self.constant),
         }
     }
+}
+
+/// A texture's colours without its map ([`PolyTexture::appearance`]): a key
+/// to compute [`PolyTexture::colour_range`] once per scene, not per polygon.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Appearance {
+    texels: usize,
+    intrinsic: [u64; 3],
+    constant: [u64; 3],
+    compose_colors: [[u64; 3]; 2],
+    compose: compose::Compose,
+    bounds: boundary::Bounds,
 }
 
 /// How a pattern is laid over the screen.

@@ -204,7 +204,50 @@ fn scene_render(dir: &Dir) {
     let v: Value = serde_json::from_slice(&frames).unwrap();
     assert_eq!(v["frames"].as_array().map(Vec::len), Some(2), "{v}");
     assert_eq!(v["frames"][1]["frame"], 1, "{v}");
-    check("scene-render", &[reference, within, compare, deep, frames]);
+    // A one-texel checker ground to its horizon: fragments over more than
+    // MAX_EXACT_CELLS cells are estimated, and the report says so.
+    dir.write("c.pat", checker16());
+    dir.write(
+        "h.json",
+        r#"{"vertices": [[-20000,0,20000],[20000,0,20000],[20000,0,-20000],[-20000,0,-20000]], "pattern": {"file": "c.pat", "incr": 1}}"#,
+    );
+    let view = [
+        "--perspective",
+        "60,auto,0.5,100000",
+        "--lookat",
+        "0,3,0,0,3,-100",
+        "--size",
+        "64x36",
+        "h.json",
+    ];
+    let plain = dir
+        .cmd("scene-render")
+        .args(view)
+        .args(["-o", "h.png"])
+        .output()
+        .unwrap();
+    assert!(plain.status.success(), "{plain:?}");
+    let horizon = dir
+        .cmd("scene-render")
+        .args(view)
+        .args(["--compare", "h.png", "--json"])
+        .output()
+        .unwrap();
+    assert!(horizon.status.success(), "{horizon:?}");
+    for out in [&plain, &horizon] {
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("texel cells (next to a textured plane's horizon)"),
+            "{err}"
+        );
+    }
+    let v: Value = serde_json::from_slice(&horizon.stdout).unwrap();
+    assert!(v["estimated"]["fragments"].as_u64() > Some(0), "{v}");
+    assert!(v["estimated"]["bound_codes"].as_u64() > Some(0), "{v}");
+    check(
+        "scene-render",
+        &[reference, within, compare, deep, frames, horizon.stdout],
+    );
 }
 
 clitest!(
