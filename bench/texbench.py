@@ -13,9 +13,9 @@ for its own rendering: scene-render's --timings render phase (projection to
 pixels, without reading the stream or writing the PNG), llvmpipe's texture and
 vertex upload, draw, MSAA resolve and read back.
 
-Methods are the METHODS list below: to add one (say a later
-`scene-render --max-error E`), append a dict; "kind" "direct" runs
-scene-render on the scene with the extra "args".
+Methods are the METHODS list below: to add one (say a new `--filter`),
+append a dict; "kind" "direct" runs scene-render on the scene with the
+extra "args".
 """
 import json
 import math
@@ -40,10 +40,6 @@ METHODS = [
     {"name": "direct --aa ss16", "kind": "direct", "args": ["--aa", "ss16"]},
     {"name": "direct --aa ss4", "kind": "direct", "args": ["--aa", "ss4"]},
     {"name": "direct --aa none", "kind": "direct", "args": ["--aa", "none"]},
-    # The error budget (issue 5): the cheapest per-region plan expected to
-    # stay within E (trade-off study only; bench/max_error.sh checks it).
-    {"name": "direct --max-error 1", "kind": "direct", "args": ["--max-error", "1"], "tradeoff_only": True},
-    {"name": "direct --max-error 4", "kind": "direct", "args": ["--max-error", "4"], "tradeoff_only": True},
     {"name": "polyfill3 incr x4 | exact", "kind": "p3", "factor": 4.0},
     {"name": "polyfill3 incr x2 | exact", "kind": "p3", "factor": 2.0},
     {"name": "polyfill3 incr x1 | exact", "kind": "p3", "factor": 1.0},

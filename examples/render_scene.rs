@@ -13,7 +13,7 @@ use glam::DVec3;
 use patkit::camera::{Aspect, Camera, CameraSpec, IrisProjection, IrisSpec, LookAt, Perspective};
 use patkit::io::{ImageFormat, PngOptions};
 use patkit::raster::{Aa, Background, Cull};
-use patkit::scene::{self, DrawOptions, Resolve, Scene};
+use patkit::scene::{self, DrawOptions, Scene};
 use patkit::texture::Texels;
 use patkit::view::View;
 use patkit::{Pattern, Rgb8};
@@ -59,13 +59,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // colorclear with bkgrnd.pat behind everything, black where it is transparent.
     let bkgrnd = Pattern::read_file(&root.join("fixtures/patterns/bkgrnd.pat"))?;
     let background = Background::new(Rgb8::BLACK, Some(Texels::new(&bkgrnd)));
-    let (image, _) = scene::render(
-        &polygons,
-        &background,
-        width,
-        height,
-        Resolve::Aa(Aa::Exact),
-    );
+    let image = scene::render(&polygons, &background, width, height, Aa::Exact);
     image.save_with(&out, ImageFormat::Png, PngOptions::GENERAL)?;
     Ok(())
 }

@@ -99,7 +99,7 @@ pub use color::Rgb8;
 pub use io::{Image, ImageFormat, IoError};
 pub use pat::{Pattern, TRANSPARENT};
 pub use raster::{Aa, Background};
-pub use scene::{DrawOptions, Resolve, Scene, SceneError};
+pub use scene::{DrawOptions, Scene, SceneError};
 pub use stream::{Record, StreamError};
 pub use text::ParseError;
 pub use view::View;

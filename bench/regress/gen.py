@@ -617,16 +617,26 @@ def bench(bindir_unused=None):
     exec(compile(code, "bench/stripe.sh", "exec"), {"__name__": "stripe_sh"})
     sys.argv = saved
 
-    # bench/max_error.sh: its heredoc's scene part, minus the polyfill3 call (run.sh runs it)
+    # The scenes of the former bench/max_error.sh (--max-error was removed;
+    # run.sh still runs them every way), minus the polyfill3 call (run.sh runs it)
     me = d("maxerr")
-    src = open(os.path.join(ROOT, "bench/max_error.sh")).read()
-    code = src.split("<<'PY'\n", 1)[1].split("\nPY\n", 1)[0].split("\nD2CAM = ", 1)[0]
-    code = "\n".join(l for l in code.splitlines() if "subprocess.run([p3" not in l)
-    cwd = os.getcwd()
-    sys.argv = ["max_error.sh", "/nonexistent", me, ROOT]
-    exec(compile(code, "bench/max_error.sh", "exec"), {"__name__": "max_error_sh"})
-    sys.argv = saved
-    os.chdir(cwd)
+    text = open(os.path.join(ROOT, "examples/scenes/demo2.json")).read()
+    with open(f"{me}/demo2.json", "w") as fh:
+        fh.write(text.replace('"../../fixtures/', '"%s/fixtures/' % ROOT))
+    with open(f"{me}/checker.pat", "w") as fh:
+        fh.write("16 2\n230 230 230\n" + "".join(
+            "%04x\n" % (0xAAAA if r % 2 == 0 else 0x5555) for r in range(16)) + "20 20 120\n" + "".join(
+            "%04x\n" % (0x5555 if r % 2 == 0 else 0xAAAA) for r in range(16)))
+    with open(f"{me}/plane.json", "w") as fh:
+        fh.write(json.dumps(
+            {"vertices": [[-200, 0, -1], [200, 0, -1], [200, 0, -401], [-200, 0, -401]],
+             "color": [128, 128, 128], "pattern": {"file": "checker.pat", "incr": 1}}) + "\n")
+    with open(f"{me}/fan.json", "w") as fh:
+        for i in range(240):
+            a0, a1 = (i / 240) * 2 * math.pi, ((i + 0.5) / 240) * 2 * math.pi
+            c = [250, 40, 40] if i % 2 == 0 else [20, 200, 90]
+            fh.write(json.dumps({"vertices": [[512, 384], [512 + 370 * math.cos(a0), 384 + 370 * math.sin(a0)],
+                                              [512 + 370 * math.cos(a1), 384 + 370 * math.sin(a1)]], "color": c}) + "\n")
 
     # bench/demo2_scene.py (scene_render.sh's stand-in partitioner): run as is
     sr = d("scenerender")

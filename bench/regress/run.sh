@@ -551,10 +551,6 @@ for spec in "${MATRIX[@]}"; do
     else
         r aa-$name-compare-none "$SR" --image "$A/$name-none.png" --compare "$A/$name-exact.png"
     fi
-    for e in 0 0.5 2 8; do
-        r aa-$name-maxerr$e "$SR" $flags --max-error $e --json "$scene" -o "$A/$name-me$e.png"
-    done
-    r aa-$name-maxerr2-text "$SR" $flags --max-error 2 "$scene" -o "$A/$name-me2t.png"
     r aa-$name-ppm "$SR" $flags --aa ss4 "$scene" -o "$A/$name.ppm"
     r aa-$name-pam "$SR" $flags "$scene" -o "$A/$name.pam"
     r aa-$name-format-ppm-stdout "$SR" $flags --format ppm "$scene"
@@ -582,11 +578,7 @@ r sr-t-objects "$SR" --size 8x4 objects.json -o "$A/t-objects.png"
 r sr-t-copies "$SR" --size 8x4 copies.json -o "$A/t-copies.png"
 for b in ghost cycle singular; do r sr-t-$b "$SR" --size 8x4 $b.json -o "$A/t-bad.png"; done
 r sr-t-fan-ref "$SR" --ortho2 0,512,0,384 --size 512x384 fan120.json --reference -o "$A/t-fan-ref.png"
-for e in 0 0.5 2 16; do
-    r sr-t-fan-maxerr$e "$SR" --ortho2 0,512,0,384 --size 512x384 fan120.json --max-error $e --json -o "$A/t-fan-me$e.png"
-    r sr-t-fan-maxerr$e-compare "$SR" --image "$A/t-fan-me$e.png" --compare "$A/t-fan-ref.png" --json
-done
-r sr-t-fan-maxerr2-text "$SR" --ortho2 0,512,0,384 --size 512x384 fan120.json --max-error 2 -o "$A/t-fan-me2t.png"
+r sr-t-fan-exact-compare "$SR" --ortho2 0,512,0,384 --size 512x384 fan120.json --compare "$A/t-fan-ref.png" --json -o "$A/t-fan-exact.png"
 for t in 1 3; do
     for aa in exact ss4 none; do r sr-t-tris-$aa-t$t "$SR" --size 100x70 --aa $aa --threads $t tris200.json; done
 done
@@ -776,9 +768,7 @@ r sr-err-json-alone "$SR" --json half.json -o "$X/err.png"
 r sr-err-image-alone "$SR" --image "$A/t-half.png" -o "$X/err.png"
 r sr-err-background "$SR" --background 300,0,0 half.json -o "$X/err.png"
 r sr-err-background-hex "$SR" --background '#12345' half.json -o "$X/err.png"
-for e in NaN -1 inf; do r sr-err-maxerr-$e "$SR" --max-error $e half.json -o "$X/err.png"; done
-r sr-err-maxerr-aa "$SR" --max-error 1 --aa none half.json -o "$X/err.png"
-r sr-err-maxerr-reference "$SR" --max-error 1 --reference half.json -o "$X/err.png"
+r sr-err-maxerr-removed "$SR" --max-error 1 half.json -o "$X/err.png"
 r sr-err-refsamples "$SR" --reference --reference-samples 7 half.json -o "$X/err.png"
 r sr-err-threads0 "$SR" --threads 0 half.json -o "$X/err.png"
 r sr-err-unknown-ext "$SR" half.json -o "$X/err.jpg"
@@ -808,7 +798,7 @@ for spec in "${TB[@]}"; do
     {
     r tb-$name-reference "$SR" --size $size $cam --reference --json "$scene" -o "$BO/tb-$name-ref.png"
     imgs=()
-    for m in "exact|--aa exact" "ss16|--aa ss16" "ss4|--aa ss4" "none|--aa none" "maxerr1|--max-error 1" "maxerr4|--max-error 4" \
+    for m in "exact|--aa exact" "ss16|--aa ss16" "ss4|--aa ss4" "none|--aa none" \
              "point|--aa exact --filter point" "bilinear|--aa exact --filter bilinear" "mip-point|--aa exact --filter mip-point" \
              "mip-bilinear|--aa exact --filter mip-bilinear" "mip-point-linear|--aa exact --filter mip-point-linear" \
              "trilinear|--aa exact --filter trilinear" "ewa|--aa exact --filter ewa"; do
@@ -869,7 +859,7 @@ for row in "nearest|stripe.json|--stripe-lod nearest" "blended|stripe.json|--str
     done
 done
 r stb-ppm-devnull-format "$SR" "${SV[@]}" --threads 1 --stripe-lod nearest --aa none stripe.json -o "$BO/stb-nearest-none.ppm" --format ppm
-# bench/max_error.sh: five scenes, --reference, --aa exact, budgets 0.25..4, achieved RMSE
+# The former bench/max_error.sh's five scenes: --reference and --aa exact, the error achieved
 CWD=$S/maxerr
 r me-demo2-incr2.ndjson "$P3" demo2.json -o demo2-incr2.ndjson
 ME=(
@@ -888,10 +878,6 @@ for spec in "${ME[@]}"; do
     r me-$name-reference "$SR" $scene $flags --size $size --reference -o "$BO/me-$name-ref.png"
     r me-$name-exact "$SR" $scene $flags --size $size --aa exact -o "$BO/me-$name-exact.png"
     r me-$name-exact-compare "$SR" --image "$BO/me-$name-exact.png" --compare "$BO/me-$name-ref.png" --json
-    for e in 0.25 0.5 1 2 4; do
-        r me-$name-$e "$SR" $scene $flags --size $size --max-error $e --json -o "$BO/me-$name-$e.png"
-        r me-$name-$e-compare "$SR" --image "$BO/me-$name-$e.png" --compare "$BO/me-$name-ref.png" --json
-    done
     }
 done
 # bench/scene_render.sh (+ scene_render_bench.py): demo2 at incr 2 and 1 through polyfill3 and

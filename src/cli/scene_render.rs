@@ -9,7 +9,7 @@ use crate::color::Rgb8;
 use crate::io::{decode_any, display_name, read_input, AnyImage, Depth, ImageFormat, PngOptions};
 use crate::progress::Progress;
 use crate::raster::{self, compare, reference, Aa, Background, Cull};
-use crate::scene::{self, DrawOptions, Resolve, Scene};
+use crate::scene::{self, DrawOptions, Scene};
 use crate::texture::place::TextureSettings;
 use crate::texture::Texels;
 use crate::view::View;
@@ -121,14 +121,9 @@ pub struct Args {
     #[arg(long, value_name = "none|ssN|exact", default_value = "exact")]
     pub aa: Aa,
 
-    /// Instead of one --aa for the whole frame, use the cheapest methods
-    /// expected to keep the frame's RMSE (8-bit sRGB units, as --compare
-    /// measures it) within E, chosen per region (empty, flat, textured tiles)
-    /// from a pilot sample rendered every way; prints the choice and its
-    /// estimate to standard error (or in --json).
-    #[arg(long, value_name = "E", conflicts_with_all = ["aa", "reference"],
-          value_parser = parse_max_error, allow_negative_numbers = true)]
-    pub max_error: Option<f64>,
+    /// Removed: kept only to say so to the scripts that pass it.
+    #[arg(long, value_name = "E", hide = true, allow_hyphen_values = true)]
+    pub max_error: Option<String>,
 
     /// Render the reference image instead (each pixel the exact average of the
     /// scene over its square in linear light, by an independent, slower
@@ -159,11 +154,11 @@ pub struct Args {
     #[arg(long, value_name = "FILE", requires = "compare")]
     pub diff: Option<String>,
 
-    /// Print the --compare, --reference and --max-error reports as one JSON
-    /// object, {"version": 1, "tool": "scene-render", ...}; with --frames or
-    /// --frame, the --max-error report of each frame in its "frames" array
-    /// (docs/json.md). It goes to standard output, or standard error when
-    /// the image does.
+    /// Print the --compare and --reference reports, and what --aa exact
+    /// estimated, as one JSON object, {"version": 1, "tool": "scene-render",
+    /// ...}; with --frames or --frame, one entry per frame in its "frames"
+    /// array (docs/json.md). It goes to standard output, or standard error
+    /// when the image does.
     #[arg(long)]
     pub json: bool,
 
@@ -226,16 +221,6 @@ pub struct Args {
     pub progress: super::progress::ProgressArgs,
 }
 
-/// `--max-error E`: a finite RMSE budget, not negative.
-fn parse_max_error(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(e) if e.is_finite() && e >= 0.0 => Ok(e),
-        _ => Err(format!(
-            "`{s}` is not an error budget: expected a finite RMSE of 0 or more (8-bit units)"
-        )),
-    }
-}
-
 /// The scene's drawing options from the flags.
 fn draw_options(args: &Args, texture: TextureSettings) -> DrawOptions {
     DrawOptions {
@@ -244,14 +229,6 @@ fn draw_options(args: &Args, texture: TextureSettings) -> DrawOptions {
         stripe_lod: args.stripe.mode(),
         stripe_footprint: scene::stripe_footprint(args.aa),
         quadric_tolerance: args.quadric_tolerance,
-    }
-}
-
-/// How the flags ask the frame to be resolved: one --aa, or --max-error.
-fn resolve(args: &Args) -> Resolve {
-    match args.max_error {
-        Some(e) => Resolve::WithinError(e),
-        None => Resolve::Aa(args.aa),
     }
 }
 
@@ -332,8 +309,13 @@ fn run_in_pool(args: Args) -> Result<()> {
             _ => {}
         }
     }
-    if args.json && args.compare.is_none() && !args.reference && args.max_error.is_none() {
-        usage_bail!("--json is for the --compare, --reference and --max-error reports");
+    if let Some(e) = &args.max_error {
+        usage_bail!("--max-error {e}: this option was removed: --aa exact (the default) took as long as the plans it chose, on every benchmark scene, and is exact (bench/RESULTS-max-error.md); for speed choose --aa none or ssN by bench/RESULTS-tradeoff.md");
+    }
+    if args.json && args.compare.is_none() && !args.reference && !animation {
+        usage_bail!(
+            "--json is for the --compare and --reference reports, and for the frames of --frames"
+        );
     }
     let texture = match args.texture.settings() {
         Ok(t) => t,
@@ -373,7 +355,6 @@ fn run_in_pool(args: Args) -> Result<()> {
             reference_img,
             Reports {
                 residual: None,
-                plan: None,
                 estimated: None,
             },
         )?;
@@ -468,7 +449,7 @@ fn run_in_pool(args: Args) -> Result<()> {
     warn_if_blank(&args, (&view, camera_given), 0, &tally);
     let t_render = std::time::Instant::now();
     let bar = args.progress.bar(TOOL);
-    let (img, residual, plan, estimated) = if args.reference {
+    let (img, residual, estimated) = if args.reference {
         let pass = |bg: &Background| {
             reference::render_with(&polys, bg, width, height, args.reference_samples, &bar)
         };
@@ -484,17 +465,16 @@ fn run_in_pool(args: Args) -> Result<()> {
         } else {
             r.frame.encode(encoding)
         };
-        (img, Some(res), None, None)
+        (img, Some(res), None)
     } else {
-        let r = scene::render_encoded(&polys, &bg, (width, height), resolve(&args), &bar, encoding);
+        let r = scene::render_encoded(&polys, &bg, (width, height), args.aa, &bar, encoding);
         let estimated = Estimated::of(&r, &polys);
-        (r.image, None, r.plan, estimated)
+        (r.image, None, estimated)
     };
     drop(bar);
     let t_write = std::time::Instant::now();
     let reports = Reports {
         residual,
-        plan,
         estimated,
     };
     finish(&args, output.zip(format), img, reference_img, reports)?;
@@ -572,8 +552,6 @@ impl std::str::FromStr for BackgroundColor {
 struct Reports {
     /// `--reference`'s own error estimate.
     residual: Option<reference::Residual>,
-    /// `--max-error`'s choice.
-    plan: Option<raster::budget::Plan>,
     /// Fragments `--aa exact` estimated rather than integrated.
     estimated: Option<Estimated>,
 }
@@ -618,7 +596,6 @@ fn finish(
 ) -> Result<()> {
     let Reports {
         residual,
-        plan,
         estimated,
     } = reports;
     if let Some(e) = &estimated {
@@ -677,9 +654,6 @@ fn finish(
         if let Some(r) = &residual {
             obj.insert("reference".into(), serde_json::to_value(r)?);
         }
-        if let Some(p) = &plan {
-            obj.insert("max_error".into(), serde_json::to_value(p)?);
-        }
         if let Some(e) = &estimated {
             obj.insert("estimated".into(), serde_json::to_value(e)?);
         }
@@ -687,9 +661,6 @@ fn finish(
     } else {
         if let Some(m) = &metrics {
             text.push_str(&m.report());
-        }
-        if let Some(p) = &plan {
-            eprintln!("{TOOL}: {}", p.report());
         }
         if let Some(r) = &residual {
             // Without --json the reference note is diagnostic: standard error.
@@ -822,9 +793,8 @@ fn render_frames(
     let mut stream = (pattern == crate::io::STDIO && !args.animate)
         .then(|| crate::io::Output::create(pattern, true))
         .transpose()?;
-    // --json with --max-error: every frame's plan, printed as one document
-    // when all frames are written (a document per frame would not parse as
-    // one JSON value).
+    // --json: every frame's report, printed as one document when all frames
+    // are written (a document per frame would not parse as one JSON value).
     let mut frame_reports = Vec::new();
     let bar = args.progress.bar(TOOL);
     bar.phase("frames", frames.len() as u64);
@@ -840,24 +810,23 @@ fn render_frames(
             &polys,
             bg,
             (view.width, view.height),
-            resolve(args),
+            args.aa,
             &crate::progress::Silent,
             encoding,
         );
-        if let Some(e) = Estimated::of(&rendered, &polys) {
+        let estimated = Estimated::of(&rendered, &polys);
+        if let Some(e) = &estimated {
             e.warn(&format!("frame {k}: "));
         }
-        let (img, plan) = (rendered.image, rendered.plan);
-        if let Some(p) = plan {
-            if args.json {
-                let mut o = serde_json::Map::new();
-                o.insert("frame".into(), k.into());
-                o.insert("max_error".into(), serde_json::to_value(&p)?);
-                frame_reports.push(serde_json::Value::Object(o));
-            } else {
-                eprintln!("{TOOL}: frame {k}: {}", p.report());
+        if args.json {
+            let mut o = serde_json::Map::new();
+            o.insert("frame".into(), k.into());
+            if let Some(e) = &estimated {
+                o.insert("estimated".into(), serde_json::to_value(e)?);
             }
+            frame_reports.push(serde_json::Value::Object(o));
         }
+        let img = rendered.image;
         let t2 = std::time::Instant::now();
         if args.animate {
             let AnyImage::Srgb8(img) = img else {

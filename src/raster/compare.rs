@@ -61,9 +61,9 @@ pub struct Metrics {
     pub rmse: f64,
     /// `20 log10(255 / rmse)` in dB; `None` (JSON null) for identical images.
     pub psnr: Option<f64>,
-    /// Largest absolute channel difference. Serialized as `largest_error`:
-    /// `max_error` names `--max-error`'s report in `scene-render --json`,
-    /// and one key should mean one thing (docs/json.md).
+    /// Largest absolute channel difference. Serialized as `largest_error`
+    /// (`max_error` once named another report in `scene-render --json`, and
+    /// the key stays as scripts read it: docs/json.md).
     #[serde(rename = "largest_error")]
     pub max_error: u8,
     /// Share (0..=1) of pixels with a channel off by more than [`OFF_THRESHOLD`].

@@ -19,7 +19,6 @@
 //!    visible polygon in every pixel; its tile's geometry in [`gather`], the
 //!    visibility within a pixel in `visible`), [`reference`](mod@reference) (`--reference`: the
 //!    reference (docs/rendering.md) by an independent method, with its own error estimate).
-//!    [`budget`] picks among them per region for an error budget.
 //! 4. [`Frame::to_image`] encodes linear light to sRGB once, rounding
 //!    ([`Background`] is what lies behind every polygon).
 //!
@@ -36,7 +35,6 @@
 // than zipped iterators.
 #![allow(clippy::needless_range_loop)]
 
-pub mod budget;
 pub mod compare;
 pub mod coverage;
 mod frame;

@@ -19,7 +19,7 @@
 //! ```
 //! use patkit::camera::Camera;
 //! use patkit::raster::{Aa, Background};
-//! use patkit::scene::{self, DrawOptions, Resolve, Scene};
+//! use patkit::scene::{self, DrawOptions, Scene};
 //! use patkit::view::View;
 //! use patkit::Rgb8;
 //!
@@ -28,7 +28,7 @@
 //! let view = View::new(&Camera::ortho2(0.0, 8.0, 0.0, 8.0), 8, 8);
 //! let polygons = scene.project(&view, &DrawOptions::default(), 0)?;
 //! let background = Background::color(Rgb8::BLACK);
-//! let (image, _) = scene::render(&polygons, &background, 8, 8, Resolve::Aa(Aa::Exact));
+//! let image = scene::render(&polygons, &background, 8, 8, Aa::Exact);
 //! // Pixel (4, 3) from the lower-left (row 4 from the top) lies inside the triangle.
 //! let at = (4 * 8 + 4) * image.channels as usize;
 //! assert_eq!(image.data[at..at + 3], [255, 128, 0]);
@@ -979,27 +979,11 @@ fn curve_tolerance(shape: &Shape, view: &View) -> f64 {
     }
 }
 
-/// How a frame's polygons are resolved into pixels.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Resolve {
-    /// One anti-aliasing method for the whole frame.
-    Aa(Aa),
-    /// The cheapest methods expected to keep the frame's RMSE (8-bit sRGB)
-    /// within this budget, chosen per region ([`raster::budget`]).
-    WithinError(f64),
-}
-
-/// Renders one frame's polygons: one method for all, or the `--max-error`
-/// plan (which it also returns). With the `mip` skip off (benchmarks), every
-/// textured polygon's MIP pyramid is built first.
-pub fn render(
-    polys: &[ScreenPoly],
-    bg: &Background,
-    width: u32,
-    height: u32,
-    how: Resolve,
-) -> (Image, Option<raster::budget::Plan>) {
-    render_with(polys, bg, width, height, how, &Silent)
+/// Renders one frame's polygons with the anti-aliasing `aa`. With the `mip`
+/// skip off (benchmarks), every textured polygon's MIP pyramid is built
+/// first.
+pub fn render(polys: &[ScreenPoly], bg: &Background, width: u32, height: u32, aa: Aa) -> Image {
+    render_with(polys, bg, width, height, aa, &Silent)
 }
 
 /// [`render`], reporting its tiles to `progress` (a transparent background
@@ -1009,28 +993,25 @@ pub fn render_with(
     bg: &Background,
     width: u32,
     height: u32,
-    how: Resolve,
+    aa: Aa,
     progress: &dyn Progress,
-) -> (Image, Option<raster::budget::Plan>) {
+) -> Image {
     build_mips_eagerly(polys);
     if bg.is_transparent() {
         // Two passes, over black and over white: the difference is the
         // coverage (Background::transparent).
         let (black, white) = (bg.opaque(Rgb8::BLACK), bg.opaque(Rgb8::WHITE));
-        let (over_black, plan) = render_frame(polys, &black, width, height, how, progress);
-        let (over_white, _) = render_frame(polys, &white, width, height, how, progress);
-        return (Frame::to_image_with_alpha(&over_black, &over_white), plan);
+        let over_black = raster::render_with(polys, &black, width, height, aa, progress);
+        let over_white = raster::render_with(polys, &white, width, height, aa, progress);
+        return Frame::to_image_with_alpha(&over_black, &over_white);
     }
-    let (frame, plan) = render_frame(polys, bg, width, height, how, progress);
-    (frame.to_image(), plan)
+    raster::render_with(polys, bg, width, height, aa, progress).to_image()
 }
 
 /// A frame rendered by [`render_encoded`].
 pub struct Rendered {
     /// The image in the encoding asked for.
     pub image: AnyImage,
-    /// The `--max-error` plan, when that chose the methods.
-    pub plan: Option<raster::budget::Plan>,
     /// Textured fragments `--aa exact` estimated rather than integrated
     /// ([`Frame::estimated`]); 0 elsewhere.
     pub estimated: u64,
@@ -1069,48 +1050,24 @@ pub fn render_encoded(
     polys: &[ScreenPoly],
     bg: &Background,
     (width, height): (u32, u32),
-    how: Resolve,
+    aa: Aa,
     progress: &dyn Progress,
     encoding: Encoding,
 ) -> Rendered {
     build_mips_eagerly(polys);
     if bg.is_transparent() {
         let (black, white) = (bg.opaque(Rgb8::BLACK), bg.opaque(Rgb8::WHITE));
-        let (over_black, plan) = render_frame(polys, &black, width, height, how, progress);
-        let (over_white, _) = render_frame(polys, &white, width, height, how, progress);
+        let over_black = raster::render_with(polys, &black, width, height, aa, progress);
+        let over_white = raster::render_with(polys, &white, width, height, aa, progress);
         return Rendered {
             image: Frame::encode_with_alpha(&over_black, &over_white, encoding),
-            plan,
             estimated: over_black.estimated,
         };
     }
-    let (frame, plan) = render_frame(polys, bg, width, height, how, progress);
+    let frame = raster::render_with(polys, bg, width, height, aa, progress);
     Rendered {
         image: frame.encode(encoding),
-        plan,
         estimated: frame.estimated,
-    }
-}
-
-/// One pass of [`render`]: the linear-light frame.
-fn render_frame(
-    polys: &[ScreenPoly],
-    bg: &Background,
-    width: u32,
-    height: u32,
-    how: Resolve,
-    progress: &dyn Progress,
-) -> (Frame, Option<raster::budget::Plan>) {
-    match how {
-        Resolve::WithinError(e) => {
-            let (frame, plan) =
-                raster::budget::render_within_with(polys, bg, width, height, e, progress);
-            (frame, Some(plan))
-        }
-        Resolve::Aa(aa) => (
-            raster::render_with(polys, bg, width, height, aa, progress),
-            None,
-        ),
     }
 }
 

@@ -108,7 +108,7 @@ fn job(tool: &'static str, dir: &Dir) -> Job {
             bad: br#"{"vertices":1}"#.to_vec(),
             out_ext: "png",
             large: &["--size", "1024x1024", "--format", "ppm"],
-            json: &["--max-error", "1"],
+            json: &["--reference"],
         },
         other => panic!("no job for {other}"),
     }

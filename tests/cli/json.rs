@@ -185,22 +185,13 @@ fn scene_render(dir: &Dir) {
             .ok_stdout()
     };
     let reference = run(&["--reference", "--json", "r.json", "-o", "ref.png"]);
-    let within = run(&["--max-error", "1", "--json", "r.json", "-o", "me.png"]);
+    run(&["r.json", "-o", "me.png"]);
     let compare = run(&["--image", "me.png", "--compare", "ref.png", "--json"]);
     // A deep image (PFM, linear light) adds the linear-light errors and
     // what was compared.
     run(&["r.json", "-o", "lin.pfm"]);
     let deep = run(&["--image", "me.png", "--compare", "lin.pfm", "--json"]);
-    let frames = run(&[
-        "--max-error",
-        "1",
-        "--json",
-        "--frames",
-        "2",
-        "r.json",
-        "-o",
-        "f-%d.png",
-    ]);
+    let frames = run(&["--json", "--frames", "2", "r.json", "-o", "f-%d.png"]);
     let v: Value = serde_json::from_slice(&frames).unwrap();
     assert_eq!(v["frames"].as_array().map(Vec::len), Some(2), "{v}");
     assert_eq!(v["frames"][1]["frame"], 1, "{v}");
@@ -244,9 +235,28 @@ fn scene_render(dir: &Dir) {
     let v: Value = serde_json::from_slice(&horizon.stdout).unwrap();
     assert!(v["estimated"]["fragments"].as_u64() > Some(0), "{v}");
     assert!(v["estimated"]["bound_codes"].as_u64() > Some(0), "{v}");
+    let horizon_frames = dir
+        .cmd("scene-render")
+        .args(view)
+        .args(["--frames", "2", "-o", "hf-%d.png", "--json"])
+        .output()
+        .unwrap();
+    assert!(horizon_frames.status.success(), "{horizon_frames:?}");
+    let v: Value = serde_json::from_slice(&horizon_frames.stdout).unwrap();
+    assert!(
+        v["frames"][1]["estimated"]["fragments"].as_u64() > Some(0),
+        "{v}"
+    );
     check(
         "scene-render",
-        &[reference, within, compare, deep, frames, horizon.stdout],
+        &[
+            reference,
+            compare,
+            deep,
+            frames,
+            horizon.stdout,
+            horizon_frames.stdout,
+        ],
     );
 }
 
@@ -256,7 +266,7 @@ clitest!(
         dir.write("r.json", r#"{"rect": [2,2,20,14], "color": [200,30,30]}"#);
         let out = dir
             .cmd("scene-render")
-            .args(["--size", "32x24", "--max-error", "1", "--json"])
+            .args(["--size", "32x24", "--json"])
             .args(["--frames", "3", "--frame", "2", "r.json", "-o", "-"])
             .assert()
             .success();

@@ -567,7 +567,6 @@ clitest!(
                     ("pat-info", vec!["--record", "1"]),
                     ("polyfill3", vec!["-o", "out.ndjson"]),
                     ("scene-render", vec!["--reference"]),
-                    ("scene-render", vec!["--max-error", "1"]),
                 ];
                 for aa in ["none", "ss4", "ss16", "exact"] {
                     runs.push(("scene-render", vec!["--aa", aa]));
