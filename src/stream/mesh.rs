@@ -30,12 +30,7 @@ use crate::geom::transform::Transform;
 use serde_json::{json, Map, Value};
 use std::path::{Path, PathBuf};
 
-/// The most triangles one mesh may make. Each becomes a record kept until
-/// the scene is read, then a drawable polygon: measured 2.4 KB of peak
-/// memory per triangle (`scene-render` on a 180,000-triangle grid: 438 MB),
-/// so the limit keeps one model near 2.4 GB. Checked after the file is
-/// parsed (which the named-file size bounds) and before any record is made.
-pub const MAX_MESH_TRIANGLES: u64 = 1_000_000;
+pub use super::obj::{MAX_MESH_TRIANGLES, MAX_MESH_VERTICES};
 
 /// The keys of a record's `"mesh"` object.
 pub const KEYS: [&str; 1] = ["obj"];
@@ -114,13 +109,6 @@ pub fn faces(index: usize, fields: &Fields, base: &Path) -> Result<Vec<Item>, St
     }
     let path = super::resolve(base, file);
     let mesh = Mesh::read_file(&path).map_err(|o| e(format!("mesh.obj: {o}")))?;
-    let triangles: u64 = mesh.faces.iter().map(|f| f.corners.len() as u64 - 2).sum();
-    if triangles > MAX_MESH_TRIANGLES {
-        return Err(e(format!(
-            "mesh.obj: {}: {triangles} triangles, over the {MAX_MESH_TRIANGLES} one mesh may have",
-            path.display()
-        )));
-    }
     let own_pattern = fields.get("pattern").cloned();
     // The record's pattern's size, for "uv" mode: read once.
     let own_size = match &own_pattern {

@@ -238,7 +238,7 @@ clitest!(bad_meshes_are_refused_naming_the_file_and_line, |dir| {
         .assert()
         .code(1)
         .stderr(predicate::str::contains(
-            "./huge.obj: 1000001 triangles, over the 1000000 one mesh may have",
+            "f: more than 1000000 triangles, over the most one mesh may have",
         ));
     // A model with more faces than the polygon budget is refused when read.
     let mut big = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\n");

@@ -154,10 +154,10 @@ fn cases() -> Vec<Case> {
             .file("s.json", r#"{"sphere": {"radius": 1000}, "color": [1,2,3]}"#)
             .code(0)
             .within(256, 60),
-        Case::new("an OBJ mesh over a million triangles is refused before its faces are made", "scene-render -o out.png s.json")
+        Case::new("an OBJ mesh over a million triangles is refused at the face that passes the limit", "scene-render -o out.png s.json")
             .file("s.json", r#"{"mesh": {"obj": "huge.obj"}, "color": [9, 9, 9]}"#)
             .file("huge.obj", big_face)
-            .says("1000001 triangles, over the 1000000 one mesh may have")
+            .says("f: more than 1000000 triangles, over the most one mesh may have")
             .within(1024, 20),
         // --- Out of memory (item 3).
         Case::new("out of memory is an error line, not an abort", "scene-render --size 16000x16000 -o out.png s.json")
