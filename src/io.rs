@@ -829,15 +829,7 @@ impl Image {
                 }
             }
             ImageFormat::Pam => {
-                let (depth, tupl) = if self.channels == 4 {
-                    (4, "RGB_ALPHA")
-                } else {
-                    (3, "RGB")
-                };
-                write!(
-                    w,
-                    "P7\nWIDTH {wd}\nHEIGHT {ht}\nDEPTH {depth}\nMAXVAL 255\nTUPLTYPE {tupl}\nENDHDR\n"
-                )?;
+                write_pam_header(w, (wd, ht), self.channels, 255)?;
                 w.write_all(&self.data)?;
             }
             ImageFormat::Png => write_png(
@@ -987,15 +979,7 @@ impl Image16 {
                 w.write_all(&bytes)?;
             }
             ImageFormat::Pam => {
-                let (depth, tupl) = if self.channels == 4 {
-                    (4, "RGB_ALPHA")
-                } else {
-                    (3, "RGB")
-                };
-                write!(
-                    w,
-                    "P7\nWIDTH {wd}\nHEIGHT {ht}\nDEPTH {depth}\nMAXVAL 65535\nTUPLTYPE {tupl}\nENDHDR\n"
-                )?;
+                write_pam_header(w, (wd, ht), self.channels, 65535)?;
                 w.write_all(&be(&mut self.data.iter().copied()))?;
             }
             ImageFormat::Png => write_png(
@@ -1532,6 +1516,25 @@ pub fn decode_image(bytes: &[u8], name: &str) -> Result<image::RgbaImage, IoErro
         error,
     })?;
     Ok(img.into_rgba8())
+}
+
+/// A PAM header (netpbm's `pam(5)`): RGB, or RGB_ALPHA for 4 channels,
+/// samples up to `maxval`.
+fn write_pam_header(
+    w: &mut dyn Write,
+    (width, height): (u32, u32),
+    channels: u8,
+    maxval: u32,
+) -> std::io::Result<()> {
+    let (depth, tupltype) = if channels == 4 {
+        (4, "RGB_ALPHA")
+    } else {
+        (3, "RGB")
+    };
+    write!(
+        w,
+        "P7\nWIDTH {width}\nHEIGHT {height}\nDEPTH {depth}\nMAXVAL {maxval}\nTUPLTYPE {tupltype}\nENDHDR\n"
+    )
 }
 
 #[cfg(test)]

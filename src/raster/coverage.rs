@@ -95,6 +95,14 @@ struct TexScratch {
     sole: Sole,
 }
 
+impl TexScratch {
+    /// Adds a fragment colour; its index for [`Frag::color`].
+    fn colour(&mut self, c: [f64; 3]) -> u32 {
+        self.colors.push(c);
+        (self.colors.len() - 1) as u32
+    }
+}
+
 /// For each pixel of a tile, the one polygon (its index in the tile) whose
 /// pieces' bounding boxes meet it, if only one does. There that polygon's
 /// fragment is all the pixel shows, whole (one polygon's pieces never
@@ -191,10 +199,7 @@ fn push_frag(
         for f in &mut frags[first_frag..] {
             if f.color == POLY_COLOR {
                 match p.color_at(px, py) {
-                    Some(colour) => {
-                        t.colors.push(colour);
-                        f.color = (t.colors.len() - 1) as u32;
-                    }
+                    Some(colour) => f.color = t.colour(colour),
                     // A screen pattern's transparent texel: nothing shows.
                     None => f.len = u32::MAX,
                 }
@@ -226,9 +231,8 @@ fn push_frag_unshaded(
 ) {
     use crate::texture::cells::{split, Sink, Split, Summed};
     if let Some(stripe) = p.stripe() {
-        t.colors
-            .push(stripe.fragment_linear(px, py, verts).map(f64::from));
-        push_piece(frags, arena, pixel, pi, verts, (t.colors.len() - 1) as u32);
+        let color = t.colour(stripe.fragment_linear(px, py, verts).map(f64::from));
+        push_piece(frags, arena, pixel, pi, verts, color);
         return;
     }
     let Some(tex) = p.texture() else {
@@ -246,8 +250,7 @@ fn push_frag_unshaded(
         if tex.always_opaque() && tex.skips.hidden && p.shade.is_none() {
             push_piece(frags, arena, pixel, pi, verts, FILTER_LATER);
         } else if let Some(c) = crate::texture::filter::unpremultiply(tex.sample(f, &fp)) {
-            t.colors.push(c);
-            push_piece(frags, arena, pixel, pi, verts, (t.colors.len() - 1) as u32);
+            push_piece(frags, arena, pixel, pi, verts, t.colour(c));
         }
         return;
     }
@@ -259,8 +262,7 @@ fn push_frag_unshaded(
         let c = vertex_mean(verts);
         if let Some((f, fp)) = tex.filter_at(c.x, c.y) {
             if let Some(c) = crate::texture::filter::unpremultiply(tex.sample(f, &fp)) {
-                t.colors.push(c);
-                push_piece(frags, arena, pixel, pi, verts, (t.colors.len() - 1) as u32);
+                push_piece(frags, arena, pixel, pi, verts, t.colour(c));
             }
             return;
         }
@@ -276,27 +278,20 @@ fn push_frag_unshaded(
     } else {
         Sink::Pieces(&mut t.verts, &mut t.pieces)
     };
-    match split(shape, px, py, tex, &mut sink, &mut t.cells) {
-        Split::Whole(None) => {}
-        Split::Whole(Some(c)) => {
-            t.colors.push(c);
-            let color = (t.colors.len() - 1) as u32;
-            push_piece(frags, arena, pixel, pi, verts, color);
-        }
-        Split::Pieces if summed => {
-            if let Some(c) = sum.mean() {
-                t.colors.push(c);
-                let color = (t.colors.len() - 1) as u32;
-                push_piece(frags, arena, pixel, pi, verts, color);
-            }
-        }
+    let whole = match split(shape, px, py, tex, &mut sink, &mut t.cells) {
+        Split::Whole(c) => c,
+        Split::Pieces if summed => sum.mean(),
         Split::Pieces => {
             for piece in &t.pieces {
                 t.colors.push(piece.color);
                 let verts = &t.verts[piece.start as usize..(piece.start + piece.len) as usize];
                 push_piece(frags, arena, pixel, pi, verts, (t.colors.len() - 1) as u32);
             }
+            None
         }
+    };
+    if let Some(c) = whole {
+        push_piece(frags, arena, pixel, pi, verts, t.colour(c));
     }
 }
 
@@ -345,8 +340,7 @@ fn push_full_run(
     }
     if let Some((k, j)) = crate::texture::cells::single_cell(tex, xa, xb, row.py) {
         if let Some(c) = tex.texel(k, j) {
-            t.colors.push(c);
-            let color = (t.colors.len() - 1) as u32;
+            let color = t.colour(c);
             for x in xa..xb {
                 push_piece(frags, arena, pixel(x), pi, &[], color);
             }

@@ -223,9 +223,21 @@ impl Frame {
     /// the precision argument); row 0 of the image is the top. Rows in
     /// parallel, as [`Frame::to_image`].
     pub fn to_image16(&self) -> Image16 {
+        Image16 {
+            width: self.width,
+            height: self.height,
+            channels: 3,
+            data: self.encode_rows(linear_to_srgb16),
+        }
+    }
+
+    /// Every channel through `encode`, rows top first, in parallel on the
+    /// current rayon pool: a serial pass over a 1024x768 frame costs as
+    /// much as rendering a light scene.
+    fn encode_rows<T: Copy + Default + Send>(&self, encode: fn(f32) -> T) -> Vec<T> {
         use rayon::prelude::*;
         let (w, h) = (self.width as usize, self.height as usize);
-        let mut data = vec![0u16; w * h * 3];
+        let mut data = vec![T::default(); w * h * 3];
         if w > 0 {
             data.par_chunks_mut(w * 3).enumerate().for_each(|(r, out)| {
                 let y = h - 1 - r;
@@ -233,16 +245,11 @@ impl Frame {
                     .chunks_exact_mut(3)
                     .zip(&self.pixels[y * w..(y + 1) * w])
                 {
-                    o.copy_from_slice(&p.map(linear_to_srgb16));
+                    o.copy_from_slice(&p.map(encode));
                 }
             });
         }
-        Image16 {
-            width: self.width,
-            height: self.height,
-            channels: 3,
-            data,
-        }
+        data
     }
 
     /// The frame's linear values as they are stored, unrounded, row 0 at
@@ -261,30 +268,14 @@ impl Frame {
         }
     }
 
-    /// Encodes to 8-bit sRGB, rounding once; row 0 of the image is the top.
-    ///
-    /// Rows are encoded in parallel (on the current rayon pool): a serial
-    /// pass over a 1024x768 frame costs as much as rendering a light scene.
+    /// Encodes to 8-bit sRGB, rounding once; row 0 of the image is the top
+    /// (rows in parallel on the current rayon pool).
     pub fn to_image(&self) -> Image {
-        use rayon::prelude::*;
-        let (w, h) = (self.width as usize, self.height as usize);
-        let mut data = vec![0u8; w * h * 3];
-        if w > 0 {
-            data.par_chunks_mut(w * 3).enumerate().for_each(|(r, out)| {
-                let y = h - 1 - r;
-                for (o, p) in out
-                    .chunks_exact_mut(3)
-                    .zip(&self.pixels[y * w..(y + 1) * w])
-                {
-                    o.copy_from_slice(&p.map(linear_to_srgb));
-                }
-            });
-        }
         Image {
             width: self.width,
             height: self.height,
             channels: 3,
-            data,
+            data: self.encode_rows(linear_to_srgb),
         }
     }
 }
