@@ -3,10 +3,10 @@
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 use patkit::geom::Shape;
-use patkit::stream::for_each_record;
+use patkit::stream::{for_each_record, StreamError};
 
 fuzz_target!(|data: &[u8]| {
-    let _ = for_each_record(data, "fuzz.json", |r| {
+    let _: Result<(), StreamError> = for_each_record(data, "fuzz.json", |r| {
         if let Shape::Polygon(v) = &r.shape {
             assert!(v.len() >= 3);
             assert!(v.iter().all(|p| p.is_finite()));
