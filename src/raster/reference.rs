@@ -339,8 +339,14 @@ fn pixel(
     let mut err = s
         .incomplete
         .iter()
-        .filter_map(|&ci| polys[ci as usize].texture())
-        .map(|t| contrasts.of(t))
+        .map(|&ci| {
+            let p = &polys[ci as usize];
+            match (p.texture(), p.stripe()) {
+                (Some(t), _) => contrasts.of(t),
+                (None, Some(st)) => st.contrast_linear(),
+                (None, None) => 0.0,
+            }
+        })
         .fold(0.0, f64::max);
     let mut out = [0.0f32; 3];
     for ch in 0..3 {
@@ -401,8 +407,9 @@ struct Prim {
 }
 
 /// Collects event heights strictly inside the pixel row `(y, y+1)`; the
-/// textured candidates whose texel lines it could not all add (see
-/// [`texel_lines`]) go into `incomplete`.
+/// textured or striped candidates whose texel lines or stripe boundaries it
+/// could not all add (see [`texel_lines`], [`stripe_lines`]) go into
+/// `incomplete`.
 fn events(
     polys: &[ScreenPoly],
     cands: &[u32],
@@ -503,7 +510,9 @@ fn events(
             }
         }
         if let Some(st) = polys[ci as usize].stripe() {
-            stripe_lines(st, x, y, centre, family + 2, prims);
+            if !stripe_lines(st, x, y, centre, family + 2, prims) {
+                incomplete.push(ci);
+            }
         }
     }
     for i in 0..prims.len() {
@@ -621,7 +630,9 @@ fn push_line([a, b, c]: [f64; 3], centre: glam::DVec2, family: u32, prims: &mut 
 /// texture (the iso-lines `P N = k`, all through the stripes' vanishing
 /// point) that cross the pixel at (x, y): the crisp stripe function is
 /// constant between them, so, like texel edges, they are events. At most
-/// [`MAX_TEXEL_LINES`], with the same reasoning.
+/// [`MAX_TEXEL_LINES`], with the same reasoning; false when some are left
+/// out or the pixel reaches the horizon (the pixel's error is then the
+/// stripe's contrast, [`crate::stripe::StripeTexture::contrast_linear`]).
 fn stripe_lines(
     st: &crate::stripe::StripeTexture,
     x: f64,
@@ -629,7 +640,7 @@ fn stripe_lines(
     centre: glam::DVec2,
     family: u32,
     prims: &mut Vec<Prim>,
-) {
+) -> bool {
     let m = &st.mapping;
     let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
     let d: Vec<f64> = corners
@@ -638,7 +649,7 @@ fn stripe_lines(
         .collect();
     if !(d.iter().all(|&v| v > 0.0) || d.iter().all(|&v| v < 0.0)) {
         // The plane's horizon crosses the pixel (see `texel_lines`).
-        return;
+        return false;
     }
     let n = st.modulation.len() as f64;
     let (mut lo, mut hi) = (f64::MAX, f64::MIN);
@@ -648,12 +659,13 @@ fn stripe_lines(
         hi = hi.max(k);
     }
     if !(lo.is_finite() && hi.is_finite()) {
-        return;
+        return false;
     }
     let (k0, k1) = (lo.floor() as i64 + 1, hi.ceil() as i64 - 1);
     for k in k0..=k1.min(k0.saturating_add(MAX_TEXEL_LINES - 1)) {
         push_line(m.iso_line(k as f64 / n), centre, family, prims);
     }
+    k1.saturating_sub(k0) < MAX_TEXEL_LINES
 }
 
 /// Pushes onto `breaks` the x in (a, b) where the texel coordinate

@@ -488,6 +488,17 @@ impl StripeTexture {
         total
     }
 
+    /// The largest difference of one channel between two colours the
+    /// stripes can show, linear: every colour is `ends[0] + (ends[1] −
+    /// ends[0])·m` with `m` in 0..=1, so no box average of them is further
+    /// than this from another (the reference's error where it cannot place
+    /// every stripe boundary).
+    pub fn contrast_linear(&self) -> f64 {
+        (0..3)
+            .map(|ch| (self.ends[1][ch] as f64 - self.ends[0][ch] as f64).abs())
+            .fold(0.0, f64::max)
+    }
+
     /// The crisp stripe colour at the screen point `(x, y)` (level 0, no LOD),
     /// linear light, f64: the function the reference integrates.
     #[inline]
