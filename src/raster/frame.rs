@@ -95,6 +95,50 @@ pub struct Frame {
 }
 
 impl Frame {
+    /// Renders a frame tile by tile in parallel: `render(i)` gives tile `i`
+    /// of `tiles` (as [`super::tiles`] lists them) as a row-major block of
+    /// its pixels, which is copied into its band of the frame at once and
+    /// dropped, so the next tile's block reuses its memory. (Holding every
+    /// block until the end, then copying them, faulted in a second frame's
+    /// worth of fresh pages: the part of a 2048x2048 textured render that
+    /// did not scale with threads.) Each band is locked only while a block
+    /// is copied into it.
+    pub(crate) fn render_tiles(
+        width: u32,
+        height: u32,
+        tiles: &[[u32; 4]],
+        render: impl Fn(usize) -> Vec<[f32; 3]> + Sync,
+    ) -> Frame {
+        use rayon::prelude::*;
+        use std::sync::Mutex;
+        let w = width as usize;
+        let mut pixels = vec![[0.0f32; 3]; w * height as usize];
+        if w > 0 {
+            let bands: Vec<Mutex<&mut [[f32; 3]]>> = pixels
+                .chunks_mut(super::TILE as usize * w)
+                .map(Mutex::new)
+                .collect();
+            (0..tiles.len()).into_par_iter().for_each(|i| {
+                let block = render(i);
+                let t = tiles[i];
+                let tw = (t[2] - t[0]) as usize;
+                let mut band = bands[(t[1] / super::TILE) as usize]
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner());
+                for (r, row) in block.chunks_exact(tw).enumerate() {
+                    let start = r * w + t[0] as usize;
+                    band[start..start + tw].copy_from_slice(row);
+                }
+            });
+        }
+        Frame {
+            width,
+            height,
+            pixels,
+            estimated: 0,
+        }
+    }
+
     /// Assembles a frame from per-tile results (each a row-major block of the
     /// tile's pixels, in [`tiles`] order).
     pub(crate) fn from_tiles(

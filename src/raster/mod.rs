@@ -171,20 +171,17 @@ pub fn render_with(
     let tiles = tiles(width, height);
     let bins = bin(polys, width, height);
     progress.phase("render", tiles.len() as u64);
-    let mut estimated = 0;
-    let blocks: Vec<Vec<[f32; 3]>> = match aa {
+    match aa {
         Aa::Exact => {
-            let counted: Vec<(Vec<[f32; 3]>, u64)> = tiles
-                .par_iter()
-                .zip(&bins)
-                .map(|(t, b)| {
-                    let block = coverage::render_bin_counted(polys, b, bg, *t);
-                    progress.advance(1);
-                    block
-                })
-                .collect();
-            estimated = counted.iter().map(|c| c.1).sum();
-            counted.into_iter().map(|c| c.0).collect()
+            let estimated = std::sync::atomic::AtomicU64::new(0);
+            let mut frame = Frame::render_tiles(width, height, &tiles, |i| {
+                let (block, n) = coverage::render_bin_counted(polys, &bins[i], bg, tiles[i]);
+                estimated.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+                progress.advance(1);
+                block
+            });
+            frame.estimated = estimated.into_inner();
+            frame
         }
         Aa::None | Aa::Ss(_) => {
             let k = if let Aa::Ss(k) = aa { k } else { 1 };
@@ -192,20 +189,13 @@ pub fn render_with(
                 .par_iter()
                 .map(|p| scan::FixedPoly::new(p, k))
                 .collect();
-            tiles
-                .par_iter()
-                .zip(&bins)
-                .map(|(t, b)| {
-                    let block = scan::render_tile(polys, &snapped, b, bg, *t, k);
-                    progress.advance(1);
-                    block
-                })
-                .collect()
+            Frame::render_tiles(width, height, &tiles, |i| {
+                let block = scan::render_tile(polys, &snapped, &bins[i], bg, tiles[i], k);
+                progress.advance(1);
+                block
+            })
         }
-    };
-    let mut frame = Frame::from_tiles(width, height, &tiles, blocks);
-    frame.estimated = estimated;
-    frame
+    }
 }
 
 #[cfg(test)]
