@@ -247,7 +247,10 @@ def main():
     w, h = (int(x) for x in a.size.split("x"))
     mvp = camera(a, w, h)
     groups = load(a.stream)
-    textures = {key: texels(a.pat_tile, key) for (mode, key) in groups if mode}
+    # A pattern's "file" is relative to the stream's directory, as
+    # scene-render resolves it (polyfill3 --uv writes it as the scene gave it).
+    base = os.path.dirname(os.path.abspath(a.stream))
+    textures = {key: texels(a.pat_tile, os.path.join(base, key)) for (mode, key) in groups if mode}
     import moderngl
     ctx = moderngl.create_standalone_context(backend="egl")
     max_aniso = float(ctx.max_anisotropy)
