@@ -505,12 +505,26 @@ fn events(
         // Families 1 + 3i (u lines), 2 + 3i (v lines), 3 + 3i (stripes).
         let family = 1 + 3 * i as u32;
         if let Some(t) = polys[ci as usize].texture() {
-            if !texel_lines(&t.map, x, y, centre, family, prims) {
+            if !texel_lines(
+                &t.map,
+                &polys[ci as usize].verts,
+                (x, y),
+                centre,
+                family,
+                prims,
+            ) {
                 incomplete.push(ci);
             }
         }
         if let Some(st) = polys[ci as usize].stripe() {
-            if !stripe_lines(st, x, y, centre, family + 2, prims) {
+            if !stripe_lines(
+                st,
+                &polys[ci as usize].verts,
+                (x, y),
+                centre,
+                family + 2,
+                prims,
+            ) {
                 incomplete.push(ci);
             }
         }
@@ -551,52 +565,64 @@ fn events(
 /// it has, and its error estimate is the texture's whole contrast, since
 /// the fine-versus-coarse residual does not bound what missing events do
 /// (at the former 256 it showed 2e-5 over pixels 2 codes off). Measured
-/// (2026-11-27) on the horizon ground of `scene::horizon_tests` at
-/// 640x360: 256 left two rows uncertain in 0.88 s, 1024 leaves only the
-/// row over the ground's far edge (two million texels a pixel) in 2.9 s;
-/// scenes with fewer texels per pixel are unchanged.
+/// (2026-11-27) on a one-texel checker ground to its horizon at 640x360
+/// (`bench/RESULTS-horizon.md`): 256 left two rows uncertain, 1024 leaves
+/// only the row over the ground's far edge (two million texels a pixel),
+/// in 0.7 to 1.1 s; scenes with fewer texels per pixel are unchanged.
 pub const MAX_TEXEL_LINES: i64 = 1024;
 
 /// Unbounded prims along the texel cell boundaries `u = k`, `v = j` that
-/// cross the pixel at (x, y). False when they are not all there: the pixel
-/// reaches the plane's horizon, or more than [`MAX_TEXEL_LINES`] of one
-/// direction cross it. Then the integral between events is no longer exact
-/// and the fine-versus-coarse residual is no bound either (a 1-texel
-/// checker at 500 texels per pixel showed 2 codes of error under a
-/// residual of 2e-5): the pixel's error is then the texture's contrast
-/// ([`PolyTexture::contrast_linear`]).
+/// cross the polygon `verts` within the pixel at (x, y): only there do they
+/// change its colour. False, and none added, when more than
+/// [`MAX_TEXEL_LINES`] of one direction cross it. Then the integral between
+/// events is no longer exact and the fine-versus-coarse residual is no
+/// bound either (a 1-texel checker at 500 texels per pixel showed 2 codes of
+/// error under a residual of 2e-5): the pixel's error is then the texture's
+/// contrast ([`PolyTexture::contrast_linear`]). The lines' range comes from
+/// the polygon's part of the pixel, not the pixel's corners: a corner can
+/// lie beyond the plane's horizon (a polygon seen edge-on, at a sphere's
+/// limb), where the map means nothing, while the polygon never does.
 fn texel_lines(
     m: &crate::texture::map::TexMap,
-    x: f64,
-    y: f64,
+    verts: &[glam::DVec2],
+    (x, y): (f64, f64),
     centre: glam::DVec2,
     family: u32,
     prims: &mut Vec<Prim>,
 ) -> bool {
-    let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
-    let den = |(cx, cy): (f64, f64)| m.d[0] * cx + m.d[1] * cy + m.d[2];
-    if corners.iter().any(|&c| den(c) <= 0.0) {
-        // The pixel reaches the horizon of the polygon's plane, where the
-        // map has no meaning outside the (clipped) polygon: no events here.
+    let Some(part) = part_in_pixel(verts, x, y) else {
+        return true;
+    };
+    if part
+        .iter()
+        .any(|p| m.d[0] * p.x + m.d[1] * p.y + m.d[2] <= 0.0)
+    {
+        // Rounding at the horizon itself: no safe range.
         return false;
     }
-    let mut complete = true;
-    for dir in 0..2 {
+    // The lines of each direction: integers strictly inside the range of
+    // the part's u (then v). Over the cap in either direction the pixel is
+    // uncertain whatever is added, so nothing is: adding a thousand lines
+    // would only cost time.
+    let mut ranges = [(0i64, -1i64); 2];
+    for (dir, range) in ranges.iter_mut().enumerate() {
         let (mut lo, mut hi) = (f64::MAX, f64::MIN);
-        for &(cx, cy) in &corners {
-            let t = m.uv(cx, cy);
+        for p in &part {
+            let t = m.uv(p.x, p.y);
             let c = if dir == 0 { t.x } else { t.y };
             lo = lo.min(c);
             hi = hi.max(c);
         }
-        let (k0, k1) = (lo.floor() as i64 + 1, hi.ceil() as i64 - 1);
-        if k1 < k0 {
-            continue;
+        if !(lo.is_finite() && hi.is_finite()) {
+            return false;
         }
-        if k1 - k0 >= MAX_TEXEL_LINES {
-            complete = false;
+        *range = (lo.floor() as i64 + 1, hi.ceil() as i64 - 1);
+        if range.1.saturating_sub(range.0) >= MAX_TEXEL_LINES {
+            return false;
         }
-        for k in k0..=k1.min(k0 + MAX_TEXEL_LINES - 1) {
+    }
+    for (dir, (k0, k1)) in ranges.into_iter().enumerate() {
+        for k in k0..=k1 {
             let line = if dir == 0 {
                 m.u_side(k as f64, true)
             } else {
@@ -605,7 +631,23 @@ fn texel_lines(
             push_line(line, centre, family + dir as u32, prims);
         }
     }
-    complete
+    true
+}
+
+/// The vertices of polygon `verts` clipped to the pixel at (x, y), or
+/// `None` where it has no area there. (Sutherland–Hodgman: for a concave
+/// polygon some edges may run along the pixel's sides, but the vertices
+/// still bound its part of the pixel, which is all the callers need.)
+fn part_in_pixel(verts: &[glam::DVec2], x: f64, y: f64) -> Option<Vec<glam::DVec2>> {
+    use crate::geom::polygon::clip_axis;
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    clip_axis(verts, 0, x, true, &mut a);
+    clip_axis(&a, 0, x + 1.0, false, &mut b);
+    a.clear();
+    clip_axis(&b, 1, y, true, &mut a);
+    b.clear();
+    clip_axis(&a, 1, y + 1.0, false, &mut b);
+    (b.len() >= 3).then_some(b)
 }
 
 /// The unbounded prim along the line `a x + b y + c = 0`, anchored at the
@@ -635,26 +677,25 @@ fn push_line([a, b, c]: [f64; 3], centre: glam::DVec2, family: u32, prims: &mut 
 /// stripe's contrast, [`crate::stripe::StripeTexture::contrast_linear`]).
 fn stripe_lines(
     st: &crate::stripe::StripeTexture,
-    x: f64,
-    y: f64,
+    verts: &[glam::DVec2],
+    (x, y): (f64, f64),
     centre: glam::DVec2,
     family: u32,
     prims: &mut Vec<Prim>,
 ) -> bool {
     let m = &st.mapping;
-    let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
-    let d: Vec<f64> = corners
-        .iter()
-        .map(|&(cx, cy)| m.denominator(cx, cy))
-        .collect();
+    let Some(part) = part_in_pixel(verts, x, y) else {
+        return true;
+    };
+    let d: Vec<f64> = part.iter().map(|p| m.denominator(p.x, p.y)).collect();
     if !(d.iter().all(|&v| v > 0.0) || d.iter().all(|&v| v < 0.0)) {
-        // The plane's horizon crosses the pixel (see `texel_lines`).
+        // The plane's horizon crosses the polygon's part (see `texel_lines`).
         return false;
     }
     let n = st.modulation.len() as f64;
     let (mut lo, mut hi) = (f64::MAX, f64::MIN);
-    for &(cx, cy) in &corners {
-        let k = m.p(cx, cy) * n;
+    for p in &part {
+        let k = m.p(p.x, p.y) * n;
         lo = lo.min(k);
         hi = hi.max(k);
     }
@@ -662,10 +703,14 @@ fn stripe_lines(
         return false;
     }
     let (k0, k1) = (lo.floor() as i64 + 1, hi.ceil() as i64 - 1);
-    for k in k0..=k1.min(k0.saturating_add(MAX_TEXEL_LINES - 1)) {
+    if k1.saturating_sub(k0) >= MAX_TEXEL_LINES {
+        // Uncertain whatever is added (see `texel_lines`).
+        return false;
+    }
+    for k in k0..=k1 {
         push_line(m.iso_line(k as f64 / n), centre, family, prims);
     }
-    k1.saturating_sub(k0) < MAX_TEXEL_LINES
+    true
 }
 
 /// Pushes onto `breaks` the x in (a, b) where the texel coordinate
