@@ -6,8 +6,8 @@
 # 16x anisotropic trilinear with and without MSAA 4x; then the goals
 # computed from the numbers.
 #
-#   bench/texture.sh > bench/RESULTS-texture.md
-#   bench/texture.sh photo-plane photo-sphere > bench/RESULTS-texture-photo.md
+#   bench/texture.sh > bench/RESULTS-texture.md      # all five scenes
+#   bench/texture.sh photo-plane photo-sphere        # only those
 #
 # Scenes: a checkered plane receding to the horizon (heavy minification), a
 # close-up wall (magnification, crisp texel edges), and the thesis's demo 2
