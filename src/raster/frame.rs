@@ -94,6 +94,16 @@ pub struct Frame {
     pub estimated: u64,
 }
 
+/// Copies tile `t`'s row-major `block` into `band`, the frame's rows
+/// (`w` pixels wide, starting at the tile's first row).
+fn copy_block(band: &mut [[f32; 3]], w: usize, t: [u32; 4], block: &[[f32; 3]]) {
+    let tw = (t[2] - t[0]) as usize;
+    for (r, row) in block.chunks_exact(tw).enumerate() {
+        let start = r * w + t[0] as usize;
+        band[start..start + tw].copy_from_slice(row);
+    }
+}
+
 impl Frame {
     /// Renders a frame tile by tile in parallel: `render(i)` gives tile `i`
     /// of `tiles` (as [`super::tiles`] lists them) as a row-major block of
@@ -121,14 +131,10 @@ impl Frame {
             (0..tiles.len()).into_par_iter().for_each(|i| {
                 let block = render(i);
                 let t = tiles[i];
-                let tw = (t[2] - t[0]) as usize;
                 let mut band = bands[(t[1] / super::TILE) as usize]
                     .lock()
                     .unwrap_or_else(|e| e.into_inner());
-                for (r, row) in block.chunks_exact(tw).enumerate() {
-                    let start = r * w + t[0] as usize;
-                    band[start..start + tw].copy_from_slice(row);
-                }
+                copy_block(&mut band, w, t, &block);
             });
         }
         Frame {
@@ -163,11 +169,7 @@ impl Frame {
                     let y0 = tiles[0][1] as usize;
                     for (t, block) in tiles.iter().zip(blocks) {
                         debug_assert_eq!(t[1] as usize, y0, "tiles in row-major bands");
-                        let tw = (t[2] - t[0]) as usize;
-                        for (r, row) in block.chunks_exact(tw).enumerate() {
-                            let start = r * w + t[0] as usize;
-                            band[start..start + tw].copy_from_slice(row);
-                        }
+                        copy_block(band, w, *t, block);
                     }
                 });
         }
