@@ -634,20 +634,15 @@ fn texel_lines(
     true
 }
 
-/// The vertices of polygon `verts` clipped to the pixel at (x, y), or
-/// `None` where it has no area there. (Sutherland–Hodgman: for a concave
-/// polygon some edges may run along the pixel's sides, but the vertices
-/// still bound its part of the pixel, which is all the callers need.)
+/// The vertices of polygon `verts` clipped to the pixel at (x, y)
+/// ([`super::visible::clip_to_box`]), or `None` where it has no area there.
+/// (For a concave polygon some edges may run along the pixel's sides, but
+/// the vertices still bound its part of the pixel, which is all the callers
+/// need.)
 fn part_in_pixel(verts: &[glam::DVec2], x: f64, y: f64) -> Option<Vec<glam::DVec2>> {
-    use crate::geom::polygon::clip_axis;
-    let (mut a, mut b) = (Vec::new(), Vec::new());
-    clip_axis(verts, 0, x, true, &mut a);
-    clip_axis(&a, 0, x + 1.0, false, &mut b);
-    a.clear();
-    clip_axis(&b, 1, y, true, &mut a);
-    b.clear();
-    clip_axis(&a, 1, y + 1.0, false, &mut b);
-    (b.len() >= 3).then_some(b)
+    let (mut tmp, mut part) = (Vec::new(), Vec::new());
+    super::visible::clip_to_box(verts, &[x, y, x + 1.0, y + 1.0], &mut tmp, &mut part);
+    (part.len() >= 3).then_some(part)
 }
 
 /// The unbounded prim along the line `a x + b y + c = 0`, anchored at the

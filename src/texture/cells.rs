@@ -36,20 +36,20 @@ use crate::geom::polygon::AREA_EPS;
 use crate::geom::polygon::{clip_axis, clip_line};
 use glam::DVec2;
 
-/// Most texel cells a fragment may meet and still be cut exactly
-/// (area in texel space plus twice its extents, `CellBox::cells_met`). The work is two clips per texel row the
-/// fragment spans plus two per cell a row's strip meets, and where the
-/// polygon is alone in the pixel each piece is only summed.
+/// Most texel cells a fragment may meet and still be cut exactly (its area
+/// in texel space plus twice its extents, `CellBox::cells_met`). The work
+/// is two clips per texel row the fragment spans plus two per cell a row's
+/// strip meets, and where the polygon is alone in the pixel each piece is
+/// only summed.
 ///
 /// Measured (2026-11-27) on a one-texel checker ground to its horizon at
-/// 640x360, eye 3 units up (`scene::horizon_tests`): deciding by the box
-/// (as before) estimated 1,469 fragments in the three rows under the
-/// horizon, off the reference by up to 23 codes; deciding by the cells
-/// met estimates only the 640 of the row over the ground's far edge (about
-/// two million texels each), and the default equals the reference in
-/// every pixel where the reference is certain; whole process 0.055 s
-/// before, 0.08 s now (the sums keep it from 0.125 s). A bound of 16384
-/// keeps the worst pixel's cut near a millisecond.
+/// 640x360, eye 3 units up: deciding by the box (as before) estimated 1,469
+/// fragments in the three rows under the horizon, off the reference by up
+/// to 23 codes; deciding by the cells met estimates only the 640 of the
+/// row over the ground's far edge (about two million texels each), and the
+/// default equals the reference in every pixel where the reference is
+/// certain (`scene::horizon_tests`), at 0.94x to 1.47x the former time
+/// (`bench/RESULTS-horizon.md`).
 pub const MAX_EXACT_CELLS: i64 = 16384;
 
 /// Sub-squares per pixel side in the minification fallback (16 per pixel).
@@ -198,19 +198,22 @@ impl CellBox {
 /// bound it, since the map is projective with `D > 0` (lines stay lines).
 fn cell_box(frag: &[DVec2], tex: &PolyTexture) -> Option<CellBox> {
     let (mut lo, mut hi) = (DVec2::splat(f64::MAX), DVec2::splat(f64::MIN));
-    let (mut twice_area, mut prev) = (0.0, None::<DVec2>);
-    let first = frag.first().map(|p| tex.map.uv(p.x, p.y));
+    // The shoelace sum over the images of the vertices, each mapped once.
+    let (mut twice_area, mut ends) = (0.0, None::<(DVec2, DVec2)>);
     for p in frag {
         let t = tex.map.uv(p.x, p.y);
         lo = lo.min(t);
         hi = hi.max(t);
-        if let Some(q) = prev {
-            twice_area += q.perp_dot(t);
-        }
-        prev = Some(t);
+        ends = match ends {
+            Some((first, prev)) => {
+                twice_area += prev.perp_dot(t);
+                Some((first, t))
+            }
+            None => Some((t, t)),
+        };
     }
-    if let (Some(q), Some(f)) = (prev, first) {
-        twice_area += q.perp_dot(f);
+    if let Some((first, last)) = ends {
+        twice_area += last.perp_dot(first);
     }
     if !(lo.is_finite() && hi.is_finite()) {
         return None;
