@@ -6,8 +6,9 @@
 # images), each resized to 64x64 and 256x256, and K = 4, 8, 16, 32 colours, it
 # runs ours (no dithering), `pngquant --nofs K` and `convert +dither -colors K`,
 # measures sRGB PSNR, linear-light PSNR and mean OKLab error against the resized
-# original (examples/psnr.rs), times each tool (median of RUNS runs, whole
-# process: decode, quantize, write), and prints a table with ratios ours/peer.
+# original (examples/psnr.rs), times each tool (bench/timing.py: median of RUNS
+# whole-process runs after a warm-up: decode, quantize, write), and prints a
+# table with ratios ours/peer. bench/pat_from_image_large.sh does 1024x1024.
 # Per-case numbers go to bench/out/pat_from_image.csv.
 set -euo pipefail
 
@@ -31,19 +32,7 @@ BIN=${CARGO_TARGET_DIR:-target}/release
 OURS=$BIN/pat-from-image
 PSNR=$BIN/examples/psnr
 
-# Test images: name and ImageMagick source arguments (seeded where random).
-images=(
-    "rose|rose:"
-    "wizard|wizard:"
-    "logo|logo:"
-    "granite|granite:"
-    "netscape|netscape:"
-    "plasma|-seed 7 -size 256x256 plasma:fractal"
-    "plasma2|-seed 3 -size 256x256 plasma:green-yellow"
-    "gradient|-size 256x256 gradient:navy-gold"
-    "radial|-size 256x256 radial-gradient:white-darkred"
-    "drawing|-size 256x256 gradient:skyblue-white -fill tomato -draw 'circle 90,90 90,30' -fill seagreen -draw 'rectangle 140,120 240,230' -stroke black -strokewidth 5 -draw 'line 10,240 240,10' -fill gold -stroke none -draw 'ellipse 70,190 50,30 0,360'"
-)
+. bench/pat_images.sh
 
 for entry in "${images[@]}"; do
     name=${entry%%|*}
@@ -54,16 +43,10 @@ for entry in "${images[@]}"; do
     done
 done
 
-now() { date +%s%N; }
-# median_time CMD...: median wall time in ms over RUNS runs.
+# median_time CMD...: median wall time in ms over RUNS runs after a warm-up
+# (bench/timing.py, the benchmarks' one timing rule).
 median_time() {
-    local t=() s
-    for _ in $(seq "$RUNS"); do
-        s=$(now)
-        "$@" >/dev/null 2>&1
-        t+=($(( ($(now) - s) / 1000 )))
-    done
-    printf '%s\n' "${t[@]}" | sort -n | awk '{a[NR]=$1} END {printf "%.2f", a[int((NR+1)/2)]/1000}'
+    python3 bench/timing.py --runs "$RUNS" -- "$@" | awk '{printf "%.2f", $1 * 1000}'
 }
 
 CSV=bench/out/pat_from_image.csv

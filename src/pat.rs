@@ -178,32 +178,59 @@ impl Pattern {
 
     /// Writes the canonical form: `SIZE NCOLORS`, then per colour one `R G B` line
     /// and one line per row of lowercase 4-digit words, final newline.
+    ///
+    /// The texels are first sorted by colour (a counting sort keeps them in
+    /// row order), so each colour's plane visits only its own texels: a
+    /// 1024x1024 pattern of 256 colours no longer compares every texel with
+    /// every colour (268 million tests, most of the write's time).
     pub fn write_canonical<W: Write>(&self, w: &mut W) -> io::Result<()> {
         const HEX: &[u8; 16] = b"0123456789abcdef";
         let size = self.size as usize;
         let words_per_row = size / WORD_BITS as usize;
         writeln!(w, "{} {}", self.size, self.palette.len())?;
-        let mut line = Vec::with_capacity(words_per_row * 5);
+        // `at[start[k]..start[k + 1]]`: the texels of colour k, in order.
+        let mut start = vec![0usize; self.palette.len() + 1];
+        for &t in &self.texels {
+            if t != TRANSPARENT {
+                start[t as usize + 1] += 1;
+            }
+        }
+        for k in 0..self.palette.len() {
+            start[k + 1] += start[k];
+        }
+        let mut next = start.clone();
+        let mut at = vec![0u32; start[self.palette.len()]];
+        for (i, &t) in self.texels.iter().enumerate() {
+            if t != TRANSPARENT {
+                at[next[t as usize]] = i as u32;
+                next[t as usize] += 1;
+            }
+        }
+        let mut words = vec![0u16; words_per_row];
+        // "xxxx " per word; the last space becomes the newline.
+        let mut line = vec![b' '; words_per_row * 5];
+        *line.last_mut().expect("a row has at least one word") = b'\n';
+        let hex2: [[u8; 2]; 256] = std::array::from_fn(|b| [HEX[b >> 4], HEX[b & 0xf]]);
         for (k, c) in self.palette.iter().enumerate() {
-            let k = k as u16;
             writeln!(w, "{} {} {}", c.0[0], c.0[1], c.0[2])?;
-            for row in self.texels.chunks_exact(size) {
-                line.clear();
-                for (j, run) in row.chunks_exact(WORD_BITS as usize).enumerate() {
-                    let mut word = 0u16;
-                    for &t in run {
-                        word = (word << 1) | (t == k) as u16;
+            let mut mine = at[start[k]..start[k + 1]].iter().peekable();
+            for row in 0..size {
+                words.fill(0);
+                let end = ((row + 1) * size) as u32;
+                while let Some(&&i) = mine.peek() {
+                    if i >= end {
+                        break;
                     }
-                    if j > 0 {
-                        line.push(b' ');
-                    }
-                    line.extend(
-                        (0..4)
-                            .rev()
-                            .map(|s| HEX[((word >> (4 * s)) & 0xf) as usize]),
-                    );
+                    let x = i as usize - row * size;
+                    // The first texel of a word is its most significant bit.
+                    words[x / WORD_BITS as usize] |= 0x8000 >> (x % WORD_BITS as usize);
+                    mine.next();
                 }
-                line.push(b'\n');
+                for (word, out) in words.iter().zip(line.chunks_exact_mut(5)) {
+                    let [hi, lo] = word.to_be_bytes();
+                    out[..2].copy_from_slice(&hex2[hi as usize]);
+                    out[2..4].copy_from_slice(&hex2[lo as usize]);
+                }
                 w.write_all(&line)?;
             }
         }

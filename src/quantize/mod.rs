@@ -15,16 +15,19 @@
 //!    (`kmeans.rs`: Lloyd, with Hamerly's bounds so it can run to convergence
 //!    cheaply), then a few split/remove moves that let k-means leave a poor
 //!    local optimum, then Lloyd steps on the rounded 8-bit palette and, for
-//!    small problems, a search of its one-code neighbours. Nothing is random
-//!    (the parallel sums use fixed chunks), so the same image always gives the
-//!    same palette.
+//!    small problems, a search of its one-code neighbours. A histogram of
+//!    more than 32,768 colours is searched through its coreset
+//!    (`coreset.rs`: colours grouped into small boxes of the lattice, each
+//!    its weighted mean). Nothing is random (the parallel sums use fixed
+//!    chunks), so the same image always gives the same palette.
 //! 3. `remap.rs`: [`remap()`] assigns each pixel a palette index, with no
 //!    dithering, Floyd–Steinberg error diffusion (serpentine, in linear light)
 //!    or an 8x8 Bayer ordered dither ([`Dither`]).
 //!
 //! [`quantize`] (this file) runs the steps for given [`Options`], flips the
 //! rows and orders the palette by use. `space.rs` is the clustering space that
-//! steps 2 and 3 share (points, distance, nearest-centre search); `psnr.rs`
+//! steps 2 and 3 share (points, distance, nearest-centre searches, one in
+//! SIMD); `psnr.rs`
 //! measures the result ([`psnr()`]); `palette_file.rs` reads forced palettes
 //! ([`parse_palette_file`]).
 //!
@@ -40,6 +43,7 @@
 //! the k-means objective *be* the metric, so every Lloyd step provably lowers it.
 //! Exactly representable palette entries and exact round trips come with it.
 
+mod coreset;
 mod kmeans;
 mod median_cut;
 mod palette;
@@ -130,24 +134,30 @@ pub fn quantize_with(
     progress: &dyn Progress,
 ) -> Result<Pattern, InvalidPattern> {
     let opaque = opaque_mask(img, opts);
-    let colors: Vec<[u8; 3]> = img.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
+    let rgb = |p: &[u8; 4]| [p[0], p[1], p[2]];
     let palette = match &opts.palette {
         Some(p) => dedup_keep_order(p),
         None => {
             let hist = histogram(
-                colors
+                img.pixels
                     .iter()
                     .zip(&opaque)
                     .filter(|(_, &o)| o)
-                    .map(|(c, _)| *c),
+                    .map(|(p, _)| rgb(p)),
             );
             choose_palette_with(&hist, opts.colors, progress)
         }
     };
-    let top_down = remap_with(&colors, &opaque, img.size, &palette, opts.dither, progress);
-    let mut texels = Vec::with_capacity(top_down.len());
-    for row in top_down.chunks_exact(img.size as usize).rev() {
-        texels.extend_from_slice(row);
+    // Made only now, so that it never lives beside the histogram's buffers
+    // (a 4096x4096 image has 50 MB of colours).
+    let colors: Vec<[u8; 3]> = img.pixels.iter().map(rgb).collect();
+    let mut texels = remap_with(&colors, &opaque, img.size, &palette, opts.dither, progress);
+    drop(colors);
+    // Row 0 of the pattern is the image's bottom row.
+    let n = img.size as usize;
+    for y in 0..n / 2 {
+        let (top, bottom) = texels.split_at_mut((n - 1 - y) * n);
+        top[y * n..(y + 1) * n].swap_with_slice(&mut bottom[..n]);
     }
     let (palette, texels) = if opts.palette.is_some() {
         (palette, texels)

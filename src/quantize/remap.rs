@@ -8,7 +8,7 @@
 //! threshold scaled to the palette's typical step ([`ordered_spread`]); its
 //! regular texture tiles cleanly.
 
-use super::space::{dist2, point, Nearest, Point};
+use super::space::{dist2, point, Channels, Nearest, Point};
 use crate::color::{decode_table, linear_to_srgb, Rgb8};
 use crate::pat::TRANSPARENT;
 use crate::progress::{Progress, Silent};
@@ -58,6 +58,9 @@ pub fn remap(
     remap_with(colors, opaque, size, palette, dither, &Silent)
 }
 
+/// Rows per parallel work unit of the undithered remap.
+const REMAP_BAND_ROWS: usize = 16;
+
 /// [`remap`], reporting each row done to `progress` (phase "remap").
 pub fn remap_with(
     colors: &[[u8; 3]],
@@ -77,16 +80,29 @@ pub fn remap_with(
     let nearest = Nearest::new(&centres);
     match dither {
         Dither::None => {
-            let mut hint = 0;
-            for start in (0..colors.len()).step_by(n.max(1)) {
-                for i in start..(start + n).min(colors.len()) {
-                    if opaque[i] {
-                        hint = nearest.find(point(colors[i]), hint).0;
-                        out[i] = hint as u16;
+            // Each pixel on its own, so bands of rows run in parallel; the
+            // answer does not depend on the order.
+            use rayon::prelude::*;
+            let channels = Channels::new(&centres);
+            let band = REMAP_BAND_ROWS * n.max(1);
+            out.par_chunks_mut(band)
+                .zip(colors.par_chunks(band).zip(opaque.par_chunks(band)))
+                .for_each(|(out, (colors, opaque))| {
+                    // Neighbouring pixels often repeat a colour: the last
+                    // answer is kept.
+                    let mut last: Option<([u8; 3], u16)> = None;
+                    for ((o, &c), &op) in out.iter_mut().zip(colors).zip(opaque) {
+                        if op {
+                            let index = match last {
+                                Some((lc, index)) if lc == c => index,
+                                _ => channels.nearest(point(c)).0 as u16,
+                            };
+                            last = Some((c, index));
+                            *o = index;
+                        }
                     }
-                }
-                progress.advance(1);
-            }
+                    progress.advance((out.len() / n.max(1)) as u64);
+                });
         }
         Dither::Ordered => {
             let spread = ordered_spread(&centres);
