@@ -1,0 +1,95 @@
+#!/usr/bin/env python3
+"""Driver of bench/aa_scaling.sh: exact anti-aliasing against Mesa's llvmpipe
+MSAA 4x as the triangle count grows (issue "Performance at scale", item 1).
+
+    aa_scaling.py SCENE_RENDER WORKDIR [N ...]
+
+Scenes from bench/random_triangles.py (seeded): 1024x768, N random flat
+triangles, in two sets: `auto` (vertex spread s = sqrt(4WH / 0.3N), about four
+layers a pixel at every N) and `s20` (s = 20 px, so the depth grows with N).
+For each: scene-render --aa exact (render-phase time from --timings, and the
+whole process; median of AA_RUNS, default 3, after a warm-up; one run from a
+million triangles up) and llvmpipe MSAA 4x (upload, draw, resolve, read back;
+median of AA_RUNS after a warm-up). Prints a Markdown table with ratios, and the fitted exponent of
+time against N (least squares on log-log) for each set and renderer.
+"""
+import math
+import os
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import scene_render_bench as srb  # noqa: E402
+
+# Runs per measurement (median); scenes of a million triangles take minutes
+# under --aa exact, so they get one run and no warm-up.
+RUNS = int(os.environ.get("AA_RUNS", "3"))
+HEAVY = 1_000_000
+
+W, H = 1024, 768
+
+
+def median(xs):
+    xs = sorted(xs)
+    n = len(xs)
+    return xs[n // 2] if n % 2 else (xs[n // 2 - 1] + xs[n // 2]) / 2
+
+
+def scene_render(sr, path, out, runs, warmup):
+    """(median render-phase s, median whole-process s)."""
+    cmd = [sr, "--size", f"{W}x{H}", "--background", "20,20,80", "--aa", "exact", "--timings", path, "-o", out]
+    for _ in range(warmup):
+        subprocess.run(cmd, check=True, capture_output=True)
+    renders, walls = [], []
+    for _ in range(runs):
+        t0 = time.perf_counter()
+        err = subprocess.run(cmd, check=True, capture_output=True, text=True).stderr
+        walls.append(time.perf_counter() - t0)
+        renders.append(float(err.split("render ")[1].split(" s")[0]))
+    return median(renders), median(walls)
+
+
+def fit(ns, ts):
+    xs, ys = [math.log(n) for n in ns], [math.log(t) for t in ts]
+    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
+    return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
+
+
+def main():
+    sr, work = sys.argv[1], sys.argv[2]
+    ns = [int(n) for n in sys.argv[3:]] or [10_000, 100_000, 200_000, 1_000_000]
+    import moderngl
+    ctx = moderngl.create_standalone_context(backend="egl")
+    mvp = srb.ortho(0, W, 0, H, -1, 1)
+    here = os.path.dirname(os.path.abspath(__file__))
+    print("| set | N | exact render (s) | exact whole (s) | MSAA 4x render (s) | exact/MSAA4x render |")
+    print("|---|---:|---:|---:|---:|---:|")
+    fits = []
+    for spread in ["auto", "20"]:
+        name = "auto" if spread == "auto" else "s20"
+        ex, gl = [], []
+        for n in ns:
+            path = os.path.join(work, f"tri-{name}-{n}.ndjson")
+            if not os.path.exists(path):
+                with open(path, "w") as fh:
+                    subprocess.run([sys.executable, os.path.join(here, "random_triangles.py"), str(n), spread],
+                                   stdout=fh, check=True)
+            runs, warmup = (1, 0) if n >= HEAVY else (RUNS, 1)
+            render, whole = scene_render(sr, path, os.path.join(work, f"tri-{name}-{n}.png"), runs, warmup)
+            tris = srb.load_triangles(path)
+            png = os.path.join(work, f"tri-{name}-{n}-msaa4.png")
+            srb.llvmpipe(ctx, tris, mvp, 4, png)
+            t_gl = median([srb.llvmpipe(ctx, tris, mvp, 4, png) for _ in range(RUNS)])
+            ex.append(render)
+            gl.append(t_gl)
+            print(f"| {name} | {n} | {render:.3f} | {whole:.3f} | {t_gl:.3f} | {render / t_gl:.2f} |", flush=True)
+        fits.append((name, fit(ns, ex), fit(ns, gl)))
+    print()
+    for name, e, g in fits:
+        print(f"- {name}: time ~ N^{e:.2f} (exact render), N^{g:.2f} (llvmpipe MSAA 4x), fitted over N = "
+              + ", ".join(str(n) for n in ns) + ".")
+
+
+if __name__ == "__main__":
+    main()
