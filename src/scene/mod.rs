@@ -97,37 +97,69 @@ pub enum TextureSource {
 
 /// One record ready to draw, in its own coordinates (world coordinates at the
 /// top level, the object's inside a definition). Only the geometry is kept,
-/// not the record's JSON.
+/// not the record's JSON; what most records lack is kept out of line
+/// ([`Extras`]), so a flat polygon costs its shape and 16 bytes more (the
+/// fields inline made every record 336 bytes: a third of a gigabyte for a
+/// million triangles).
 struct Drawable {
     index: usize,
     shape: Shape,
     color: Rgb8,
+    /// How a lit scene shades it.
+    shade: Shade,
+    /// `None` for a flat, untextured record whose transform (if any) was
+    /// applied when it was read.
+    extras: Option<Box<Extras>>,
+}
+
+/// The parts of a [`Drawable`] that few records have.
+struct Extras {
     texture: TextureSource,
     /// Texture coordinates per vertex, in texels (uv mode).
     uv: Option<Vec<[f64; 2]>>,
     /// Normals per vertex, in the record's coordinates (smooth lighting).
     normals: Option<Vec<DVec3>>,
-    /// How a lit scene shades it.
-    shade: Shade,
     /// The record's own "transform" when its numbers vary per frame (a
     /// static one was applied when the record was read, or, for a quadric,
     /// is its `QuadricShape::transform`).
     animated: Option<serde_json::Value>,
 }
 
+/// What a [`Drawable`] without [`Extras`] is coloured by.
+static FLAT: TextureSource = TextureSource::Flat;
+
+impl Drawable {
+    fn texture(&self) -> &TextureSource {
+        self.extras.as_ref().map_or(&FLAT, |e| &e.texture)
+    }
+    fn uv(&self) -> Option<&[[f64; 2]]> {
+        self.extras.as_ref().and_then(|e| e.uv.as_deref())
+    }
+    fn normals(&self) -> Option<&[DVec3]> {
+        self.extras.as_ref().and_then(|e| e.normals.as_deref())
+    }
+    fn animated(&self) -> Option<&serde_json::Value> {
+        self.extras.as_ref().and_then(|e| e.animated.as_ref())
+    }
+}
+
 /// A stream element as the scene keeps it.
 enum Part {
     Draw(Drawable),
-    /// An instance (the thesis's `callobj`): the object's parts are shared,
-    /// never copied; they are projected through the instance's transform.
-    Place {
-        index: usize,
-        name: String,
-        object: Rc<Vec<Part>>,
-        transform: Transform,
-        /// The transform's JSON when its numbers vary per frame.
-        animated: Option<serde_json::Value>,
-    },
+    /// An instance (the thesis's `callobj`), boxed: its fields would make
+    /// every part, most of them polygons, three times as large.
+    Place(Box<Placement>),
+}
+
+/// An instance: the object's parts are shared, never copied; they are
+/// projected through the instance's transform.
+struct Placement {
+    index: usize,
+    name: String,
+    object: Rc<Vec<Part>>,
+    transform: Transform,
+    /// The transform's JSON when its numbers vary per frame.
+    animated: Option<serde_json::Value>,
 }
 
 /// What reading a scene may cost.
@@ -172,7 +204,7 @@ impl Part {
                 },
                 _ => 1,
             },
-            Part::Place { name, .. } => objects.get(name).copied().unwrap_or(0),
+            Part::Place(p) => objects.get(&p.name).copied().unwrap_or(0),
         }
     }
 }
@@ -393,15 +425,23 @@ impl Scene {
             if let Some(st) = stripe {
                 texture = TextureSource::Stripe(st);
             }
+            let plain = matches!(texture, TextureSource::Flat)
+                && rec.uv.is_none()
+                && rec.normals.is_none()
+                && animated.is_none();
             Ok(Drawable {
-                animated,
                 index: rec.index,
                 shape: rec.shape,
                 color,
-                texture,
-                uv: rec.uv,
-                normals: rec.normals,
                 shade: rec.shade,
+                extras: (!plain).then(|| {
+                    Box::new(Extras {
+                        texture,
+                        uv: rec.uv,
+                        normals: rec.normals,
+                        animated,
+                    })
+                }),
             })
         })?;
         files.extend(stripes.files().iter().cloned());
@@ -513,16 +553,18 @@ fn read_items(
         Ok(())
     };
     let mut scene = Scene::default();
-    let place = |inst: Instance, objects: &HashMap<String, Rc<Vec<Part>>>| Part::Place {
-        index: inst.index,
-        object: objects[&inst.object].clone(),
-        transform: inst.transform,
-        animated: inst
-            .fields
-            .get("transform")
-            .filter(|t| Transform::is_animated(t))
-            .cloned(),
-        name: inst.object,
+    let place = |inst: Instance, objects: &HashMap<String, Rc<Vec<Part>>>| {
+        Part::Place(Box::new(Placement {
+            index: inst.index,
+            object: objects[&inst.object].clone(),
+            transform: inst.transform,
+            animated: inst
+                .fields
+                .get("transform")
+                .filter(|t| Transform::is_animated(t))
+                .cloned(),
+            name: inst.object,
+        }))
     };
     for_each_item(reader, name, |item| {
         match item {
@@ -609,7 +651,7 @@ fn project_parts(
                 // A record's own animated transform moves it as an instance
                 // transform would: the view takes it on.
                 let animated_view;
-                let (view, to_world) = match &d.animated {
+                let (view, to_world) = match d.animated() {
                     Some(v) => {
                         let t = record_transform_at(d, v, frame).in_record(None, d.index)?;
                         animated_view = View {
@@ -628,19 +670,20 @@ fn project_parts(
                     )),
                 };
                 let lit = Lit::new(lights, d, to_world).map(|l| Lit {
-                    normals: d.normals.as_deref(),
+                    normals: d.normals(),
                     ..l
                 });
-                draw_polygon(d, view, &outline, d.uv.as_deref(), order, how, lit, out)
+                draw_polygon(d, view, &outline, d.uv(), order, how, lit, out)
                     .in_record(None, d.index)?;
             }
-            Part::Place {
-                index,
-                name,
-                object,
-                transform,
-                animated,
-            } => {
+            Part::Place(p) => {
+                let Placement {
+                    index,
+                    name,
+                    object,
+                    transform,
+                    animated,
+                } = &**p;
                 let transform = match animated {
                     Some(v) => &Transform::from_json_at(v, frame)
                         .map_err(|error| RecordError::InstanceTransform {
@@ -736,7 +779,7 @@ fn draw_polygon(
             return Ok(());
         }
     };
-    match &d.texture {
+    match d.texture() {
         TextureSource::Flat => {}
         TextureSource::Screen(texels) => p.shader = Shader::Screen(texels.clone()),
         TextureSource::Stripe(st) => match stripe::shader(st, view, outline, how.stripe_lod)? {
@@ -921,7 +964,7 @@ fn project_quadric(
     out: &mut Projected,
 ) -> Result<(), RecordError> {
     let moved;
-    let q = match &d.animated {
+    let q = match d.animated() {
         Some(v) => {
             let mut m = q.clone();
             m.transform = record_transform_at(d, v, frame)?;
@@ -938,7 +981,7 @@ fn project_quadric(
         view.height,
         how.quadric_tolerance,
     );
-    let size = match &d.texture {
+    let size = match d.texture() {
         TextureSource::Placed { texels, .. } => (texels.width(), texels.height()),
         _ => (1, 1),
     };
@@ -1080,5 +1123,17 @@ fn build_mips_eagerly(polys: &[ScreenPoly]) {
         if !tex.skips.mip {
             tex.texels.pyramid(tex.mip_key());
         }
+    }
+}
+#[cfg(test)]
+mod part_size {
+    /// A million polygons keep a million parts: the fields few records have
+    /// stay out of line ([`super::Extras`], [`super::Placement`]). At 336
+    /// bytes a part, the scene took a third of a gigabyte for a million
+    /// triangles before projecting them.
+    #[test]
+    fn a_part_is_at_most_80_bytes() {
+        assert!(std::mem::size_of::<super::Part>() <= 80);
+        assert!(std::mem::size_of::<super::Drawable>() <= 80);
     }
 }
