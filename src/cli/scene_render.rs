@@ -441,12 +441,16 @@ fn run_in_pool(args: Args) -> Result<()> {
             &bg,
             (format, encoding),
         )?;
-        return write_depfile(&args, Some(&scene));
+        return write_depfile(&args, Some(scene.files()));
     }
     let (polys, tally) = scene
         .project_tallied(&view, &how, 0)
         .with_context(|| display_name(&args.input).to_string())?;
     warn_if_blank(&args, (&view, camera_given), 0, &tally);
+    // One frame needs only its screen polygons from here: the scene's parts
+    // (160 bytes a triangle) go before the render's own buffers come.
+    let files = scene.files().to_vec();
+    drop(scene);
     let t_render = std::time::Instant::now();
     let bar = args.progress.bar(TOOL);
     let (img, residual, estimated) = if args.reference {
@@ -478,7 +482,7 @@ fn run_in_pool(args: Args) -> Result<()> {
         estimated,
     };
     finish(&args, output.zip(format), img, reference_img, reports)?;
-    write_depfile(&args, Some(&scene))?;
+    write_depfile(&args, Some(&files))?;
     if args.timings {
         eprintln!(
             "{TOOL}: timings: read {:.4} s, render {:.4} s, write {:.4} s ({} polygons)",
@@ -493,7 +497,7 @@ fn run_in_pool(args: Args) -> Result<()> {
 
 /// `--depfile`: the outputs written (every frame of an animation) and every
 /// file read to make them.
-fn write_depfile(args: &Args, scene: Option<&Scene>) -> Result<()> {
+fn write_depfile(args: &Args, scene_files: Option<&[std::path::PathBuf]>) -> Result<()> {
     let Some(depfile) = &args.depfile else {
         return Ok(());
     };
@@ -514,10 +518,10 @@ fn write_depfile(args: &Args, scene: Option<&Scene>) -> Result<()> {
             .collect()
     };
     let mut deps: Vec<String> = Vec::new();
-    match scene {
-        Some(scene) => {
+    match scene_files {
+        Some(files) => {
             deps.push(args.input.clone());
-            deps.extend(scene.files().iter().map(|p| super::dep_name(p)));
+            deps.extend(files.iter().map(|p| super::dep_name(p)));
             deps.extend(args.camera.camera.iter().cloned());
             deps.extend(args.background_pattern.iter().cloned());
         }

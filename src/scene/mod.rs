@@ -170,8 +170,9 @@ pub struct LoadOptions {
     /// given `slices` and `stacks` its 2 x slices x stacks triangles. A scene
     /// over it is refused when read, before any work, naming the record
     /// where the count passes it (a 4 KB stream of 40 nested objects, each
-    /// placing the previous twice, expands to 2^40 polygons). At roughly
-    /// 700 bytes per projected polygon, the default allows about 7 GB.
+    /// placing the previous twice, expands to 2^40 polygons). At about 390
+    /// bytes per triangle at the peak (`bench/memory.sh`: the scene's parts
+    /// and the projected polygons), the default allows about 4 GB.
     ///
     /// Default value: 10,000,000.
     pub max_polygons: u64,
@@ -219,6 +220,11 @@ pub struct Scene {
     warnings: Vec<String>,
     /// The stream's lights; none for an unlit scene.
     lights: crate::light::Lights,
+    /// The polygons a frame expands into, as [`LoadOptions::max_polygons`]
+    /// counts them (a quadric of unstated slices as one): the projected
+    /// list is reserved at this size, since growing it by doubling held
+    /// the old and the new buffer at once, 1.5 times the list at its peak.
+    polygons: u64,
 }
 
 /// A polygon no larger than one texel of its "object"-mode pattern (area at
@@ -495,6 +501,8 @@ impl Scene {
         frame: u64,
     ) -> Result<(Vec<ScreenPoly>, Tally), SceneError> {
         let mut out = Projected::default();
+        // At most the limit, which the count never passes.
+        out.polygons.reserve(self.polygons as usize);
         project_parts(
             &self.parts,
             view,
@@ -603,6 +611,7 @@ fn read_items(
         }
         Ok::<(), SceneError>(())
     })?;
+    scene.polygons = total;
     Ok(scene)
 }
 
