@@ -147,11 +147,13 @@ impl Serialize for Field {
 ///
 /// The general reader builds the fields as it reads; the fast path for plain
 /// NDJSON polygons (`stream::plain`) keeps the record's line instead and
-/// parses it on first use, so a tool that never looks (scene-render) never
-/// pays for them.
+/// parses it on first use, so a tool that never looks never pays for them;
+/// looking for a key a line of only "vertices" and "color" lacks (what
+/// scene-render asks of every record) does not count as looking.
 #[derive(Clone)]
 pub struct Fields {
-    /// The record's JSON text, when the fields are still to be made from it.
+    /// The record's JSON text, when the fields are still to be made from it
+    /// (a line the fast path kept: see [`Fields::field`]).
     line: Option<Box<[u8]>>,
     list: OnceLock<Vec<(String, Field)>>,
 }
@@ -224,7 +226,15 @@ impl Fields {
     }
 
     /// Field `key`, parsed or kept as text.
+    ///
+    /// A line the fast path kept holds none of the keys it declines
+    /// ([`super::plain::declines`]), so asking for one parses nothing:
+    /// scene-render asks every record for its "pattern" and "stripe" (to
+    /// check their keys), which parsed each line a second time, serially.
     pub fn field(&self, key: &str) -> Option<&Field> {
+        if self.line.is_some() && self.list.get().is_none() && super::plain::declines(key) {
+            return None;
+        }
         self.list().iter().find(|(k, _)| k == key).map(|(_, f)| f)
     }
 
@@ -611,6 +621,18 @@ pub(super) fn without_whitespace(raw: Box<RawValue>) -> Box<RawValue> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_kept_line_answers_for_keys_the_fast_path_declines_without_parsing() {
+        let line = br#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"id":7}"#;
+        let f = Fields::from_line(line);
+        assert!(f.get("pattern").is_none() && !f.contains_key("stripe"));
+        assert!(f.field("transform").is_none());
+        assert!(f.list.get().is_none(), "looked up without parsing");
+        assert_eq!(f.get("color"), Some(&serde_json::json!([1, 2, 3])));
+        assert_eq!(f.field("id").map(|f| f.to_string()).as_deref(), Some("7"));
+        assert_eq!(f.len(), 3);
+    }
 
     fn element(text: &str) -> Element {
         serde_json::from_str(text).unwrap()

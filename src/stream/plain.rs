@@ -60,6 +60,37 @@ struct Plain {
     color: Option<[u8; 3]>,
 }
 
+/// Whether a line holding key `k` is left to the general path: the other
+/// geometries (quadrics too: with "vertices" they make the record
+/// ambiguous, which the general path words), the fields `Record::from_value`
+/// reads, and the keys that make an item an object or an instance
+/// (`Item::from_value`). "records" is read as records; a "transform" moves
+/// the record. So a line the fast path kept never holds one of these, which
+/// [`Fields::field`] answers without parsing the line.
+pub(super) fn declines(k: &str) -> bool {
+    matches!(
+        k,
+        "rect"
+            | "circle"
+            | "arc"
+            | "sphere"
+            | "cylinder"
+            | "cone"
+            | "disk"
+            | "pattern"
+            | "uv"
+            | "stripe"
+            | "transform"
+            | "object"
+            | "instance"
+            | "light"
+            | "mesh"
+            | "normals"
+            | "shade"
+            | "records"
+    )
+}
+
 /// A record's key, as the fast path sorts them.
 enum Key {
     Vertices,
@@ -86,15 +117,7 @@ impl<'de> de::Deserialize<'de> for Key {
                 Ok(match s {
                     "vertices" => Key::Vertices,
                     "color" => Key::Color,
-                    // The other geometries (quadrics too: with "vertices"
-                    // they make the record ambiguous, which the general path
-                    // words), the fields `Record::from_value` reads, and the
-                    // keys that make an item an object or an instance
-                    // (`Item::from_value`). "records" is read as records; a
-                    // "transform" moves the record.
-                    "rect" | "circle" | "arc" | "sphere" | "cylinder" | "cone" | "disk"
-                    | "pattern" | "uv" | "stripe" | "transform" | "object" | "instance"
-                    | "light" | "mesh" | "normals" | "shade" | "records" => Key::Decline,
+                    k if declines(k) => Key::Decline,
                     k if is_value_key(k) => Key::Value,
                     _ => Key::Raw,
                 })

@@ -2,7 +2,8 @@
 //! memory does not grow with the number of records. It tells the two forms
 //! apart, words JSON syntax errors with their positions in the whole input,
 //! and hands each element to the record and object parsers; plain polygon
-//! lines take the fast path ([`super::plain`]).
+//! lines take the fast path ([`super::plain`]), a batch of lines at a time
+//! in parallel.
 
 use super::fields::Element;
 use super::objects::{Instance, Item, Objects};
@@ -228,43 +229,113 @@ pub fn for_each_item<R: BufRead, E: From<StreamError>>(
             // rest of the input, from the start of that line, to serde_json's
             // own stream reader, behind as many newlines as were read before
             // it so that its error positions are those of the whole input.
-            let mut line = Vec::new();
+            //
+            // Lines come in batches, whose plain records are parsed in
+            // parallel (`parse_plain_batch`) and then handed on in order, one
+            // by one, as a line at a time would: each line is parsed on its
+            // own, so the records, their numbers and every error are the
+            // same, only the parsing is spread over the threads.
+            let mut batch = Batch::default();
             let mut newlines = 0u64;
             loop {
-                line.clear();
-                if let Err(e) = reader.read_until(b'\n', &mut line) {
-                    // serde_json words a read error as the error itself.
-                    return Err(stream_err(Some(index), format!("invalid JSON: {e}")).into());
-                }
-                if line.is_empty() {
-                    return Ok(());
-                }
-                let body = trim_json_whitespace(&line);
-                if !body.is_empty() {
-                    if let Some(rec) = plain::record(body, index) {
-                        handle(Parsed::Item(Item::Record(rec)), &mut index)?;
-                    } else if let Ok(e) = serde_json::from_slice::<Element>(body) {
-                        handle(Parsed::Element(e), &mut index)?;
-                    } else {
-                        use std::io::Read as _;
-                        let rest = std::io::repeat(b'\n')
-                            .take(newlines)
-                            .chain(&line[..])
-                            .chain(reader);
-                        let de = serde_json::Deserializer::from_reader(rest).into_iter::<Element>();
-                        for e in de {
-                            let e = e.map_err(|e| stream_err(Some(index), json_message(&e)))?;
-                            handle(Parsed::Element(e), &mut index)?;
+                let failed = batch.fill(&mut reader);
+                if batch.lines.is_empty() {
+                    return match failed {
+                        // serde_json words a read error as the error itself.
+                        Some(e) => {
+                            Err(stream_err(Some(index), format!("invalid JSON: {e}")).into())
                         }
-                        return Ok(());
+                        None => Ok(()),
+                    };
+                }
+                let typed = parse_plain_batch(&batch);
+                for (k, pre) in typed.into_iter().enumerate() {
+                    let (start, end) = batch.lines[k];
+                    let line = &batch.buf[start..end];
+                    let body = trim_json_whitespace(line);
+                    if !body.is_empty() {
+                        if let Some(mut rec) = pre {
+                            rec.index = index;
+                            handle(Parsed::Item(Item::Record(rec)), &mut index)?;
+                        } else if let Ok(e) = serde_json::from_slice::<Element>(body) {
+                            handle(Parsed::Element(e), &mut index)?;
+                        } else {
+                            // The rest of the input from this line: the
+                            // batch's lines from here, then the reader.
+                            use std::io::Read as _;
+                            let rest = std::io::repeat(b'\n')
+                                .take(newlines)
+                                .chain(&batch.buf[start..])
+                                .chain(reader);
+                            let de =
+                                serde_json::Deserializer::from_reader(rest).into_iter::<Element>();
+                            for e in de {
+                                let e = e.map_err(|e| stream_err(Some(index), json_message(&e)))?;
+                                handle(Parsed::Element(e), &mut index)?;
+                            }
+                            return Ok(());
+                        }
+                    }
+                    if line.last() == Some(&b'\n') {
+                        newlines += 1;
                     }
                 }
-                if line.last() == Some(&b'\n') {
-                    newlines += 1;
+                if let Some(e) = failed {
+                    return Err(stream_err(Some(index), format!("invalid JSON: {e}")).into());
                 }
             }
         }
     }
+}
+
+/// At most this many bytes of lines are read before a batch is parsed (a
+/// longer line is read whole, alone)...
+const BATCH_BYTES: usize = 1 << 21;
+/// ... and at most this many lines: enough for each thread to parse a few
+/// thousand records between two hand-overs.
+const BATCH_LINES: usize = 8192;
+
+/// NDJSON lines read together, each with its newline.
+#[derive(Default)]
+struct Batch {
+    buf: Vec<u8>,
+    /// Each line's range in `buf`.
+    lines: Vec<(usize, usize)>,
+}
+
+impl Batch {
+    /// Reads the next batch; a read error ends it early and is returned
+    /// after the lines read before it.
+    fn fill(&mut self, reader: &mut impl BufRead) -> Option<std::io::Error> {
+        self.buf.clear();
+        self.lines.clear();
+        while self.buf.len() < BATCH_BYTES && self.lines.len() < BATCH_LINES {
+            let start = self.buf.len();
+            match reader.read_until(b'\n', &mut self.buf) {
+                Ok(0) => break,
+                Ok(_) => self.lines.push((start, self.buf.len())),
+                Err(e) => {
+                    self.buf.truncate(start);
+                    return Some(e);
+                }
+            }
+        }
+        None
+    }
+}
+
+/// The typed view of each line of `batch` that is a plain polygon record
+/// ([`plain::record`], numbered 0 until it is handed on), in parallel.
+fn parse_plain_batch(batch: &Batch) -> Vec<Option<Record>> {
+    use rayon::prelude::*;
+    batch
+        .lines
+        .par_iter()
+        .map(|&(start, end)| {
+            let body = trim_json_whitespace(&batch.buf[start..end]);
+            (!body.is_empty()).then(|| plain::record(body, 0)).flatten()
+        })
+        .collect()
 }
 
 /// A stream element as the readers hand it on: parsed JSON (unknown fields
@@ -404,6 +475,54 @@ mod tests {
         assert_eq!(
             err(text),
             format!("s.json: record 3: {}", json_message(&whole))
+        );
+    }
+
+    #[test]
+    fn batches_number_records_and_place_errors_as_one_line_at_a_time_would() {
+        // More lines than one batch holds: plain records (parsed in
+        // parallel), rects (the general path) and blank lines (no record)
+        // interleaved, then a value spread over two lines in the second
+        // batch, more records, and a syntax error.
+        let mut text = String::new();
+        let mut elements = 0;
+        for k in 0..BATCH_LINES + 300 {
+            if k % 11 == 5 {
+                text.push('\n');
+                continue;
+            }
+            if k % 7 == 3 {
+                text += &format!("{{\"rect\":[0,0,1,1],\"color\":[1,2,3],\"n\":{elements}}}\n");
+            } else {
+                text += &format!(
+                    "{{\"vertices\":[[0,0],[1,0],[0,{}]],\"color\":[1,2,3]}}\n",
+                    elements + 1
+                );
+            }
+            elements += 1;
+        }
+        text += "{\"rect\":[0,0,1,1],\n \"color\":[4,5,6]}\n";
+        text += "{\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]}\n";
+        let records = read_all(&text).unwrap();
+        assert_eq!(records.len(), elements + 2);
+        for (i, r) in records.iter().enumerate() {
+            assert_eq!(r.index, i);
+            match &r.shape {
+                Shape::Polygon(v) if i < elements && v.len() == 3 => {
+                    assert_eq!(v[2].y, (i + 1) as f64, "record {i}")
+                }
+                _ => {}
+            }
+        }
+        assert_eq!(records[elements].color, Some(crate::color::Rgb8([4, 5, 6])));
+        let broken = format!("{text}{{\"vertices\": [[0,0]] x\n");
+        let whole = serde_json::Deserializer::from_str(&broken)
+            .into_iter::<serde_json::Value>()
+            .find_map(Result::err)
+            .unwrap();
+        assert_eq!(
+            err(&broken),
+            format!("s.json: record {}: {}", elements + 2, json_message(&whole))
         );
     }
 
