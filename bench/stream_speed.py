@@ -1,0 +1,105 @@
+#!/usr/bin/env python3
+"""Driver of bench/stream_speed.sh: how fast the stream is read and written
+(issue "Performance at scale", item 2), against a baseline build if given.
+
+    stream_speed.py BINDIR WORKDIR [BASELINE_BINDIR]
+
+- Reading: scene-render's read phase (--timings: parse, build the scene,
+  project) on seeded random triangles (bench/random_triangles.py, 100k and
+  1M) and on polyfill3's streams of demo 2's faces at incr 0.5 and 0.25, at a
+  16x12 frame for the triangles (nothing to render) and 1024x768 for demo 2;
+  MB/s of NDJSON read. Median of 3 after a warm-up.
+- Writing: polyfill3 alone, output discarded (bench/timing.py); MB/s written.
+- The pipeline `polyfill3 | scene-render` against scene-render texturing the
+  same faces directly (bench/timing.py, whole process), and the ratio.
+"""
+import math
+import os
+import re
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from timing import measure  # noqa: E402
+
+VIEW = ["--perspective", "55,1,0,1000", "--lookat", "0,100,-5,0,0,-900"]
+
+
+def median(xs):
+    xs = sorted(xs)
+    return xs[len(xs) // 2]
+
+
+def read_phase(sr, args):
+    cmd = [sr, "--timings"] + args
+    subprocess.run(cmd, check=True, capture_output=True)
+    times = []
+    for _ in range(3):
+        err = subprocess.run(cmd, check=True, capture_output=True, text=True).stderr
+        times.append(float(re.search(r"read ([0-9.]+) s", err).group(1)))
+    return median(times)
+
+
+def main():
+    bindir, work = sys.argv[1], sys.argv[2]
+    base = sys.argv[3] if len(sys.argv) > 3 else None
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    here = os.path.join(root, "bench")
+    builds = [("this build", bindir)] + ([("baseline", base)] if base else [])
+    inputs = []
+    for n in (100_000, 1_000_000):
+        path = os.path.join(work, f"tri-{n}.ndjson")
+        if not os.path.exists(path):
+            with open(path, "w") as fh:
+                subprocess.run([sys.executable, os.path.join(here, "random_triangles.py"), str(n), "auto"],
+                               stdout=fh, check=True)
+        inputs.append((f"{n} random triangles", path, ["--size", "16x12", "--aa", "none"]))
+    faces = open(os.path.join(root, "fixtures/scenes/demo2-faces.json")).read()
+    faces = faces.replace('"../patterns/', '"%s/fixtures/patterns/' % root)
+    scenes = {}
+    for incr in ("0.5", "0.25"):
+        scene = os.path.join(work, f"faces-{incr}.json")
+        open(scene, "w").write(faces.replace('"incr":2', '"incr":%s' % incr))
+        stream = os.path.join(work, f"p3-{incr}.ndjson")
+        with open(stream, "w") as fh:
+            subprocess.run([os.path.join(bindir, "polyfill3"), scene], stdout=fh, check=True)
+        scenes[incr] = (scene, stream)
+        inputs.append((f"polyfill3 stream, demo 2 faces, incr {incr}", stream, ["--size", "1024x768"] + VIEW))
+    cols = " | ".join(f"{b} s | {b} MB/s" for b, _ in builds)
+    print(f"| reading (scene-render read phase) | MB | {cols} |")
+    print("|---|---:|" + "---:|---:|" * len(builds))
+    for name, path, args in inputs:
+        mb = os.path.getsize(path) / 1e6
+        cells = []
+        for _, d in builds:
+            t = read_phase(os.path.join(d, "scene-render"), args + [path, "-o", os.path.join(work, "out.png")])
+            cells.append(f"{t:.3f} | {mb / t:.0f}")
+        print(f"| {name} | {mb:.0f} | " + " | ".join(cells) + " |")
+    print()
+    print(f"| writing (polyfill3, output discarded) | MB | {cols} |")
+    print("|---|---:|" + "---:|---:|" * len(builds))
+    for incr, (scene, stream) in scenes.items():
+        mb = os.path.getsize(stream) / 1e6
+        cells = []
+        for _, d in builds:
+            t, _ = measure([os.path.join(d, "polyfill3"), scene], runs=3)
+            cells.append(f"{t:.3f} | {mb / t:.0f}")
+        print(f"| demo 2 faces, incr {incr} | {mb:.0f} | " + " | ".join(cells) + " |")
+    print()
+    cols = " | ".join(f"{b}: pipe s | direct s | pipe/direct" for b, _ in builds)
+    print(f"| pipeline, 1024x768 --aa exact | {cols} |")
+    print("|---|" + "---:|---:|---:|" * len(builds))
+    for incr, (scene, _) in scenes.items():
+        cells = []
+        for _, d in builds:
+            p3, sr = os.path.join(d, "polyfill3"), os.path.join(d, "scene-render")
+            out = os.path.join(work, "out.png")
+            pipe, _ = measure(["sh", "-c", f"'{p3}' '{scene}' | '{sr}' --size 1024x768 {' '.join(VIEW)} - -o '{out}'"],
+                              runs=3)
+            direct, _ = measure([sr, "--size", "1024x768"] + VIEW + [scene, "-o", out], runs=3)
+            cells.append(f"{pipe:.3f} | {direct:.3f} | {pipe / direct:.1f}")
+        print(f"| demo 2 faces, incr {incr} | " + " | ".join(cells) + " |")
+
+
+if __name__ == "__main__":
+    main()
