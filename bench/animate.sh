@@ -17,11 +17,9 @@
 set -eu
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
-TARGET=$(cargo metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
-cargo build --release --bins >&2
+BENCH=animate
+. bench/setup.sh
 BIN="$TARGET/release"
-WORK="$TARGET/bench-animate"
-mkdir -p "$WORK"
 FRAMES=${FRAMES:-36}
 
 # The llvmpipe harness's Python (bench/scene_render.sh sets it up).

@@ -14,10 +14,8 @@
 # against the reference. Prints one Markdown document.
 set -eu
 cd "$(dirname "$0")/.."
-TARGET=$(cargo metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
-cargo build --release --bins >&2
-WORK="$TARGET/bench-horizon"
-mkdir -p "$WORK"
+BENCH=horizon
+. bench/setup.sh
 python3 - "$TARGET/release" "$WORK" "${1:-}" <<'PY'
 import json, os, re, statistics, subprocess, sys, time
 

@@ -11,11 +11,9 @@
 # per pixel between the two frame sizes.
 set -eu
 cd "$(dirname "$0")/.."
-TARGET=$(cargo metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
-cargo build --release --bins >&2
+BENCH=memory
+. bench/setup.sh
 SR="$TARGET/release/scene-render"
-WORK="$TARGET/bench-memory"
-mkdir -p "$WORK"
 : > "$WORK/empty.ndjson"
 echo '{"vertices":[[0,0],[1000,0],[0,1000]],"color":[200,100,50]}' > "$WORK/one.ndjson"
 for n in 200000 1000000; do

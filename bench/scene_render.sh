@@ -9,11 +9,9 @@
 set -eu
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
-TARGET=$(cargo metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
-cargo build --release --bins >&2
+BENCH=scene-render
+. bench/setup.sh
 SR="$TARGET/release/scene-render"
-WORK="$TARGET/bench-scene-render"
-mkdir -p "$WORK"
 
 . bench/venv.sh
 

@@ -8,8 +8,6 @@
 #   bench/skips.sh > bench/RESULTS-skips.md
 set -eu
 cd "$(dirname "$0")/.."
-TARGET=$(cargo metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
-cargo build --release --bins >&2
-WORK="$TARGET/bench-skips"
-mkdir -p "$WORK"
+BENCH=skips
+. bench/setup.sh
 python3 bench/skips.py "$TARGET/release" "$WORK"

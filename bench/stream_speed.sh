@@ -9,10 +9,8 @@
 # polyfill3, measured in the same run, side by side.
 set -eu
 cd "$(dirname "$0")/.."
-TARGET=$(cargo metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
-cargo build --release --bins >&2
-WORK="$TARGET/bench-stream"
-mkdir -p "$WORK"
+BENCH=stream
+. bench/setup.sh
 echo "# Reading and writing the stream"
 echo
 echo "Run $(date -u '+%Y-%m-%d %H:%M UTC') at commit $(git rev-parse --short HEAD) on $(nproc) cores,"

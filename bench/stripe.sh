@@ -17,10 +17,8 @@
 set -eu
 cd "$(dirname "$0")/.."
 RUNS=${1:-5}
-TARGET=$(cargo metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
-cargo build --release --bins >&2
-WORK="$TARGET/bench-stripe"
-mkdir -p "$WORK"
+BENCH=stripe
+. bench/setup.sh
 cp fixtures/stripes/runway.map "$WORK/"
 python3 - "$TARGET/release/scene-render" "$WORK" "$RUNS" <<'PY'
 import json, math, os, re, subprocess, sys, time

@@ -17,9 +17,7 @@
 # `polyfill3 --uv` streams with bench/llvmpipe_texture.py.
 set -eu
 cd "$(dirname "$0")/.."
-TARGET=$(cargo metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
-cargo build --release --bins >&2
-WORK="$TARGET/bench-texture"
-mkdir -p "$WORK"
+BENCH=texture
+. bench/setup.sh
 . bench/venv.sh
 "$VENV/bin/python" bench/texbench.py texture "$TARGET/release" "$WORK" "$@"

@@ -11,10 +11,8 @@
 # most 0.6x one thread at 2048x2048. Prints one Markdown document.
 set -eu
 cd "$(dirname "$0")/.."
-TARGET=$(cargo metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
-cargo build --release --bins >&2
-WORK="$TARGET/bench-threads"
-mkdir -p "$WORK"
+BENCH=threads
+. bench/setup.sh
 python3 - "$TARGET/release" "$WORK" "$(pwd)" <<'PY'
 import filecmp, os, re, statistics, subprocess, sys, time
 

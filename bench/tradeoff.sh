@@ -13,9 +13,8 @@
 # bench/texbench.py (add one there). Takes a few minutes.
 set -eu
 cd "$(dirname "$0")/.."
-TARGET=$(cargo metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')
-cargo build --release --bins >&2
-WORK="$TARGET/bench-tradeoff"
-mkdir -p "$WORK" docs
+BENCH=tradeoff
+. bench/setup.sh
+mkdir -p docs
 . bench/venv.sh
 "$VENV/bin/python" bench/texbench.py tradeoff "$TARGET/release" "$WORK" docs/tradeoff.png

@@ -449,19 +449,7 @@ mod tests {
     use crate::quantize::median_cut::median_cut;
     use crate::quantize::palette::{choose_palette, histogram};
     use crate::quantize::space::point;
-    use crate::quantize::test_data::lcg;
-
-    fn weighted_error(points: &[(Point, f64)], centres: &[Point]) -> f64 {
-        points
-            .iter()
-            .map(|&(p, w)| {
-                w * centres
-                    .iter()
-                    .map(|&c| dist2(p, c) as f64)
-                    .fold(f64::INFINITY, f64::min)
-            })
-            .sum()
-    }
+    use crate::quantize::test_data::{lcg, weighted_error};
 
     #[test]
     fn kmeans_never_worsens_median_cut_and_the_palette_is_deterministic() {

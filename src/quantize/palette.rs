@@ -109,7 +109,7 @@ mod tests {
 
     #[test]
     fn a_large_histogram_searched_through_its_coreset_is_nearly_as_good_as_searched_whole() {
-        use crate::quantize::space::dist2;
+        use crate::quantize::test_data::weighted_error;
         // 60,000 pixels of three blobs, denser at their centres: more
         // distinct colours than CORESET_POINTS.
         let mut seed = 13;
@@ -125,17 +125,7 @@ mod tests {
         let hist = histogram(colours.into_iter());
         assert!(hist.len() > CORESET_POINTS, "{}", hist.len());
         let points: Vec<(Point, f64)> = hist.iter().map(|(c, n)| (point(*c), *n as f64)).collect();
-        let error = |pal: &[Point]| -> f64 {
-            points
-                .iter()
-                .map(|&(p, w)| {
-                    w * pal
-                        .iter()
-                        .map(|&c| dist2(p, c) as f64)
-                        .fold(f64::INFINITY, f64::min)
-                })
-                .sum()
-        };
+        let error = |pal: &[Point]| weighted_error(&points, pal);
         let chosen: Vec<Point> = one_and_three_threads(|| choose_palette(&hist, 16))
             .iter()
             .map(|c| point(c.0))
