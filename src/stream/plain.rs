@@ -60,35 +60,18 @@ struct Plain {
     color: Option<[u8; 3]>,
 }
 
-/// Whether a line holding key `k` is left to the general path: the other
-/// geometries (quadrics too: with "vertices" they make the record
-/// ambiguous, which the general path words), the fields `Record::from_value`
-/// reads, and the keys that make an item an object or an instance
-/// (`Item::from_value`). "records" is read as records; a "transform" moves
-/// the record. So a line the fast path kept never holds one of these, which
-/// [`Fields::field`] answers without parsing the line.
+/// Whether a line holding key `k` is left to the general path: every known
+/// field ([`is_value_key`]) but the two the fast path reads and the two
+/// polyfill3 writes on each cell ("texel", "cells", which the typed view
+/// does not read), so the other geometries (quadrics too: with "vertices" they make
+/// the record ambiguous, which the general path words), the fields
+/// `Record::from_value` reads, a "transform" (it moves the record) and the
+/// keys that make an item an object or an instance (`Item::from_value`);
+/// and "records", read as records. A known key added later is declined
+/// until the fast path learns it. So a line the fast path kept never holds
+/// one of these, which [`Fields::field`] answers without parsing the line.
 pub(super) fn declines(k: &str) -> bool {
-    matches!(
-        k,
-        "rect"
-            | "circle"
-            | "arc"
-            | "sphere"
-            | "cylinder"
-            | "cone"
-            | "disk"
-            | "pattern"
-            | "uv"
-            | "stripe"
-            | "transform"
-            | "object"
-            | "instance"
-            | "light"
-            | "mesh"
-            | "normals"
-            | "shade"
-            | "records"
-    )
+    (is_value_key(k) && !matches!(k, "vertices" | "color" | "texel" | "cells")) || k == "records"
 }
 
 /// A record's key, as the fast path sorts them.
