@@ -228,7 +228,7 @@ impl Fields {
     /// Field `key`, parsed or kept as text.
     ///
     /// A line the fast path kept holds none of the keys it declines
-    /// ([`super::plain::declines`]), so asking for one parses nothing:
+    /// (`plain::declines`), so asking for one parses nothing:
     /// scene-render asks every record for its "pattern" and "stripe" (to
     /// check their keys), which parsed each line a second time, serially.
     pub fn field(&self, key: &str) -> Option<&Field> {
