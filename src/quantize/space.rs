@@ -81,6 +81,7 @@ pub(super) struct Channels {
 }
 
 /// What each lane of a [`Channels`] scan kept.
+#[derive(Debug, PartialEq)]
 struct Lanes {
     least: [f32; LANES],
     /// The index of `least` (the first, on ties), as f32: exact far beyond
@@ -143,9 +144,16 @@ impl Channels {
         unsafe { scan_sse2(&self.c, p) }
     }
 
-    /// The portable form of `scan_sse2`, lane for lane.
     #[cfg(not(target_arch = "x86_64"))]
+    #[inline]
     fn scan(&self, p: Point) -> Lanes {
+        self.scan_portable(p)
+    }
+
+    /// The portable form of `scan_sse2`, lane for lane (the test
+    /// `the_simd_scan_is_the_portable_one_lane_for_lane` holds them equal).
+    #[cfg(any(test, not(target_arch = "x86_64")))]
+    fn scan_portable(&self, p: Point) -> Lanes {
         let [xs, ys, zs] = &self.c;
         let mut out = Lanes {
             least: [f32::INFINITY; LANES],
@@ -260,6 +268,19 @@ mod tests {
                 .unwrap();
             let got = nearest.find(p, i % centres.len());
             assert_eq!(got.1, dist2(p, centres[want]));
+        }
+    }
+
+    #[test]
+    fn the_simd_scan_is_the_portable_one_lane_for_lane() {
+        let mut seed = 21;
+        let centres: Vec<Point> = (0..29)
+            .map(|_| [0; 3].map(|_: u8| (lcg(&mut seed) / 4) as f32))
+            .collect();
+        let channels = Channels::new(&centres);
+        for _ in 0..500 {
+            let p = [0; 3].map(|_: u8| lcg(&mut seed) as f32 + 0.25);
+            assert_eq!(channels.scan(p), channels.scan_portable(p));
         }
     }
 
