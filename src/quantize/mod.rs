@@ -27,9 +27,8 @@
 //! [`quantize`] (this file) runs the steps for given [`Options`], flips the
 //! rows and orders the palette by use. `space.rs` is the clustering space that
 //! steps 2 and 3 share (points, distance, nearest-centre searches, one in
-//! SIMD); `psnr.rs`
-//! measures the result ([`psnr()`]); `palette_file.rs` reads forced palettes
-//! ([`parse_palette_file`]).
+//! SIMD); `psnr.rs` measures the result ([`psnr()`]); `palette_file.rs` reads
+//! forced palettes ([`parse_palette_file`]).
 //!
 //! **The clustering space is sRGB-encoded 8-bit values, not linear light.**
 //! Averaging *pixels* must happen in linear light (resampling, error diffusion),
