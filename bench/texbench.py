@@ -536,7 +536,7 @@ def family(label):
     return "other"
 
 
-def plot(rows, front, png):
+def plot(rows, front, png, date=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -551,6 +551,7 @@ def plot(rows, front, png):
         ax.axis("off")
     style = {"direct": ("o", "tab:blue"), "--filter": ("D", "tab:cyan"), "polyfill3": ("s", "tab:green"),
              "llvmpipe": ("^", "tab:red"), "reference": ("*", "black"), "other": ("x", "tab:purple")}
+    labels = []
     for ax, name in zip(axes, names):
         pts = [r for r in rows if r[0] == name]
         for _, label, w, _, c in pts:
@@ -560,8 +561,9 @@ def plot(rows, front, png):
                        facecolors="none" if c["rmse"] == 0 else col)
             short = (label.replace("direct ", "").replace(" (default)", "*").replace("polyfill3 incr ", "p3 ")
                      .replace(" | exact", "").replace("llvmpipe ", "gl ").replace(" MSAA 4x", "+ms4")
-                     .replace("trilinear", "tri").replace("nearest", "near").replace("aniso16", "ani16"))
-            ax.annotate(short, (w, y), fontsize=6, xytext=(3, 2), textcoords="offset points")
+                     .replace("trilinear", "tri").replace("nearest", "near").replace("aniso16", "ani16")
+                     .replace("--filter ", "f:").replace("--aa ", ""))
+            labels.append((ax, w, y, short))
         fr = sorted(((w, max(c["rmse"], RMSE_FLOOR)) for n, l, w, _, c in pts if (n, l) in front))
         if fr:
             xs, ys = [], []
@@ -586,17 +588,72 @@ def plot(rows, front, png):
     handles.append(plt.Line2D([], [], color="gray", ls="--", label="Pareto front"))
     legend_ax.legend(handles=handles, loc="center", fontsize=9,
                      title=f"RMSE 0 drawn hollow at {RMSE_FLOOR:g}\n* = default mode; gl = llvmpipe;\n"
-                           "p3 xF = polyfill3, incr x F | exact;\nms4 = MSAA 4x")
-    fig.suptitle(f"patkit trade-off: time against error ({time.strftime('%Y-%m-%d', time.gmtime())}, "
-                 f"{os.cpu_count()} cores, shared machine)", fontsize=10)
+                           "p3 xF = polyfill3, incr x F | exact;\nf: = --filter; ms4 = MSAA 4x")
+    date = date or time.strftime('%Y-%m-%d', time.gmtime())
+    fig.suptitle(f"patkit trade-off: time against error ({date}, {os.cpu_count()} cores, shared machine)",
+                 fontsize=10)
     fig.tight_layout(rect=(0, 0, 1, 0.96))
+    place_labels(fig, labels)
     fig.savefig(png, dpi=110)
+
+
+def place_labels(fig, labels):
+    """Writes each point's label where it overlaps no label placed before it:
+    the first free slot of a few above, below and left of the point, joined
+    to it by a thin line when it had to move; points are taken from the top
+    of each panel down. Clustered points (the filters, llvmpipe's modes) had
+    their labels printed over one another."""
+    import matplotlib.text
+    renderer = fig.canvas.get_renderer()
+    placed = {}
+    slots = [(4, 2, "left")] + [(4, 2 + s * d, "left") for d in range(1, 9) for s in (-9, 9)] \
+        + [(-4, 2 + s * d, "right") for d in range(0, 9) for s in (9, -9)]
+    for ax, x, y, text in sorted(labels, key=lambda l: (id(l[0]), -l[2], l[1])):
+        taken = placed.setdefault(id(ax), [])
+        for dx, dy, ha in slots:
+            moved = (dx, dy) != (4, 2)
+            ann = ax.annotate(text, (x, y), fontsize=6, xytext=(dx, dy), textcoords="offset points", ha=ha,
+                              va="bottom", annotation_clip=False,
+                              arrowprops=dict(arrowstyle="-", lw=0.3, color="gray") if moved else None)
+            # The text's own box (the annotation's includes its leader
+            # line), once the annotation has placed it.
+            ann.update_positions(renderer)
+            box = matplotlib.text.Text.get_window_extent(ann, renderer).expanded(1.05, 1.1)
+            inside = ax.get_window_extent(renderer)
+            if not any(box.overlaps(b) for b in taken) and inside.contains(box.x0, box.y0) \
+                    and inside.contains(box.x1, box.y1):
+                taken.append(box)
+                break
+            ann.remove()
+        else:
+            print("UNPLACED", text, file=sys.stderr)
+            ax.annotate(text, (x, y), fontsize=6, xytext=(4, 2), textcoords="offset points")
+
+
+def replot(results_md, png):
+    """Draws the plot again from a RESULTS-tradeoff.md table (no rerun)."""
+    rows, front, date = [], set(), None
+    for line in open(results_md):
+        if line.startswith("Run ") and date is None:
+            m = re.search(r"(\d{4}-\d{2}-\d{2})", line)
+            date = m.group(1) if m else None
+        if not line.startswith("| ") or line.startswith("| scene"):
+            continue
+        cells = [c.strip().replace("\\|", "|") for c in re.split(r"(?<!\\)\|", line.strip())[1:-1]]
+        name, label, whole, _, rmse = cells[:5]
+        label = re.sub(r" \(\d+ runs\)$", "", label)
+        rows.append((name, label, float(whole), None, {"rmse": float(rmse)}))
+        if cells[-1] == "yes":
+            front.add((name, label))
+    plot(rows, front, png, date)
 
 
 def main():
     mode = sys.argv[1]
     if mode == "texture":
         texture_report(sys.argv[2], sys.argv[3], sys.executable, sys.argv[4:])
+    elif mode == "replot":
+        replot(sys.argv[2], sys.argv[3])
     elif mode == "tradeoff":
         tradeoff(sys.argv[2], sys.argv[3], sys.argv[4], sys.executable)
     else:
