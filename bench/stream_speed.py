@@ -68,23 +68,41 @@ def main():
     cols = " | ".join(f"{b} s | {b} MB/s" for b, _ in builds)
     print(f"| reading (scene-render read phase) | MB | {cols} |")
     print("|---|---:|" + "---:|---:|" * len(builds))
+    read_times = {}
     for name, path, args in inputs:
         mb = os.path.getsize(path) / 1e6
         cells = []
-        for _, d in builds:
+        for b, d in builds:
             t = read_phase(os.path.join(d, "scene-render"), args + [path, "-o", os.path.join(work, "out.png")])
+            read_times[(name, b)] = (mb, t)
             cells.append(f"{t:.3f} | {mb / t:.0f}")
         print(f"| {name} | {mb:.0f} | " + " | ".join(cells) + " |")
     print()
+    for b, _ in builds:
+        # Time against size, between the two sizes of each kind of input.
+        pairs = [("100000 random triangles", "1000000 random triangles"),
+                 ("polyfill3 stream, demo 2 faces, incr 0.5", "polyfill3 stream, demo 2 faces, incr 0.25")]
+        fits = []
+        for small, large in pairs:
+            (m0, t0), (m1, t1) = read_times[(small, b)], read_times[(large, b)]
+            fits.append(f"{small.split(',')[0].replace('100000 ', '')}: N^{math.log(t1 / t0) / math.log(m1 / m0):.2f}")
+        print(f"- {b}, reading time against stream size: " + "; ".join(fits) + ".")
+    print()
     print(f"| writing (polyfill3, output discarded) | MB | {cols} |")
     print("|---|---:|" + "---:|---:|" * len(builds))
+    write_times = {}
     for incr, (scene, stream) in scenes.items():
         mb = os.path.getsize(stream) / 1e6
         cells = []
-        for _, d in builds:
+        for b, d in builds:
             t, _ = measure([os.path.join(d, "polyfill3"), scene], runs=3)
+            write_times[(incr, b)] = (mb, t)
             cells.append(f"{t:.3f} | {mb / t:.0f}")
         print(f"| demo 2 faces, incr {incr} | {mb:.0f} | " + " | ".join(cells) + " |")
+    print()
+    for b, _ in builds:
+        (m0, t0), (m1, t1) = write_times[("0.5", b)], write_times[("0.25", b)]
+        print(f"- {b}, writing time against output size: N^{math.log(t1 / t0) / math.log(m1 / m0):.2f}.")
     print()
     cols = " | ".join(f"{b}: pipe s | direct s | pipe/direct" for b, _ in builds)
     print(f"| pipeline, 1024x768 --aa exact | {cols} |")
