@@ -36,7 +36,7 @@ echo "# scene-render benchmark"
 echo
 echo "Run $(date -u '+%Y-%m-%d %H:%M UTC') on $(uname -sm), $(nproc) cores"
 echo "($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')), load average $(cut -d' ' -f1-3 /proc/loadavg)."
-echo "Commit $(git rev-parse --short HEAD). Images $(echo 1024x768), best of 5 runs of the whole pipeline"
+echo "Commit $(git rev-parse --short HEAD). Images $(echo 1024x768), median of 5 runs of the whole pipeline after a warm-up"
 echo "(scene-render: read the stream, render, write the PNG; llvmpipe: upload, draw, resolve,"
 echo "read back, encode, write the PNG; the stream's parsing in Python is left out of llvmpipe's time)."
 echo "'Render only' is scene-render's projection-to-pixels time (--timings: without reading the JSON"

@@ -3,11 +3,13 @@
 llvmpipe (through moderngl, EGL, no display) on the same flat polygons, and
 measures every image against scene-render --reference. Prints one Markdown table.
 
-Not a test: timings depend on the machine and its load; each time is the best of
-RUNS runs of the whole pipeline (read the stream, render, encode the PNG).
+Not a test: timings depend on the machine and its load; each time is the median
+of RUNS runs of the whole pipeline (read the stream, render, encode the PNG)
+after a warm-up, bench/timing.py's rule.
 """
 import json
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -137,17 +139,17 @@ def save_png(img, path):
     open(path, "wb").write(png)
 
 
-def best_time(cmd):
-    """Best whole-pipeline time, and best render-only time (--timings)."""
-    best, best_render = None, None
+def median_time(cmd):
+    """Median whole-pipeline time and median render-only time (--timings), of
+    RUNS runs after a warm-up (bench/timing.py's rule)."""
+    subprocess.run(cmd + ["--timings"], check=True, capture_output=True)
+    walls, renders = [], []
     for _ in range(RUNS):
         t0 = time.perf_counter()
         err = subprocess.run(cmd + ["--timings"], check=True, capture_output=True, text=True).stderr
-        dt = time.perf_counter() - t0
-        render = float(err.split("render ")[1].split(" s")[0])
-        best = dt if best is None else min(best, dt)
-        best_render = render if best_render is None else min(best_render, render)
-    return best, best_render
+        walls.append(time.perf_counter() - t0)
+        renders.append(float(err.split("render ")[1].split(" s")[0]))
+    return statistics.median(walls), statistics.median(renders)
 
 
 def measure(sr, image, ref):
@@ -213,7 +215,7 @@ def main():
         results = {}
         for aa in ["none", "ss4", "ss16", "exact"]:
             img = os.path.join(work, f"{name}-{aa}.png")
-            t, t_render = best_time(base + ["--aa", aa, path, "-o", img])
+            t, t_render = median_time(base + ["--aa", aa, path, "-o", img])
             m = measure(sr, img, ref) if with_ref else None
             results[f"scene-render --aa {aa}"] = (t, t_render, m)
         tris = load_triangles(path)
@@ -223,13 +225,14 @@ def main():
             areas[name] = float(np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]).sum() / 2)
         for samples in [0, 4]:
             img = os.path.join(work, f"{name}-llvmpipe-msaa{samples}.png")
+            llvmpipe(ctx, tris, mvp, samples, img, cull)  # warm-up
             times = []
             for _ in range(RUNS):
                 t0 = time.perf_counter()
                 gl = llvmpipe(ctx, tris, mvp, samples, img, cull)
                 times.append((time.perf_counter() - t0, gl))
-            t_all = min(t[0] for t in times)
-            t_gl = min(t[1] for t in times)
+            t_all = statistics.median(t[0] for t in times)
+            t_gl = statistics.median(t[1] for t in times)
             m = measure(sr, img, ref) if with_ref else None
             label = "llvmpipe no MSAA" if samples == 0 else f"llvmpipe MSAA {samples}x"
             results[label] = (t_all, t_gl, m)
