@@ -98,9 +98,9 @@ pub enum TextureSource {
 /// One record ready to draw, in its own coordinates (world coordinates at the
 /// top level, the object's inside a definition). Only the geometry is kept,
 /// not the record's JSON; what most records lack is kept out of line
-/// ([`Extras`]), so a flat polygon costs its shape and 16 bytes more (the
-/// fields inline made every record 336 bytes: a third of a gigabyte for a
-/// million triangles).
+/// ([`Extras`]), so a flat polygon's part is 72 bytes and its vertex list
+/// (the fields inline made every part 336 bytes: a third of a gigabyte for
+/// a million triangles).
 struct Drawable {
     index: usize,
     shape: Shape,
@@ -170,7 +170,7 @@ pub struct LoadOptions {
     /// given `slices` and `stacks` its 2 x slices x stacks triangles. A scene
     /// over it is refused when read, before any work, naming the record
     /// where the count passes it (a 4 KB stream of 40 nested objects, each
-    /// placing the previous twice, expands to 2^40 polygons). At about 390
+    /// placing the previous twice, expands to 2^40 polygons). At about 400
     /// bytes per triangle at the peak (`bench/memory.sh`: the scene's parts
     /// and the projected polygons), the default allows about 4 GB.
     ///
@@ -220,11 +220,6 @@ pub struct Scene {
     warnings: Vec<String>,
     /// The stream's lights; none for an unlit scene.
     lights: crate::light::Lights,
-    /// The polygons a frame expands into, as [`LoadOptions::max_polygons`]
-    /// counts them (a quadric of unstated slices as one): the projected
-    /// list is reserved at this size, since growing it by doubling held
-    /// the old and the new buffer at once, 1.5 times the list at its peak.
-    polygons: u64,
 }
 
 /// A polygon no larger than one texel of its "object"-mode pattern (area at
@@ -501,8 +496,6 @@ impl Scene {
         frame: u64,
     ) -> Result<(Vec<ScreenPoly>, Tally), SceneError> {
         let mut out = Projected::default();
-        // At most the limit, which the count never passes.
-        out.polygons.reserve(self.polygons as usize);
         project_parts(
             &self.parts,
             view,
@@ -611,7 +604,6 @@ fn read_items(
         }
         Ok::<(), SceneError>(())
     })?;
-    scene.polygons = total;
     Ok(scene)
 }
 
@@ -1134,6 +1126,7 @@ fn build_mips_eagerly(polys: &[ScreenPoly]) {
         }
     }
 }
+
 #[cfg(test)]
 mod part_size {
     /// A million polygons keep a million parts: the fields few records have
