@@ -182,7 +182,7 @@ impl Pattern {
     /// The texels are first sorted by colour (a counting sort keeps them in
     /// row order), so each colour's plane visits only its own texels: a
     /// 1024x1024 pattern of 256 colours no longer compares every texel with
-    /// every colour (268 million tests, most of the write's time).
+    /// every colour (268 million tests).
     pub fn write_canonical<W: Write>(&self, w: &mut W) -> io::Result<()> {
         const HEX: &[u8; 16] = b"0123456789abcdef";
         let size = self.size as usize;

@@ -73,8 +73,8 @@ fn search(points: &[(Point, f64)], k: usize, progress: &dyn Progress) -> Vec<Poi
 
 /// The palette search on a coreset: as [`search`], in fewer Lloyd steps
 /// ([`CORESET_KMEANS_ITERATIONS`]) and with no split/merge trials (each a
-/// whole k-means run), which on 1024x1024 photos cost three times as much
-/// time as they gained in PSNR (0.01 dB).
+/// whole k-means run), which on the 1024x1024 photos added 30-45 ms to
+/// runs of 0.24-0.32 s for 0.01 dB.
 fn search_coreset(points: &[(Point, f64)], k: usize, progress: &dyn Progress) -> Vec<Point> {
     progress.phase("median cut", 0);
     let centres = median_cut(points, k);

@@ -72,10 +72,10 @@ const LANES: usize = 8;
 /// The centres as three channel arrays, padded to whole [`LANES`], for a
 /// brute-force search in SIMD: k-means' full searches need the two nearest
 /// (for Hamerly's bounds), which the triangle-inequality skipping of
-/// [`Nearest`] cannot give, and remapping a large photo to 256 colours
-/// gains little from skipping. Every distance is computed, and each lane keeps
-/// its least distance, that centre's index and its second least, with no
-/// branch that depends on the data.
+/// [`Nearest`] cannot give; the rounded-palette Lloyd steps and the
+/// undithered remap use it too. Every distance is computed, and each lane
+/// keeps its least distance, that centre's index and its second least, with
+/// no branch that depends on the data.
 pub(super) struct Channels {
     c: [Vec<f32>; 3],
 }
@@ -180,8 +180,8 @@ impl Channels {
 }
 
 /// Written with SSE2 intrinsics: the compiler's own vectorisation of the
-/// portable loop packed its compare masks to bytes and back and ran at half
-/// the speed. The distance is summed in the order of [`dist2`], so it is the
+/// portable loop packed its compare masks to bytes and back; this took the
+/// 1024x1024 Earth photo at K = 256 from 0.43 to 0.33 s whole process. The distance is summed in the order of [`dist2`], so it is the
 /// same number to the bit.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "sse2")]

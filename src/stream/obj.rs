@@ -40,9 +40,10 @@ pub struct Face {
 }
 
 /// The most triangles one mesh may make. Each becomes a record kept until
-/// the scene is read, then a drawable polygon: measured 2.4 KB of peak
-/// memory per triangle (`scene-render` on a 180,000-triangle grid: 438 MB),
-/// so the limit keeps one model near 2.4 GB. Checked as the `f` lines are
+/// the scene is read, then a drawable polygon: measured 2.1 KB of peak
+/// memory per triangle (`scene-render` on a 180,000-triangle grid mesh:
+/// 390 MB on 2026-11-27, 438 MB before the scene's parts shrank), so the
+/// limit keeps one model near 2.1 GB. Checked as the `f` lines are
 /// read, so a file of more stops there: a 64 MiB file of 8 million
 /// triangles took 1.8 GB and 11.5 s to be refused after reading it whole.
 pub const MAX_MESH_TRIANGLES: u64 = 1_000_000;
@@ -129,12 +130,13 @@ impl Mesh {
             let mut words = line.split_whitespace();
             let Some(key) = words.next() else { continue };
             let rest: Vec<&str> = words.collect();
-            let most = mesh
-                .positions
-                .len()
-                .max(mesh.texcoords.len())
-                .max(mesh.normals.len());
-            if most >= MAX_MESH_VERTICES && matches!(key, "v" | "vt" | "vn") {
+            let most = || {
+                mesh.positions
+                    .len()
+                    .max(mesh.texcoords.len())
+                    .max(mesh.normals.len())
+            };
+            if matches!(key, "v" | "vt" | "vn") && most() >= MAX_MESH_VERTICES {
                 return Err(err(
                     n,
                     format!("{key}: more than {MAX_MESH_VERTICES} of one kind, over what a mesh of {MAX_MESH_TRIANGLES} triangles can use"),
