@@ -128,14 +128,23 @@ impl Frame {
                 .chunks_mut(super::TILE as usize * w)
                 .map(Mutex::new)
                 .collect();
-            (0..tiles.len()).into_par_iter().for_each(|i| {
-                let block = render(i);
-                let t = tiles[i];
-                let mut band = bands[(t[1] / super::TILE) as usize]
-                    .lock()
-                    .unwrap_or_else(|e| e.into_inner());
-                copy_block(&mut band, w, t, &block);
-            });
+            // One tile per job: rayon otherwise splits the range into a few
+            // chunks per thread up front and steals only whole chunks, and a
+            // scene's work is bunched where its polygons are (demo 2 at
+            // 2048x2048 with the background pattern: one thread sat idle
+            // for 90 of 140 ms). 4,096 jobs at that size cost nothing
+            // measurable.
+            (0..tiles.len())
+                .into_par_iter()
+                .with_max_len(1)
+                .for_each(|i| {
+                    let block = render(i);
+                    let t = tiles[i];
+                    let mut band = bands[(t[1] / super::TILE) as usize]
+                        .lock()
+                        .unwrap_or_else(|e| e.into_inner());
+                    copy_block(&mut band, w, t, &block);
+                });
         }
         Frame {
             width,
