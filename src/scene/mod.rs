@@ -35,6 +35,7 @@
 //! # Ok::<(), patkit::scene::SceneError>(())
 //! ```
 
+mod cell_writer;
 mod error;
 #[cfg(test)]
 mod horizon_tests;
