@@ -1,7 +1,9 @@
 //! The two ends of a resolver: what lies behind every polygon
-//! ([`Background`]) and the linear-light pixels it fills ([`Frame`]), encoded
-//! to 8-bit sRGB once, rounding, by [`Frame::to_image`] (16-bit sRGB by
-//! [`Frame::to_image16`], kept linear by [`Frame::to_linear_image`]).
+//! ([`Background`]) and the pixels it fills, tile by tile
+//! ([`render_bands`]): kept as linear light in a [`Frame`] and encoded to
+//! 8-bit sRGB once, rounding, by [`Frame::to_image`] (16-bit sRGB by
+//! [`Frame::to_image16`], kept linear by [`Frame::to_linear_image`]), or
+//! encoded the same way as each tile is done (`super::render_encoded`).
 
 use crate::color::{linear_to_srgb, linear_to_srgb16, srgb_to_linear_f64, Rgb8};
 use crate::io::{AnyImage, Encoding, Image, Image16, LinearImage};
@@ -104,56 +106,77 @@ fn copy_block(band: &mut [[f32; 3]], w: usize, t: [u32; 4], block: &[[f32; 3]]) 
     }
 }
 
-impl Frame {
-    /// Renders a frame tile by tile in parallel: `render(i)` gives tile `i`
-    /// of `tiles` (as [`super::tiles`] lists them) as a row-major block of
-    /// its pixels, which is copied into its band of the frame at once and
-    /// dropped, so the next tile's block reuses its memory. (Holding every
-    /// block until the end, then copying them, faulted in a second frame's
-    /// worth of fresh pages: the part of a 2048x2048 textured render that
-    /// did not scale with threads.) Each band is locked only while a block
-    /// is copied into it.
-    pub(crate) fn render_tiles(
-        width: u32,
-        height: u32,
-        tiles: &[[u32; 4]],
-        render: impl Fn(usize) -> Vec<[f32; 3]> + Sync,
-    ) -> Frame {
-        use rayon::prelude::*;
-        use std::sync::Mutex;
-        let w = width as usize;
-        let mut pixels = vec![[0.0f32; 3]; w * height as usize];
-        if w > 0 {
-            let bands: Vec<Mutex<&mut [[f32; 3]]>> = pixels
-                .chunks_mut(super::TILE as usize * w)
-                .map(Mutex::new)
-                .collect();
-            // One tile per job: rayon otherwise splits the range into a few
-            // chunks per thread up front and steals only whole chunks, and a
-            // scene's work is bunched where its polygons are (demo 2 at
-            // 2048x2048 with the background pattern: one thread sat idle
-            // for 90 of 140 ms). 4,096 jobs at that size cost nothing
-            // measurable.
-            (0..tiles.len())
-                .into_par_iter()
-                .with_max_len(1)
-                .for_each(|i| {
-                    let block = render(i);
-                    let t = tiles[i];
-                    let mut band = bands[(t[1] / super::TILE) as usize]
-                        .lock()
-                        .unwrap_or_else(|e| e.into_inner());
-                    copy_block(&mut band, w, t, &block);
-                });
-        }
-        Frame {
-            width,
-            height,
-            pixels,
-            estimated: 0,
-        }
+/// Renders a frame tile by tile in parallel, each pixel stored as
+/// `encode` gives it: `render(i)` gives tile `i` of `tiles` (as
+/// [`super::tiles`] lists them) as a row-major block of linear-light pixels,
+/// which is encoded into its band of the output at once and dropped, so the
+/// next tile's block reuses its memory. Rows run from the bottom (a
+/// [`Frame`]'s order) or, with `top_first`, from the top (an image's).
+///
+/// Encoding as the tiles come, rather than after a whole [`Frame`] of
+/// linear f32 is held, keeps a render at the output's own size: 3 bytes a
+/// pixel for 8-bit sRGB instead of 12 more for the frame. (Holding every
+/// block until the end, then copying them, faulted in a second frame's
+/// worth of fresh pages: the part of a 2048x2048 textured render that did
+/// not scale with threads.) Each band is locked only while a block is
+/// encoded into it.
+pub(crate) fn render_bands<P: Copy + Default + Send>(
+    (width, height): (u32, u32),
+    tiles: &[[u32; 4]],
+    top_first: bool,
+    render: impl Fn(usize) -> Vec<[f32; 3]> + Sync,
+    encode: impl Fn([f32; 3]) -> P + Sync,
+) -> Vec<P> {
+    use rayon::prelude::*;
+    use std::sync::Mutex;
+    let (w, h, tile) = (width as usize, height as usize, super::TILE as usize);
+    let mut pixels = vec![P::default(); w * h];
+    if w == 0 || h == 0 {
+        return pixels;
     }
+    // Band k holds the rows y of tile row k, kT <= y < min((k + 1)T, h).
+    let bands: Vec<Mutex<&mut [P]>> = if top_first {
+        // From the top: the last band, partial, then the full ones down.
+        let last = (h - 1) / tile;
+        let (top, rest) = pixels.split_at_mut((h - last * tile) * w);
+        let mut bands: Vec<_> = std::iter::once(top)
+            .chain(rest.chunks_mut(tile * w))
+            .map(Mutex::new)
+            .collect();
+        bands.reverse();
+        bands
+    } else {
+        pixels.chunks_mut(tile * w).map(Mutex::new).collect()
+    };
+    // One tile per job: rayon otherwise splits the range into a few
+    // chunks per thread up front and steals only whole chunks, and a
+    // scene's work is bunched where its polygons are (demo 2 at 2048x2048
+    // with the background pattern: one thread sat idle for 90 of 140 ms).
+    // 4,096 jobs at that size cost nothing measurable.
+    (0..tiles.len())
+        .into_par_iter()
+        .with_max_len(1)
+        .for_each(|i| {
+            let block = render(i);
+            let t = tiles[i];
+            let k = t[1] as usize / tile;
+            let rows = (t[3] - t[1]) as usize;
+            let mut band = bands[k].lock().unwrap_or_else(|e| e.into_inner());
+            let tw = (t[2] - t[0]) as usize;
+            for (r, row) in block.chunks_exact(tw).enumerate() {
+                // Row r of the block is y = t[1] + r; in a top-first band
+                // (rows y1 - 1 down to kT) it is row rows - 1 - r.
+                let br = if top_first { rows - 1 - r } else { r };
+                let start = br * w + t[0] as usize;
+                for (o, p) in band[start..start + tw].iter_mut().zip(row) {
+                    *o = encode(*p);
+                }
+            }
+        });
+    pixels
+}
 
+impl Frame {
     /// Assembles a frame from per-tile results (each a row-major block of the
     /// tile's pixels, in [`tiles`] order).
     pub(crate) fn from_tiles(

@@ -44,6 +44,8 @@ pub mod reference;
 pub mod scan;
 mod visible;
 
+use crate::color::{linear_to_srgb, linear_to_srgb16};
+use crate::io::{AnyImage, Encoding, Image, Image16, LinearImage};
 use crate::progress::{Progress, Silent};
 pub use frame::{Background, Frame};
 #[cfg(test)]
@@ -167,21 +169,95 @@ pub fn render_with(
     aa: Aa,
     progress: &dyn Progress,
 ) -> Frame {
+    let (pixels, estimated) = render_pixels(polys, bg, (width, height), aa, progress, false, |p| p);
+    Frame {
+        width,
+        height,
+        pixels,
+        estimated,
+    }
+}
+
+/// [`render_with`] in `encoding`, each tile encoded as soon as it is
+/// rendered: the same image as [`Frame::encode`] of the frame, without the
+/// frame (12 bytes a pixel). Also gives [`Frame::estimated`].
+pub fn render_encoded(
+    polys: &[ScreenPoly],
+    bg: &Background,
+    (width, height): (u32, u32),
+    aa: Aa,
+    progress: &dyn Progress,
+    encoding: Encoding,
+) -> (AnyImage, u64) {
+    let size = (width, height);
+    match encoding {
+        Encoding::Srgb8 => {
+            let (data, n) = render_pixels(polys, bg, size, aa, progress, true, |p| {
+                p.map(linear_to_srgb)
+            });
+            let data = data.into_flattened();
+            let image = Image {
+                width,
+                height,
+                channels: 3,
+                data,
+            };
+            (AnyImage::Srgb8(image), n)
+        }
+        Encoding::Srgb16 => {
+            let (data, n) = render_pixels(polys, bg, size, aa, progress, true, |p| {
+                p.map(linear_to_srgb16)
+            });
+            let data = data.into_flattened();
+            let image = Image16 {
+                width,
+                height,
+                channels: 3,
+                data,
+            };
+            (AnyImage::Srgb16(image), n)
+        }
+        Encoding::LinearF32 => {
+            let (data, n) = render_pixels(polys, bg, size, aa, progress, true, |p| p);
+            let data = data.into_flattened();
+            let image = LinearImage {
+                width,
+                height,
+                data,
+            };
+            (AnyImage::Linear(image), n)
+        }
+    }
+}
+
+/// The resolver's pixels, rows from the bottom or with `top_first` from the
+/// top, each stored as `encode` gives it ([`frame::render_bands`]), and the
+/// count of estimated fragments ([`Frame::estimated`]).
+fn render_pixels<P: Copy + Default + Send>(
+    polys: &[ScreenPoly],
+    bg: &Background,
+    (width, height): (u32, u32),
+    aa: Aa,
+    progress: &dyn Progress,
+    top_first: bool,
+    encode: impl Fn([f32; 3]) -> P + Sync,
+) -> (Vec<P>, u64) {
     use rayon::prelude::*;
     let tiles = tiles(width, height);
     let bins = bin(polys, width, height);
+    let size = (width, height);
     progress.phase("render", tiles.len() as u64);
     match aa {
         Aa::Exact => {
             let estimated = std::sync::atomic::AtomicU64::new(0);
-            let mut frame = Frame::render_tiles(width, height, &tiles, |i| {
+            let render = |i: usize| {
                 let (block, n) = coverage::render_bin_counted(polys, &bins[i], bg, tiles[i]);
                 estimated.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
                 progress.advance(1);
                 block
-            });
-            frame.estimated = estimated.into_inner();
-            frame
+            };
+            let pixels = frame::render_bands(size, &tiles, top_first, render, encode);
+            (pixels, estimated.into_inner())
         }
         Aa::None | Aa::Ss(_) => {
             let k = if let Aa::Ss(k) = aa { k } else { 1 };
@@ -189,11 +265,15 @@ pub fn render_with(
                 .par_iter()
                 .map(|p| scan::FixedPoly::new(p, k))
                 .collect();
-            Frame::render_tiles(width, height, &tiles, |i| {
+            let render = |i: usize| {
                 let block = scan::render_tile(polys, &snapped, &bins[i], bg, tiles[i], k);
                 progress.advance(1);
                 block
-            })
+            };
+            (
+                frame::render_bands(size, &tiles, top_first, render, encode),
+                0,
+            )
         }
     }
 }
@@ -267,5 +347,42 @@ mod determinism {
                 .install(|| reference::render(&polys, &bg, 100, 70, 6).frame.to_image())
         };
         assert_eq!(run_ref(1), run_ref(2));
+    }
+
+    /// Tiles encoded as they are rendered give the image that encoding the
+    /// whole frame gives, in every encoding and resolver, at sizes that
+    /// leave partial tiles at the top and the right, and at whole tiles.
+    #[test]
+    fn encoding_tiles_as_they_come_equals_encoding_the_frame() {
+        let mut rng = Rng(11);
+        for (w, h) in [(100, 70), (33, 65), (1, 1), (64, 32)] {
+            let v = perspective(60.0, w, h, 0.0, 100.0);
+            let polys: Vec<ScreenPoly> = (0..60)
+                .filter_map(|i| {
+                    let c = DVec3::new(
+                        rng.next() * 10.0 - 5.0,
+                        rng.next() * 8.0 - 4.0,
+                        -3.0 - rng.next() * 20.0,
+                    );
+                    let tri: Vec<DVec3> = (0..3)
+                        .map(|_| c + DVec3::new(rng.next() * 4.0, rng.next() * 4.0, rng.next()))
+                        .collect();
+                    project(&v, &tri, Rgb8([i as u8 * 4, 200, 9]), i, Cull::None).ok()
+                })
+                .collect();
+            let bg = Background::color(Rgb8([30, 4, 5]));
+            for aa in [Aa::None, Aa::Ss(2), Aa::Exact] {
+                let frame = render(&polys, &bg, w, h, aa);
+                for encoding in [Encoding::Srgb8, Encoding::Srgb16, Encoding::LinearF32] {
+                    let (image, estimated) =
+                        render_encoded(&polys, &bg, (w, h), aa, &Silent, encoding);
+                    assert!(
+                        image == frame.encode(encoding),
+                        "{w}x{h} {aa:?} {encoding:?}"
+                    );
+                    assert_eq!(estimated, frame.estimated);
+                }
+            }
+        }
     }
 }

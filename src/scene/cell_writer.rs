@@ -308,9 +308,9 @@ impl Text for Staging {
 
 /// The output side of a partition: turns cells into NDJSON records.
 ///
-/// Cells are gathered into batches of [`BATCH_CELLS`], and a batch is
-/// formatted in parallel, [`JOB_CELLS`] to a job, on the current rayon pool
-/// ([`Formatter::cell`]); the jobs' texts are written in order, so the output is
+/// Cells are gathered into batches of 8,192, and a batch is
+/// formatted in parallel, 512 to a job, on the current rayon pool
+/// (`Formatter::cell`); the jobs' texts are written in order, so the output is
 /// the same byte for byte whatever the number of threads. Each record is
 /// `{"vertices":[...],"color":[r,g,b],"texel":[c,r]` followed by the input's
 /// other fields, serialized once per input polygon.

@@ -1050,7 +1050,10 @@ pub fn render_with(
         let over_white = raster::render_with(polys, &white, width, height, aa, progress);
         return Frame::to_image_with_alpha(&over_black, &over_white);
     }
-    raster::render_with(polys, bg, width, height, aa, progress).to_image()
+    match raster::render_encoded(polys, bg, (width, height), aa, progress, Encoding::Srgb8) {
+        (AnyImage::Srgb8(image), _) => image,
+        _ => unreachable!("8-bit sRGB asked for"),
+    }
 }
 
 /// A frame rendered by [`render_encoded`].
@@ -1109,11 +1112,9 @@ pub fn render_encoded(
             estimated: over_black.estimated,
         };
     }
-    let frame = raster::render_with(polys, bg, width, height, aa, progress);
-    Rendered {
-        image: frame.encode(encoding),
-        estimated: frame.estimated,
-    }
+    let (image, estimated) =
+        raster::render_encoded(polys, bg, (width, height), aa, progress, encoding);
+    Rendered { image, estimated }
 }
 
 /// `--no-skip mip` (benchmarks): every textured polygon's MIP pyramid is
