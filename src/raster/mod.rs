@@ -192,10 +192,7 @@ pub fn render_encoded(
     let size = (width, height);
     match encoding {
         Encoding::Srgb8 => {
-            let (data, n) = render_pixels(polys, bg, size, aa, progress, true, |p| {
-                p.map(linear_to_srgb)
-            });
-            let data = data.into_flattened();
+            let (data, n) = channels_of(polys, bg, size, aa, progress, linear_to_srgb);
             let image = Image {
                 width,
                 height,
@@ -205,10 +202,7 @@ pub fn render_encoded(
             (AnyImage::Srgb8(image), n)
         }
         Encoding::Srgb16 => {
-            let (data, n) = render_pixels(polys, bg, size, aa, progress, true, |p| {
-                p.map(linear_to_srgb16)
-            });
-            let data = data.into_flattened();
+            let (data, n) = channels_of(polys, bg, size, aa, progress, linear_to_srgb16);
             let image = Image16 {
                 width,
                 height,
@@ -218,8 +212,7 @@ pub fn render_encoded(
             (AnyImage::Srgb16(image), n)
         }
         Encoding::LinearF32 => {
-            let (data, n) = render_pixels(polys, bg, size, aa, progress, true, |p| p);
-            let data = data.into_flattened();
+            let (data, n) = channels_of(polys, bg, size, aa, progress, |x| x);
             let image = LinearImage {
                 width,
                 height,
@@ -228,6 +221,20 @@ pub fn render_encoded(
             (AnyImage::Linear(image), n)
         }
     }
+}
+
+/// Every channel of every pixel through `encode`, rows from the top, and
+/// the count of estimated fragments.
+fn channels_of<T: Copy + Default + Send>(
+    polys: &[ScreenPoly],
+    bg: &Background,
+    size: (u32, u32),
+    aa: Aa,
+    progress: &dyn Progress,
+    encode: fn(f32) -> T,
+) -> (Vec<T>, u64) {
+    let (pixels, n) = render_pixels(polys, bg, size, aa, progress, true, |p| p.map(encode));
+    (pixels.into_flattened(), n)
 }
 
 /// The resolver's pixels, rows from the bottom or with `top_first` from the
