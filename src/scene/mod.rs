@@ -325,8 +325,10 @@ impl Scene {
 
     /// [`Scene::load`] within `limits`.
     pub fn load_with(input: &str, limits: &LoadOptions) -> Result<Scene, SceneError> {
+        // 64 KiB, a pipe's whole buffer: standard input's own 8 KiB took
+        // four reads (and copies) for each of a full pipe's.
         let reader: Box<dyn BufRead> = if input == crate::io::STDIO {
-            Box::new(std::io::stdin().lock())
+            Box::new(BufReader::with_capacity(1 << 16, std::io::stdin().lock()))
         } else {
             Box::new(BufReader::with_capacity(
                 1 << 16,
