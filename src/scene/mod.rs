@@ -436,10 +436,10 @@ impl Scene {
             Ok(Drawable {
                 index: rec.index,
                 // A copy made here: the parsed list was allocated by a
-                // parsing thread, whose malloc arena keeps the slack of a
-                // whole batch in flight; copied into this thread's, a
-                // million triangles take 150 bytes each instead of 188
-                // (scene-render's peak with nothing drawn).
+                // parsing thread, in its malloc arena; copied into this
+                // thread's, a million triangles' scene takes 150 bytes a
+                // triangle instead of 188 (scene-render's peak with
+                // nothing drawn, bench/RESULTS-memory.md).
                 shape: match rec.shape {
                     Shape::Polygon(v) => Shape::Polygon(v.as_slice().to_vec()),
                     shape => shape,
