@@ -8,7 +8,7 @@
 # the seeded random triangles of bench/random_triangles.py (200,000 and
 # 1,000,000, about four layers a pixel) at 1024x768, and one triangle at
 # 1024x1024, 4096x4096 and 16384x16384; bytes per triangle above the
-# baseline, and bytes per pixel between the first two frame sizes.
+# baseline, and bytes per pixel between the first two image sizes.
 set -eu
 cd "$(dirname "$0")/.."
 BENCH=memory
@@ -39,4 +39,4 @@ huge=$(peak --size 16384x16384 "$WORK/one.ndjson")
 echo
 echo "One triangle: 1024x1024 $((small / 1024)) MiB, 4096x4096 $((large / 1024)) MiB:" \
     "$(awk "BEGIN { printf \"%.1f\", ($large - $small) * 1024 / (4096 * 4096 - 1024 * 1024) }")" \
-    "bytes per pixel of frame; 16384x16384 $((huge / 1024)) MiB."
+    "bytes per pixel; 16384x16384 $((huge / 1024)) MiB."

@@ -310,6 +310,7 @@ fn main() {
         w.begin(&rec, pattern.clone(), false, u64::MAX);
         part.run(&bigp[0].0, &bigp[0].1, &mut w);
         w.finish().unwrap();
+        w.into_inner().unwrap();
         cells
     });
     // The same polygons, collected (vertices in one flat array), then
@@ -340,10 +341,15 @@ fn main() {
             w.cell(k, j, &coll.verts[at..at + n], &dummy[..n], false);
         }
         w.finish().unwrap();
+        w.into_inner().unwrap();
     });
     drop(coll);
     let rate = |t: Duration| cells as f64 / t.as_secs_f64() / 1e6;
-    println!("## 2. Throughput, one 64-gon of radius 1000 at incr 1 ({cells} cells), one core\n");
+    println!(
+        "## 2. Throughput, one 64-gon of radius 1000 at incr 1 ({cells} cells): the partition on \
+         one core, the formatting on {} (rayon)\n",
+        rayon::current_num_threads()
+    );
     println!("| what | time | Mpolygons/s | ns/polygon | vs serialization alone |");
     println!("|---|---:|---:|---:|---:|");
     for (name, t) in [

@@ -26,6 +26,7 @@ complete -c polyfill3 -l oblique -d 'Parallel: cavalier or cabinet oblique proje
 complete -c polyfill3 -l front -d 'Front clipping plane: distance from the VRP along the VPN. Default: none (required)' -r
 complete -c polyfill3 -l back -d 'Back clipping plane: distance from the VRP along the VPN. Default: none (required)' -r
 complete -c polyfill3 -l depfile -d 'Write the make rule of the output: every file the run read (the input, the patterns, --camera, --pattern), as `cc -MD` does. Needs -o' -r
+complete -c polyfill3 -l threads -d 'Worker threads (default: all cores). The output is identical for any N' -r
 complete -c polyfill3 -l merge -d 'Join runs of same-coloured whole cells of a row into one polygon (the record gets "cells": how many)'
 complete -c polyfill3 -l cull -d 'Drop polygons facing away from the camera and cells wholly outside its view volume before they are written. Needs a camera'
 complete -c polyfill3 -l uv -d 'Do not partition: write each "object"-mode polygon whole (curves flattened) with its placement as per-vertex "uv" texel coordinates and "pattern": {"file": ABSOLUTE PATH, "mode": "uv"}, for renderers that take texture coordinates. --cull drops whole polygons'

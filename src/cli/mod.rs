@@ -499,6 +499,10 @@ pub fn man_sections(tool: &str) -> String {
             "RAYON_NUM_THREADS",
             "The number of worker threads of the palette search (default: one per core). The output does not depend on it.",
         ),
+        "polyfill3" => item(
+            "RAYON_NUM_THREADS",
+            "The number of worker threads that format the output when --threads is not given (default: one per core). The output does not depend on it.",
+        ),
         _ => {}
     }
     s.push_str(".PP\nNo other variable changes what the tool does.\n");

@@ -148,12 +148,22 @@ pub struct Args {
     #[arg(long, value_name = "FILE")]
     pub depfile: Option<String>,
 
+    // The records are formatted on these workers, in batches, and written
+    // in order (`scene::cell_writer`).
+    #[command(flatten)]
+    pub threads: super::ThreadArgs,
+
     #[command(flatten)]
     pub progress: super::progress::ProgressArgs,
 }
 
-/// Runs `polyfill3`: checks the flags, then the library's partition job.
+/// Runs `polyfill3` on its pool of workers.
 pub fn run(args: Args) -> Result<()> {
+    args.threads.install(|| run_in_pool(args))?
+}
+
+/// Checks the flags, then runs the library's partition job.
+fn run_in_pool(args: Args) -> Result<()> {
     if !(args.incr.is_finite() && args.incr > 0.0) {
         usage_bail!("--incr {}: expected a positive number", args.incr);
     }

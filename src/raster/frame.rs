@@ -106,12 +106,20 @@ fn copy_block(band: &mut [[f32; 3]], w: usize, t: [u32; 4], block: &[[f32; 3]]) 
     }
 }
 
+/// The order of the rows of pixels in memory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum RowOrder {
+    /// From the bottom, y up: a [`Frame`]'s order.
+    BottomFirst,
+    /// From the top: an image's order.
+    TopFirst,
+}
+
 /// Renders a frame tile by tile in parallel, each pixel stored as
 /// `encode` gives it: `render(i)` gives tile `i` of `tiles` (as
 /// [`super::tiles`] lists them) as a row-major block of linear-light pixels,
 /// which is encoded into its band of the output at once and dropped, so the
-/// next tile's block reuses its memory. Rows run from the bottom (a
-/// [`Frame`]'s order) or, with `top_first`, from the top (an image's).
+/// next tile's block reuses its memory. Rows are stored in `order`.
 ///
 /// Encoding as the tiles come, rather than after a whole [`Frame`] of
 /// linear f32 is held, keeps a render at the output's own size: 3 bytes a
@@ -123,7 +131,7 @@ fn copy_block(band: &mut [[f32; 3]], w: usize, t: [u32; 4], block: &[[f32; 3]]) 
 pub(crate) fn render_bands<P: Copy + Default + Send>(
     (width, height): (u32, u32),
     tiles: &[[u32; 4]],
-    top_first: bool,
+    order: RowOrder,
     render: impl Fn(usize) -> Vec<[f32; 3]> + Sync,
     encode: impl Fn([f32; 3]) -> P + Sync,
 ) -> Vec<P> {
@@ -135,6 +143,7 @@ pub(crate) fn render_bands<P: Copy + Default + Send>(
         return pixels;
     }
     // Band k holds the rows y of tile row k, kT <= y < min((k + 1)T, h).
+    let top_first = order == RowOrder::TopFirst;
     let bands: Vec<Mutex<&mut [P]>> = if top_first {
         // From the top: the last band, partial, then the full ones down.
         let last = (h - 1) / tile;

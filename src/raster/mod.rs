@@ -19,8 +19,11 @@
 //!    visible polygon in every pixel; its tile's geometry in [`gather`], the
 //!    visibility within a pixel in `visible`), [`reference`](mod@reference) (`--reference`: the
 //!    reference (docs/rendering.md) by an independent method, with its own error estimate).
-//! 4. [`Frame::to_image`] encodes linear light to sRGB once, rounding
-//!    ([`Background`] is what lies behind every polygon).
+//! 4. Linear light is encoded to sRGB once, rounding: each tile as soon as
+//!    it is rendered ([`render_encoded`]), or a whole [`Frame`] kept in linear
+//!    light ([`Frame::to_image`]) where it is needed, for the two passes of a
+//!    transparent background and for `--reference`. ([`Background`] is what
+//!    lies behind every polygon.)
 //!
 //! Work is split into fixed square tiles of [`TILE`] pixels; every tile is
 //! computed from the same inputs in the same order whatever the number of
@@ -47,6 +50,7 @@ mod visible;
 use crate::color::{linear_to_srgb, linear_to_srgb16};
 use crate::io::{AnyImage, Encoding, Image, Image16, LinearImage};
 use crate::progress::{Progress, Silent};
+use frame::RowOrder;
 pub use frame::{Background, Frame};
 #[cfg(test)]
 pub(crate) use project::project;
@@ -169,7 +173,15 @@ pub fn render_with(
     aa: Aa,
     progress: &dyn Progress,
 ) -> Frame {
-    let (pixels, estimated) = render_pixels(polys, bg, (width, height), aa, progress, false, |p| p);
+    let (pixels, estimated) = render_pixels(
+        polys,
+        bg,
+        (width, height),
+        aa,
+        progress,
+        RowOrder::BottomFirst,
+        |p| p,
+    );
     Frame {
         width,
         height,
@@ -192,7 +204,7 @@ pub fn render_encoded(
     let size = (width, height);
     match encoding {
         Encoding::Srgb8 => {
-            let (data, n) = channels_of(polys, bg, size, aa, progress, linear_to_srgb);
+            let (data, n) = render_channels(polys, bg, size, aa, progress, linear_to_srgb);
             let image = Image {
                 width,
                 height,
@@ -202,7 +214,7 @@ pub fn render_encoded(
             (AnyImage::Srgb8(image), n)
         }
         Encoding::Srgb16 => {
-            let (data, n) = channels_of(polys, bg, size, aa, progress, linear_to_srgb16);
+            let (data, n) = render_channels(polys, bg, size, aa, progress, linear_to_srgb16);
             let image = Image16 {
                 width,
                 height,
@@ -212,7 +224,7 @@ pub fn render_encoded(
             (AnyImage::Srgb16(image), n)
         }
         Encoding::LinearF32 => {
-            let (data, n) = channels_of(polys, bg, size, aa, progress, |x| x);
+            let (data, n) = render_channels(polys, bg, size, aa, progress, |x| x);
             let image = LinearImage {
                 width,
                 height,
@@ -223,9 +235,9 @@ pub fn render_encoded(
     }
 }
 
-/// Every channel of every pixel through `encode`, rows from the top, and
-/// the count of estimated fragments.
-fn channels_of<T: Copy + Default + Send>(
+/// Renders the pixels and puts every channel through `encode`, rows from
+/// the top; also gives the count of estimated fragments.
+fn render_channels<T: Copy + Default + Send>(
     polys: &[ScreenPoly],
     bg: &Background,
     size: (u32, u32),
@@ -233,12 +245,13 @@ fn channels_of<T: Copy + Default + Send>(
     progress: &dyn Progress,
     encode: fn(f32) -> T,
 ) -> (Vec<T>, u64) {
-    let (pixels, n) = render_pixels(polys, bg, size, aa, progress, true, |p| p.map(encode));
+    let (pixels, n) = render_pixels(polys, bg, size, aa, progress, RowOrder::TopFirst, |p| {
+        p.map(encode)
+    });
     (pixels.into_flattened(), n)
 }
 
-/// The resolver's pixels, rows from the bottom or with `top_first` from the
-/// top, each stored as `encode` gives it ([`frame::render_bands`]), and the
+/// The resolver's pixels, rows in `order`, each stored as `encode` gives it ([`frame::render_bands`]), and the
 /// count of estimated fragments ([`Frame::estimated`]).
 fn render_pixels<P: Copy + Default + Send>(
     polys: &[ScreenPoly],
@@ -246,7 +259,7 @@ fn render_pixels<P: Copy + Default + Send>(
     (width, height): (u32, u32),
     aa: Aa,
     progress: &dyn Progress,
-    top_first: bool,
+    order: RowOrder,
     encode: impl Fn([f32; 3]) -> P + Sync,
 ) -> (Vec<P>, u64) {
     use rayon::prelude::*;
@@ -263,7 +276,7 @@ fn render_pixels<P: Copy + Default + Send>(
                 progress.advance(1);
                 block
             };
-            let pixels = frame::render_bands(size, &tiles, top_first, render, encode);
+            let pixels = frame::render_bands(size, &tiles, order, render, encode);
             (pixels, estimated.into_inner())
         }
         Aa::None | Aa::Ss(_) => {
@@ -277,10 +290,7 @@ fn render_pixels<P: Copy + Default + Send>(
                 progress.advance(1);
                 block
             };
-            (
-                frame::render_bands(size, &tiles, top_first, render, encode),
-                0,
-            )
+            (frame::render_bands(size, &tiles, order, render, encode), 0)
         }
     }
 }
@@ -358,11 +368,12 @@ mod determinism {
 
     /// Tiles encoded as they are rendered give the image that encoding the
     /// whole frame gives, in every encoding and resolver, at sizes that
-    /// leave partial tiles at the top and the right, and at whole tiles.
+    /// leave partial tiles at the top and the right, and at whole tiles; and
+    /// the same with one thread and two.
     #[test]
     fn encoding_tiles_as_they_come_equals_encoding_the_frame() {
         let mut rng = Rng(11);
-        for (w, h) in [(100, 70), (33, 65), (1, 1), (64, 32)] {
+        for (w, h) in [(100, 70), (33, 65), (1, 1), (64, 32), (40, 64)] {
             let v = perspective(60.0, w, h, 0.0, 100.0);
             let polys: Vec<ScreenPoly> = (0..60)
                 .filter_map(|i| {
@@ -381,13 +392,23 @@ mod determinism {
             for aa in [Aa::None, Aa::Ss(2), Aa::Exact] {
                 let frame = render(&polys, &bg, w, h, aa);
                 for encoding in [Encoding::Srgb8, Encoding::Srgb16, Encoding::LinearF32] {
-                    let (image, estimated) =
-                        render_encoded(&polys, &bg, (w, h), aa, &Silent, encoding);
+                    let run = |threads: usize| {
+                        rayon::ThreadPoolBuilder::new()
+                            .num_threads(threads)
+                            .build()
+                            .unwrap()
+                            .install(|| render_encoded(&polys, &bg, (w, h), aa, &Silent, encoding))
+                    };
+                    let (image, estimated) = run(1);
                     assert!(
                         image == frame.encode(encoding),
                         "{w}x{h} {aa:?} {encoding:?}"
                     );
                     assert_eq!(estimated, frame.estimated);
+                    assert!(
+                        run(2).0 == image,
+                        "{w}x{h} {aa:?} {encoding:?}, two threads"
+                    );
                 }
             }
         }

@@ -132,7 +132,7 @@ pub fn render_with(
     let blocks: Vec<(Vec<[f32; 3]>, Vec<f32>)> = tiles
         .par_iter()
         .zip(&bins)
-        .with_max_len(1) // one tile per job, as `Frame::render_tiles` says why
+        .with_max_len(1) // one tile per job, as `frame::render_bands` says why
         .map(|(t, b)| {
             let block = render_tile(polys, b, bg, *t, lines, &contrasts);
             progress.advance(1);

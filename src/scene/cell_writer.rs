@@ -25,9 +25,14 @@ const REPLACED: [&str; 9] = [
 const FLUSH_BYTES: usize = 1 << 16;
 
 /// Cells held before they are formatted: about 2 MB of text at demo 2's
-/// 236 bytes a cell, so the batch's memory stays bounded whatever the
-/// stream's length.
+/// 236 bytes a cell...
 const BATCH_CELLS: usize = 8192;
+/// ... or fewer, once their text would pass about this many bytes: a
+/// record's other fields come out in each of its cells, and a long one
+/// (an animated transform's keyframes, a long string) would otherwise make
+/// the batch's text 8,192 times its length. Over one record's text, the
+/// batch's memory stays within this bound whatever the input.
+const BATCH_BYTES: usize = 4 << 20;
 
 /// Cells one formatting job takes: formatting is nearly all of
 /// `polyfill3`'s time (the float text alone more than half), and jobs this
@@ -43,8 +48,8 @@ struct PendingCell {
     cells: usize,
     /// Its vertices in [`Pending::verts`].
     verts: Range<usize>,
-    /// Its input record's other fields in [`Pending::rests`].
-    rest: Range<usize>,
+    /// Its input record's other fields in [`Pending::fields_text`].
+    fields: Range<usize>,
 }
 
 /// The cells of a batch, in output order.
@@ -53,18 +58,22 @@ struct Pending {
     cells: Vec<PendingCell>,
     verts: Vec<DVec3>,
     /// `,"key":value` for every field carried over, one run per input record
-    /// with cells in the batch.
-    rests: Vec<u8>,
-    /// The current input record's run in `rests`.
-    rest: Range<usize>,
+    /// with cells in the batch, and the current record's last.
+    fields_text: Vec<u8>,
+    /// The current input record's run in `fields_text`.
+    current_fields: Range<usize>,
+    /// About how many bytes the batch's text will take (see
+    /// [`BATCH_BYTES`]).
+    text_bytes: usize,
 }
 
 impl Pending {
     fn clear(&mut self) {
         self.cells.clear();
         self.verts.clear();
-        self.rests.clear();
-        self.rest = 0..0;
+        self.fields_text.clear();
+        self.current_fields = 0..0;
+        self.text_bytes = 0;
     }
 }
 
@@ -76,9 +85,10 @@ struct Formatter {
 
 /// Texts of recently written floats, direct-mapped by their bits.
 /// Neighbouring cells share their corners, and a grid's cells their rows'
-/// and columns' coordinates: on demo 2's faces most of a record's 12 floats
-/// were written by the records just before it, and `zmij` was half of the
-/// time.
+/// and columns' coordinates, so the same floats come again and again; their
+/// formatting (`zmij`) had been half of polyfill3's time. With this cache,
+/// the staging block and the parallel batches, demo 2's faces at incr 0.25
+/// are written in 0.12 s instead of 0.38 (bench/RESULTS-stream.md).
 struct RecentFloats {
     zmij: zmij::Buffer,
     slots: Vec<FloatText>,
@@ -92,8 +102,15 @@ struct FloatText {
     text: [u8; MAX_PIECE],
 }
 
-/// Slots of [`RecentFloats`].
-const RECENT_FLOATS: usize = 256;
+/// Slots of [`RecentFloats`]: 2 to this power.
+const RECENT_BITS: u32 = 8;
+const RECENT_FLOATS: usize = 1 << RECENT_BITS;
+
+/// The slot of a float's bits: Fibonacci hashing (the top bits of the
+/// product mix all of `bits`).
+fn slot(bits: u64) -> usize {
+    (bits.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - RECENT_BITS)) as usize
+}
 
 impl RecentFloats {
     fn new() -> RecentFloats {
@@ -115,9 +132,7 @@ impl RecentFloats {
     #[inline]
     fn text(&mut self, x: f64) -> &FloatText {
         let bits = x.to_bits();
-        // Fibonacci hashing: the top bits of the product mix all of `bits`.
-        let slot = (bits.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 56) as usize % RECENT_FLOATS;
-        let e = &mut self.slots[slot];
+        let e = &mut self.slots[slot(bits)];
         if e.bits != bits {
             let s = self.zmij.format_finite(x).as_bytes();
             e.bits = bits;
@@ -153,7 +168,7 @@ impl Formatter {
         } else {
             head(&mut self.floats, b, cell, verts);
         }
-        b.extend_from_slice(&pending.rests[cell.rest.clone()]);
+        b.extend_from_slice(&pending.fields_text[cell.fields.clone()]);
         b.extend_from_slice(b"}\n");
     }
 }
@@ -308,9 +323,9 @@ impl Text for Staging {
 
 /// The output side of a partition: turns cells into NDJSON records.
 ///
-/// Cells are gathered into batches of 8,192, and a batch is
-/// formatted in parallel, 512 to a job, on the current rayon pool
-/// (`Formatter::cell`); the jobs' texts are written in order, so the output is
+/// Cells are gathered into batches (`BATCH_CELLS`, `BATCH_BYTES`), and a
+/// batch is formatted in parallel, `JOB_CELLS` to a job, on the current
+/// rayon pool; the jobs' texts are written in order, so the output is
 /// the same byte for byte whatever the number of threads. Each record is
 /// `{"vertices":[...],"color":[r,g,b],"texel":[c,r]` followed by the input's
 /// other fields, serialized once per input polygon.
@@ -326,6 +341,9 @@ pub struct CellWriter<W: Write> {
     /// afresh on the workers and freed here, they cost more in page faults
     /// than the formatting gained.
     texts: Vec<Vec<u8>>,
+    /// The formatter of a batch too small to share out, kept from batch to
+    /// batch (its recent floats are 10 KiB to set up).
+    formatter: Formatter,
     merger: Option<RunMerger>,
     /// Polygons written for the current input polygon.
     pub(super) written: u64,
@@ -347,6 +365,7 @@ impl<W: Write> CellWriter<W> {
             buf: Vec::with_capacity(2 * FLUSH_BYTES),
             pending: Pending::default(),
             texts: Vec::new(),
+            formatter: Formatter::new(),
             merger: None,
             written: 0,
             budget: 0,
@@ -398,18 +417,22 @@ impl<W: Write> CellWriter<W> {
 
     /// Prepares for the cells of one input record.
     pub fn begin(&mut self, rec: &Record, pattern: Rc<Pattern>, merge: bool, budget: u64) {
-        let rests = &mut self.pending.rests;
-        let start = rests.len();
+        let p = &mut self.pending;
+        // The last record's fields go unless a cell of it waits in the batch
+        // (a record with no cells must not leave them behind).
+        let start = p.cells.last().map_or(0, |c| c.fields.end);
+        p.fields_text.truncate(start);
+        let text = &mut p.fields_text;
         for (k, v) in rec.fields.iter() {
             if REPLACED.contains(&k) {
                 continue;
             }
-            rests.push(b',');
-            serde_json::to_writer(&mut *rests, k).expect("writing to a Vec cannot fail");
-            rests.push(b':');
-            serde_json::to_writer(&mut *rests, v).expect("writing to a Vec cannot fail");
+            text.push(b',');
+            serde_json::to_writer(&mut *text, k).expect("writing to a Vec cannot fail");
+            text.push(b':');
+            serde_json::to_writer(&mut *text, v).expect("writing to a Vec cannot fail");
         }
-        self.pending.rest = start..rests.len();
+        p.current_fields = start..text.len();
         self.pattern = Some(pattern);
         self.merger = merge.then(|| self.merger.take().unwrap_or_default());
         self.written = 0;
@@ -453,10 +476,13 @@ impl<W: Write> CellWriter<W> {
             color: color.0,
             cells,
             verts: start..p.verts.len(),
-            rest: p.rest.clone(),
+            fields: p.current_fields.clone(),
         });
+        // At most 77 bytes a vertex and 100 for the rest of the cell's own
+        // fields (see `STAGED_VERTICES`).
+        p.text_bytes += 100 + 77 * world.len() + p.current_fields.len();
         self.written += 1;
-        if p.cells.len() >= BATCH_CELLS {
+        if p.cells.len() >= BATCH_CELLS || p.text_bytes >= BATCH_BYTES {
             if let Err(e) = self.format_pending() {
                 self.error.get_or_insert(e);
             }
@@ -473,9 +499,8 @@ impl<W: Write> CellWriter<W> {
             return Ok(());
         }
         if p.cells.len() <= JOB_CELLS {
-            let mut formatter = Formatter::new();
             for cell in &p.cells {
-                formatter.cell(&mut self.buf, cell, p);
+                self.formatter.cell(&mut self.buf, cell, p);
             }
         } else {
             let jobs = p.cells.len().div_ceil(JOB_CELLS);
@@ -505,14 +530,15 @@ impl<W: Write> CellWriter<W> {
                 }
             }
         }
-        // Keep the current record's fields at the start of `rests`.
+        // Keep the current record's fields, at the start.
         let p = &mut self.pending;
-        let rest = p.rest.clone();
-        p.rests.copy_within(rest.clone(), 0);
-        p.rests.truncate(rest.len());
-        p.rest = 0..rest.len();
+        let current = p.current_fields.clone();
+        p.fields_text.copy_within(current.clone(), 0);
+        p.fields_text.truncate(current.len());
+        p.current_fields = 0..current.len();
         p.cells.clear();
         p.verts.clear();
+        p.text_bytes = 0;
         self.drain_full()
     }
 
@@ -546,8 +572,11 @@ impl<W: Write> CellWriter<W> {
         Ok(())
     }
 
-    /// Ends the current record: its error if it had one (its records are
-    /// then dropped), else its records handed on as the batch fills.
+    /// Ends the current record: its error if it had one, else its records
+    /// are handed on as the batch fills. An error drops whatever has not
+    /// been handed to the output yet, this record's cells and those of
+    /// earlier records still in the batch (a batch formatted before the
+    /// error has been written): every caller stops at the error.
     pub fn finish(&mut self) -> std::io::Result<()> {
         self.flush_run();
         if let Some(e) = self.error.take() {
@@ -641,13 +670,13 @@ mod tests {
             let rest = ",\"id\":\"a\\u00e9\"";
             let mut pending = Pending::default();
             pending.verts.extend_from_slice(&verts);
-            pending.rests.extend_from_slice(rest.as_bytes());
+            pending.fields_text.extend_from_slice(rest.as_bytes());
             let cell = PendingCell {
                 texel,
                 color,
                 cells,
                 verts: 0..verts.len(),
-                rest: 0..rest.len(),
+                fields: 0..rest.len(),
             };
             let mut formatter = Formatter::new();
             let mut text = Vec::new();
@@ -665,7 +694,7 @@ mod tests {
     #[test]
     fn a_slot_taken_by_another_float_is_written_again() {
         let mut floats = RecentFloats::new();
-        let slot = |x: f64| (x.to_bits().wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 56) as usize;
+        let slot = |x: f64| slot(x.to_bits());
         let a = 1.5f64;
         let b = (1..1_000_000)
             .map(|i| a + i as f64)
@@ -680,52 +709,72 @@ mod tests {
         }
     }
 
-    /// The cells of three records, 20,000 of them (so batches fill and are
-    /// formatted in parallel jobs), written by one thread and by two, and
-    /// captured: the same text, each record's cells in order after its
-    /// fields.
+    /// The checker pattern of the writer tests.
+    fn checker() -> Rc<Pattern> {
+        Rc::new(
+            Pattern::new(
+                16,
+                vec![Rgb8([1, 2, 3]), Rgb8([250, 0, 9])],
+                (0..256).map(|i| (i + i / 16) % 2).collect(),
+            )
+            .unwrap(),
+        )
+    }
+
+    /// A triangle record with `"id": id`.
+    fn record(i: usize, id: &serde_json::Value) -> Record {
+        let json = serde_json::json!({
+            "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]],
+            "color": [0, 0, 0],
+            "id": id,
+        });
+        Record::from_fields(i, Fields::from(json.as_object().unwrap().clone())).unwrap()
+    }
+
+    /// Cell k of a record: its corners.
+    fn corners(k: i64) -> [DVec3; 3] {
+        let x = k as f64 * 0.1;
+        [
+            DVec3::new(x, -0.0, 1e-300),
+            DVec3::new(x + 0.1, 0.0, 2.0),
+            DVec3::new(x, 0.5, 1.0 / 3.0),
+        ]
+    }
+
+    /// Records of 7,000, 0, 1, 13,000 cells and 100 cells with a 100 KB
+    /// field (so batches fill by count and by bytes, mid-record, and are
+    /// formatted in parallel jobs), and a line passed through between them,
+    /// written by one thread and by two, and captured: the same text, each
+    /// line serde_json's own text for its cell, in order.
     #[test]
     fn batches_and_threads_leave_the_text_unchanged() {
-        let pattern = || {
-            Rc::new(
-                Pattern::new(
-                    16,
-                    vec![Rgb8([1, 2, 3]), Rgb8([250, 0, 9])],
-                    (0..256).map(|i| (i + i / 16) % 2).collect(),
-                )
-                .unwrap(),
-            )
-        };
-        let record = |i: usize| {
-            let json = serde_json::json!({
-                "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]],
-                "color": [0, 0, 0],
-                "id": i,
-            });
-            let fields = Fields::from(json.as_object().unwrap().clone());
-            Record::from_fields(i, fields).unwrap()
-        };
+        let long = serde_json::Value::String("é".repeat(50_000));
+        let records: Vec<(serde_json::Value, i64)> = vec![
+            (0.into(), 7_000),
+            (1.into(), 0),
+            (2.into(), 1),
+            (3.into(), 13_000),
+            (long, 100),
+        ];
+        let passed = "{\"light\":{\"ambient\":[1,1,1]}}\n";
         let write = |threads: usize, capture: bool| {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .unwrap();
             pool.install(|| {
-                let pattern = pattern();
+                let pattern = checker();
                 let mut w = CellWriter::new(Vec::new());
                 if capture {
                     w.capture().unwrap();
                 }
-                for (i, n) in [7_000i64, 1, 13_000].into_iter().enumerate() {
-                    w.begin(&record(i), pattern.clone(), false, u64::MAX);
-                    for k in 0..n {
-                        let x = k as f64 * 0.1;
-                        let corners = [
-                            DVec3::new(x, -0.0, 1e-300),
-                            DVec3::new(x + 0.1, 0.0, 2.0),
-                            DVec3::new(x, 0.5, 1.0 / 3.0),
-                        ];
-                        w.cell(k, i as i64, &corners, &[], true);
+                for (i, (id, n)) in records.iter().enumerate() {
+                    if i == 3 {
+                        w.pass_raw(passed.as_bytes()).unwrap();
+                    }
+                    w.begin(&record(i, id), pattern.clone(), false, u64::MAX);
+                    for k in 0..*n {
+                        w.cell(k, i as i64, &corners(k), &[], true);
                     }
                     w.finish().unwrap();
                 }
@@ -736,35 +785,64 @@ mod tests {
                 }
             })
         };
+        let pattern = checker();
+        let mut expected = String::new();
+        for (i, (id, n)) in records.iter().enumerate() {
+            if i == 3 {
+                expected.push_str(passed);
+            }
+            let fields = format!(",\"id\":{}", serde_json::to_string(id).unwrap());
+            for k in 0..*n {
+                let (c, r) = (k as u32 % 16, i as u32 % 16);
+                let color = pattern.palette()[pattern.index_at(c, r).unwrap() as usize].0;
+                let cell = PendingCell {
+                    texel: [c, r],
+                    color,
+                    cells: 1,
+                    verts: 0..0,
+                    fields: 0..0,
+                };
+                expected.push_str(&oracle(&cell, &corners(k), &fields));
+            }
+        }
         let one = write(1, false);
-        assert_eq!(one.iter().filter(|&&c| c == b'\n').count(), 20_001);
+        assert!(one == expected.as_bytes(), "one thread");
         assert!(one == write(2, false), "two threads");
         assert!(one == write(2, true), "captured");
-        // Every line is serde_json's text for its cell.
-        let pattern = pattern();
-        for (n, line) in one.split_inclusive(|&c| c == b'\n').enumerate() {
-            let (i, k) = match n {
-                0..7_000 => (0, n),
-                7_000 => (1, 0),
-                _ => (2, n - 7_001),
-            };
-            let x = k as f64 * 0.1;
-            let verts = [
-                DVec3::new(x, 0.0, 1e-300),
-                DVec3::new(x + 0.1, 0.0, 2.0),
-                DVec3::new(x, 0.5, 1.0 / 3.0),
-            ];
-            let (c, r) = (k as u32 % 16, i as u32 % 16);
-            let color = pattern.palette()[pattern.index_at(c, r).unwrap() as usize].0;
-            let cell = PendingCell {
-                texel: [c, r],
-                color,
-                cells: 1,
-                verts: 0..0,
-                rest: 0..0,
-            };
-            let expected = oracle(&cell, &verts, &format!(",\"id\":{i}"));
-            assert_eq!(std::str::from_utf8(line).unwrap(), expected, "line {n}");
+    }
+
+    /// Records that give no cell leave nothing behind: the fields kept for
+    /// the batch stay one record's, however many such records come.
+    #[test]
+    fn records_without_cells_keep_no_fields() {
+        let pattern = checker();
+        let mut w = CellWriter::new(Vec::new());
+        let id = serde_json::Value::String("x".repeat(1000));
+        for i in 0..1000 {
+            w.begin(&record(i, &id), pattern.clone(), false, u64::MAX);
+            w.finish().unwrap();
         }
+        assert!(w.pending.fields_text.len() <= 1100);
+        assert!(w.into_inner().unwrap().is_empty());
+    }
+
+    /// A record that passes its budget in the middle of a batch is an error,
+    /// and what the batch held is not written.
+    #[test]
+    fn a_budget_passed_mid_batch_is_an_error() {
+        let pattern = checker();
+        let mut w = CellWriter::new(Vec::new());
+        w.begin(&record(0, &0.into()), pattern.clone(), false, u64::MAX);
+        for k in 0..100 {
+            w.cell(k, 0, &corners(k), &[], true);
+        }
+        w.finish().unwrap();
+        w.begin(&record(1, &1.into()), pattern.clone(), false, 10);
+        for k in 0..100 {
+            w.cell(k, 1, &corners(k), &[], true);
+        }
+        let err = w.finish().unwrap_err();
+        assert!(err.to_string().contains("max_polygons"), "{err}");
+        assert!(w.into_inner().unwrap().is_empty());
     }
 }

@@ -326,7 +326,7 @@ impl Scene {
     /// [`Scene::load`] within `limits`.
     pub fn load_with(input: &str, limits: &LoadOptions) -> Result<Scene, SceneError> {
         // 64 KiB, a pipe's whole buffer: standard input's own 8 KiB took
-        // four reads (and copies) for each of a full pipe's.
+        // eight reads for each of a full pipe's.
         let reader: Box<dyn BufRead> = if input == crate::io::STDIO {
             Box::new(BufReader::with_capacity(1 << 16, std::io::stdin().lock()))
         } else {
@@ -437,9 +437,9 @@ impl Scene {
                 index: rec.index,
                 // A copy made here: the parsed list was allocated by a
                 // parsing thread, in its malloc arena; copied into this
-                // thread's, a million triangles' scene takes 150 bytes a
-                // triangle instead of 188 (scene-render's peak with
-                // nothing drawn, bench/RESULTS-memory.md).
+                // thread's, a million triangles' scene peaks at 158 MB
+                // instead of 196 (scene-render drawing nothing of it,
+                // bench/RESULTS-memory.md).
                 shape: match rec.shape {
                     Shape::Polygon(v) => Shape::Polygon(v.as_slice().to_vec()),
                     shape => shape,

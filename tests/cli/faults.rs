@@ -345,9 +345,9 @@ clitest!(pat_from_image_takes_its_size_as_n_or_nxn, |dir| {
 
 clitest!(out_of_memory_is_an_error_line_and_leaves_nothing, |dir| {
     // Under an address-space limit (the OS's own accounting), an image of
-    // 16000 x 16000 pixels (732 MiB of 8-bit RGB) under 500 MB, and a 4096 x
-    // 4096 pattern (32 MiB of texel indices) under 32 MiB, need more than
-    // the limit: the tools say so as
+    // 16000 x 16000 pixels (732 MiB of 8-bit RGB) under `ulimit -v 500000`
+    // (488 MiB), and a 4096 x 4096 pattern (32 MiB of texel indices) under
+    // 32 MiB, need more than the limit: the tools say so as
     // `TOOL: error: out of memory` with status 1 (not an abort, status 134)
     // and leave no temporary file.
     let row = format!("{}\n", vec!["aaaa"; 256].join(" "));
