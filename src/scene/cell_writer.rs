@@ -576,7 +576,11 @@ impl<W: Write> CellWriter<W> {
     /// are handed on as the batch fills. An error drops whatever has not
     /// been handed to the output yet, this record's cells and those of
     /// earlier records still in the batch (a batch formatted before the
-    /// error has been written): every caller stops at the error.
+    /// error has been written): every caller stops at the error, and a run
+    /// that fails early writes nothing (`polyfill3`'s
+    /// `bad_input_names_the_record_and_writes_nothing`); one that fails
+    /// later leaves what was written before, cut at a batch, as it was cut
+    /// at 64 KiB before the batches.
     pub fn finish(&mut self) -> std::io::Result<()> {
         self.flush_run();
         if let Some(e) = self.error.take() {
