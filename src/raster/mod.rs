@@ -251,8 +251,9 @@ fn render_channels<T: Copy + Default + Send>(
     (pixels.into_flattened(), n)
 }
 
-/// The resolver's pixels, rows in `order`, each stored as `encode` gives it ([`frame::render_bands`]), and the
-/// count of estimated fragments ([`Frame::estimated`]).
+/// The resolver's pixels, rows in `order`, each stored as `encode` gives it
+/// ([`frame::render_bands`]), and the count of estimated fragments
+/// ([`Frame::estimated`]).
 fn render_pixels<P: Copy + Default + Send>(
     polys: &[ScreenPoly],
     bg: &Background,
