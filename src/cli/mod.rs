@@ -106,14 +106,21 @@ fn clean_up_on_signals() {
     let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
         return; // Without handlers a signal kills at once, as before.
     };
-    std::thread::spawn(move || {
-        if let Some(sig) = signals.forever().next() {
-            crate::io::remove_unfinished_outputs();
-            // Resets the signal to its default action and raises it.
-            let _ = signal_hook::low_level::emulate_default_handler(sig);
-            std::process::exit(128 + sig);
-        }
-    });
+    // A small stack: the thread only removes files. If it cannot start (an
+    // address-space limit, `ulimit -v`), the handlers go with `signals`,
+    // unregistered, and a signal kills at once, as without them
+    // (`std::thread::spawn` panicked there).
+    let _ = std::thread::Builder::new()
+        .name("signals".into())
+        .stack_size(256 << 10)
+        .spawn(move || {
+            if let Some(sig) = signals.forever().next() {
+                crate::io::remove_unfinished_outputs();
+                // Resets the signal to its default action and raises it.
+                let _ = signal_hook::low_level::emulate_default_handler(sig);
+                std::process::exit(128 + sig);
+            }
+        });
 }
 
 /// Prints clap's verdict: `--help` and `--version` to stdout with status 0,

@@ -388,6 +388,26 @@ clitest!(out_of_memory_is_an_error_line_and_leaves_nothing, |dir| {
     }
 });
 
+clitest!(too_little_address_space_for_threads_is_no_panic, |dir| {
+    // Under 8 MB of address space a worker thread's stack does not fit:
+    // each tool that starts threads (the signal watcher, the pool) says so
+    // in an error line, where `std::thread::spawn` used to panic (status
+    // 101).
+    dir.write(
+        "s.json",
+        r#"{"vertices":[[0,0,0],[1,0,0],[1,1,0]],"color":[1,2,3]}"#,
+    );
+    for script in [
+        "ulimit -v 8000; exec scene-render --size 8x8 -o out.png s.json",
+        "ulimit -v 8000; exec polyfill3 s.json",
+    ] {
+        let out = sh(dir.path(), script);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_ne!(out.status.code(), Some(101), "{script}: {err}");
+        assert!(!err.contains("panicked"), "{script}: {err}");
+    }
+});
+
 clitest!(
     dev_zero_is_refused_at_its_first_bytes_by_every_tool,
     |dir| {
