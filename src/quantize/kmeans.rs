@@ -57,6 +57,7 @@ fn assign_step(
     assign: &mut [usize],
 ) -> (Vec<Moments>, f64, (f64, usize)) {
     use rayon::prelude::*;
+    let channels = Channels::new(centres);
     let parts: Vec<(Vec<Moments>, f64, (f64, usize))> = points
         .par_chunks(KMEANS_CHUNK)
         .zip(assign.par_chunks_mut(KMEANS_CHUNK))
@@ -65,7 +66,6 @@ fn assign_step(
             let mut sums = vec![Moments::default(); centres.len()];
             let mut err = 0.0;
             let mut worst = (-1.0f64, 0usize);
-            let channels = Channels::new(centres);
             for (i, (&(p, w), a)) in pts.iter().zip(asg.iter_mut()).enumerate() {
                 let (c, d) = channels.nearest(p);
                 *a = c;
@@ -149,6 +149,7 @@ pub(super) fn kmeans_at_most(
             })
             .collect();
         let centres_ref = &centres;
+        let channels = Channels::new(centres_ref);
         let parts: Vec<(Vec<Moments>, usize, (f64, usize))> = points
             .par_chunks(KMEANS_CHUNK)
             .zip(bounds.par_chunks_mut(KMEANS_CHUNK))
@@ -157,7 +158,6 @@ pub(super) fn kmeans_at_most(
                 let mut sums = vec![Moments::default(); k];
                 let mut changed = 0;
                 let mut worst = (-1.0f64, 0usize);
-                let channels = Channels::new(centres_ref);
                 for (i, (&(p, w), b)) in pts.iter().zip(bs.iter_mut()).enumerate() {
                     let limit = half_gap[b.cluster].max(b.lower);
                     if b.upper > limit {

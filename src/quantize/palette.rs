@@ -49,9 +49,9 @@ pub fn choose_palette_with(
     }
     let all: Vec<(Point, f64)> = hist.iter().map(|(c, n)| (point(*c), *n as f64)).collect();
     let palette = if all.len() > CORESET_POINTS {
-        search_coreset(&coreset(&all), k, progress)
+        search(&coreset(&all), k, Histogram::Coreset, progress)
     } else {
-        search(&all, k, progress)
+        search(&all, k, Histogram::Whole, progress)
     };
     let mut palette: Vec<Rgb8> = palette.iter().map(|c| Rgb8(c.map(|v| v as u8))).collect();
     palette.sort();
@@ -59,27 +59,34 @@ pub fn choose_palette_with(
     palette
 }
 
-/// The palette search on a whole histogram: median cut, k-means to
-/// convergence (within its work budget), split/merge trials, Lloyd steps on
-/// the rounded palette and, for small problems, its one-code neighbours.
-fn search(points: &[(Point, f64)], k: usize, progress: &dyn Progress) -> Vec<Point> {
-    progress.phase("median cut", 0);
-    let centres = median_cut(points, k);
-    progress.phase("k-means", 0);
-    let clustering = split_merge(points, kmeans(points, centres), progress);
-    progress.phase("refine", 0);
-    neighbour_search(points, integer_lloyd(points, clustering))
+/// What the palette search runs on.
+#[derive(Clone, Copy)]
+enum Histogram {
+    /// The whole histogram: k-means to convergence (within its work
+    /// budget), then split/merge trials.
+    Whole,
+    /// A coreset ([`coreset`]): fewer Lloyd steps
+    /// ([`CORESET_KMEANS_ITERATIONS`]) and no split/merge trials (each a
+    /// whole k-means run), which on the 1024x1024 photos added 30-45 ms to
+    /// runs of 0.24-0.32 s for 0.01 dB.
+    Coreset,
 }
 
-/// The palette search on a coreset: as [`search`], in fewer Lloyd steps
-/// ([`CORESET_KMEANS_ITERATIONS`]) and with no split/merge trials (each a
-/// whole k-means run), which on the 1024x1024 photos added 30-45 ms to
-/// runs of 0.24-0.32 s for 0.01 dB.
-fn search_coreset(points: &[(Point, f64)], k: usize, progress: &dyn Progress) -> Vec<Point> {
+/// The palette search: median cut, k-means as `histogram` says, Lloyd steps
+/// on the rounded palette and, for small problems, its one-code neighbours.
+fn search(
+    points: &[(Point, f64)],
+    k: usize,
+    histogram: Histogram,
+    progress: &dyn Progress,
+) -> Vec<Point> {
     progress.phase("median cut", 0);
     let centres = median_cut(points, k);
     progress.phase("k-means", 0);
-    let clustering = kmeans_at_most(points, centres, CORESET_KMEANS_ITERATIONS);
+    let clustering = match histogram {
+        Histogram::Whole => split_merge(points, kmeans(points, centres), progress),
+        Histogram::Coreset => kmeans_at_most(points, centres, CORESET_KMEANS_ITERATIONS),
+    };
     progress.phase("refine", 0);
     neighbour_search(points, integer_lloyd(points, clustering))
 }
@@ -131,7 +138,7 @@ mod tests {
             .map(|c| point(c.0))
             .collect();
         assert_eq!(chosen.len(), 16);
-        let whole = search(&points, 16, &Silent);
+        let whole = search(&points, 16, Histogram::Whole, &Silent);
         let start = median_cut(&points, 16);
         let (e_core, e_whole, e_start) = (error(&chosen), error(&whole), error(&start));
         assert!(e_core <= 1.01 * e_whole, "{e_core} {e_whole}");

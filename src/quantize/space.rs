@@ -181,8 +181,9 @@ impl Channels {
 
 /// Written with SSE2 intrinsics: the compiler's own vectorisation of the
 /// portable loop packed its compare masks to bytes and back; this took the
-/// 1024x1024 Earth photo at K = 256 from 0.43 to 0.33 s whole process. The distance is summed in the order of [`dist2`], so it is the
-/// same number to the bit.
+/// 1024x1024 Earth photo at K = 256 from 0.43 to 0.33 s whole process. The
+/// distance is summed in the order of [`dist2`], so it is the same number to
+/// the bit.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "sse2")]
 fn scan_sse2(c: &[Vec<f32>; 3], p: Point) -> Lanes {
