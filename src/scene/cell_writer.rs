@@ -88,7 +88,7 @@ struct Formatter {
 /// and columns' coordinates, so the same floats come again and again; their
 /// formatting (`zmij`) had been half of polyfill3's time. With this cache,
 /// the staging block and the parallel batches, demo 2's faces at incr 0.25
-/// are written in 0.12 s instead of 0.38 (bench/RESULTS-stream.md).
+/// are written in 0.11 s instead of 0.38 (bench/RESULTS-stream.md).
 struct RecentFloats {
     zmij: zmij::Buffer,
     slots: Vec<FloatText>,

@@ -1051,17 +1051,8 @@ pub fn render_with(
     aa: Aa,
     progress: &dyn Progress,
 ) -> Image {
-    build_mips_eagerly(polys);
-    if bg.is_transparent() {
-        // Two passes, over black and over white: the difference is the
-        // coverage (Background::transparent).
-        let (black, white) = (bg.opaque(Rgb8::BLACK), bg.opaque(Rgb8::WHITE));
-        let over_black = raster::render_with(polys, &black, width, height, aa, progress);
-        let over_white = raster::render_with(polys, &white, width, height, aa, progress);
-        return Frame::to_image_with_alpha(&over_black, &over_white);
-    }
-    match raster::render_encoded(polys, bg, (width, height), aa, progress, Encoding::Srgb8) {
-        (AnyImage::Srgb8(image), _) => image,
+    match render_encoded(polys, bg, (width, height), aa, progress, Encoding::Srgb8).image {
+        AnyImage::Srgb8(image) => image,
         _ => unreachable!("8-bit sRGB asked for"),
     }
 }
@@ -1114,6 +1105,8 @@ pub fn render_encoded(
 ) -> Rendered {
     build_mips_eagerly(polys);
     if bg.is_transparent() {
+        // Two passes, over black and over white: the difference is the
+        // coverage (Background::transparent).
         let (black, white) = (bg.opaque(Rgb8::BLACK), bg.opaque(Rgb8::WHITE));
         let over_black = raster::render_with(polys, &black, width, height, aa, progress);
         let over_white = raster::render_with(polys, &white, width, height, aa, progress);
