@@ -10,6 +10,7 @@ a command that fails stops the benchmark with its exit status and stderr.
 From Python: `from timing import measure` (bench/ on sys.path).
 """
 import os
+import statistics
 import subprocess
 import sys
 import time
@@ -46,10 +47,7 @@ def measure(cmd, runs=RUNS, warmup=WARMUP, stdin=None):
         wall, kb = run_once(cmd, stdin)
         walls.append(wall)
         peak = max(peak, kb)
-    walls.sort()
-    n = len(walls)
-    median = walls[n // 2] if n % 2 else (walls[n // 2 - 1] + walls[n // 2]) / 2
-    return median, peak
+    return statistics.median(walls), peak
 
 
 def main(argv):
