@@ -21,6 +21,11 @@
 //!    fails is resolved again pairwise. A covered pixel drops what comes
 //!    behind everything that showed in it before it is clipped, and a pixel
 //!    row wholly behind is never cut from its piece.
+//!
+//!    A textured fragment over several texel cells is swept whole
+//!    (`CUT_LATER`): its cells are cut from the part of it that shows once
+//!    that part is known, so polygons sharing a pixel never meet cell by
+//!    cell.
 //! 4. **Blend.** The pixel is `sum(area_F * colour_F) + (1 - sum(area_F)) * bg`
 //!    in linear light, accumulated in f64.
 //!
@@ -70,6 +75,30 @@ pub(super) const POLY_COLOR: u32 = u32::MAX;
 /// the pixel centre) is computed only once it is known to be visible.
 pub(super) const FILTER_LATER: u32 = u32::MAX - 1;
 
+/// [`Frag::color`] of an opaque box-filtered textured fragment swept whole:
+/// its texel cells are cut only from the part of it that shows, once the
+/// sweep knows that part ([`crate::texture::cells::integrate`]), instead of
+/// each cell's piece being swept as a fragment of its own.
+pub(super) const CUT_LATER: u32 = u32::MAX - 2;
+
+/// Least number of texel cells a fragment must be able to meet
+/// ([`cells_met`]) to be swept whole ([`CUT_LATER`]): two, so every
+/// fragment the texture cuts at all.
+///
+/// Why whole: swept cell by cell, the pieces of two polygons in one pixel
+/// cost each other a convex subtraction per pair, so a pixel over k cells
+/// of each costs O(k²): the two photographed globes at 100x75 took 111 s,
+/// demo 2 at 8x8 34 s (`bench/RESULTS-thumbnails.md` has them swept
+/// whole). Swept whole, a fragment costs one visibility check and one cut,
+/// and its cells are cut once, from the part of it that shows. The two
+/// routes add the same areas in another order; on the scenes of that
+/// benchmark the images are bit for bit the same but for one f32 value.
+///
+/// Why not one cell: such a fragment is swept with its texel's colour as
+/// given; its mean over its visible part, `(a·c)/a`, could differ from `c`
+/// in the last bit.
+const CUT_LATER_MIN_CELLS: f64 = 2.0;
+
 /// The filtered colour at the centre of pixel `(px, py)` of a
 /// [`FILTER_LATER`] fragment of `l`, computed once it is known to show.
 pub(super) fn deferred_filter(polys: &[ScreenPoly], l: &Local, px: u32, py: u32) -> [f64; 3] {
@@ -91,8 +120,6 @@ struct TexScratch {
     pieces: Vec<crate::texture::cells::Piece>,
     verts: Vec<DVec2>,
     cells: crate::texture::cells::Scratch,
-    /// Which polygon alone can meet each pixel of the tile ([`Sole`]).
-    sole: Sole,
 }
 
 impl TexScratch {
@@ -100,75 +127,6 @@ impl TexScratch {
     fn colour(&mut self, c: [f64; 3]) -> u32 {
         self.colors.push(c);
         (self.colors.len() - 1) as u32
-    }
-}
-
-/// For each pixel of a tile, the one polygon (its index in the tile) whose
-/// pieces' bounding boxes meet it, if only one does. There that polygon's
-/// fragment is all the pixel shows, whole (one polygon's pieces never
-/// overlap), so a textured fragment's texel pieces need no visibility work:
-/// they are summed into one fragment of their mean colour
-/// ([`crate::texture::cells::Sink::Sum`]), the same area-weighted sum the
-/// sweep would make of them. A plane minified to its horizon cuts thousands
-/// of pieces per pixel, and the sweep was most of their cost (issue 15).
-#[derive(Default)]
-struct Sole {
-    owner: Vec<u32>,
-}
-
-impl Sole {
-    /// [`Sole::owner`] of a pixel no piece meets.
-    const NONE: u32 = u32::MAX;
-    /// [`Sole::owner`] of a pixel two polygons' boxes meet.
-    const MIXED: u32 = u32::MAX - 1;
-    /// Most bounding-box pixels summed over a tile's pieces, in tiles, that
-    /// are marked: beyond, a deep tile would pay more to mark than the
-    /// sums save, and no pixel counts as sole.
-    const MAX_MARKED_TILES: usize = 16;
-
-    /// Marks the pixels of `tile` (`tw` x `th`) under each piece's box, when
-    /// some polygon of the tile is textured under the box filter (the only
-    /// ones [`Sole::alone`] is asked about).
-    fn mark(&mut self, polys: &[ScreenPoly], geom: &TileGeom, tile: [u32; 4]) {
-        self.owner.clear();
-        let cut = |l: &Local| {
-            !l.plain
-                && polys[l.global as usize]
-                    .texture()
-                    .is_some_and(|t| t.filters.is_box() && t.always_opaque())
-        };
-        if !geom.locals.iter().any(cut) {
-            return;
-        }
-        let (tw, th) = ((tile[2] - tile[0]) as usize, (tile[3] - tile[1]) as usize);
-        let span = |r: &super::gather::PieceRef| {
-            let [x0, y0, x1, y1] = pixel_range(&r.bb, tile);
-            (x1.saturating_sub(x0) as usize) * (y1.saturating_sub(y0) as usize)
-        };
-        let marked: usize = geom.pieces.iter().map(span).sum();
-        if marked > Self::MAX_MARKED_TILES * tw * th {
-            return;
-        }
-        self.owner.resize(tw * th, Self::NONE);
-        for r in &geom.pieces {
-            let [x0, y0, x1, y1] = pixel_range(&r.bb, tile);
-            for y in y0..y1 {
-                let row = (y - tile[1]) as usize * tw;
-                for x in x0..x1 {
-                    let o = &mut self.owner[row + (x - tile[0]) as usize];
-                    if *o == Self::NONE {
-                        *o = r.local;
-                    } else if *o != r.local {
-                        *o = Self::MIXED;
-                    }
-                }
-            }
-        }
-    }
-
-    /// Whether polygon `pi` alone meets tile pixel `pixel`.
-    fn alone(&self, pixel: u32, pi: u32) -> bool {
-        self.owner.get(pixel as usize) == Some(&pi)
     }
 }
 
@@ -187,14 +145,8 @@ fn push_frag(
     arena: &mut Vec<DVec2>,
     t: &mut TexScratch,
 ) {
-    if let Some(shade) = &p.shade {
-        // Smooth lighting: the fragment's colours, each times the factor
-        // at the fragment's area centroid (the pixel's centre for a whole
-        // pixel), which is the factor's mean over the fragment wherever it
-        // is affine there; docs/lighting.md says where that holds.
+    if let Some(f) = shade_factor(p, (px, py), verts) {
         let (first_colour, first_frag) = (t.colors.len(), frags.len());
-        let centre = DVec2::new(px as f64 + 0.5, py as f64 + 0.5);
-        let c = crate::geom::polygon::area_centroid(verts).unwrap_or(centre);
         push_frag_unshaded(p, pi, pixel, (px, py), verts, frags, arena, t);
         for f in &mut frags[first_frag..] {
             if f.color == POLY_COLOR {
@@ -206,15 +158,38 @@ fn push_frag(
             }
         }
         frags.retain(|f| f.len != u32::MAX);
-        let f = shade.at(c.x, c.y);
         for colour in &mut t.colors[first_colour..] {
-            for ch in 0..3 {
-                colour[ch] *= f[ch];
-            }
+            *colour = shaded(*colour, f);
         }
         return;
     }
     push_frag_unshaded(p, pi, pixel, (px, py), verts, frags, arena, t);
+}
+
+/// The smooth-lighting factor of `p` over its fragment `frag` of pixel
+/// `(px, py)` (empty: the whole pixel), or `None` for a polygon without
+/// smooth lighting: the factor at the fragment's area centroid (the
+/// pixel's centre for a whole pixel), which is the factor's mean over the
+/// fragment wherever it is affine there; docs/lighting.md says where that
+/// holds. Each colour of the fragment is multiplied by it ([`shaded`]).
+pub(super) fn shade_factor(
+    p: &ScreenPoly,
+    (px, py): (u32, u32),
+    frag: &[DVec2],
+) -> Option<[f64; 3]> {
+    let shade = p.shade.as_ref()?;
+    let centre = DVec2::new(px as f64 + 0.5, py as f64 + 0.5);
+    let c = crate::geom::polygon::area_centroid(frag).unwrap_or(centre);
+    Some(shade.at(c.x, c.y))
+}
+
+/// `colour` lit by `factor`, channel by channel.
+pub(super) fn shaded(colour: [f64; 3], factor: [f64; 3]) -> [f64; 3] {
+    [
+        colour[0] * factor[0],
+        colour[1] * factor[1],
+        colour[2] * factor[2],
+    ]
 }
 
 /// [`push_frag`] without smooth lighting.
@@ -229,7 +204,7 @@ fn push_frag_unshaded(
     arena: &mut Vec<DVec2>,
     t: &mut TexScratch,
 ) {
-    use crate::texture::cells::{split, Sink, Split, Summed};
+    use crate::texture::cells::{cells_met, split, Sink, Split};
     if let Some(stripe) = p.stripe() {
         let color = t.colour(stripe.fragment_linear(px, py, verts).map(f64::from));
         push_piece(frags, arena, pixel, pi, verts, color);
@@ -269,18 +244,15 @@ fn push_frag_unshaded(
     }
     let square = pixel_square(px, py);
     let shape: &[DVec2] = if verts.is_empty() { &square } else { verts };
+    if tex.always_opaque() && cells_met(shape, tex).is_some_and(|n| n >= CUT_LATER_MIN_CELLS) {
+        push_piece(frags, arena, pixel, pi, verts, CUT_LATER);
+        return;
+    }
     t.pieces.clear();
     t.verts.clear();
-    let mut sum = Summed::default();
-    let summed = tex.always_opaque() && t.sole.alone(pixel, pi);
-    let mut sink = if summed {
-        Sink::Sum(&mut sum)
-    } else {
-        Sink::Pieces(&mut t.verts, &mut t.pieces)
-    };
+    let mut sink = Sink::Pieces(&mut t.verts, &mut t.pieces);
     let whole = match split(shape, px, py, tex, &mut sink, &mut t.cells) {
         Split::Whole(c) => c,
-        Split::Pieces if summed => sum.mean(),
         Split::Pieces => {
             for piece in &t.pieces {
                 t.colors.push(piece.color);
@@ -519,9 +491,10 @@ pub fn render_bin_counted(
 ) -> (Vec<[f32; 3]>, u64) {
     let render = |s: &mut TileScratch, g: &mut TileGeom| {
         g.gather(polys, bin, tile);
-        let before = s.tex.cells.estimated;
+        let estimated = |s: &TileScratch| s.tex.cells.estimated + s.resolve.texels.estimated;
+        let before = estimated(s);
         let block = render_tile(polys, g, bg, tile, s);
-        (block, s.tex.cells.estimated - before)
+        (block, estimated(s) - before)
     };
     SCRATCH.with(|cell| match cell.try_borrow_mut() {
         Ok(mut held) => {
@@ -568,7 +541,6 @@ fn render_tile(
     arena.clear();
     tex.colors.clear();
     pixels.reset(tw * th, &mut resolve.pool);
-    tex.sole.mark(polys, geom, tile);
     let locals = &geom.locals[..];
     let tile_box = [tx0 as f64, ty0 as f64, tx1 as f64, tile[3] as f64];
     let pixel_of = |x: u32, py: u32| ((py - ty0) as usize * tw + (x - tx0) as usize) as u32;

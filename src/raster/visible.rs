@@ -4,7 +4,10 @@
 //! ([`subtract_pairwise`]), and the convex geometry both stand on
 //! ([`subtract`], [`disjoint`]).
 
-use super::coverage::{deferred_filter, Frag, EDGE_EPS, FILTER_LATER, POLY_COLOR, SEPARATION_EPS};
+use super::coverage::{
+    deferred_filter, shade_factor, shaded, Frag, CUT_LATER, EDGE_EPS, FILTER_LATER, POLY_COLOR,
+    SEPARATION_EPS,
+};
 use super::gather::Local;
 use super::{tie_tolerance, Background, ScreenPoly};
 use crate::geom::polygon::{area2, clip_axis, clip_line, pixel_square, AREA_EPS};
@@ -39,6 +42,9 @@ struct Shower {
     q_lo: f64,
     bb: [f64; 4],
     color: [f64; 3],
+    /// A [`CUT_LATER`] fragment: `color` is the box integral over the part
+    /// that shows, so it changes when that part does.
+    cut_later: bool,
 }
 
 /// What [`PixelStates::sweep`] reads of the tile to place and colour a
@@ -97,14 +103,27 @@ struct Newcomer<'a> {
     verts: &'a [DVec2],
     bb: [f64; 4],
     qc: f64,
-    /// Its colour, `None` for a [`FILTER_LATER`] one not yet filtered.
-    color: Option<[f64; 3]>,
+    paint: Paint,
+}
+
+/// How a fragment's colour is known.
+#[derive(Clone, Copy)]
+enum Paint {
+    /// Given.
+    Known([f64; 3]),
+    /// A [`FILTER_LATER`] fragment's: the filter at the pixel centre,
+    /// evaluated once the fragment shows.
+    FilterLater,
+    /// A [`CUT_LATER`] fragment's: the box integral over the part of it
+    /// that shows.
+    CutLater,
 }
 
 impl Newcomer<'_> {
     /// This fragment as a shower of colour `color`.
     fn shower(&self, color: [f64; 3]) -> Shower {
         Shower {
+            cut_later: matches!(self.paint, Paint::CutLater),
             poly: self.f.poly,
             start: self.f.start,
             len: self.f.len,
@@ -174,16 +193,17 @@ impl PixelStates {
         let p = f.pixel as usize;
         let l = &t.locals[f.poly as usize];
         // A screen pattern's transparent texel: no fragment at all.
-        let color = match f.color {
+        let paint = match f.color {
             POLY_COLOR => match l
                 .color
                 .or_else(|| t.polys[l.global as usize].color_at(px, py))
             {
-                Some(c) => Some(c),
+                Some(c) => Paint::Known(c),
                 None => return,
             },
-            FILTER_LATER => None,
-            i => Some(t.colors[i as usize]),
+            FILTER_LATER => Paint::FilterLater,
+            CUT_LATER => Paint::CutLater,
+            i => Paint::Known(t.colors[i as usize]),
         };
         let square = pixel_square(px, py);
         let verts = frag_verts(f, t.arena, &square);
@@ -199,17 +219,16 @@ impl PixelStates {
                 None => bounds(verts),
             },
             qc: l.q(px as f64 + 0.5, py as f64 + 0.5),
-            color,
+            paint,
         };
         let status = self.status[p];
         if first_full {
             // The first fragment, and full: it is all the pixel shows so far
             // (the common case inside polygons; nothing to check or cut).
-            let c = n
-                .color
-                .unwrap_or_else(|| deferred_filter(t.polys, l, px, py));
-            self.show(p, &n, 1.0, c);
-            self.status[p] = Status::Closed;
+            if let Some(c) = paint_of(&n, [&square[..]], (px, py), t, work) {
+                self.show(p, &n, 1.0, c);
+                self.status[p] = Status::Closed;
+            }
             return;
         }
         let (in_order, overlaps) = self.check(p, &n, &square, t);
@@ -217,28 +236,36 @@ impl PixelStates {
             self.resolve_again(p, &n, (px, py), &square, t, work);
             return;
         }
-        let seen2 = match status {
+        let cut_later = matches!(n.paint, Paint::CutLater);
+        let (seen2, whole) = match status {
             Status::Closed => return, // Hidden: behind what covers the pixel.
             Status::Disjoint if !overlaps => {
-                if f.len == 0 {
-                    2.0
-                } else {
-                    area2(verts)
-                }
+                let seen2 = if f.len == 0 { 2.0 } else { area2(verts) };
+                (seen2, true)
             }
             Status::Disjoint | Status::Open => {
                 if status == Status::Disjoint {
                     self.build_open(p, &square, t.arena, work);
                 }
-                self.cut(p, &n, &square, work)
+                (self.cut(p, &n, &square, cut_later, work), false)
             }
         };
         let area = 0.5 * seen2;
         if area > AREA_EPS {
-            let c = n
-                .color
-                .unwrap_or_else(|| deferred_filter(t.polys, l, px, py));
-            self.show(p, &n, area, c);
+            // What shows of the fragment: all of it, or what the cut found.
+            let mut hits = std::mem::take(&mut work.hits);
+            let c = if whole {
+                paint_of(&n, [verts], (px, py), t, work)
+            } else {
+                paint_of(&n, hits.iter().map(|h| &h[..]), (px, py), t, work)
+            };
+            work.pool.append(&mut hits);
+            work.hits = hits;
+            if let Some(c) = c {
+                self.show(p, &n, area, c);
+            }
+        } else {
+            work.pool.append(&mut work.hits);
         }
         if self.status[p] == Status::Disjoint && self.acc[p][3] >= 1.0 - AREA_EPS {
             self.status[p] = Status::Closed;
@@ -295,7 +322,7 @@ impl PixelStates {
         open.push(whole);
         for c in &self.showers[p] {
             let cv = shape(c.start, c.len, arena, square);
-            cut_out(open, cv, &c.bb, square, work);
+            cut_out(open, cv, &c.bb, square, false, work);
         }
         self.status[p] = if open.is_empty() {
             Status::Closed
@@ -305,10 +332,18 @@ impl PixelStates {
     }
 
     /// Cuts `n` out of the uncovered part of an [`Status::Open`] pixel;
-    /// twice the area it removed.
-    fn cut(&mut self, p: usize, n: &Newcomer, square: &[DVec2; 4], work: &mut Scratch) -> f64 {
+    /// twice the area it removed. With `keep_hits`, what it removed is left
+    /// in `work.hits` as convex pieces.
+    fn cut(
+        &mut self,
+        p: usize,
+        n: &Newcomer,
+        square: &[DVec2; 4],
+        keep_hits: bool,
+        work: &mut Scratch,
+    ) -> f64 {
         let open = &mut self.open[p];
-        let seen2 = cut_out(open, n.verts, &n.bb, square, work);
+        let seen2 = cut_out(open, n.verts, &n.bb, square, keep_hits, work);
         if open.is_empty() {
             self.status[p] = Status::Closed;
         }
@@ -387,21 +422,60 @@ impl PixelStates {
         work.qc.clear();
         work.qc.extend(showers.iter().map(|c| c.qc));
         work.qc.push(n.qc);
+        // Whose visible pieces are kept: those coloured by what shows.
+        let newcomer_cut_later = matches!(n.paint, Paint::CutLater);
+        work.keep.clear();
+        work.keep.extend(showers.iter().map(|c| c.cut_later));
+        work.keep.push(newcomer_cut_later);
         let batch = std::mem::take(&mut work.batch);
         subtract_pairwise(t.locals, &batch, &cells, square, work);
         work.batch = batch;
         work.cells = cells;
-        // The new showers, with their new areas.
+        // The new showers, with their new areas (and, for those coloured by
+        // what shows, their new colours).
         let mut acc = [0.0; 4];
         let mut kept = std::mem::take(&mut work.showers);
         kept.clear();
-        for &(i, area) in &work.seen {
+        let seen = std::mem::take(&mut work.seen);
+        let visible = std::mem::take(&mut work.visible);
+        let visible_of = std::mem::take(&mut work.visible_of);
+        for &(i, area) in &seen {
+            let pieces = || {
+                let &(_, from, to) = visible_of
+                    .iter()
+                    .find(|r| r.0 == i)
+                    .expect("kept for each one that shows");
+                visible[from as usize..to as usize].iter().map(|v| &v[..])
+            };
             let c = match showers.get(i as usize) {
+                Some(s) if s.cut_later => {
+                    // Counted as estimated when it first showed; what
+                    // shows of it now is a part of that.
+                    let counted = work.texels.estimated;
+                    let l = &t.locals[s.poly as usize];
+                    let c = cut_texture(t, l, pieces(), (px, py), &mut work.texels);
+                    work.texels.estimated = counted;
+                    let frag = if s.len == 0 {
+                        &[][..]
+                    } else {
+                        &t.arena[s.start as usize..(s.start + s.len) as usize]
+                    };
+                    Shower {
+                        color: c.map_or(s.color, |c| lit(t, l, (px, py), frag, c)),
+                        ..*s
+                    }
+                }
                 Some(s) => *s,
-                None => n.shower(
-                    n.color
-                        .unwrap_or_else(|| deferred_filter(t.polys, n.l, px, py)),
-                ),
+                None => {
+                    let shown = match n.paint {
+                        Paint::CutLater => paint_of(n, pieces(), (px, py), t, work),
+                        _ => paint_of(n, [], (px, py), t, work),
+                    };
+                    match shown {
+                        Some(c) => n.shower(c),
+                        None => continue,
+                    }
+                }
             };
             for ch in 0..3 {
                 acc[ch] += area * c.color[ch];
@@ -409,6 +483,9 @@ impl PixelStates {
             acc[3] += area;
             kept.push(c);
         }
+        work.seen = seen;
+        work.visible = visible;
+        work.visible_of = visible_of;
         std::mem::swap(showers, &mut kept);
         work.showers = kept;
         self.mixed[p] = showers.iter().any(|c| c.poly != showers[0].poly);
@@ -420,7 +497,7 @@ impl PixelStates {
             Status::Closed => {}
             Status::Disjoint => self.build_open(p, square, t.arena, work),
             Status::Open => {
-                self.cut(p, n, square, work);
+                self.cut(p, n, square, false, work);
             }
         }
     }
@@ -439,12 +516,17 @@ fn cut_out(
     v: &[DVec2],
     bb: &[f64; 4],
     square: &[DVec2; 4],
+    keep_hits: bool,
     work: &mut Scratch,
 ) -> f64 {
     if v == square {
         // The whole pixel: all that was open is seen.
         let seen2 = open.iter().map(|piece| area2(piece)).sum();
-        work.pool.append(open);
+        if keep_hits {
+            work.hits.append(open);
+        } else {
+            work.pool.append(open);
+        }
         return seen2;
     }
     let pixel = box_of(square);
@@ -468,6 +550,13 @@ fn cut_out(
             None => next.push(piece),
             Some(s2) => {
                 seen2 += s2;
+                if keep_hits && s2 > 0.0 {
+                    // `subtract` leaves `piece ∩ v` in its `cur`.
+                    let mut hit = work.pool.pop().unwrap_or_default();
+                    hit.clear();
+                    hit.extend_from_slice(&work.a);
+                    work.hits.push(hit);
+                }
                 work.pool.push(piece);
             }
         }
@@ -504,6 +593,64 @@ pub(super) struct Scratch {
     /// resolves, for [`PixelStates::resolve_again`].
     showers: Vec<Shower>,
     cells: Vec<DVec2>,
+    /// Which fragments [`subtract_pairwise`] keeps the visible pieces of
+    /// (in `visible`, each one's run in `visible_of` as `(i, from, to)`,
+    /// in the order of `seen`): the [`CUT_LATER`] ones.
+    keep: Vec<bool>,
+    visible: Vec<Vec<DVec2>>,
+    visible_of: Vec<(u32, u32, u32)>,
+    /// What a [`CUT_LATER`] fragment's cut removed from the uncovered part:
+    /// the convex pieces of it that show.
+    hits: Vec<Vec<DVec2>>,
+    /// Buffers of the texel cut of [`CUT_LATER`] fragments, and the count
+    /// of those estimated.
+    pub(super) texels: crate::texture::cells::Scratch,
+}
+
+/// The colour `n` shows with, where `visible` are the convex pieces of it
+/// that show (read only for a [`Paint::CutLater`] one); `None` where it
+/// shows no opaque area.
+fn paint_of<'a>(
+    n: &Newcomer,
+    visible: impl IntoIterator<Item = &'a [DVec2]>,
+    at: (u32, u32),
+    t: &Shown,
+    work: &mut Scratch,
+) -> Option<[f64; 3]> {
+    match n.paint {
+        Paint::Known(c) => Some(c),
+        Paint::FilterLater => Some(deferred_filter(t.polys, n.l, at.0, at.1)),
+        Paint::CutLater => {
+            let c = cut_texture(t, n.l, visible, at, &mut work.texels)?;
+            let frag = if n.f.len == 0 { &[][..] } else { n.verts };
+            Some(lit(t, n.l, at, frag, c))
+        }
+    }
+}
+
+/// `c` under the smooth lighting of `l`'s polygon over its fragment `frag`
+/// (empty: the whole pixel), as the fragments coloured when made are lit
+/// ([`shade_factor`]).
+fn lit(t: &Shown, l: &Local, at: (u32, u32), frag: &[DVec2], c: [f64; 3]) -> [f64; 3] {
+    match shade_factor(&t.polys[l.global as usize], at, frag) {
+        Some(f) => shaded(c, f),
+        None => c,
+    }
+}
+
+/// The box integral of the texture of `l`'s polygon over `visible`, pieces
+/// of pixel `(px, py)` ([`crate::texture::cells::integrate`]).
+fn cut_texture<'a>(
+    t: &Shown,
+    l: &Local,
+    visible: impl IntoIterator<Item = &'a [DVec2]>,
+    (px, py): (u32, u32),
+    texels: &mut crate::texture::cells::Scratch,
+) -> Option<[f64; 3]> {
+    let tex = t.polys[l.global as usize]
+        .texture()
+        .expect("CUT_LATER fragments are textured");
+    crate::texture::cells::integrate(visible, px, py, tex, texels)
 }
 
 /// The `len` vertices from `start` in `arena`, or the pixel `square` for
@@ -564,9 +711,14 @@ pub(super) fn subtract_pairwise(
         alive,
         runs,
         seen,
+        keep,
+        visible,
+        visible_of,
         ..
     } = s;
     runs.clear();
+    pool.append(visible);
+    visible_of.clear();
     let mut start = 0;
     for k in 1..=frags.len() {
         if k == frags.len() || frags[k].poly != frags[start].poly {
@@ -632,6 +784,16 @@ pub(super) fn subtract_pairwise(
         let area: f64 = pieces.iter().map(|p| area2(p)).sum::<f64>() * 0.5;
         if area > AREA_EPS {
             seen.push((i as u32, area));
+            if keep.get(i) == Some(&true) {
+                let from = visible.len() as u32;
+                for piece in pieces.iter() {
+                    let mut v = pool.pop().unwrap_or_default();
+                    v.clear();
+                    v.extend_from_slice(piece);
+                    visible.push(v);
+                }
+                visible_of.push((i as u32, from, visible.len() as u32));
+            }
         }
     }
 }

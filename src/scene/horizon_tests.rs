@@ -3,7 +3,7 @@
 //! fell back silently to the EWA mean. The pattern is turned 0°, 45° and an
 //! irrational angle, so the cells meet the footprints along and across
 //! their diagonals. Three routes are compared: the default (texel cells
-//! cut, or summed where the ground is alone in a pixel), `--reference`
+//! cut from the part that shows and summed), `--reference`
 //! (scanline events and Gauss–Legendre strips, none of that code), and a
 //! brute-force point-sampled mean on the rows just under the horizon,
 //! which reads only the map and the texels.

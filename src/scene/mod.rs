@@ -41,6 +41,8 @@ mod error;
 mod horizon_tests;
 pub mod keys;
 pub mod polyfill;
+#[cfg(test)]
+mod shared_pixel_tests;
 pub mod stripe;
 
 use error::InRecord;
