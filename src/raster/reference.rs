@@ -59,6 +59,23 @@ pub struct Reference {
     pub error: Vec<f32>,
 }
 
+impl Reference {
+    /// Each pixel's reference colour, `other`'s colour and the reference's
+    /// error estimate there, in pixel order: what a check of another
+    /// rendering against the reference walks.
+    pub fn pixels_against<'a>(
+        &'a self,
+        other: &'a Frame,
+    ) -> impl Iterator<Item = (&'a [f32; 3], &'a [f32; 3], f32)> + 'a {
+        self.frame
+            .pixels
+            .iter()
+            .zip(&other.pixels)
+            .zip(&self.error)
+            .map(|((p, q), &e)| (p, q, e))
+    }
+}
+
 /// A summary of the reference's own residual error, in 8-bit sRGB terms.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Residual {

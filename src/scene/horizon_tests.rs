@@ -81,14 +81,7 @@ fn the_default_equals_the_reference_wherever_the_reference_is_certain() {
         let exact = crate::raster::render(&polys, &bg, WIDTH, HEIGHT, Aa::Exact);
         let r = reference::render(&polys, &bg, WIDTH, HEIGHT, 6);
         let (mut certain, mut off) = (0, Vec::new());
-        for (i, ((p, q), &e)) in r
-            .frame
-            .pixels
-            .iter()
-            .zip(&exact.pixels)
-            .zip(&r.error)
-            .enumerate()
-        {
+        for (i, (p, q, e)) in r.pixels_against(&exact).enumerate() {
             let sure = p
                 .iter()
                 .all(|&v| code(v as f64 - e as f64) == code(v as f64 + e as f64));
@@ -105,7 +98,7 @@ fn the_default_equals_the_reference_wherever_the_reference_is_certain() {
         // In 16 bits: where the reference's estimate is below a 16-bit
         // code, the two agree within a few codes.
         let (mut sure16, mut worst16) = (0u32, 0u16);
-        for ((p, q), &e) in r.frame.pixels.iter().zip(&exact.pixels).zip(&r.error) {
+        for (p, q, e) in r.pixels_against(&exact) {
             if e > 1e-6 {
                 continue;
             }

@@ -36,14 +36,7 @@ fn assert_default_is_the_reference(name: &str, polys: &[ScreenPoly], w: u32, h: 
     let exact = crate::raster::render(polys, &bg, w, h, Aa::Exact);
     let r = reference::render(polys, &bg, w, h, 24);
     let code = |v: f32| Rgb8::from_linear([v; 3]).0[0];
-    for (i, ((p, q), &e)) in r
-        .frame
-        .pixels
-        .iter()
-        .zip(&exact.pixels)
-        .zip(&r.error)
-        .enumerate()
-    {
+    for (i, (p, q, e)) in r.pixels_against(&exact).enumerate() {
         let (x, y) = (i as u32 % w, i as u32 / w);
         assert!(
             p.iter().all(|&v| code(v - e) == code(v + e)),

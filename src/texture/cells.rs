@@ -489,6 +489,19 @@ mod tests {
         }
     }
 
+    /// A one-texel checker `scale` texels a pixel, turned `angle`, under
+    /// a perspective of strength `persp`.
+    fn checker(scale: f64, angle: f64, persp: f64) -> PolyTexture {
+        let (a, b) = (Rgb8([230, 230, 230]), Rgb8([20, 20, 120]));
+        let texels = pattern(16, &[a, b], |c, r| ((c + r) % 2) as u16);
+        let mut tex = placed(texels, scale, Filter::Box, 0.0);
+        let (sn, cs) = crate::math::sin_cos(angle);
+        tex.map.u = [scale * cs, -scale * sn, 0.37];
+        tex.map.v = [scale * sn, scale * cs, -1.21];
+        tex.map.d = [persp, persp * 0.5, 1.0];
+        tex
+    }
+
     proptest! {
         /// The summing sink is the pieces' area-weighted colours, to the
         /// bit (the same sums in the same order), and the pieces tile the
@@ -501,12 +514,7 @@ mod tests {
             px in 0u32..16,
             py in 0u32..16,
         ) {
-            let (a, b) = (Rgb8([230, 230, 230]), Rgb8([20, 20, 120]));
-            let mut tex = placed(pattern(16, &[a, b], |c, r| ((c + r) % 2) as u16), scale, Filter::Box, 0.0);
-            let (sn, cs) = crate::math::sin_cos(angle);
-            tex.map.u = [scale * cs, -scale * sn, 0.37];
-            tex.map.v = [scale * sn, scale * cs, -1.21];
-            tex.map.d = [persp, persp * 0.5, 1.0];
+            let tex = checker(scale, angle, persp);
             let (split_p, pieces, verts) = pieces_of(&tex, px, py);
             let mut sum = Summed::default();
             let sq = pixel_square(px, py);
@@ -542,12 +550,7 @@ mod tests {
             py in 0u32..16,
             cut in proptest::array::uniform3(-1.0f64..1.0),
         ) {
-            let (a, b) = (Rgb8([230, 230, 230]), Rgb8([20, 20, 120]));
-            let mut tex = placed(pattern(16, &[a, b], |c, r| ((c + r) % 2) as u16), scale, Filter::Box, 0.0);
-            let (sn, cs) = crate::math::sin_cos(angle);
-            tex.map.u = [scale * cs, -scale * sn, 0.37];
-            tex.map.v = [scale * sn, scale * cs, -1.21];
-            tex.map.d = [persp, persp * 0.5, 1.0];
+            let tex = checker(scale, angle, persp);
             let sq = pixel_square(px, py);
             // A line through the pixel: a*(x - cx) + b*(y - cy) + c/2 = 0.
             let (cx, cy) = (px as f64 + 0.5, py as f64 + 0.5);
