@@ -564,10 +564,12 @@ struct Reports {
 /// silent, a warning and, with `--json`, the key `estimated`.
 #[derive(Clone, Copy, Debug, serde::Serialize)]
 struct Estimated {
-    /// Pixel fragments that took the EWA estimate.
+    /// Pixel fragments that took the EWA estimate or the stripes' LOD
+    /// filter.
     fragments: u64,
     /// How far each can be from its exact value, 8-bit codes: the largest
-    /// contrast of the frame's textures (`PolyTexture::contrast_codes`).
+    /// contrast of the frame's textures and stripes
+    /// (`PolyTexture::contrast_codes`, `StripeTexture::contrast_codes`).
     bound_codes: u32,
 }
 
@@ -582,7 +584,7 @@ impl Estimated {
     /// The warning, `at` naming the frame of an animation.
     fn warn(&self, at: &str) {
         eprintln!(
-            "{TOOL}: warning: {at}{} pixel fragment(s) meet more than {} texel cells (next to a textured plane's horizon): their colour is an estimate (EWA), not the exact box integral, within {} code(s) of it (the textures' contrast)",
+            "{TOOL}: warning: {at}{} pixel fragment(s) too fine to integrate exactly (more than {} texel cells, or stripes reaching a plane's horizon): their colour is an estimate (EWA, or the stripes' level-of-detail filter), not the exact box integral, within {} code(s) of it (the textures' contrast)",
             self.fragments,
             crate::texture::cells::MAX_EXACT_CELLS,
             self.bound_codes

@@ -205,9 +205,9 @@ fn push_frag_unshaded(
     t: &mut TexScratch,
 ) {
     use crate::texture::cells::{cells_met, split, Sink, Split};
-    if let Some(stripe) = p.stripe() {
-        let color = t.colour(stripe.fragment_linear(px, py, verts).map(f64::from));
-        push_piece(frags, arena, pixel, pi, verts, color);
+    if p.stripe().is_some() {
+        // Integrated over the part that shows, once that is known.
+        push_piece(frags, arena, pixel, pi, verts, CUT_LATER);
         return;
     }
     let Some(tex) = p.texture() else {

@@ -638,8 +638,11 @@ fn lit(t: &Shown, l: &Local, at: (u32, u32), frag: &[DVec2], c: [f64; 3]) -> [f6
     }
 }
 
-/// The box integral of the texture of `l`'s polygon over `visible`, pieces
-/// of pixel `(px, py)` ([`crate::texture::cells::integrate`]).
+/// The box integral of the texture or the stripes of `l`'s polygon over
+/// `visible`, pieces of pixel `(px, py)`
+/// ([`crate::texture::cells::integrate`],
+/// [`crate::stripe::StripeTexture::visible_linear`]); what either
+/// estimated is counted in `texels`.
 fn cut_texture<'a>(
     t: &Shown,
     l: &Local,
@@ -647,9 +650,13 @@ fn cut_texture<'a>(
     (px, py): (u32, u32),
     texels: &mut crate::texture::cells::Scratch,
 ) -> Option<[f64; 3]> {
-    let tex = t.polys[l.global as usize]
-        .texture()
-        .expect("CUT_LATER fragments are textured");
+    let p = &t.polys[l.global as usize];
+    if let Some(stripe) = p.stripe() {
+        let (c, estimated) = stripe.visible_linear(px, py, visible)?;
+        texels.estimated += estimated as u64;
+        return Some(c.map(f64::from));
+    }
+    let tex = p.texture().expect("CUT_LATER fragments are textured");
     crate::texture::cells::integrate(visible, px, py, tex, texels)
 }
 

@@ -1071,8 +1071,9 @@ pub struct Rendered {
 impl Rendered {
     /// How far an estimated fragment can be from its exact value, in 8-bit
     /// codes: the largest [`crate::texture::PolyTexture::contrast_codes`]
-    /// of the frame's textures (each texture once), or `None` when nothing
-    /// was estimated.
+    /// of the frame's textures (each texture once) or
+    /// [`crate::stripe::StripeTexture::contrast_codes`] of its stripes, or
+    /// `None` when nothing was estimated.
     pub fn estimate_bound(&self, polys: &[ScreenPoly]) -> Option<u32> {
         if self.estimated == 0 {
             return None;
@@ -1090,6 +1091,12 @@ impl Rendered {
                 new
             })
             .map(|t| t.contrast_codes())
+            .chain(
+                polys
+                    .iter()
+                    .filter_map(ScreenPoly::stripe)
+                    .map(|s| s.contrast_codes()),
+            )
             .max()
     }
 }

@@ -395,16 +395,59 @@ impl StripeTexture {
     /// centroid centres it on the part of the pixel the face covers, so an
     /// edge pixel takes the stripes under its covered part rather than the
     /// ones under its (possibly uncovered) centre.
-    pub fn fragment_linear(&self, px: u32, py: u32, verts: &[DVec2]) -> [f32; 3] {
+    ///
+    /// Also says whether the colour is an estimate of the box integral to
+    /// be reported (issue 15: never silent): the LOD filter where the
+    /// integral was not taken, except under `--cig-compat`, whose filter is
+    /// what was asked for.
+    pub fn fragment_linear(&self, px: u32, py: u32, verts: &[DVec2]) -> ([f32; 3], bool) {
         let (x, y) = (px as f64, py as f64);
         let square = crate::geom::polygon::pixel_square(px, py);
         let shape: &[DVec2] = if verts.is_empty() { &square } else { verts };
         if let Some(m) = self.box_modulation_few(shape) {
-            return self.colour(m as f32);
+            return (self.colour(m as f32), false);
         }
         let (cx, cy) =
             crate::geom::polygon::area_centroid(verts).map_or((x + 0.5, y + 0.5), |c| (c.x, c.y));
-        self.linear_at(cx, cy)
+        (self.linear_at(cx, cy), self.mode != LodMode::Cig)
+    }
+
+    /// [`StripeTexture::fragment_linear`] over the disjoint convex `pieces`
+    /// of pixel `(px, py)`, the part of a fragment that shows: their
+    /// area-weighted mean modulation (the colour is affine in it), each
+    /// piece's the exact box average where [`StripeTexture::fragment_linear`]
+    /// takes it and the LOD filter at its centroid elsewhere. One piece is
+    /// exactly [`StripeTexture::fragment_linear`] (the whole pixel square
+    /// standing for the whole pixel). `None` where the pieces have no area.
+    pub fn visible_linear<'a>(
+        &self,
+        px: u32,
+        py: u32,
+        pieces: impl IntoIterator<Item = &'a [DVec2]>,
+    ) -> Option<([f32; 3], bool)> {
+        let square = crate::geom::polygon::pixel_square(px, py);
+        let mut iter = pieces.into_iter();
+        let first = iter.next()?;
+        let Some(second) = iter.next() else {
+            let whole = if first == &square[..] { &[][..] } else { first };
+            return Some(self.fragment_linear(px, py, whole));
+        };
+        let (mut sum, mut area, mut estimated) = (0.0, 0.0, false);
+        for piece in [first, second].into_iter().chain(iter) {
+            let a = polygon_area(piece).abs();
+            let m = match self.box_modulation_few(piece) {
+                Some(m) => m,
+                None => {
+                    estimated |= self.mode != LodMode::Cig;
+                    let c = crate::geom::polygon::vertex_mean(piece);
+                    let c = crate::geom::polygon::area_centroid(piece).unwrap_or(c);
+                    self.modulation_at(c.x, c.y) as f64
+                }
+            };
+            sum += a * m;
+            area += a;
+        }
+        (area > 0.0).then(|| (self.colour((sum / area) as f32), estimated))
     }
 
     /// Most map-sample boundaries a fragment may cross for `--aa exact` to
@@ -497,6 +540,20 @@ impl StripeTexture {
         (0..3)
             .map(|ch| (self.ends[1][ch] as f64 - self.ends[0][ch] as f64).abs())
             .fold(0.0, f64::max)
+    }
+
+    /// [`StripeTexture::contrast_linear`] in 8-bit sRGB codes: the bound
+    /// `scene-render` reports for the fragments whose colour is the LOD
+    /// filter's estimate ([`StripeTexture::fragment_linear`]).
+    pub fn contrast_codes(&self) -> u32 {
+        let code = |l: f32| crate::color::Rgb8::from_linear([l; 3]).0[0] as u32;
+        (0..3)
+            .map(|ch| {
+                let (a, b) = (self.ends[0][ch], self.ends[1][ch]);
+                code(a.max(b)) - code(a.min(b))
+            })
+            .max()
+            .unwrap_or(0)
     }
 
     /// The crisp stripe colour at the screen point `(x, y)` (level 0, no LOD),

@@ -268,7 +268,8 @@ fn fragments_are_exact_where_few_samples_cross_and_filtered_elsewhere() {
     for py in (0..110).step_by(3) {
         for px in (0..w).step_by(7) {
             if let Ok(r) = blend.reference_linear(px, py) {
-                let c = blend.fragment_linear(px, py, &[]);
+                let (c, estimated) = blend.fragment_linear(px, py, &[]);
+                assert!(!estimated, "{px},{py}");
                 for ch in 0..3 {
                     assert!((c[ch] as f64 - r[ch]).abs() <= EXACT_AGREEMENT, "{px},{py}");
                 }
@@ -281,7 +282,11 @@ fn fragments_are_exact_where_few_samples_cross_and_filtered_elsewhere() {
             let Ok(r) = t.reference_linear(px, py) else {
                 continue;
             };
-            let c = t.fragment_linear(px, py, &[]);
+            let (c, estimated) = t.fragment_linear(px, py, &[]);
+            assert!(
+                !estimated,
+                "--cig-compat's filter is asked for, not an estimate"
+            );
             let square = [
                 DVec2::new(px as f64, py as f64),
                 DVec2::new(px as f64 + 1.0, py as f64),
