@@ -22,10 +22,10 @@
 //!    behind everything that showed in it before it is clipped, and a pixel
 //!    row wholly behind is never cut from its piece.
 //!
-//!    A textured fragment over several texel cells is swept whole
-//!    (`CUT_LATER`): its cells are cut from the part of it that shows once
-//!    that part is known, so polygons sharing a pixel never meet cell by
-//!    cell.
+//!    A textured fragment over several texel cells, or a striped one, is
+//!    swept whole (`CUT_LATER`) and integrated over the part of it that
+//!    shows once that part is known: texel cells are cut from that part
+//!    only, so polygons sharing a pixel never meet cell by cell.
 //! 4. **Blend.** The pixel is `sum(area_F * colour_F) + (1 - sum(area_F)) * bg`
 //!    in linear light, accumulated in f64.
 //!
@@ -75,10 +75,14 @@ pub(super) const POLY_COLOR: u32 = u32::MAX;
 /// the pixel centre) is computed only once it is known to be visible.
 pub(super) const FILTER_LATER: u32 = u32::MAX - 1;
 
-/// [`Frag::color`] of an opaque box-filtered textured fragment swept whole:
-/// its texel cells are cut only from the part of it that shows, once the
-/// sweep knows that part ([`crate::texture::cells::integrate`]), instead of
-/// each cell's piece being swept as a fragment of its own.
+/// [`Frag::color`] of a fragment swept whole and coloured by the box
+/// integral over the part of it that shows, once the sweep knows that part:
+/// an opaque box-filtered textured fragment over several texel cells, whose
+/// cells are then cut from that part only
+/// ([`crate::texture::cells::integrate`]) instead of each cell's piece
+/// being swept as a fragment of its own; and a stripe fragment
+/// ([`crate::stripe::StripeTexture::visible_linear`]), whose average over
+/// the whole fragment would be wrong where something hides part of it.
 pub(super) const CUT_LATER: u32 = u32::MAX - 2;
 
 /// Least number of texel cells a fragment must be able to meet
