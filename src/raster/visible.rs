@@ -453,15 +453,15 @@ impl PixelStates {
                     // shows of it now is a part of that.
                     let counted = work.texels.estimated;
                     let l = &t.locals[s.poly as usize];
-                    let c = cut_texture(t, l, pieces(), (px, py), &mut work.texels);
-                    work.texels.estimated = counted;
                     let frag = if s.len == 0 {
                         &[][..]
                     } else {
                         &t.arena[s.start as usize..(s.start + s.len) as usize]
                     };
+                    let c = cut_texture(t, l, pieces(), (px, py), frag, &mut work.texels);
+                    work.texels.estimated = counted;
                     Shower {
-                        color: c.map_or(s.color, |c| lit(t, l, (px, py), frag, c)),
+                        color: c.unwrap_or(s.color),
                         ..*s
                     }
                 }
@@ -621,9 +621,8 @@ fn paint_of<'a>(
         Paint::Known(c) => Some(c),
         Paint::FilterLater => Some(deferred_filter(t.polys, n.l, at.0, at.1)),
         Paint::CutLater => {
-            let c = cut_texture(t, n.l, visible, at, &mut work.texels)?;
             let frag = if n.f.len == 0 { &[][..] } else { n.verts };
-            Some(lit(t, n.l, at, frag, c))
+            cut_texture(t, n.l, visible, at, frag, &mut work.texels)
         }
     }
 }
@@ -639,25 +638,41 @@ fn lit(t: &Shown, l: &Local, at: (u32, u32), frag: &[DVec2], c: [f64; 3]) -> [f6
 }
 
 /// The box integral of the texture or the stripes of `l`'s polygon over
-/// `visible`, pieces of pixel `(px, py)`
-/// ([`crate::texture::cells::integrate`],
+/// `visible`, pieces of pixel `(px, py)` of its fragment `frag` (empty: the
+/// whole pixel), lit ([`crate::texture::cells::integrate`],
 /// [`crate::stripe::StripeTexture::visible_linear`]); what either
 /// estimated is counted in `texels`.
+///
+/// Smooth lighting: a texture's cell pieces each take the factor at their
+/// own area centroid, so the product of texels and factor is integrated
+/// exactly wherever the factor is affine on the screen (a parallel
+/// projection). Stripes take the factor at the fragment's centroid, as
+/// fragments coloured when made do ([`lit`]).
 fn cut_texture<'a>(
     t: &Shown,
     l: &Local,
     visible: impl IntoIterator<Item = &'a [DVec2]>,
     (px, py): (u32, u32),
+    frag: &[DVec2],
     texels: &mut crate::texture::cells::Scratch,
 ) -> Option<[f64; 3]> {
     let p = &t.polys[l.global as usize];
     if let Some(stripe) = p.stripe() {
         let (c, estimated) = stripe.visible_linear(px, py, visible)?;
         texels.estimated += estimated as u64;
-        return Some(c.map(f64::from));
+        return Some(lit(t, l, (px, py), frag, c.map(f64::from)));
     }
     let tex = p.texture().expect("CUT_LATER fragments are textured");
-    crate::texture::cells::integrate(visible, px, py, tex, texels)
+    let factor = |piece: &[DVec2]| {
+        let c = crate::geom::polygon::area_centroid(piece)
+            .unwrap_or_else(|| crate::geom::polygon::vertex_mean(piece));
+        p.shade.as_ref().map_or([1.0; 3], |s| s.at(c.x, c.y))
+    };
+    let factor = p
+        .shade
+        .is_some()
+        .then_some(&factor as &dyn Fn(&[DVec2]) -> [f64; 3]);
+    crate::texture::cells::integrate(visible, px, py, tex, factor, texels)
 }
 
 /// The `len` vertices from `start` in `arena`, or the pixel `square` for

@@ -79,6 +79,10 @@ pub struct Piece {
     pub color: [f64; 3],
 }
 
+/// A factor per piece, per channel, that its colour is multiplied by:
+/// smooth lighting's ([`Sink::SumLit`]).
+pub type PieceFactor<'a> = &'a dyn Fn(&[DVec2]) -> [f64; 3];
+
 /// Where [`split`] puts what it cuts.
 pub enum Sink<'a> {
     /// Each opaque piece, for the exact visibility of `raster::coverage`:
@@ -88,6 +92,9 @@ pub enum Sink<'a> {
     /// for a visible part of a fragment, whose pieces need no visibility
     /// work of their own.
     Sum(&'a mut Summed),
+    /// [`Sink::Sum`] with each piece's colour times a factor for that
+    /// piece: smooth lighting's, at the piece's area centroid.
+    SumLit(&'a mut Summed, PieceFactor<'a>),
 }
 
 /// The pieces of a fragment summed ([`Sink::Sum`]).
@@ -114,6 +121,13 @@ impl Sink<'_> {
             Sink::Sum(sum) => {
                 for (w, c) in sum.weighted.iter_mut().zip(color) {
                     *w += area2 * c;
+                }
+                sum.area2 += area2;
+            }
+            Sink::SumLit(sum, factor) => {
+                let k = factor(cell);
+                for ch in 0..3 {
+                    sum.weighted[ch] += area2 * (color[ch] * k[ch]);
                 }
                 sum.area2 += area2;
             }
@@ -183,19 +197,31 @@ pub fn cells_met(frag: &[DVec2], tex: &PolyTexture) -> Option<f64> {
 ///
 /// This is the integral the visibility sweep takes over the visible part of
 /// a fragment swept whole (`raster::visible`); each piece's own cut is
-/// exact up to [`MAX_EXACT_CELLS`], like any fragment's.
+/// exact up to [`MAX_EXACT_CELLS`], like any fragment's. With `factor`
+/// (smooth lighting), each cell's piece is weighted by it
+/// ([`Sink::SumLit`]): the exact integral of texel times factor wherever
+/// the factor is affine on the screen.
 pub fn integrate<'a>(
     pieces: impl IntoIterator<Item = &'a [DVec2]>,
     px: u32,
     py: u32,
     tex: &PolyTexture,
+    factor: Option<PieceFactor>,
     s: &mut Scratch,
 ) -> Option<[f64; 3]> {
     let (mut sum, mut count, mut whole) = (Summed::default(), 0, None);
     for piece in pieces {
         count += 1;
-        whole = match split(piece, px, py, tex, &mut Sink::Sum(&mut sum), s) {
+        let mut sink = match factor {
+            Some(f) => Sink::SumLit(&mut sum, f),
+            None => Sink::Sum(&mut sum),
+        };
+        whole = match split(piece, px, py, tex, &mut sink, s) {
             Split::Whole(Some(c)) => {
+                let c = match factor {
+                    Some(f) => std::array::from_fn(|ch| c[ch] * f(piece)[ch]),
+                    None => c,
+                };
                 Sink::Sum(&mut sum).take(piece, area2(piece), c);
                 Some(c)
             }
@@ -563,8 +589,8 @@ mod tests {
                 .into_iter()
                 .filter(|h| h.len() >= 3 && area2(h) > 2.0 * AREA_EPS)
                 .collect();
-            let whole = integrate([&sq[..]], px, py, &tex, &mut Scratch::default()).unwrap();
-            let parts = integrate(halves, px, py, &tex, &mut Scratch::default()).unwrap();
+            let whole = integrate([&sq[..]], px, py, &tex, None, &mut Scratch::default()).unwrap();
+            let parts = integrate(halves, px, py, &tex, None, &mut Scratch::default()).unwrap();
             for ch in 0..3 {
                 prop_assert!((whole[ch] - parts[ch]).abs() < 1e-9, "{:?} vs {:?}", whole, parts);
             }
