@@ -77,31 +77,14 @@ pub(super) const FILTER_LATER: u32 = u32::MAX - 1;
 
 /// [`Frag::color`] of a fragment swept whole and coloured by the box
 /// integral over the part of it that shows, once the sweep knows that part:
-/// an opaque box-filtered textured fragment over several texel cells, whose
-/// cells are then cut from that part only
-/// ([`crate::texture::cells::integrate`]) instead of each cell's piece
-/// being swept as a fragment of its own; and a stripe fragment
+/// an opaque box-filtered textured fragment over several texel cells
+/// ([`crate::texture::cells::Split::Deferred`]), whose cells are then cut
+/// from that part only ([`crate::texture::cells::integrate`]) instead of
+/// each cell's piece being swept as a fragment of its own; and a stripe
+/// fragment
 /// ([`crate::stripe::StripeTexture::visible_linear`]), whose average over
 /// the whole fragment would be wrong where something hides part of it.
 pub(super) const CUT_LATER: u32 = u32::MAX - 2;
-
-/// Least number of texel cells a fragment must be able to meet
-/// ([`cells_met`]) to be swept whole ([`CUT_LATER`]): two, so every
-/// fragment the texture cuts at all.
-///
-/// Why whole: swept cell by cell, the pieces of two polygons in one pixel
-/// cost each other a convex subtraction per pair, so a pixel over k cells
-/// of each costs O(k²): the two photographed globes at 100x75 took 111 s,
-/// demo 2 at 8x8 34 s (`bench/RESULTS-thumbnails.md` has them swept
-/// whole). Swept whole, a fragment costs one visibility check and one cut,
-/// and its cells are cut once, from the part of it that shows. The two
-/// routes add the same areas in another order; on the scenes of that
-/// benchmark the images are bit for bit the same but for one f32 value.
-///
-/// Why not one cell: such a fragment is swept with its texel's colour as
-/// given; its mean over its visible part, `(a·c)/a`, could differ from `c`
-/// in the last bit.
-const CUT_LATER_MIN_CELLS: f64 = 2.0;
 
 /// The filtered colour at the centre of pixel `(px, py)` of a
 /// [`FILTER_LATER`] fragment of `l`, computed once it is known to show.
@@ -208,7 +191,7 @@ fn push_frag_unshaded(
     arena: &mut Vec<DVec2>,
     t: &mut TexScratch,
 ) {
-    use crate::texture::cells::{cells_met, split, Sink, Split};
+    use crate::texture::cells::{split_or_defer, Sink, Split};
     if p.stripe().is_some() {
         // Integrated over the part that shows, once that is known.
         push_piece(frags, arena, pixel, pi, verts, CUT_LATER);
@@ -248,15 +231,15 @@ fn push_frag_unshaded(
     }
     let square = pixel_square(px, py);
     let shape: &[DVec2] = if verts.is_empty() { &square } else { verts };
-    if tex.always_opaque() && cells_met(shape, tex).is_some_and(|n| n >= CUT_LATER_MIN_CELLS) {
-        push_piece(frags, arena, pixel, pi, verts, CUT_LATER);
-        return;
-    }
     t.pieces.clear();
     t.verts.clear();
     let mut sink = Sink::Pieces(&mut t.verts, &mut t.pieces);
-    let whole = match split(shape, px, py, tex, &mut sink, &mut t.cells) {
+    let whole = match split_or_defer(shape, px, py, tex, &mut sink, &mut t.cells) {
         Split::Whole(c) => c,
+        Split::Deferred => {
+            push_piece(frags, arena, pixel, pi, verts, CUT_LATER);
+            return;
+        }
         Split::Pieces => {
             for piece in &t.pieces {
                 t.colors.push(piece.color);

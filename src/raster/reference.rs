@@ -510,10 +510,7 @@ fn events(
             // affine functions are extreme there), nor when they tie everywhere
             // (coplanar neighbours; the tie rule decides, without a switch).
             let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
-            let d: Vec<f64> = corners
-                .iter()
-                .map(|&(cx, cy)| a * cx + b * cy + c)
-                .collect();
+            let d = corners.map(|(cx, cy)| a * cx + b * cy + c);
             let tied = corners.iter().zip(&d).all(|(&(cx, cy), dv)| {
                 dv.abs() <= tie_tolerance(f.q(cx, cy), g.q(cx, cy), f.tie_floor)
             });
@@ -528,6 +525,11 @@ fn events(
                 bounded: false,
                 family: 0,
             });
+        }
+        // Checked as the features are gathered, not only once they all
+        // are: a pixel under n polygons has up to n²/2 of these lines.
+        if prims.len() > MAX_EVENT_PRIMS {
+            return false;
         }
     }
     // Texel cell boundaries of textured candidates: along a line the colour
@@ -560,9 +562,9 @@ fn events(
                 incomplete.push(ci);
             }
         }
-    }
-    if prims.len() > MAX_EVENT_PRIMS {
-        return false;
+        if prims.len() > MAX_EVENT_PRIMS {
+            return false;
+        }
     }
     for i in 0..prims.len() {
         for j in i + 1..prims.len() {

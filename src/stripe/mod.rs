@@ -434,7 +434,7 @@ impl StripeTexture {
         };
         let (mut sum, mut area, mut estimated) = (0.0, 0.0, false);
         for piece in [first, second].into_iter().chain(iter) {
-            let a = polygon_area(piece).abs();
+            let a = polygon_area(piece);
             let m = match self.box_modulation_few(piece) {
                 Some(m) => m,
                 None => {

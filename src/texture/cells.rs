@@ -64,6 +64,10 @@ pub enum Split {
     Whole(Option<[f64; 3]>),
     /// The fragment was cut; the opaque pieces were appended to the outputs.
     Pieces,
+    /// The fragment was not cut ([`split_or_defer`]): it can meet several
+    /// cells, and the visibility sweep cuts only the part of it that shows
+    /// ([`integrate`]).
+    Deferred,
 }
 
 /// One opaque piece: `len` vertices from `start` in the vertex arena.
@@ -149,6 +153,24 @@ pub struct Scratch {
     cell: Vec<DVec2>,
 }
 
+/// Least number of texel cells a fragment must be able to meet
+/// (`CellBox::cells_met`) for [`split_or_defer`] to leave it to the
+/// visibility sweep: two, so every fragment the texture cuts at all.
+///
+/// Why defer: cut first, the pieces of two polygons in one pixel cost each
+/// other a convex subtraction per pair in the sweep, so a pixel over k
+/// cells of each costs O(k²): the two photographed globes at 100x75 took
+/// 111 s, demo 2 at 8x8 34 s (`bench/RESULTS-thumbnails.md` has them
+/// deferred). Deferred, a fragment costs one visibility check and one cut,
+/// and its cells are cut once, from the part of it that shows. The two
+/// routes add the same areas in another order; on the unlit scenes of that
+/// benchmark the images are bit for bit the same but for one f32 value.
+///
+/// Why not one cell: such a fragment keeps its texel's colour as given;
+/// its mean over its visible part, `(a·c)/a`, could differ from `c` in the
+/// last bit.
+pub const DEFER_MIN_CELLS: f64 = 2.0;
+
 /// Cuts the convex counter-clockwise fragment `frag` of pixel `(px, py)` of a
 /// polygon textured by `tex`, its pieces into `out`.
 pub fn split(
@@ -159,6 +181,32 @@ pub fn split(
     out: &mut Sink,
     s: &mut Scratch,
 ) -> Split {
+    split_with(frag, px, py, tex, out, s, false)
+}
+
+/// [`split`], but a fragment of an always-opaque texture that can meet
+/// [`DEFER_MIN_CELLS`] cells or more is not cut: [`Split::Deferred`]. Its
+/// cell box serves both decisions, computed once.
+pub fn split_or_defer(
+    frag: &[DVec2],
+    px: u32,
+    py: u32,
+    tex: &PolyTexture,
+    out: &mut Sink,
+    s: &mut Scratch,
+) -> Split {
+    split_with(frag, px, py, tex, out, s, tex.always_opaque())
+}
+
+fn split_with(
+    frag: &[DVec2],
+    px: u32,
+    py: u32,
+    tex: &PolyTexture,
+    out: &mut Sink,
+    s: &mut Scratch,
+    defer: bool,
+) -> Split {
     let Some(b) = cell_box(frag, tex) else {
         return Split::Whole(None);
     };
@@ -166,6 +214,9 @@ pub fn split(
     // piece (`--no-skip magnify` cuts it anyway, for the benchmark).
     if b.k0 == b.k1 && b.j0 == b.j1 && tex.skips.magnify {
         return Split::Whole(tex.texel(b.k0, b.j0));
+    }
+    if defer && b.cells_met() >= DEFER_MIN_CELLS {
+        return Split::Deferred;
     }
     if b.cells_met() > MAX_EXACT_CELLS as f64 {
         s.estimated += 1;
@@ -179,13 +230,6 @@ pub fn split(
         cut(frag, b, tex, out, s);
     }
     Split::Pieces
-}
-
-/// How many texel cells the convex fragment `frag` can meet (the estimate
-/// [`split`] compares with [`MAX_EXACT_CELLS`]), or `None` where its image
-/// in texel space is not finite (beyond the plane's horizon).
-pub fn cells_met(frag: &[DVec2], tex: &PolyTexture) -> Option<f64> {
-    cell_box(frag, tex).map(|b| b.cells_met())
 }
 
 /// The box-filtered colour of the union of the disjoint convex `pieces` of
@@ -218,12 +262,8 @@ pub fn integrate<'a>(
         };
         whole = match split(piece, px, py, tex, &mut sink, s) {
             Split::Whole(Some(c)) => {
-                let c = match factor {
-                    Some(f) => std::array::from_fn(|ch| c[ch] * f(piece)[ch]),
-                    None => c,
-                };
-                Sink::Sum(&mut sum).take(piece, area2(piece), c);
-                Some(c)
+                sink.take(piece, area2(piece), c);
+                Some((c, piece))
             }
             _ => None,
         };
@@ -231,8 +271,12 @@ pub fn integrate<'a>(
     // One piece that `split` gives one colour (one cell, or estimated)
     // takes that colour as given: its mean, `(a·c)/a`, could differ from
     // `c` in the last bit.
-    match (count, whole) {
-        (1, Some(c)) => Some(c),
+    match (count, whole, factor) {
+        (1, Some((c, _)), None) => Some(c),
+        (1, Some((c, piece)), Some(f)) => {
+            let k = f(piece);
+            Some([c[0] * k[0], c[1] * k[1], c[2] * k[2]])
+        }
         _ => sum.mean(),
     }
 }
@@ -606,6 +650,7 @@ mod tests {
                     }
                     sum.mean().unwrap()
                 }
+                Split::Deferred => unreachable!("split never defers"),
             };
             prop_assert_eq!(whole, expect);
         }
