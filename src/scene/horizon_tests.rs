@@ -7,6 +7,11 @@
 //! (scanline events and Gauss–Legendre strips, none of that code), and a
 //! brute-force point-sampled mean on the rows just under the horizon,
 //! which reads only the map and the texels.
+//!
+//! Also a coarse pattern minified about 150 times on a flat quad, each
+//! pixel over 16,384 to 65,536 texel cells: what the far rows of
+//! `bench/texture.sh`'s photographed plane meet, where the default once
+//! estimated pixels the reference is certain of (up to 22 codes off).
 
 use super::{DrawOptions, Scene};
 use crate::camera::Camera;
@@ -149,6 +154,78 @@ fn the_default_equals_the_reference_wherever_the_reference_is_certain() {
             }
         }
     }
+}
+
+/// A 256-texel pattern of 32-texel blocks on a flat quad seen face on, 150
+/// texels a pixel, turned 100/e degrees: every pixel meets about 23,000
+/// cells (past the 16,384 at which the default used to estimate), the
+/// reference meets about 420 texel lines a pixel and stays certain, and a
+/// pixel's box mean depends on where the block edges cross it, which the
+/// EWA estimate's Gaussian weights do not follow. The quad's edges cross
+/// pixels, so partial fragments (the photographed plane's 10 bad pixels lay
+/// on its sides) are checked too.
+#[test]
+fn a_pattern_minified_150_times_is_integrated_exactly() {
+    let (w, h) = (4, 3);
+    let dir = std::env::temp_dir().join(format!("patkit-minified-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut pat = String::from("256 2\n240 200 40\n");
+    for parity in [0u32, 1] {
+        if parity == 1 {
+            pat.push_str("30 60 160\n");
+        }
+        for row in 0..256u32 {
+            let words: Vec<String> = (0..16u32)
+                .map(|word| {
+                    let bits = (0..16u32).fold(0u16, |acc, b| {
+                        let col = word * 16 + b;
+                        (acc << 1) | ((col / 32 + row / 32) % 2 == parity) as u16
+                    });
+                    format!("{bits:04x}")
+                })
+                .collect();
+            pat.push_str(&words.join(" "));
+            pat.push('\n');
+        }
+    }
+    std::fs::write(dir.join("blocks.pat"), pat).unwrap();
+    let stream = format!(
+        r#"{{"vertices": [[0.3,0.2,-1],[3.7,0.5,-1],[3.6,2.8,-1],[0.4,2.6,-1]], "pattern": {{"file": "blocks.pat", "incr": {}, "rotate": {}}}}}"#,
+        1.0 / 150.0,
+        100.0 / std::f64::consts::E
+    );
+    let scene = Scene::read(Box::new(std::io::Cursor::new(stream)), "quad.json", &dir).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    let camera = Camera::from_json(
+        &serde_json::json!({
+            "ortho": {"left": 0, "right": w, "bottom": 0, "top": h, "near": 0, "far": 10}
+        }),
+        "camera",
+    )
+    .unwrap();
+    let polys = scene
+        .project(&View::new(&camera, w, h), &DrawOptions::default(), 0)
+        .unwrap();
+    let bg = Background::color(Rgb8::BLACK);
+    let exact = crate::raster::render(&polys, &bg, w, h, Aa::Exact);
+    assert_eq!(exact.estimated, 0);
+    let r = reference::render(&polys, &bg, w, h, 6);
+    let (mut certain, mut off) = (0, Vec::new());
+    for (i, (p, q, e)) in r.pixels_against(&exact).enumerate() {
+        if !p
+            .iter()
+            .all(|&v| code(v as f64 - e as f64) == code(v as f64 + e as f64))
+        {
+            continue;
+        }
+        certain += 1;
+        let (want, got) = (p.map(|v| code(v as f64)), q.map(|v| code(v as f64)));
+        if got != want {
+            off.push((i as u32 % w, i as u32 / w, got, want));
+        }
+    }
+    assert!(off.is_empty(), "{} pixels off: {:?}", off.len(), off);
+    assert_eq!(certain, w * h, "the reference is certain everywhere");
 }
 
 /// The mean linear colour of pixel `(x, y)` (frame rows from the bottom) by

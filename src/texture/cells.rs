@@ -8,16 +8,17 @@
 //! what `polyfill3 | scene-render --aa exact` draws, without writing one
 //! polygon per texel. Under the projective map of [`super::map`] a cell is a
 //! convex quadrilateral on the screen bounded by the lines `u = k`, `u = k+1`,
-//! `v = j`, `v = j+1`, so a convex fragment is cut by four half-planes per
-//! cell. Each piece then takes part in the exact visibility of
-//! `raster::coverage` as a fragment of its own with the texel's colour, and a
-//! transparent texel's piece is simply absent, leaving its area to whatever
-//! lies behind.
+//! `v = j`, `v = j+1`: a convex fragment's texel rows are its slices
+//! between the lines `v = j`, and a row's cells the slices of the row's
+//! strip between the lines `u = k` (`crate::geom::slice`). Each piece then
+//! takes part in the exact visibility of `raster::coverage` as a fragment
+//! of its own with the texel's colour, and a transparent texel's piece is
+//! simply absent, leaving its area to whatever lies behind.
 //!
 //! Minification: the cut stays exact up to [`MAX_EXACT_CELLS`] cells met by
 //! the fragment (estimated from its image in texel space, not its box).
-//! Beyond that (a pixel over tens of thousands of texels, at the far edge of
-//! a plane running to its horizon) the cost would grow without bound, so
+//! Beyond that (a pixel over millions of texels, at the far edge of a
+//! plane running to its horizon) the cost would grow without bound, so
 //! the fragment takes one colour: the EWA filter (`super::ewa`, on the MIP
 //! pyramid) at its centroid with the pixel's footprint there. That is an
 //! estimate, not the box integral, and it is counted
@@ -34,24 +35,29 @@
 
 use super::PolyTexture;
 use crate::geom::polygon::area2;
+use crate::geom::polygon::clip_axis;
 use crate::geom::polygon::AREA_EPS;
-use crate::geom::polygon::{clip_axis, clip_line};
+use crate::geom::slice::Slicer;
 use glam::DVec2;
 
 /// Most texel cells a fragment may meet and still be cut exactly (its area
 /// in texel space plus twice its extents, `CellBox::cells_met`). The work
-/// is two clips per texel row the fragment spans plus two per cell a row's
-/// strip meets, and each piece is only summed ([`integrate`]).
+/// is one slice per texel row the fragment spans plus one per cell a row's
+/// strip meets (`crate::geom::slice`), each summed as it is cut
+/// ([`integrate`]): about 30 ns a cell on the benchmark machine, half of it
+/// the texel's fetch.
 ///
-/// Measured (2026-11-27) on a one-texel checker ground to its horizon at
-/// 640x360, eye 3 units up: deciding by the box (as before) estimated 1,469
-/// fragments in the three rows under the horizon, off the reference by up
-/// to 23 codes; deciding by the cells met estimates only the 640 of the
-/// row over the ground's far edge (about two million texels each), and the
-/// default equals the reference in every pixel where the reference is
-/// certain (`scene::horizon_tests`), at 0.94x to 1.47x the former time
-/// (`bench/RESULTS-horizon.md`).
-pub const MAX_EXACT_CELLS: i64 = 16384;
+/// Why 65,536: on the photographed plane of `bench/texture.sh` (640x480,
+/// texels of 0.05 units, the far edge 400 units off) the fragments of the
+/// two rows over the far edge meet 16,397 to 34,125 cells. At 16,384 (until
+/// 2026-11-27) those 1,056 fragments took the EWA estimate, and 10 pixels
+/// the reference is certain of were up to 22 codes off it; at 65,536 none
+/// is estimated and the default equals the reference wherever the
+/// reference is certain (test `a_pattern_minified_150_times_is_integrated_exactly`
+/// covers the range), for 0.95 s more on one core. The one-texel checker
+/// ground of `scene::horizon_tests` still estimates the row over its far
+/// edge, about two million cells a pixel.
+pub const MAX_EXACT_CELLS: i64 = 65536;
 
 /// Sub-squares per pixel side in the minification fallback (16 per pixel).
 pub const FALLBACK_SIDE: u32 = 4;
@@ -147,6 +153,8 @@ pub struct Scratch {
     /// (sub-square samples). Counted so the tools can say so rather than
     /// be silent (issue 15).
     pub estimated: u64,
+    rows: Slicer,
+    cols: Slicer,
     a: Vec<DVec2>,
     strip: Vec<DVec2>,
     b: Vec<DVec2>,
@@ -226,8 +234,9 @@ fn split_with(
             return Split::Whole(super::filter::unpremultiply(rgba));
         }
         sub_squares(frag, px, py, tex, out, s);
-    } else {
-        cut(frag, b, tex, out, s);
+    } else if !cut(frag, b, tex, out, s) {
+        s.estimated += 1;
+        sub_squares(frag, px, py, tex, out, s);
     }
     Split::Pieces
 }
@@ -373,78 +382,61 @@ fn runs_apply(tex: &PolyTexture) -> bool {
         && tex.bounds.v == Boundary::Repeat
 }
 
-/// The exact cut of a fragment into the cells of its box.
+/// The exact cut of a fragment into the cells of its box: its texel rows
+/// are its slices along the lines `v = j`, and a row's cells the slices of
+/// the row's strip along `u = k` ([`crate::geom::slice`]), each chord
+/// computed once. `false` when the fragment cannot be sliced (the map's
+/// denominator not positive at a vertex: beyond the horizon).
 ///
 /// With a transparent pattern ([`runs_apply`]) the texel rows' opaque runs
-/// ([`super::skip::OpaqueRuns`]) skip work that gives no piece: a strip
-/// whose row has no opaque texel in the box's columns is not clipped at all,
-/// and within a strip only the opaque runs of its columns are visited. The
-/// cells skipped are exactly those whose texel lookup gives `None`, so the
-/// pieces (and their order) are the same as without the skip.
-fn cut(frag: &[DVec2], b: CellBox, tex: &PolyTexture, out: &mut Sink, s: &mut Scratch) {
+/// ([`super::skip::OpaqueRuns`]) skip work that gives no piece: a row with
+/// no opaque texel in the box's columns is not sliced at all, and within a
+/// strip only the opaque runs of its columns are visited. The cells skipped
+/// are exactly those whose texel lookup gives `None`, and a slice does not
+/// depend on which slices came before it, so the pieces (and their order)
+/// are the same as without the skip.
+fn cut(frag: &[DVec2], b: CellBox, tex: &PolyTexture, out: &mut Sink, s: &mut Scratch) -> bool {
     let m = &tex.map;
     let CellBox { k0, k1, j0, j1, .. } = b;
     let runs = runs_apply(tex).then(|| tex.texels.runs());
     let height = tex.texels.height() as i64;
-    for j in j0..=j1 {
-        let row = j.rem_euclid(height) as u32;
-        if let Some(runs) = runs {
-            if !runs.any(row, k0, k1) {
-                continue;
-            }
-        }
-        s.a.clear();
-        clip_line(frag, m.v_side(j as f64, true), &mut s.a);
-        s.strip.clear();
-        clip_line(&s.a, m.v_side((j + 1) as f64, false), &mut s.strip);
-        if s.strip.len() < 3 {
-            continue;
-        }
+    if s.rows.load(frag, m.v, m.d).is_none() {
+        return false;
+    }
+    let rows = (j0..=j1).filter(|&j| match runs {
+        Some(runs) => runs.any(j.rem_euclid(height) as u32, k0, k1),
+        None => true,
+    });
+    let cols = &mut s.cols;
+    s.rows.slices(rows, |j, strip| {
         // The strip's own columns: a thin diagonal footprint has a box of
         // cells far larger than the cells it meets.
-        let (mut ulo, mut uhi) = (f64::MAX, f64::MIN);
-        for p in &s.strip {
-            let u = m.uv(p.x, p.y).x;
-            ulo = ulo.min(u);
-            uhi = uhi.max(u);
-        }
+        let Some((ulo, uhi)) = cols.load(strip, m.u, m.d) else {
+            return;
+        };
         let sk0 = (ulo.floor() as i64).clamp(k0, k1);
         let sk1 = (uhi.ceil() as i64 - 1).clamp(sk0, k1);
+        let mut take = |k: i64, cell: &[DVec2]| {
+            let Some(color) = tex.texel(k, j) else {
+                return;
+            };
+            let a2 = area2(cell);
+            if a2 > 2.0 * AREA_EPS {
+                out.take(cell, a2, color);
+            }
+        };
         match runs {
             Some(runs) => {
-                for (a, b) in runs.spans(row, sk0, sk1) {
-                    for k in a..=b {
-                        cut_cell(k, j, tex, out, s);
-                    }
-                }
+                let row = j.rem_euclid(height) as u32;
+                cols.slices(
+                    runs.spans(row, sk0, sk1).flat_map(|(a, b)| a..=b),
+                    &mut take,
+                );
             }
-            None => {
-                for k in sk0..=sk1 {
-                    cut_cell(k, j, tex, out, s);
-                }
-            }
+            None => cols.slices(sk0..=sk1, &mut take),
         }
-    }
-}
-
-/// The piece of the strip `s.strip` in cell (k, j), if its texel is opaque
-/// and the piece has area.
-fn cut_cell(k: i64, j: i64, tex: &PolyTexture, out: &mut Sink, s: &mut Scratch) {
-    let Some(color) = tex.texel(k, j) else {
-        return;
-    };
-    let m = &tex.map;
-    s.b.clear();
-    clip_line(&s.strip, m.u_side(k as f64, true), &mut s.b);
-    s.cell.clear();
-    clip_line(&s.b, m.u_side((k + 1) as f64, false), &mut s.cell);
-    if s.cell.len() < 3 {
-        return;
-    }
-    let a2 = area2(&s.cell);
-    if a2 > 2.0 * AREA_EPS {
-        out.take(&s.cell, a2, color);
-    }
+    });
+    true
 }
 
 /// Appends one opaque piece, its vertices into the arena.
@@ -512,7 +504,7 @@ fn sub_squares(
 mod tests {
     use super::*;
     use crate::color::{srgb_to_linear_f64, Rgb8};
-    use crate::geom::polygon::pixel_square;
+    use crate::geom::polygon::{clip_line, pixel_square};
     use crate::pat::TRANSPARENT;
     use crate::texture::filter::tests::{pattern, placed};
     use crate::texture::filter::Filter;
@@ -669,15 +661,15 @@ mod tests {
         assert_eq!(area2(&verts), 2.0);
     }
 
-    /// A pixel over 200x200 texels of a one-texel checker (40,000 cells, past
+    /// A pixel over 300x300 texels of a one-texel checker (90,000 cells, past
     /// [`MAX_EXACT_CELLS`]) takes the checker's linear mean: the EWA on the
-    /// pyramid, within 1% (the box integral over a 200x200 block is the
+    /// pyramid, within 1% (the box integral over a 300x300 block is the
     /// mean exactly).
     #[test]
     fn heavy_minification_takes_the_local_mean_in_one_piece() {
         let (a, b) = (Rgb8([230, 230, 230]), Rgb8([20, 20, 120]));
         let checker = pattern(16, &[a, b], |c, r| ((c + r) % 2) as u16);
-        let tex = placed(checker, 200.0, Filter::Box, 0.0);
+        let tex = placed(checker, 300.0, Filter::Box, 0.0);
         let square = crate::geom::polygon::pixel_square(3, 4);
         let (mut verts, mut pieces, mut s) = (Vec::new(), Vec::new(), Scratch::default());
         let Split::Whole(Some(c)) = split(
