@@ -3,7 +3,7 @@
 //! This file holds the record shapes ([`Shape`]) and turns the thesis's 2D
 //! records (`rect`, `circle`, `arc`) into polygons. [`polygon`] is the 2D
 //! polygon kernel (area, exact orientation, half-plane clipping, convexity
-//! and their named tolerances), [`slice`] cuts a convex polygon between the
+//! and their named tolerances), [`mod@slice`] cuts a convex polygon between the
 //! lines of a pencil (texel rows and cells on the screen), [`simple`] tells whether a polygon crosses or
 //! touches itself, [`triangulate`] cuts a simple polygon into triangles,
 //! [`transform`] the affine transforms of records and instances, [`plane`]
