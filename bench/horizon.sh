@@ -69,7 +69,7 @@ for name, deg in ANGLES:
          "pattern": {"file": "checker.pat", "incr": 1, "rotate": deg}}) + "\n")
     exact = median_time([sr] + VIEW + [scene, "-o", "exact.png"])
     warn = subprocess.run([sr] + VIEW + [scene, "-o", "exact.png"], check=True, capture_output=True, text=True).stderr
-    m = re.search(r"(\d+) pixel fragment\(s\) meet more than", warn)
+    m = re.search(r"(\d+) pixel fragment\(s\) too fine to integrate exactly", warn)
     estimated = m.group(1) if m else "0"
     t = time.perf_counter()
     ref = json.loads(subprocess.run([sr] + VIEW + [scene, "--reference", "--json", "-o", "ref.png"], check=True,

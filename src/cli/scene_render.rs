@@ -584,9 +584,10 @@ impl Estimated {
     /// The warning, `at` naming the frame of an animation.
     fn warn(&self, at: &str) {
         eprintln!(
-            "{TOOL}: warning: {at}{} pixel fragment(s) too fine to integrate exactly (more than {} texel cells, or stripes reaching a plane's horizon): their colour is an estimate (EWA, or the stripes' level-of-detail filter), not the exact box integral, within {} code(s) of it (the textures' contrast)",
+            "{TOOL}: warning: {at}{} pixel fragment(s) too fine to integrate exactly (more than {} texel cells, {} for a pattern with transparent texels, or stripes reaching a plane's horizon): their colour is an estimate (EWA, or the stripes' level-of-detail filter), not the exact box integral, within {} code(s) of it (the textures' contrast)",
             self.fragments,
             crate::texture::cells::MAX_EXACT_CELLS,
+            crate::texture::cells::MAX_SWEPT_CELLS,
             self.bound_codes
         );
     }

@@ -16,7 +16,8 @@
 //! simply absent, leaving its area to whatever lies behind.
 //!
 //! Minification: the cut stays exact up to [`MAX_EXACT_CELLS`] cells met by
-//! the fragment (estimated from its image in texel space, not its box).
+//! the fragment (estimated from its image in texel space, not its box;
+//! [`MAX_SWEPT_CELLS`] where its pieces are kept for the visibility sweep).
 //! Beyond that (a pixel over millions of texels, at the far edge of a
 //! plane running to its horizon) the cost would grow without bound, so
 //! the fragment takes one colour: the EWA filter (`super::ewa`, on the MIP
@@ -58,6 +59,15 @@ use glam::DVec2;
 /// ground of `scene::horizon_tests` still estimates the row over its far
 /// edge, about two million cells a pixel.
 pub const MAX_EXACT_CELLS: i64 = 65536;
+
+/// [`MAX_EXACT_CELLS`] for a fragment whose pieces are kept for the
+/// visibility sweep ([`Sink::Pieces`]): a pattern with transparent texels,
+/// whose pieces each hide or let through what lies behind, so each is
+/// stored (about 100 bytes) until its pixel is swept. A plane of
+/// `fixtures/patterns/bkgrnd.pat` (9% transparent) at 0.05 units a texel,
+/// minified to a far edge 400 units off at 640x480, took 471 MB and 2.6 s
+/// at 16,384 and 935 MB and 5.6 s at 65,536; it keeps 16,384.
+pub const MAX_SWEPT_CELLS: i64 = 16384;
 
 /// Sub-squares per pixel side in the minification fallback (16 per pixel).
 pub const FALLBACK_SIDE: u32 = 4;
@@ -226,7 +236,11 @@ fn split_with(
     if defer && b.cells_met() >= DEFER_MIN_CELLS {
         return Split::Deferred;
     }
-    if b.cells_met() > MAX_EXACT_CELLS as f64 {
+    let most = match out {
+        Sink::Pieces(..) => MAX_SWEPT_CELLS,
+        Sink::Sum(_) | Sink::SumLit(..) => MAX_EXACT_CELLS,
+    };
+    if b.cells_met() > most as f64 {
         s.estimated += 1;
         let c = crate::geom::polygon::vertex_mean(frag);
         if let Some(fp) = tex.map.footprint(c.x, c.y) {
@@ -416,8 +430,9 @@ fn cut(frag: &[DVec2], b: CellBox, tex: &PolyTexture, out: &mut Sink, s: &mut Sc
         };
         let sk0 = (ulo.floor() as i64).clamp(k0, k1);
         let sk1 = (uhi.ceil() as i64 - 1).clamp(sk0, k1);
+        let mut row = tex.row(j);
         let mut take = |k: i64, cell: &[DVec2]| {
-            let Some(color) = tex.texel(k, j) else {
+            let Some(color) = row.texel(k) else {
                 return;
             };
             let a2 = area2(cell);
@@ -646,6 +661,69 @@ mod tests {
             };
             prop_assert_eq!(whole, expect);
         }
+    }
+
+    proptest! {
+        /// A row's walk gives each cell the texel `PolyTexture::texel`
+        /// gives it, under every boundary condition, whether the columns
+        /// come one after another or jump.
+        #[test]
+        fn a_texel_row_is_the_texels_of_its_row(
+            sixteens in 1u32..4,
+            bu in 0usize..5,
+            bv in 0usize..5,
+            j in -100i64..100,
+            start in -100i64..100,
+            steps in proptest::collection::vec(1i64..40, 1..60),
+        ) {
+            use crate::texture::boundary::{Boundary, Bounds};
+            let n = 16 * sixteens;
+            let colors = [Rgb8([200, 10, 10]), Rgb8([10, 200, 10]), Rgb8([10, 10, 200])];
+            let texels = pattern(n, &colors, |c, r| {
+                if (c * 7 + r * 3) % 11 == 0 { TRANSPARENT } else { ((c + 2 * r) % 3) as u16 }
+            });
+            let mut tex = placed(texels, 1.0, Filter::Box, 0.0);
+            tex.bounds = Bounds { u: Boundary::ALL[bu], v: Boundary::ALL[bv] };
+            tex.constant = [0.7, 0.6, 0.5];
+            let mut row = tex.row(j);
+            let mut k = start;
+            for step in steps {
+                // Steps of 1 walk; longer ones jump.
+                k += if step > 30 { step } else { 1 };
+                prop_assert_eq!(row.texel(k), tex.texel(k, j), "k {}", k);
+            }
+        }
+    }
+
+    /// A pixel over 150x150 texels (about 23,000 cells): summed exactly,
+    /// but estimated where its pieces would be kept for the sweep
+    /// ([`MAX_SWEPT_CELLS`]).
+    #[test]
+    fn kept_pieces_have_the_lower_bound() {
+        let (a, b) = (Rgb8([230, 230, 230]), Rgb8([20, 20, 120]));
+        let texels = pattern(16, &[a, b], |c, r| match (c + r) % 3 {
+            2 => TRANSPARENT,
+            i => i as u16,
+        });
+        let tex = placed(texels, 150.0, Filter::Box, 0.0);
+        let square = pixel_square(3, 4);
+        let mut s = Scratch::default();
+        let mut sum = Summed::default();
+        let split_sum = split(&square, 3, 4, &tex, &mut Sink::Sum(&mut sum), &mut s);
+        assert_eq!((split_sum, s.estimated), (Split::Pieces, 0));
+        // A third of the cells are transparent: two thirds of the area.
+        assert!((sum.area2 / 2.0 - 2.0 / 3.0).abs() < 0.01, "{}", sum.area2);
+        let (mut verts, mut pieces) = (Vec::new(), Vec::new());
+        let split_kept = split(
+            &square,
+            3,
+            4,
+            &tex,
+            &mut Sink::Pieces(&mut verts, &mut pieces),
+            &mut s,
+        );
+        assert!(matches!(split_kept, Split::Whole(Some(_))) && pieces.is_empty());
+        assert_eq!(s.estimated, 1);
     }
 
     #[test]
