@@ -430,9 +430,8 @@ fn cut(frag: &[DVec2], b: CellBox, tex: &PolyTexture, out: &mut Sink, s: &mut Sc
         };
         let sk0 = (ulo.floor() as i64).clamp(k0, k1);
         let sk1 = (uhi.ceil() as i64 - 1).clamp(sk0, k1);
-        let mut row = tex.row(j);
         let mut take = |k: i64, cell: &[DVec2]| {
-            let Some(color) = row.texel(k) else {
+            let Some(color) = tex.texel(k, j) else {
                 return;
             };
             let a2 = area2(cell);
@@ -660,38 +659,6 @@ mod tests {
                 Split::Deferred => unreachable!("split never defers"),
             };
             prop_assert_eq!(whole, expect);
-        }
-    }
-
-    proptest! {
-        /// A row's walk gives each cell the texel `PolyTexture::texel`
-        /// gives it, under every boundary condition, whether the columns
-        /// come one after another or jump.
-        #[test]
-        fn a_texel_row_is_the_texels_of_its_row(
-            sixteens in 1u32..4,
-            bu in 0usize..5,
-            bv in 0usize..5,
-            j in -100i64..100,
-            start in -100i64..100,
-            steps in proptest::collection::vec(1i64..40, 1..60),
-        ) {
-            use crate::texture::boundary::{Boundary, Bounds};
-            let n = 16 * sixteens;
-            let colors = [Rgb8([200, 10, 10]), Rgb8([10, 200, 10]), Rgb8([10, 10, 200])];
-            let texels = pattern(n, &colors, |c, r| {
-                if (c * 7 + r * 3) % 11 == 0 { TRANSPARENT } else { ((c + 2 * r) % 3) as u16 }
-            });
-            let mut tex = placed(texels, 1.0, Filter::Box, 0.0);
-            tex.bounds = Bounds { u: Boundary::ALL[bu], v: Boundary::ALL[bv] };
-            tex.constant = [0.7, 0.6, 0.5];
-            let mut row = tex.row(j);
-            let mut k = start;
-            for step in steps {
-                // Steps of 1 walk; longer ones jump.
-                k += if step > 30 { step } else { 1 };
-                prop_assert_eq!(row.texel(k), tex.texel(k, j), "k {}", k);
-            }
         }
     }
 

@@ -129,71 +129,15 @@ impl PolyTexture {
     pub fn texel(&self, k: i64, j: i64) -> Option<[f64; 3]> {
         let (w, h) = (self.texels.width(), self.texels.height());
         match self.bounds.lookup(k, j, w, h) {
-            boundary::Lookup::Texel(c, r) => self.shown(c, r),
+            boundary::Lookup::Texel(c, r) => self.compose.apply(
+                self.texels.texel_over(c, r, self.intrinsic),
+                self.intrinsic,
+                self.compose_colors[0],
+                self.compose_colors[1],
+            ),
             boundary::Lookup::Intrinsic => Some(self.intrinsic),
             boundary::Lookup::Constant => Some(self.constant),
         }
-    }
-
-    /// The texels of cell row `j`, for a walk along `k` ([`TexelRow`]).
-    pub fn row(&self, j: i64) -> TexelRow<'_> {
-        use boundary::Boundary;
-        let repeats = self.bounds.u == Boundary::Repeat && self.bounds.v == Boundary::Repeat;
-        TexelRow {
-            tex: self,
-            j,
-            repeat_row: repeats.then(|| j.rem_euclid(self.texels.height() as i64) as u32),
-            last: None,
-        }
-    }
-
-    /// The composed colour of pattern texel (c, r).
-    #[inline]
-    fn shown(&self, c: u32, r: u32) -> Option<[f64; 3]> {
-        self.compose.apply(
-            self.texels.texel_over(c, r, self.intrinsic),
-            self.intrinsic,
-            self.compose_colors[0],
-            self.compose_colors[1],
-        )
-    }
-}
-
-/// [`PolyTexture::texel`] along one cell row, for the cell cut's walk
-/// through a strip's columns in increasing `k`: where the pattern repeats
-/// on both axes, the row is reduced once and the next column is one step
-/// from the last, not a 64-bit division per cell (two of them were half
-/// the cost of a cell on a photograph minified 30,000 times). Elsewhere
-/// each cell is looked up whole.
-pub struct TexelRow<'a> {
-    tex: &'a PolyTexture,
-    j: i64,
-    /// `j mod height`, under repeat on both axes.
-    repeat_row: Option<u32>,
-    /// The last column asked for and its pattern column.
-    last: Option<(i64, u32)>,
-}
-
-impl TexelRow<'_> {
-    /// `tex.texel(k, j)`.
-    #[inline]
-    pub fn texel(&mut self, k: i64) -> Option<[f64; 3]> {
-        let Some(r) = self.repeat_row else {
-            return self.tex.texel(k, self.j);
-        };
-        let w = self.tex.texels.width();
-        let c = match self.last {
-            Some((last, c)) if k == last + 1 => {
-                if c + 1 == w {
-                    0
-                } else {
-                    c + 1
-                }
-            }
-            _ => k.rem_euclid(w as i64) as u32,
-        };
-        self.last = Some((k, c));
-        self.tex.shown(c, r)
     }
 }
 
