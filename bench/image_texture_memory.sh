@@ -7,8 +7,9 @@
 #   bash bench/image_texture_memory.sh [BINDIR]    (default target/release)
 #
 # Limits (virtual memory, MiB): --aa none 400, --filter trilinear (its MIP
-# pyramid built) 600, the exact default 400 (its cells summed as cut). The texels cost 64 MB
-# (sRGB codes); figures are in docs/rendering.md, "Image textures".
+# pyramid built) 600, the exact default 400 (its cells are summed as they
+# are cut). The texels cost 64 MB (sRGB codes); figures are in
+# docs/rendering.md, "Image textures".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BIN=${1:-target/release}
