@@ -64,6 +64,35 @@ fn code(v: f64) -> u8 {
     Rgb8::from_linear([v as f32; 3]).0[0]
 }
 
+/// A pixel where `exact`'s 8-bit code is not the reference's: (x, y from
+/// the bottom, exact's codes, the reference's codes).
+type Off = (u32, u32, [u8; 3], [u8; 3]);
+
+/// How many pixels of `exact` (`width` wide) the reference is certain of
+/// in 8 bits (its error estimate leaves every channel's code unchanged),
+/// and those of them where `exact` gives another code.
+fn against_certain_reference(
+    r: &reference::Reference,
+    exact: &crate::raster::Frame,
+    width: u32,
+) -> (u32, Vec<Off>) {
+    let (mut certain, mut off) = (0, Vec::new());
+    for (i, (p, q, e)) in r.pixels_against(exact).enumerate() {
+        let sure = p
+            .iter()
+            .all(|&v| code(v as f64 - e as f64) == code(v as f64 + e as f64));
+        if !sure {
+            continue;
+        }
+        certain += 1;
+        let (want, got) = (p.map(|v| code(v as f64)), q.map(|v| code(v as f64)));
+        if got != want {
+            off.push((i as u32 % width, i as u32 / width, got, want));
+        }
+    }
+    (certain, off)
+}
+
 /// The default, the reference and brute force on the checker ground at 0°,
 /// 45° and an irrational angle:
 ///
@@ -85,20 +114,7 @@ fn the_default_equals_the_reference_wherever_the_reference_is_certain() {
         let polys = ground(rotate);
         let exact = crate::raster::render(&polys, &bg, WIDTH, HEIGHT, Aa::Exact);
         let r = reference::render(&polys, &bg, WIDTH, HEIGHT, 6);
-        let (mut certain, mut off) = (0, Vec::new());
-        for (i, (p, q, e)) in r.pixels_against(&exact).enumerate() {
-            let sure = p
-                .iter()
-                .all(|&v| code(v as f64 - e as f64) == code(v as f64 + e as f64));
-            if !sure {
-                continue;
-            }
-            certain += 1;
-            let (want, got) = (p.map(|v| code(v as f64)), q.map(|v| code(v as f64)));
-            if got != want {
-                off.push((i as u32 % WIDTH, i as u32 / WIDTH, got, want));
-            }
-        }
+        let (certain, off) = against_certain_reference(&r, &exact, WIDTH);
         let all = WIDTH * HEIGHT;
         // In 16 bits: where the reference's estimate is below a 16-bit
         // code, the two agree within a few codes.
@@ -210,20 +226,7 @@ fn a_pattern_minified_150_times_is_integrated_exactly() {
     let exact = crate::raster::render(&polys, &bg, w, h, Aa::Exact);
     assert_eq!(exact.estimated, 0);
     let r = reference::render(&polys, &bg, w, h, 6);
-    let (mut certain, mut off) = (0, Vec::new());
-    for (i, (p, q, e)) in r.pixels_against(&exact).enumerate() {
-        if !p
-            .iter()
-            .all(|&v| code(v as f64 - e as f64) == code(v as f64 + e as f64))
-        {
-            continue;
-        }
-        certain += 1;
-        let (want, got) = (p.map(|v| code(v as f64)), q.map(|v| code(v as f64)));
-        if got != want {
-            off.push((i as u32 % w, i as u32 / w, got, want));
-        }
-    }
+    let (certain, off) = against_certain_reference(&r, &exact, w);
     assert!(off.is_empty(), "{} pixels off: {:?}", off.len(), off);
     assert_eq!(certain, w * h, "the reference is certain everywhere");
 }
@@ -297,20 +300,7 @@ fn striped_ground_default_equals_the_reference_wherever_it_is_certain() {
     let bg = Background::color(Rgb8::BLACK);
     let exact = crate::raster::render(&polys, &bg, w, h, Aa::Exact);
     let r = reference::render(&polys, &bg, w, h, 24);
-    let (mut certain, mut off) = (0, Vec::new());
-    for (i, (p, q, e)) in r.pixels_against(&exact).enumerate() {
-        if !p
-            .iter()
-            .all(|&v| code(v as f64 - e as f64) == code(v as f64 + e as f64))
-        {
-            continue;
-        }
-        certain += 1;
-        let (want, got) = (p.map(|v| code(v as f64)), q.map(|v| code(v as f64)));
-        if got != want {
-            off.push((i as u32 % w, i as u32 / w, got, want, e));
-        }
-    }
+    let (certain, off) = against_certain_reference(&r, &exact, w);
     assert!(
         off.is_empty(),
         "{} pixels off: {:?}",
