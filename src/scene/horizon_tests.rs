@@ -46,17 +46,25 @@ fn ground(rotate: f64) -> Vec<crate::raster::ScreenPoly> {
         r#"{{"vertices": [[-20000,0,20000],[20000,0,20000],[20000,0,-20000],[-20000,0,-20000]], "pattern": {{"file": "c.pat", "incr": 1, "rotate": {rotate}}}}}"#
     );
     let scene = Scene::read(Box::new(std::io::Cursor::new(stream)), "ground.json", &dir).unwrap();
-    let camera = Camera::from_json(
-        &serde_json::json!({
-            "lookat": {"eye": [0.3, 3, 0.7], "center": [0.3, 3, -100.7]},
-            "perspective": {"fovy": 60, "aspect": "auto", "near": 0.5, "far": 100000}
-        }),
-        "camera",
-    )
-    .unwrap();
-    let view = View::new(&camera, WIDTH, HEIGHT);
     std::fs::remove_dir_all(&dir).ok();
-    scene.project(&view, &DrawOptions::default(), 0).unwrap()
+    let camera = serde_json::json!({
+        "lookat": {"eye": [0.3, 3, 0.7], "center": [0.3, 3, -100.7]},
+        "perspective": {"fovy": 60, "aspect": "auto", "near": 0.5, "far": 100000}
+    });
+    projected(&scene, camera, WIDTH, HEIGHT)
+}
+
+/// `scene` through the camera `camera` (its JSON form) at `w` x `h`.
+fn projected(
+    scene: &Scene,
+    camera: serde_json::Value,
+    w: u32,
+    h: u32,
+) -> Vec<crate::raster::ScreenPoly> {
+    let camera = Camera::from_json(&camera, "camera").unwrap();
+    scene
+        .project(&View::new(&camera, w, h), &DrawOptions::default(), 0)
+        .unwrap()
 }
 
 /// The 8-bit code of linear `v` (one channel).
@@ -212,16 +220,10 @@ fn a_pattern_minified_150_times_is_integrated_exactly() {
     );
     let scene = Scene::read(Box::new(std::io::Cursor::new(stream)), "quad.json", &dir).unwrap();
     std::fs::remove_dir_all(&dir).ok();
-    let camera = Camera::from_json(
-        &serde_json::json!({
-            "ortho": {"left": 0, "right": w, "bottom": 0, "top": h, "near": 0, "far": 10}
-        }),
-        "camera",
-    )
-    .unwrap();
-    let polys = scene
-        .project(&View::new(&camera, w, h), &DrawOptions::default(), 0)
-        .unwrap();
+    let camera = serde_json::json!({
+        "ortho": {"left": 0, "right": w, "bottom": 0, "top": h, "near": 0, "far": 10}
+    });
+    let polys = projected(&scene, camera, w, h);
     let bg = Background::color(Rgb8::BLACK);
     let exact = crate::raster::render(&polys, &bg, w, h, Aa::Exact);
     assert_eq!(exact.estimated, 0);
@@ -286,17 +288,11 @@ fn striped_ground_default_equals_the_reference_wherever_it_is_certain() {
         {"vertices": [[-20, 0, -60], [20, 0, -60], [20, 25, -60], [-20, 25, -60]], "color": [200, 120, 90], "stripe": {"map": "runway.map", "spacing": 0.02, "yaw": 30, "pitch": 20}}
     "#;
     let scene = Scene::read(Box::new(std::io::Cursor::new(stream)), "stripe.json", &dir).unwrap();
-    let camera = Camera::from_json(
-        &serde_json::json!({
-            "lookat": {"eye": [0, 8, 10], "center": [0, 4, -100]},
-            "perspective": {"fovy": 50, "aspect": 1.333, "near": 1, "far": 3000}
-        }),
-        "camera",
-    )
-    .unwrap();
-    let polys = scene
-        .project(&View::new(&camera, w, h), &DrawOptions::default(), 0)
-        .unwrap();
+    let camera = serde_json::json!({
+        "lookat": {"eye": [0, 8, 10], "center": [0, 4, -100]},
+        "perspective": {"fovy": 50, "aspect": 1.333, "near": 1, "far": 3000}
+    });
+    let polys = projected(&scene, camera, w, h);
     let bg = Background::color(Rgb8::BLACK);
     let exact = crate::raster::render(&polys, &bg, w, h, Aa::Exact);
     let r = reference::render(&polys, &bg, w, h, 24);
