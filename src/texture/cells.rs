@@ -55,7 +55,9 @@ use glam::DVec2;
 /// the reference is certain of were up to 22 codes off it; at 65,536 none
 /// is estimated and the default equals the reference wherever the
 /// reference is certain (test `a_pattern_minified_150_times_is_integrated_exactly`
-/// covers the range), for 0.95 s more on one core. The one-texel checker
+/// covers the range), for about 0.8 s more on one core (paired runs of
+/// that scene on one thread: 1.28-1.46 s before, 2.09-2.16 s after;
+/// `bench/RESULTS-texture.md`). The one-texel checker
 /// ground of `scene::horizon_tests` still estimates the row over its far
 /// edge, about two million cells a pixel.
 pub const MAX_EXACT_CELLS: i64 = 65536;
