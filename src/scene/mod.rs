@@ -55,7 +55,7 @@ use crate::io::{AnyImage, Encoding, Image};
 use crate::light::{Lights, Shade};
 use crate::progress::{Progress, Silent};
 use crate::raster::{self, Aa, Background, Cull, Frame, ScreenPoly, Shader, Tally};
-use crate::stream::{for_each_item, Instance, Item, Objects, PatternMode, PatternRef, Record};
+use crate::stream::{for_each_item_in, Instance, Item, Objects, PatternMode, PatternRef, Record};
 use crate::stripe::record::StripeLoader;
 use crate::stripe::LodMode;
 use crate::texture::place::TextureSettings;
@@ -364,7 +364,7 @@ impl Scene {
         let mut files = Vec::new();
         let mut coarse = Vec::new();
         let (mut unknown, mut warnings) = (keys::UnknownKeys::default(), Vec::new());
-        let mut scene = read_items(reader, name, limits, |rec| {
+        let mut scene = read_items(reader, name, base, limits, |rec| {
             let at = (Some(name), rec.index);
             unknown.check(rec.index, &rec.fields, |w| warnings.push(w));
             let stripe =
@@ -547,6 +547,7 @@ impl Projected {
 fn read_items(
     reader: Box<dyn BufRead>,
     name: &str,
+    base: &Path,
     limits: &LoadOptions,
     mut each: impl FnMut(Record) -> Result<Drawable, SceneError>,
 ) -> Result<Scene, SceneError> {
@@ -580,7 +581,7 @@ fn read_items(
             name: inst.object,
         }))
     };
-    for_each_item(reader, name, |item| {
+    for_each_item_in(reader, name, base, |item| {
         match item {
             Item::Record(rec) => {
                 let index = rec.index;
@@ -1151,5 +1152,30 @@ mod part_size {
     fn a_part_is_at_most_80_bytes() {
         assert!(std::mem::size_of::<super::Part>() <= 80);
         assert!(std::mem::size_of::<super::Drawable>() <= 80);
+    }
+}
+
+#[cfg(test)]
+mod read_tests {
+    use super::Scene;
+
+    /// A stream read from a buffer, named as if it lay elsewhere, with a
+    /// folder of its own: its meshes resolve in that folder, as its
+    /// patterns do (they resolved beside the name, which held no model).
+    #[test]
+    fn meshes_resolve_against_base_as_patterns_do() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join("sq.obj"),
+            "v 0 0 0\nv 4 0 0\nv 4 4 0\nv 0 4 0\nf 1 2 3 4\n",
+        )
+        .unwrap();
+        let stream = r#"{"mesh": {"obj": "sq.obj"}, "color": [200, 100, 50]}"#;
+        let read = Scene::read(
+            Box::new(std::io::Cursor::new(stream)),
+            "elsewhere/scene.json",
+            dir.path(),
+        );
+        assert!(read.is_ok(), "{:?}", read.err().map(|e| e.to_string()));
     }
 }

@@ -165,7 +165,7 @@ pub fn partition_stream<W: Write>(
     // Objects and instances are kept as they are (Fig. 5.1: a face is
     // partitioned once and placed four times), not expanded into copies.
     let mut objects = Objects::default();
-    stream::for_each_item(reader, source, |item| match item {
+    stream::for_each_item_in(reader, source, base, |item| match item {
         Item::Record(rec) => {
             let index = rec.index;
             job.record(rec).map_err(|error| PartitionError::Record {

@@ -132,8 +132,21 @@ pub fn nth_item<R: BufRead>(
 /// Like [`for_each_record`], but hands over object definitions and instances
 /// as they are, for tools that forward them.
 pub fn for_each_item<R: BufRead, E: From<StreamError>>(
+    reader: R,
+    source: &str,
+    each: impl FnMut(Item) -> Result<(), E>,
+) -> Result<(), E> {
+    for_each_item_in(reader, source, &super::base_dir(source), each)
+}
+
+/// [`for_each_item`] with the files records name (meshes, patterns)
+/// resolved against `base`, not against `source`'s folder: for a stream
+/// read from elsewhere than the file `source` names (a library caller's
+/// buffer, say, given its own folder).
+pub fn for_each_item_in<R: BufRead, E: From<StreamError>>(
     mut reader: R,
     source: &str,
+    base: &std::path::Path,
     mut each: impl FnMut(Item) -> Result<(), E>,
 ) -> Result<(), E> {
     let stream_err = |record: Option<usize>, message: String| StreamError {
@@ -162,18 +175,17 @@ pub fn for_each_item<R: BufRead, E: From<StreamError>>(
         }
     };
     let mut index = 0usize;
-    let base = super::base_dir(source);
     let mut handle = |value: Parsed, index: &mut usize| -> Result<(), E> {
         let item = match value {
             // A mesh: the object of its faces, then the instance placing it.
             Parsed::Element(Element::Object(o)) if o.contains_key("mesh") => {
-                let [def, inst] = super::mesh::top_level(*index, o.into_fields(), &base)
+                let [def, inst] = super::mesh::top_level(*index, o.into_fields(), base)
                     .map_err(|e| e.named(source))?;
                 each(def)?;
                 inst
             }
             Parsed::Element(e) => {
-                Item::from_element(*index, e, &base).map_err(|e| e.named(source))?
+                Item::from_element(*index, e, base).map_err(|e| e.named(source))?
             }
             Parsed::Item(item) => item,
         };
