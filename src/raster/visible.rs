@@ -663,15 +663,14 @@ fn cut_texture<'a>(
         return Some(lit(t, l, (px, py), frag, c.map(f64::from)));
     }
     let tex = p.texture().expect("CUT_LATER fragments are textured");
-    let factor = |piece: &[DVec2]| {
-        let c = crate::geom::polygon::area_centroid(piece)
-            .unwrap_or_else(|| crate::geom::polygon::vertex_mean(piece));
-        p.shade.as_ref().map_or([1.0; 3], |s| s.at(c.x, c.y))
-    };
-    let factor = p
-        .shade
-        .is_some()
-        .then_some(&factor as &dyn Fn(&[DVec2]) -> [f64; 3]);
+    let factor = p.shade.as_ref().map(|shade| {
+        move |piece: &[DVec2]| {
+            let c = crate::geom::polygon::area_centroid(piece)
+                .unwrap_or_else(|| crate::geom::polygon::vertex_mean(piece));
+            shade.at(c.x, c.y)
+        }
+    });
+    let factor = factor.as_ref().map(|f| f as &dyn Fn(&[DVec2]) -> [f64; 3]);
     crate::texture::cells::integrate(visible, px, py, tex, factor, texels)
 }
 

@@ -439,8 +439,8 @@ impl StripeTexture {
                 Some(m) => m,
                 None => {
                     estimated |= self.mode != LodMode::Cig;
-                    let c = crate::geom::polygon::vertex_mean(piece);
-                    let c = crate::geom::polygon::area_centroid(piece).unwrap_or(c);
+                    let c = crate::geom::polygon::area_centroid(piece)
+                        .unwrap_or_else(|| crate::geom::polygon::vertex_mean(piece));
                     self.modulation_at(c.x, c.y) as f64
                 }
             };
