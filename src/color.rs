@@ -33,6 +33,16 @@ impl Rgb8 {
     pub fn from_linear(c: [f32; 3]) -> Rgb8 {
         Rgb8(c.map(linear_to_srgb))
     }
+
+    /// The largest difference between the two colours in one channel, in
+    /// codes: how far apart two linear colours are once encoded (the bound
+    /// `scene-render` reports for an estimate between them).
+    pub fn code_distance(self, other: Rgb8) -> u32 {
+        (0..3)
+            .map(|ch| self.0[ch].abs_diff(other.0[ch]) as u32)
+            .max()
+            .unwrap_or(0)
+    }
 }
 
 impl fmt::Display for Rgb8 {
@@ -231,6 +241,13 @@ pub fn decode_table() -> &'static [f32; 256] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn code_distance_is_the_largest_channel_difference() {
+        assert_eq!(Rgb8([10, 200, 30]).code_distance(Rgb8([12, 150, 30])), 50);
+        assert_eq!(Rgb8::BLACK.code_distance(Rgb8::WHITE), 255);
+        assert_eq!(Rgb8::WHITE.code_distance(Rgb8::WHITE), 0);
+    }
 
     /// The bucketed encoder counts the edges exactly as a binary search:
     /// on every 61st f32 in 0..=1 (16 million values), at each edge and its

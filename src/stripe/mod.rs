@@ -546,14 +546,8 @@ impl StripeTexture {
     /// `scene-render` reports for the fragments whose colour is the LOD
     /// filter's estimate ([`StripeTexture::fragment_linear`]).
     pub fn contrast_codes(&self) -> u32 {
-        let code = |l: f32| crate::color::Rgb8::from_linear([l; 3]).0[0] as u32;
-        (0..3)
-            .map(|ch| {
-                let (a, b) = (self.ends[0][ch], self.ends[1][ch]);
-                code(a.max(b)) - code(a.min(b))
-            })
-            .max()
-            .unwrap_or(0)
+        let encode = crate::color::Rgb8::from_linear;
+        encode(self.ends[0]).code_distance(encode(self.ends[1]))
     }
 
     /// The crisp stripe colour at the screen point `(x, y)` (level 0, no LOD),

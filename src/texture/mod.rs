@@ -98,13 +98,9 @@ impl PolyTexture {
     /// `scene-render` reports for fragments over more than
     /// [`cells::MAX_EXACT_CELLS`] cells, which take the EWA estimate.
     pub fn contrast_codes(&self) -> u32 {
-        let code = |l: f64| Rgb8::from_linear([l as f32; 3]).0[0] as u32;
-        self.colour_range().map_or(0, |(lo, hi)| {
-            (0..3)
-                .map(|ch| code(hi[ch]) - code(lo[ch]))
-                .max()
-                .unwrap_or(0)
-        })
+        let encode = |c: [f64; 3]| Rgb8::from_linear(c.map(|l| l as f32));
+        self.colour_range()
+            .map_or(0, |(lo, hi)| encode(lo).code_distance(encode(hi)))
     }
 
     /// What decides the colours this texture shows, all but its map:
