@@ -45,8 +45,7 @@ use glam::DVec2;
 /// in texel space plus twice its extents, `CellBox::cells_met`). The work
 /// is one slice per texel row the fragment spans plus one per cell a row's
 /// strip meets (`crate::geom::slice`), each summed as it is cut
-/// ([`integrate`]): about 30 ns a cell on the benchmark machine, half of it
-/// the texel's fetch.
+/// ([`integrate`]).
 ///
 /// Why 65,536: on the photographed plane of `bench/texture.sh` (640x480,
 /// texels of 0.05 units, the far edge 400 units off) the fragments of the
