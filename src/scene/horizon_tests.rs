@@ -22,6 +22,17 @@ use crate::view::View;
 const WIDTH: u32 = 640;
 const HEIGHT: u32 = 360;
 
+/// The `.pat` text of a pattern `size` texels a side in two colours,
+/// texel (col, row) taking colour `pick(col, row)` (0 or 1).
+fn two_colour_pat(size: u32, colours: [Rgb8; 2], pick: impl Fn(u32, u32) -> u32) -> String {
+    let texels = (0..size * size)
+        .map(|i| pick(i % size, i / size) as u16)
+        .collect();
+    crate::pat::Pattern::new(size, colours.to_vec(), texels)
+        .unwrap()
+        .to_canonical()
+}
+
 /// The ground with its checker turned `rotate` degrees, projected.
 fn ground(rotate: f64) -> Vec<crate::raster::ScreenPoly> {
     let dir = std::env::temp_dir().join(format!(
@@ -30,17 +41,8 @@ fn ground(rotate: f64) -> Vec<crate::raster::ScreenPoly> {
         rotate.to_bits()
     ));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut pat = String::from("16 2\n230 230 230\n");
-    for parity in [0u32, 1] {
-        if parity == 1 {
-            pat.push_str("20 20 120\n");
-        }
-        for row in 0..16u32 {
-            let word =
-                (0..16u32).fold(0u16, |w, col| (w << 1) | ((col + row) % 2 == parity) as u16);
-            pat.push_str(&format!("{word:04x}\n"));
-        }
-    }
+    let colours = [Rgb8([230, 230, 230]), Rgb8([20, 20, 120])];
+    let pat = two_colour_pat(16, colours, |col, row| (col + row) % 2);
     std::fs::write(dir.join("c.pat"), pat).unwrap();
     let stream = format!(
         r#"{{"vertices": [[-20000,0,20000],[20000,0,20000],[20000,0,-20000],[-20000,0,-20000]], "pattern": {{"file": "c.pat", "incr": 1, "rotate": {rotate}}}}}"#
@@ -193,25 +195,8 @@ fn a_pattern_minified_150_times_is_integrated_exactly() {
     let (w, h) = (4, 3);
     let dir = std::env::temp_dir().join(format!("patkit-minified-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut pat = String::from("256 2\n240 200 40\n");
-    for parity in [0u32, 1] {
-        if parity == 1 {
-            pat.push_str("30 60 160\n");
-        }
-        for row in 0..256u32 {
-            let words: Vec<String> = (0..16u32)
-                .map(|word| {
-                    let bits = (0..16u32).fold(0u16, |acc, b| {
-                        let col = word * 16 + b;
-                        (acc << 1) | ((col / 32 + row / 32) % 2 == parity) as u16
-                    });
-                    format!("{bits:04x}")
-                })
-                .collect();
-            pat.push_str(&words.join(" "));
-            pat.push('\n');
-        }
-    }
+    let colours = [Rgb8([240, 200, 40]), Rgb8([30, 60, 160])];
+    let pat = two_colour_pat(256, colours, |col, row| (col / 32 + row / 32) % 2);
     std::fs::write(dir.join("blocks.pat"), pat).unwrap();
     let stream = format!(
         r#"{{"vertices": [[0.3,0.2,-1],[3.7,0.5,-1],[3.6,2.8,-1],[0.4,2.6,-1]], "pattern": {{"file": "blocks.pat", "incr": {}, "rotate": {}}}}}"#,
