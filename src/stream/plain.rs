@@ -17,6 +17,11 @@
 //! path would reject for them (a number out of range in a known field, say)
 //! is declined too. The record's JSON object ([`Record::fields`]) is parsed
 //! from the kept line only when a tool asks for it.
+//!
+//! Two routes lead there: a hand-written scanner (`scan`) that reads the
+//! vertices and colour without serde's visitors, and, for whatever it does
+//! not know, serde with the visitors below. Both accept the same lines with
+//! the same numbers, which their tests check bit for bit.
 
 use super::{is_value_key, Fields, Record, MAX_VERTICES};
 use crate::color::Rgb8;
@@ -27,13 +32,18 @@ use serde_json::value::RawValue;
 use serde_json::Value;
 use std::fmt;
 
+mod scan;
+
 /// The typed view of `line` (one JSON value, surrounding whitespace trimmed)
 /// as record `index`, if it is a plain polygon record; `None` sends the line
 /// to the general path.
 pub(super) fn record(line: &[u8], index: usize) -> Option<Record> {
-    let plain: Plain = serde_json::from_slice(line).ok()?;
-    let (Some(verts), Some(color)) = (plain.vertices, plain.color) else {
-        return None;
+    let (verts, color) = match scan::vertices_and_color(line) {
+        Some(found) => found,
+        None => {
+            let plain: Plain = serde_json::from_slice(line).ok()?;
+            (plain.vertices?, plain.color?)
+        }
     };
     if verts.len() < 3
         || verts.len() > MAX_VERTICES

@@ -1,0 +1,446 @@
+//! The plain line read by hand, as the tools and most generators write it:
+//! `"vertices"` and `"color"` read straight into numbers, any other field
+//! skipped by its brackets and checked by serde alone. serde's route spent
+//! its time in visitor calls and number parsing; this one walks the bytes
+//! once. Reading a million random triangles (`bench/stream_speed.sh`) took
+//! 0.69 s through serde's route and 0.58 s through this one.
+//!
+//! It only ever *accepts* what serde's route accepts, with the same numbers
+//! to the bit; anything it does not know (a key with an escape, a repeated
+//! vertices or colour, a key the fast path declines, a number that is not a
+//! plain JSON number, a colour that is not a decimal from 0 to 255, a
+//! syntax error) gives `None`, and serde's route reads the line as before.
+//! The tests hold it to that route bit for bit.
+
+use super::super::is_value_key;
+use glam::DVec3;
+use serde_json::value::RawValue;
+use serde_json::Value;
+
+/// The vertices and colour of `line` (one JSON value, trimmed), if it is an
+/// object with both that the fast path keeps; `None` leaves it to serde's
+/// route.
+pub(super) fn vertices_and_color(line: &[u8]) -> Option<(Vec<DVec3>, [u8; 3])> {
+    let mut s = Scanner { b: line, i: 0 };
+    s.byte(b'{')?;
+    let (mut vertices, mut color) = (None, None);
+    loop {
+        s.byte(b'"')?;
+        let key = s.key()?;
+        s.byte(b':')?;
+        match key {
+            "vertices" if vertices.is_none() => vertices = Some(s.points()?),
+            "color" if color.is_none() => color = Some(s.color()?),
+            // Repeated (serde's route declines them too) or declined.
+            "vertices" | "color" => return None,
+            k if super::declines(k) => return None,
+            // Checked as serde's route checks them (`super::Key`): a known
+            // field must parse as a `Value`, any other as JSON text.
+            k if is_value_key(k) => {
+                serde_json::from_slice::<Value>(s.value()?).ok()?;
+            }
+            _ => {
+                serde_json::from_slice::<&RawValue>(s.value()?).ok()?;
+            }
+        }
+        match s.next()? {
+            b',' => continue,
+            b'}' => break,
+            _ => return None,
+        }
+    }
+    s.skip_ws();
+    (s.i == s.b.len()).then_some((vertices?, color?))
+}
+
+/// A cursor over the line.
+struct Scanner<'a> {
+    b: &'a [u8],
+    i: usize,
+}
+
+/// `10^k` for the exactly representable `k <= 22` (Clinger's fast path).
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+impl<'a> Scanner<'a> {
+    /// Skips JSON whitespace (RFC 8259 §2: space, tab, newline, return).
+    #[inline]
+    fn skip_ws(&mut self) {
+        while let Some(b' ' | b'\t' | b'\n' | b'\r') = self.b.get(self.i) {
+            self.i += 1;
+        }
+    }
+
+    /// The next byte after whitespace, consumed.
+    #[inline]
+    fn next(&mut self) -> Option<u8> {
+        self.skip_ws();
+        let c = *self.b.get(self.i)?;
+        self.i += 1;
+        Some(c)
+    }
+
+    /// Consumes `want` after whitespace, or fails.
+    #[inline]
+    fn byte(&mut self, want: u8) -> Option<()> {
+        (self.next()? == want).then_some(())
+    }
+
+    /// A key after its opening quote, through its closing one: `None` for
+    /// one with an escape or a control character (serde's route reads
+    /// those) or that is not UTF-8.
+    fn key(&mut self) -> Option<&'a str> {
+        let start = self.i;
+        loop {
+            match *self.b.get(self.i)? {
+                b'"' => break,
+                b'\\' | 0..=0x1f => return None,
+                _ => self.i += 1,
+            }
+        }
+        self.i += 1;
+        std::str::from_utf8(&self.b[start..self.i - 1]).ok()
+    }
+
+    /// The text of the JSON value that starts here, found by its brackets
+    /// and strings alone (serde checks it): a string through its closing
+    /// quote, an array or object through its matching bracket, anything
+    /// else up to the next `,`, `}`, `]` or whitespace.
+    fn value(&mut self) -> Option<&'a [u8]> {
+        self.skip_ws();
+        let start = self.i;
+        let mut depth = 0usize;
+        loop {
+            match *self.b.get(self.i)? {
+                b'"' => {
+                    self.i += 1;
+                    loop {
+                        match *self.b.get(self.i)? {
+                            b'"' => break,
+                            b'\\' => self.i += 2,
+                            _ => self.i += 1,
+                        }
+                    }
+                }
+                b'[' | b'{' => depth += 1,
+                b']' | b'}' if depth > 0 => depth -= 1,
+                b',' | b']' | b'}' | b' ' | b'\t' | b'\n' | b'\r' if depth == 0 => {
+                    return Some(&self.b[start..self.i]);
+                }
+                _ => {}
+            }
+            self.i += 1;
+            if depth == 0 && matches!(self.b[self.i - 1], b'"' | b']' | b'}') {
+                return Some(&self.b[start..self.i]);
+            }
+        }
+    }
+
+    /// `[[x, y] or [x, y, z], ...]`: z = 0 for `[x, y]`, as serde's route.
+    fn points(&mut self) -> Option<Vec<DVec3>> {
+        self.byte(b'[')?;
+        let mut out = Vec::with_capacity(4);
+        self.skip_ws();
+        if self.b.get(self.i) == Some(&b']') {
+            self.i += 1;
+            return Some(out);
+        }
+        loop {
+            self.byte(b'[')?;
+            let x = self.number()?;
+            self.byte(b',')?;
+            let y = self.number()?;
+            let z = match self.next()? {
+                b',' => {
+                    let z = self.number()?;
+                    self.byte(b']')?;
+                    z
+                }
+                b']' => 0.0,
+                _ => return None,
+            };
+            if out.len() == super::MAX_VERTICES {
+                return None;
+            }
+            out.push(DVec3::new(x, y, z));
+            match self.next()? {
+                b',' => continue,
+                b']' => return Some(out),
+                _ => return None,
+            }
+        }
+    }
+
+    /// `[r, g, b]`, each a decimal integer from 0 to 255 (serde reads a
+    /// `u8` from no other JSON number).
+    fn color(&mut self) -> Option<[u8; 3]> {
+        self.byte(b'[')?;
+        let mut c = [0u8; 3];
+        for (k, slot) in c.iter_mut().enumerate() {
+            if k > 0 {
+                self.byte(b',')?;
+            }
+            self.skip_ws();
+            let start = self.i;
+            let mut v = 0u32;
+            while let Some(d @ b'0'..=b'9') = self.b.get(self.i) {
+                v = v * 10 + u32::from(d - b'0');
+                self.i += 1;
+                if self.i - start > 3 {
+                    return None;
+                }
+            }
+            let digits = self.i - start;
+            let leading_zero = digits > 1 && self.b[start] == b'0';
+            if digits == 0 || leading_zero || v > 255 {
+                return None;
+            }
+            *slot = v as u8;
+        }
+        self.byte(b']')?;
+        Some(c)
+    }
+
+    /// A JSON number (RFC 8259 §6), correctly rounded to the nearest `f64`
+    /// as serde_json's `float_roundtrip` parser gives it. While its digits'
+    /// integer stays below 2^53 and the decimal exponent within ±22, both
+    /// the integer and the power of ten are exact `f64`s, so one IEEE
+    /// multiplication or division is the correctly rounded value (Clinger's
+    /// fast path); anything else goes to the standard library's correctly
+    /// rounded parser. An overflow to infinity, or non-zero digits that
+    /// underflow to zero, are left to serde's route, which words them.
+    fn number(&mut self) -> Option<f64> {
+        self.skip_ws();
+        let start = self.i;
+        let negative = self.b.get(self.i) == Some(&b'-');
+        self.i += usize::from(negative);
+        let int_start = self.i;
+        let mut m = 0u64;
+        // Whether a digit was dropped from `m` to keep it in range.
+        let mut inexact = false;
+        self.digits(&mut m, &mut inexact);
+        let int_len = self.i - int_start;
+        if int_len == 0 || (int_len > 1 && self.b[int_start] == b'0') {
+            return None;
+        }
+        let mut exp10 = 0i64;
+        if self.b.get(self.i) == Some(&b'.') {
+            self.i += 1;
+            let frac_start = self.i;
+            self.digits(&mut m, &mut inexact);
+            if self.i == frac_start {
+                return None;
+            }
+            exp10 = -((self.i - frac_start) as i64);
+        }
+        if let Some(b'e' | b'E') = self.b.get(self.i) {
+            self.i += 1;
+            let sign = match self.b.get(self.i) {
+                Some(&c @ (b'-' | b'+')) => {
+                    self.i += 1;
+                    if c == b'-' {
+                        -1
+                    } else {
+                        1
+                    }
+                }
+                _ => 1,
+            };
+            let exp_start = self.i;
+            let mut e = 0i64;
+            while let Some(&d @ b'0'..=b'9') = self.b.get(self.i) {
+                e = (e * 10 + i64::from(d - b'0')).min(1 << 40);
+                self.i += 1;
+            }
+            if self.i == exp_start {
+                return None;
+            }
+            exp10 += sign * e;
+        }
+        let magnitude = if !inexact && m < 1 << 53 && (-22..=22).contains(&exp10) {
+            let m = m as f64;
+            if exp10 >= 0 {
+                m * POW10[exp10 as usize]
+            } else {
+                m / POW10[(-exp10) as usize]
+            }
+        } else {
+            let text = std::str::from_utf8(&self.b[start..self.i]).ok()?;
+            text.parse::<f64>().ok()?.abs()
+        };
+        if !magnitude.is_finite() || (magnitude == 0.0 && (m != 0 || inexact)) {
+            return None;
+        }
+        Some(if negative { -magnitude } else { magnitude })
+    }
+
+    /// Consumes a run of decimal digits into `m`; past 10^18 `m` takes no
+    /// more and `inexact` is set (the standard parser then reads the text).
+    #[inline]
+    fn digits(&mut self, m: &mut u64, inexact: &mut bool) {
+        while let Some(&d @ b'0'..=b'9') = self.b.get(self.i) {
+            if *m < 1_000_000_000_000_000_000 {
+                *m = *m * 10 + u64::from(d - b'0');
+            } else {
+                *inexact = true;
+            }
+            self.i += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// serde's route for the same line: `Plain` through serde_json.
+    fn serde_route(line: &str) -> Option<(Vec<DVec3>, [u8; 3])> {
+        let p: super::super::Plain = serde_json::from_str(line).ok()?;
+        Some((p.vertices?, p.color?))
+    }
+
+    /// Bit for bit, signs of zero included (`DVec3`'s `==` calls -0 and 0
+    /// equal).
+    fn bits(v: &[DVec3]) -> Vec<[u64; 3]> {
+        v.iter()
+            .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+            .collect()
+    }
+
+    fn agree(line: &str) -> Result<(), TestCaseError> {
+        if let Some((v, c)) = vertices_and_color(line.as_bytes()) {
+            let (sv, sc) = serde_route(line).expect("serde's route accepts what the scanner does");
+            prop_assert_eq!(bits(&v), bits(&sv), "{}", line);
+            prop_assert_eq!(c, sc, "{}", line);
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn the_common_lines_are_scanned() {
+        for line in [
+            r#"{"vertices":[[139.297,649.243,-0.0091],[137.262,651.811,0.5774],[134.959,647.775,0.6715]],"color":[221,1,228]}"#,
+            r#"{ "color" : [ 0 , 10 , 255 ] , "vertices" : [ [ 0 , 0 ] , [ 1 , 0 ] , [ 0 , 1 ] ] }"#,
+            "{\"vertices\":[[0,0],[1e2,0],[0,1E-2]],\r\n\t\"color\":[1,2,3]}",
+            r#"{"vertices":[[-0,-0.0,0.1],[12345678901234567890,1.7976931348623157e308,5e-324],[0.30000000000000004,-1,2]],"color":[0,0,0]}"#,
+            // polyfill3's cells, and fields serde's route keeps as text.
+            r#"{"vertices":[[99.71238155194987,0.40899343312727865,99.5],[100.0,0.0,100.0],[100.0,0.0,99.5]],"color":[180,144,86],"texel":[5,0],"face":1}"#,
+            r#"{"id":1,"vertices":[[0,0],[1,0],[0,1]],"s":"a\"]}\\","color":[1,2,3],"x":[1e400,{"records":[]}],"n":null,"id":true}"#,
+        ] {
+            assert!(vertices_and_color(line.as_bytes()).is_some(), "{line}");
+            agree(line).unwrap();
+        }
+    }
+
+    #[test]
+    fn anything_else_is_left_to_serde() {
+        for line in [
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"texel":[1e400,0]}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"records":[]}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"transform":{"translate":[1,2,3]}}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"x":[1,]}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"x":"\q"}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"x":tru}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"x":[}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"x":}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"x\"":1}"#,
+            r#"{"verti\u0063es":[[0,0],[1,0],[0,1]],"color":[1,2,3]}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3]}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]]}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3.0]}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,03]}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,256]}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3,4]}"#,
+            r#"{"vertices":[[00,0],[1,0],[0,1]],"color":[1,2,3]}"#,
+            r#"{"vertices":[[.5,0],[1,0],[0,1]],"color":[1,2,3]}"#,
+            r#"{"vertices":[[1.,0],[1,0],[0,1]],"color":[1,2,3]}"#,
+            r#"{"vertices":[[+1,0],[1,0],[0,1]],"color":[1,2,3]}"#,
+            r#"{"vertices":[[1e,0],[1,0],[0,1]],"color":[1,2,3]}"#,
+            r#"{"vertices":[[1e400,0],[1,0],[0,1]],"color":[1,2,3]}"#,
+            r#"{"vertices":[[1e-400,0],[1,0],[0,1]],"color":[1,2,3]}"#,
+            r#"{"vertices":[[0,0,0,0],[1,0],[0,1]],"color":[1,2,3]}"#,
+            r#"{"vertices":[[0],[1,0],[0,1]],"color":[1,2,3]}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1],],"color":[1,2,3]}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3]} {}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],}"#,
+            r#"{"vertices":[[NaN,0],[1,0],[0,1]],"color":[1,2,3]}"#,
+        ] {
+            assert!(vertices_and_color(line.as_bytes()).is_none(), "{line}");
+        }
+    }
+
+    /// A number as JSON writes it, or near misses.
+    fn number_text() -> impl Strategy<Value = String> {
+        prop_oneof![
+            any::<i64>().prop_map(|i| i.to_string()),
+            any::<u64>().prop_map(|i| i.to_string()),
+            any::<f64>()
+                .prop_filter("finite", |x| x.is_finite())
+                .prop_map(|x| format!("{x:?}")),
+            any::<f64>()
+                .prop_filter("finite", |x| x.is_finite())
+                .prop_map(|x| format!("{x:e}")),
+            (-1e4f64..1e4).prop_map(|x| format!("{x:.3}")),
+            // Digits and exponents around the fast path's edges.
+            ("-?[0-9]{1,25}(\\.[0-9]{1,25})?([eE][-+]?[0-9]{1,3})?").prop_map(|s| s),
+            Just("-0".to_string()),
+            Just("1e400".to_string()),
+        ]
+    }
+
+    /// Whether the number `t` is a finite `f64` that is zero only if its
+    /// digits are (no underflow): those the scanner must accept.
+    fn representable(t: &str) -> bool {
+        let digits = t.split(['e', 'E']).next().unwrap_or_default();
+        t.parse::<f64>().is_ok_and(|x| {
+            x.is_finite() && (x != 0.0 || !digits.bytes().any(|b| matches!(b, b'1'..=b'9')))
+        })
+    }
+
+    proptest! {
+        /// Whatever the numbers and the spacing, the scanner declines or
+        /// gives serde's numbers to the bit.
+        #[test]
+        fn the_scanner_agrees_with_serde_to_the_bit(
+            points in prop::collection::vec(prop::collection::vec(number_text(), 2..4), 0..5),
+            color in prop::collection::vec(0u32..300, 3),
+            space in prop::sample::select(vec!["", " ", "\t", "\r\n"]),
+            color_first in any::<bool>(),
+            extra in prop::option::of((
+                prop::sample::select(vec!["texel", "face", "id", "records", "transform", "uv", "x"]),
+                prop_oneof![
+                    number_text(),
+                    Just(r#""a\"]}\\""#.to_string()),
+                    Just(r#"[1,[2,{"a":"]"}],null]"#.to_string()),
+                    Just(r#"{"b":[1e400]}"#.to_string()),
+                    Just("[1,]".to_string()),
+                    Just(r#""\q""#.to_string()),
+                    Just("tru".to_string()),
+                ],
+            )),
+        ) {
+            let sep = |items: Vec<String>| items.join(&format!("{space},{space}"));
+            let verts = format!(
+                "\"vertices\"{space}:{space}[{}]",
+                sep(points.iter().map(|p| format!("[{space}{}{space}]", sep(p.clone()))).collect())
+            );
+            let col = format!("\"color\":[{}]", sep(color.iter().map(|c| c.to_string()).collect()));
+            let mut parts = if color_first { vec![col, verts] } else { vec![verts, col] };
+            if let Some((k, v)) = extra {
+                parts.insert(1, format!("\"{k}\"{space}:{space}{v}"));
+            }
+            let line = format!("{{{space}{}{space}}}", sep(parts));
+            agree(&line)?;
+            // What the scanner declines, only serde's route may accept:
+            // a line of valid numbers and colours must be accepted.
+            let valid = serde_route(&line).is_some();
+            if valid && points.iter().flatten().all(|t| representable(t)) {
+                prop_assert!(vertices_and_color(line.as_bytes()).is_some(), "{}", line);
+            }
+        }
+    }
+}
