@@ -14,8 +14,8 @@
 //!    remainder stays a list of convex polygons): exact for interpenetrating
 //!    polygons too (`raster::visible::subtract_pairwise`).
 //! 3. **Tile sweep.** The same areas, found front to back: the tile's
-//!    polygons come nearest first (a deep tile's, square by square of
-//!    `SWEEP` pixels), and each fragment is cut out of its
+//!    polygons come nearest first (a deep tile's square by square,
+//!    `DEEP_TILES`), and each fragment is cut out of its
 //!    pixel's uncovered part as it is made, its visible area being what it
 //!    removed (`raster::visible::PixelStates`). That holds where no fragment is in front of
 //!    one that showed before it, which is checked; a pixel where the check
@@ -482,7 +482,8 @@ pub fn render_bin_counted(
     let render = |s: &mut TileScratch, g: &mut TileGeom| {
         let estimated = |s: &TileScratch| s.tex.cells.estimated + s.resolve.texels.estimated;
         let before = estimated(s);
-        if !is_deep(polys, bin, tile) {
+        let side = sweep_side(polys, bin, tile);
+        if side >= tile[2] - tile[0] {
             g.gather(polys, bin, tile);
             let block = render_tile(polys, g, bg, tile, s);
             return (block, estimated(s) - before);
@@ -491,9 +492,9 @@ pub fn render_bin_counted(
         let [tx0, ty0, tx1, ty1] = tile;
         let mut block = vec![[0.0; 3]; ((tx1 - tx0) * (ty1 - ty0)) as usize];
         let mut part = std::mem::take(&mut s.sweep_bin);
-        for sy in (ty0..ty1).step_by(SWEEP as usize) {
-            for sx in (tx0..tx1).step_by(SWEEP as usize) {
-                let square = [sx, sy, (sx + SWEEP).min(tx1), (sy + SWEEP).min(ty1)];
+        for sy in (ty0..ty1).step_by(side as usize) {
+            for sx in (tx0..tx1).step_by(side as usize) {
+                let square = [sx, sy, (sx + side).min(tx1), (sy + side).min(ty1)];
                 part.clear();
                 part.extend(
                     bin.iter()
@@ -521,29 +522,30 @@ pub fn render_bin_counted(
     })
 }
 
-/// Side of the squares a deep tile ([`DEEP_TILE`]) is swept in, in pixels.
-/// The sweep takes pieces nearest first by their greatest nearness over
-/// the square; over a smaller square that bound is closer to each pixel's
-/// own order, so fewer fragments arrive out of order (each a pairwise
-/// re-resolve of its pixel) and more are dropped as hidden before they are
-/// cut. Render phase of `bench/aa_scaling.sh`'s triangles at 100,000 (about
-/// 4 and 22 layers a pixel), one run each: 2.16 s and 3.64 s swept by the
-/// 32-pixel tile, 1.93 and 3.02 by 16, 1.72 and 2.48 by 8, 1.59 and 2.19 by
-/// 4, 1.74 and 2.41 by 2; the same image at every size.
-const SWEEP: u32 = 4;
-
 /// How many times over its polygons' boxes (clipped to it) cover a tile
-/// before it is swept in [`SWEEP`] squares. Below it the tile is swept
-/// whole: a shallow tile gains nothing from the squares, and a large
-/// polygon's piece (read in place and clipped to each) would be clipped
-/// once per square.
-const DEEP_TILE: f64 = 4.0;
+/// before it is swept in squares of 8 pixels, and of 4.
+///
+/// The sweep takes pieces nearest first by their greatest nearness over
+/// what it sweeps; over a smaller square that bound is closer to each
+/// pixel's own order, so fewer fragments arrive out of order (each a
+/// pairwise re-resolve of its pixel) and more are dropped as hidden before
+/// they are cut. But a piece is cut into rows once per square it meets, so
+/// a shallow tile of large polygons loses by it, and a large polygon's
+/// piece (read in place and clipped to the square) would be clipped once
+/// per square. Render phase of `bench/aa_scaling.sh`'s triangles, one run
+/// each, swept by the whole 32-pixel tile and by squares of 16, 8, 4 and 2
+/// (boxes 4 to 7 times over in mean, 20-pixel triangles at 10,000:
+/// 0.18 s, 0.17, 0.16, 0.17; about 14 times, 34 pixels, `auto` 10,000:
+/// 0.33, 0.30, 0.26, 0.27; about 16 times, 11 pixels, `auto` 100,000:
+/// 2.16, 1.93, 1.72, 1.59, 1.74; about 55 times, 20 pixels at 100,000:
+/// 3.64, 3.02, 2.48, 2.19, 2.41). The same image at every size.
+const DEEP_TILES: [(f64, u32); 2] = [(12.0, 4), (4.0, 8)];
 
-/// Whether the boxes of `bin`'s polygons cover `tile` [`DEEP_TILE`] times
-/// over.
-fn is_deep(polys: &[ScreenPoly], bin: &[u32], tile: [u32; 4]) -> bool {
+/// The side of the squares `tile` is swept in: the tile's own side unless
+/// its polygons' boxes cover it [`DEEP_TILES`] times over.
+fn sweep_side(polys: &[ScreenPoly], bin: &[u32], tile: [u32; 4]) -> u32 {
     let area = |b: [u32; 4]| b[2].saturating_sub(b[0]) as f64 * b[3].saturating_sub(b[1]) as f64;
-    let need = DEEP_TILE * area(tile);
+    let deepest = DEEP_TILES[0].0 * area(tile);
     let mut sum = 0.0;
     for &pi in bin {
         let b = polys[pi as usize].bbox;
@@ -553,11 +555,15 @@ fn is_deep(polys: &[ScreenPoly], bin: &[u32], tile: [u32; 4]) -> bool {
             b[2].min(tile[2]),
             b[3].min(tile[3]),
         ]);
-        if sum >= need {
-            return true;
+        if sum >= deepest {
+            break;
         }
     }
-    false
+    let depth = sum / area(tile);
+    DEEP_TILES
+        .iter()
+        .find(|&&(over, _)| depth >= over)
+        .map_or(tile[2] - tile[0], |&(_, side)| side)
 }
 
 /// Whether the pixel boxes `a` and `b` (inclusive-exclusive) share a pixel.
@@ -941,18 +947,18 @@ mod sweep {
         }
     }
 
-    /// A deep tile is swept in squares ([`SWEEP`]): each pixel comes out
+    /// A deep tile is swept in squares ([`DEEP_TILES`]): each pixel comes out
     /// where the whole tile's sweep puts it, to rounding (the order of the
     /// sums in a pixel may differ), and a tile under one large polygon is
     /// not deep.
     #[test]
     fn a_deep_tile_swept_in_squares_is_the_whole_tile_swept_at_once() {
         let bg = Background::color(Rgb8([20, 40, 60]));
-        for (seed, tilted) in [(5, false), (6, true)] {
-            let polys = scene(seed, 300, tilted, 32, 32);
+        for (seed, tilted, n, side) in [(5, false, 300, 8), (6, true, 300, 8), (7, true, 1000, 4)] {
+            let polys = scene(seed, n, tilted, 32, 32);
             let bin: Vec<u32> = (0..polys.len() as u32).collect();
             let tile = [0, 0, 32, 32];
-            assert!(is_deep(&polys, &bin, tile));
+            assert_eq!(sweep_side(&polys, &bin, tile), side);
             let (squares, _) = render_bin_counted(&polys, &bin, &bg, tile);
             let mut g = TileGeom::default();
             g.gather(&polys, &bin, tile);
@@ -974,7 +980,7 @@ mod sweep {
             0,
         )
         .unwrap();
-        assert!(!is_deep(&[big], &[0], [0, 0, 32, 32]));
+        assert_eq!(sweep_side(&[big], &[0], [0, 0, 32, 32]), 32);
     }
 
     /// One pixel's fragments: random triangles clipped to the square, flat
