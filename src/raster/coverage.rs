@@ -532,13 +532,21 @@ pub fn render_bin_counted(
 /// they are cut. But a piece is cut into rows once per square it meets, so
 /// a shallow tile of large polygons loses by it, and a large polygon's
 /// piece (read in place and clipped to the square) would be clipped once
-/// per square. Render phase of `bench/aa_scaling.sh`'s triangles, one run
-/// each, swept by the whole 32-pixel tile and by squares of 16, 8, 4 and 2
-/// (boxes 4 to 7 times over in mean, 20-pixel triangles at 10,000:
-/// 0.18 s, 0.17, 0.16, 0.17; about 14 times, 34 pixels, `auto` 10,000:
-/// 0.33, 0.30, 0.26, 0.27; about 16 times, 11 pixels, `auto` 100,000:
-/// 2.16, 1.93, 1.72, 1.59, 1.74; about 55 times, 20 pixels at 100,000:
-/// 3.64, 3.02, 2.48, 2.19, 2.41). The same image at every size.
+/// per square. Render phase of `bench/aa_scaling.sh`'s triangles (median
+/// of 3), swept by the whole 32-pixel tile, in 4-pixel squares wherever
+/// the boxes cover a tile 4 times over, and by these rules:
+///
+/// | scene | mean box layers, box side | whole tile | 4 | rules |
+/// |---|---|---:|---:|---:|
+/// | 20-pixel triangles, 10,000 | 5.5, 21 px | 0.185 s | 0.237 | 0.184 |
+/// | `auto`, 10,000 | 14, 34 px | 0.347 | 0.277 | 0.265 |
+/// | `auto`, 100,000 | 16, 11 px | 2.131 | 1.650 | 1.630 |
+/// | 20-pixel triangles, 100,000 | 55, 21 px | 3.802 | 2.194 | 2.231 |
+///
+/// One run each at 100,000 by squares of 16, 8, 4 and 2 pixels: 1.93,
+/// 1.72, 1.59, 1.74 s (`auto`), 3.02, 2.48, 2.19, 2.41 s (20 pixels). With
+/// these rules the 8-bit images are the whole-tile sweep's
+/// (`bench/RESULTS-same-images.md`).
 const DEEP_TILES: [(f64, u32); 2] = [(12.0, 4), (4.0, 8)];
 
 /// The side of the squares `tile` is swept in: the tile's own side unless
