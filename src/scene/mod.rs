@@ -437,15 +437,12 @@ impl Scene {
                 && animated.is_none();
             Ok(Drawable {
                 index: rec.index,
-                // A copy made here: the parsed list was allocated by a
-                // parsing thread, in its malloc arena; copied into this
-                // thread's, a million triangles' scene peaks at 158 MB
-                // instead of 196 (scene-render drawing nothing of it,
-                // bench/RESULTS-memory.md).
-                shape: match rec.shape {
-                    Shape::Polygon(v) => Shape::Polygon(v.as_slice().to_vec()),
-                    shape => shape,
-                },
+                // Kept as read: the reader makes every record's vertex list
+                // on this thread, at its exact size (`stream::plain`), so a
+                // million triangles' scene is not scattered over the parsing
+                // threads' malloc arenas (it peaked at 196 MB that way, 158
+                // once copied here, bench/RESULTS-memory.md).
+                shape: rec.shape,
                 color,
                 shade: rec.shade,
                 extras: (!plain).then(|| {

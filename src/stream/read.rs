@@ -261,13 +261,18 @@ pub fn for_each_item_in<R: BufRead, E: From<StreamError>>(
                     };
                 }
                 let typed = parse_plain_batch(&batch);
-                for (k, pre) in typed.into_iter().enumerate() {
+                let views = typed.iter().flat_map(|run| {
+                    run.views
+                        .iter()
+                        .map(|v| v.as_ref().map(|v| (v, &run.verts)))
+                });
+                for (k, pre) in views.enumerate() {
                     let (start, end) = batch.lines[k];
                     let line = &batch.buf[start..end];
                     let body = trim_json_whitespace(line);
                     if !body.is_empty() {
-                        if let Some(mut rec) = pre {
-                            rec.index = index;
+                        if let Some((view, verts)) = pre {
+                            let rec = view.record(verts, body, index);
                             handle(Parsed::Item(Item::Record(rec)), &mut index)?;
                         } else if let Ok(e) = serde_json::from_slice::<Element>(body) {
                             handle(Parsed::Element(e), &mut index)?;
@@ -336,16 +341,37 @@ impl Batch {
     }
 }
 
+/// Lines parsed together by one thread ([`parse_plain_batch`]): each one's
+/// typed view if it is a plain polygon record, their vertices in one list.
+struct PlainRun {
+    views: Vec<Option<plain::PlainView>>,
+    verts: Vec<glam::DVec3>,
+}
+
+/// How many lines a parsing job takes at once: enough that its vertex list
+/// and views are a few allocations among hundreds of records.
+const RUN_LINES: usize = 512;
+
 /// The typed view of each line of `batch` that is a plain polygon record
-/// ([`plain::record`], numbered 0 until it is handed on), in parallel.
-fn parse_plain_batch(batch: &Batch) -> Vec<Option<Record>> {
+/// ([`plain::parse`]), in parallel, in runs of [`RUN_LINES`] lines, in order.
+fn parse_plain_batch(batch: &Batch) -> Vec<PlainRun> {
     use rayon::prelude::*;
     batch
         .lines
-        .par_iter()
-        .map(|&(start, end)| {
-            let body = trim_json_whitespace(&batch.buf[start..end]);
-            (!body.is_empty()).then(|| plain::record(body, 0)).flatten()
+        .par_chunks(RUN_LINES)
+        .map(|lines| {
+            let mut run = PlainRun {
+                views: Vec::with_capacity(lines.len()),
+                verts: Vec::with_capacity(3 * lines.len()),
+            };
+            for &(start, end) in lines {
+                let body = trim_json_whitespace(&batch.buf[start..end]);
+                let view = (!body.is_empty())
+                    .then(|| plain::parse(body, &mut run.verts))
+                    .flatten();
+                run.views.push(view);
+            }
+            run
         })
         .collect()
 }

@@ -17,10 +17,11 @@ use glam::DVec3;
 use serde_json::value::RawValue;
 use serde_json::Value;
 
-/// The vertices and colour of `line` (one JSON value, trimmed), if it is an
-/// object with both that the fast path keeps; `None` leaves it to serde's
-/// route.
-pub(super) fn vertices_and_color(line: &[u8]) -> Option<(Vec<DVec3>, [u8; 3])> {
+/// The colour of `line` (one JSON value, trimmed), its vertices appended
+/// to `verts`, if it is an object with both that the fast path keeps;
+/// `None` leaves it to serde's route (and `verts` may then hold a part of
+/// the line's vertices: the caller truncates it).
+pub(super) fn vertices_and_color(line: &[u8], verts: &mut Vec<DVec3>) -> Option<[u8; 3]> {
     let mut s = Scanner { b: line, i: 0 };
     s.byte(b'{')?;
     let (mut vertices, mut color) = (None, None);
@@ -29,7 +30,7 @@ pub(super) fn vertices_and_color(line: &[u8]) -> Option<(Vec<DVec3>, [u8; 3])> {
         let key = s.key()?;
         s.byte(b':')?;
         match key {
-            "vertices" if vertices.is_none() => vertices = Some(s.points()?),
+            "vertices" if vertices.is_none() => vertices = Some(s.points(verts)?),
             "color" if color.is_none() => color = Some(s.color()?),
             // Repeated (serde's route declines them too) or declined.
             "vertices" | "color" => return None,
@@ -50,7 +51,8 @@ pub(super) fn vertices_and_color(line: &[u8]) -> Option<(Vec<DVec3>, [u8; 3])> {
         }
     }
     s.skip_ws();
-    (s.i == s.b.len()).then_some((vertices?, color?))
+    vertices?;
+    (s.i == s.b.len()).then_some(color?)
 }
 
 /// A cursor over the line.
@@ -139,14 +141,15 @@ impl<'a> Scanner<'a> {
         }
     }
 
-    /// `[[x, y] or [x, y, z], ...]`: z = 0 for `[x, y]`, as serde's route.
-    fn points(&mut self) -> Option<Vec<DVec3>> {
+    /// `[[x, y] or [x, y, z], ...]` appended to `out`: z = 0 for `[x, y]`,
+    /// as serde's route. How many points.
+    fn points(&mut self, out: &mut Vec<DVec3>) -> Option<usize> {
         self.byte(b'[')?;
-        let mut out = Vec::with_capacity(4);
+        let start = out.len();
         self.skip_ws();
         if self.b.get(self.i) == Some(&b']') {
             self.i += 1;
-            return Some(out);
+            return Some(0);
         }
         loop {
             self.byte(b'[')?;
@@ -162,13 +165,13 @@ impl<'a> Scanner<'a> {
                 b']' => 0.0,
                 _ => return None,
             };
-            if out.len() == super::MAX_VERTICES {
+            if out.len() - start == super::MAX_VERTICES {
                 return None;
             }
             out.push(DVec3::new(x, y, z));
             match self.next()? {
                 b',' => continue,
-                b']' => return Some(out),
+                b']' => return Some(out.len() - start),
                 _ => return None,
             }
         }
@@ -303,6 +306,14 @@ mod tests {
         Some((p.vertices?, p.color?))
     }
 
+    /// The scanner's vertices (after some already in the list) and colour.
+    fn scanned(line: &str) -> Option<(Vec<DVec3>, [u8; 3])> {
+        let mut verts = vec![DVec3::splat(7.0)];
+        let c = vertices_and_color(line.as_bytes(), &mut verts)?;
+        assert_eq!(verts[0], DVec3::splat(7.0));
+        Some((verts.split_off(1), c))
+    }
+
     /// Bit for bit, signs of zero included (`DVec3`'s `==` calls -0 and 0
     /// equal).
     fn bits(v: &[DVec3]) -> Vec<[u64; 3]> {
@@ -312,7 +323,7 @@ mod tests {
     }
 
     fn agree(line: &str) -> Result<(), TestCaseError> {
-        if let Some((v, c)) = vertices_and_color(line.as_bytes()) {
+        if let Some((v, c)) = scanned(line) {
             let (sv, sc) = serde_route(line).expect("serde's route accepts what the scanner does");
             prop_assert_eq!(bits(&v), bits(&sv), "{}", line);
             prop_assert_eq!(c, sc, "{}", line);
@@ -331,7 +342,7 @@ mod tests {
             r#"{"vertices":[[99.71238155194987,0.40899343312727865,99.5],[100.0,0.0,100.0],[100.0,0.0,99.5]],"color":[180,144,86],"texel":[5,0],"face":1}"#,
             r#"{"id":1,"vertices":[[0,0],[1,0],[0,1]],"s":"a\"]}\\","color":[1,2,3],"x":[1e400,{"records":[]}],"n":null,"id":true}"#,
         ] {
-            assert!(vertices_and_color(line.as_bytes()).is_some(), "{line}");
+            assert!(scanned(line).is_some(), "{line}");
             agree(line).unwrap();
         }
     }
@@ -369,7 +380,7 @@ mod tests {
             r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],}"#,
             r#"{"vertices":[[NaN,0],[1,0],[0,1]],"color":[1,2,3]}"#,
         ] {
-            assert!(vertices_and_color(line.as_bytes()).is_none(), "{line}");
+            assert!(scanned(line).is_none(), "{line}");
         }
     }
 
@@ -439,7 +450,7 @@ mod tests {
             // a line of valid numbers and colours must be accepted.
             let valid = serde_route(&line).is_some();
             if valid && points.iter().flatten().all(|t| representable(t)) {
-                prop_assert!(vertices_and_color(line.as_bytes()).is_some(), "{}", line);
+                prop_assert!(scanned(&line).is_some(), "{}", line);
             }
         }
     }
