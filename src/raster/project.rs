@@ -315,6 +315,16 @@ impl Tally {
         }
     }
 
+    /// Adds the counts of `other` (polygons counted apart, in parallel).
+    pub fn add(&mut self, other: &Tally) {
+        self.drawn += other.drawn;
+        self.drawn_area += other.drawn_area;
+        self.not_finite += other.not_finite;
+        self.outside += other.outside;
+        self.culled += other.culled;
+        self.no_area += other.no_area;
+    }
+
     /// Every polygon counted.
     pub fn total(&self) -> u64 {
         self.drawn + self.not_finite + self.outside + self.culled + self.no_area
