@@ -2,8 +2,8 @@
 //! `"vertices"` and `"color"` read straight into numbers, any other field
 //! skipped by its brackets and checked by serde alone. serde's route spent
 //! its time in visitor calls and number parsing; this one walks the bytes
-//! once: the read phase of a million random triangles took 0.60 s against
-//! 0.66 through serde's route (`bench/RESULTS-stream.md`).
+//! once: the read phase of a million random triangles took 0.58 s against
+//! 0.65-0.67 through serde's route (paired runs, `bench/RESULTS-stream.md`).
 //!
 //! It only ever *accepts* what serde's route accepts, with the same numbers
 //! to the bit; anything it does not know (a key with an escape, a repeated
