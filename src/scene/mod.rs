@@ -212,7 +212,9 @@ impl Part {
     }
 }
 
-/// A polygon stream read into drawable parts, objects defined once.
+/// A polygon stream read into drawable parts, objects defined once. A
+/// scene is `Send` and `Sync`: its frames may be projected from several
+/// threads at once, as [`Scene::project`] itself does with its parts.
 #[derive(Default)]
 pub struct Scene {
     parts: Vec<Part>,
@@ -1200,11 +1202,14 @@ mod project_tests {
     use crate::camera::Camera;
     use crate::view::View;
 
+    fn send_and_sync<T: Send + Sync>() {}
+
     /// Projection runs in parallel over runs of parts, a wave at a time: the
     /// polygons still come in stream order, one per visible record, whatever
     /// the number of threads, across runs and waves.
     #[test]
     fn polygons_come_in_stream_order_across_runs_and_waves() {
+        send_and_sync::<Scene>();
         let n = super::PROJECT_RUN * super::PROJECT_WAVE + 3 * super::PROJECT_RUN / 2;
         let mut stream = String::new();
         for i in 0..n {
