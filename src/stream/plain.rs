@@ -65,16 +65,12 @@ pub(super) fn parse(line: &[u8], verts: &mut Vec<DVec3>) -> Option<PlainView> {
     let color = match scan::vertices_and_color(line, verts) {
         Some(c) => c,
         None => {
-            verts.truncate(start);
             let plain: Plain = serde_json::from_slice(line).ok()?;
-            verts.extend(plain.vertices?);
-            match plain.color {
-                Some(c) => c,
-                None => {
-                    verts.truncate(start);
-                    return None;
-                }
-            }
+            let (Some(v), Some(c)) = (plain.vertices, plain.color) else {
+                return None;
+            };
+            verts.extend(v);
+            c
         }
     };
     let v = &verts[start..];

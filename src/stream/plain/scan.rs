@@ -1,6 +1,6 @@
 //! The plain line read by hand, as the tools and most generators write it:
 //! `"vertices"` and `"color"` read straight into numbers, any other field
-//! skipped by its brackets and checked by serde alone. serde's route spent
+//! read and stepped over by serde alone. serde's route spent
 //! its time in visitor calls and number parsing; this one walks the bytes
 //! once: the read phase of a million random triangles took 0.58 s against
 //! 0.65-0.67 through serde's route (paired runs, `bench/RESULTS-stream.md`).
@@ -19,30 +19,37 @@ use serde_json::Value;
 
 /// The colour of `line` (one JSON value, trimmed), its vertices appended
 /// to `verts`, if it is an object with both that the fast path keeps;
-/// `None` leaves it to serde's route (and `verts` may then hold a part of
-/// the line's vertices: the caller truncates it).
+/// `None` (with `verts` as it was) leaves it to serde's route.
 pub(super) fn vertices_and_color(line: &[u8], verts: &mut Vec<DVec3>) -> Option<[u8; 3]> {
-    let mut s = Scanner { b: line, i: 0 };
+    let start = verts.len();
+    let found = scan_object(&mut Scanner { b: line, i: 0 }, verts);
+    if found.is_none() {
+        verts.truncate(start);
+    }
+    found
+}
+
+/// [`vertices_and_color`], leaving what it appended on failure.
+fn scan_object(s: &mut Scanner, verts: &mut Vec<DVec3>) -> Option<[u8; 3]> {
     s.byte(b'{')?;
-    let (mut vertices, mut color) = (None, None);
+    let (mut vertices, mut color) = (false, None);
     loop {
         s.byte(b'"')?;
         let key = s.key()?;
         s.byte(b':')?;
         match key {
-            "vertices" if vertices.is_none() => vertices = Some(s.points(verts)?),
+            "vertices" if !vertices => {
+                s.points(verts)?;
+                vertices = true;
+            }
             "color" if color.is_none() => color = Some(s.color()?),
             // Repeated (serde's route declines them too) or declined.
             "vertices" | "color" => return None,
             k if super::declines(k) => return None,
             // Checked as serde's route checks them (`super::Key`): a known
             // field must parse as a `Value`, any other as JSON text.
-            k if is_value_key(k) => {
-                serde_json::from_slice::<Value>(s.value()?).ok()?;
-            }
-            _ => {
-                serde_json::from_slice::<&RawValue>(s.value()?).ok()?;
-            }
+            k if is_value_key(k) => s.skip_value::<Value>()?,
+            _ => s.skip_value::<&RawValue>()?,
         }
         match s.next()? {
             b',' => continue,
@@ -51,8 +58,7 @@ pub(super) fn vertices_and_color(line: &[u8], verts: &mut Vec<DVec3>) -> Option<
         }
     }
     s.skip_ws();
-    vertices?;
-    (s.i == s.b.len()).then_some(color?)
+    (vertices && s.i == s.b.len()).then_some(color?)
 }
 
 /// A cursor over the line.
@@ -107,49 +113,24 @@ impl<'a> Scanner<'a> {
         std::str::from_utf8(&self.b[start..self.i - 1]).ok()
     }
 
-    /// The text of the JSON value that starts here, found by its brackets
-    /// and strings alone (serde checks it): a string through its closing
-    /// quote, an array or object through its matching bracket, anything
-    /// else up to the next `,`, `}`, `]` or whitespace.
-    fn value(&mut self) -> Option<&'a [u8]> {
-        self.skip_ws();
-        let start = self.i;
-        let mut depth = 0usize;
-        loop {
-            match *self.b.get(self.i)? {
-                b'"' => {
-                    self.i += 1;
-                    loop {
-                        match *self.b.get(self.i)? {
-                            b'"' => break,
-                            b'\\' => self.i += 2,
-                            _ => self.i += 1,
-                        }
-                    }
-                }
-                b'[' | b'{' => depth += 1,
-                b']' | b'}' if depth > 0 => depth -= 1,
-                b',' | b']' | b'}' | b' ' | b'\t' | b'\n' | b'\r' if depth == 0 => {
-                    return Some(&self.b[start..self.i]);
-                }
-                _ => {}
-            }
-            self.i += 1;
-            if depth == 0 && matches!(self.b[self.i - 1], b'"' | b']' | b'}') {
-                return Some(&self.b[start..self.i]);
-            }
-        }
+    /// Steps over the JSON value that starts here if it deserializes as
+    /// `T`: serde_json's own parser reads it and says where it ended.
+    fn skip_value<T: serde::Deserialize<'a>>(&mut self) -> Option<()> {
+        let mut values = serde_json::Deserializer::from_slice(&self.b[self.i..]).into_iter::<T>();
+        values.next()?.ok()?;
+        self.i += values.byte_offset();
+        Some(())
     }
 
     /// `[[x, y] or [x, y, z], ...]` appended to `out`: z = 0 for `[x, y]`,
-    /// as serde's route. How many points.
-    fn points(&mut self, out: &mut Vec<DVec3>) -> Option<usize> {
+    /// as serde's route.
+    fn points(&mut self, out: &mut Vec<DVec3>) -> Option<()> {
         self.byte(b'[')?;
         let start = out.len();
         self.skip_ws();
         if self.b.get(self.i) == Some(&b']') {
             self.i += 1;
-            return Some(0);
+            return Some(());
         }
         loop {
             self.byte(b'[')?;
@@ -171,7 +152,7 @@ impl<'a> Scanner<'a> {
             out.push(DVec3::new(x, y, z));
             match self.next()? {
                 b',' => continue,
-                b']' => return Some(out.len() - start),
+                b']' => return Some(()),
                 _ => return None,
             }
         }
@@ -241,17 +222,14 @@ impl<'a> Scanner<'a> {
         }
         if let Some(b'e' | b'E') = self.b.get(self.i) {
             self.i += 1;
-            let sign = match self.b.get(self.i) {
-                Some(&c @ (b'-' | b'+')) => {
-                    self.i += 1;
-                    if c == b'-' {
-                        -1
-                    } else {
-                        1
-                    }
-                }
-                _ => 1,
+            let sign = if self.b.get(self.i) == Some(&b'-') {
+                -1
+            } else {
+                1
             };
+            if let Some(b'-' | b'+') = self.b.get(self.i) {
+                self.i += 1;
+            }
             let exp_start = self.i;
             let mut e = 0i64;
             while let Some(&d @ b'0'..=b'9') = self.b.get(self.i) {
@@ -306,12 +284,20 @@ mod tests {
         Some((p.vertices?, p.color?))
     }
 
-    /// The scanner's vertices (after some already in the list) and colour.
+    /// The scanner's vertices (after some already in the list) and colour;
+    /// a declined line must leave the list as it was.
     fn scanned(line: &str) -> Option<(Vec<DVec3>, [u8; 3])> {
         let mut verts = vec![DVec3::splat(7.0)];
-        let c = vertices_and_color(line.as_bytes(), &mut verts)?;
+        let c = vertices_and_color(line.as_bytes(), &mut verts);
         assert_eq!(verts[0], DVec3::splat(7.0));
-        Some((verts.split_off(1), c))
+        if c.is_none() {
+            assert_eq!(
+                verts.len(),
+                1,
+                "a declined line leaves the list as it was: {line}"
+            );
+        }
+        Some((verts.split_off(1), c?))
     }
 
     /// Bit for bit, signs of zero included (`DVec3`'s `==` calls -0 and 0
