@@ -165,7 +165,7 @@ pub(super) fn shade_factor(
     (px, py): (u32, u32),
     frag: &[DVec2],
 ) -> Option<[f64; 3]> {
-    let shade = p.shade.as_ref()?;
+    let shade = p.shade()?;
     let centre = DVec2::new(px as f64 + 0.5, py as f64 + 0.5);
     let c = crate::geom::polygon::area_centroid(frag).unwrap_or(centre);
     Some(shade.at(c.x, c.y))
@@ -210,7 +210,7 @@ fn push_frag_unshaded(
     // fragment shows (hidden pixels are never filtered; `--no-skip hidden`
     // filters them all, for the benchmark).
     if let Some((f, fp)) = tex.filter_at(x + 0.5, y + 0.5) {
-        if tex.always_opaque() && tex.skips.hidden && p.shade.is_none() {
+        if tex.always_opaque() && tex.skips.hidden && p.shade().is_none() {
             push_piece(frags, arena, pixel, pi, verts, FILTER_LATER);
         } else if let Some(c) = crate::texture::filter::unpremultiply(tex.sample(f, &fp)) {
             push_piece(frags, arena, pixel, pi, verts, t.colour(c));
@@ -653,7 +653,7 @@ fn render_tile(
             } else {
                 (r.cx1, r.cx1)
             };
-            let run_path = fx1 > fx0 && p.is_some_and(|p| p.shade.is_none() && box_magnified(p));
+            let run_path = fx1 > fx0 && p.is_some_and(|p| p.shade().is_none() && box_magnified(p));
             // Where the band is in the arena, and its box, once an open
             // pixel needs it.
             let mut band_at: Option<(u32, u32, [f64; 4])> = None;

@@ -51,7 +51,7 @@ impl Local {
             order: p.order,
             global,
             color: p.screen().is_none().then_some(p.color),
-            plain: matches!(p.shader, Shader::Flat | Shader::Screen(_)) && p.shade.is_none(),
+            plain: matches!(p.shader(), Shader::Flat | Shader::Screen(_)) && p.shade().is_none(),
             cullable: p.texture().is_none_or(|t| t.skips.hidden),
         }
     }

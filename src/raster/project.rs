@@ -15,6 +15,7 @@ use crate::stripe::StripeTexture;
 use crate::texture::{PolyTexture, Texels};
 use crate::view::{clip, View};
 use glam::{DVec2, DVec3, DVec4};
+use smallvec::SmallVec;
 use std::sync::Arc;
 
 /// Which faces to drop (docs/stream-format.md: vertices counter-clockwise seen from the front).
@@ -111,58 +112,134 @@ impl ShadeField {
     }
 }
 
+/// A polygon's screen vertices: up to [`INLINE_VERTS`] held in the polygon
+/// itself, more on the heap.
+pub type ScreenVerts = SmallVec<[DVec2; INLINE_VERTS]>;
+
+/// How many screen vertices a [`ScreenPoly`] holds without a heap block: a
+/// triangle's. A million triangles made a million 48-byte blocks (64 with
+/// `malloc`'s header), kept until the frame was drawn (bench/memory.sh). Four
+/// would keep a quad inline too, at 16 bytes more for every polygon.
+pub const INLINE_VERTS: usize = 3;
+
 /// A polygon ready for a resolver: clipped, projected, counter-clockwise on
 /// screen (back faces are reversed when not culled).
+///
+/// What most polygons lack (a shader, smooth lighting, concave pieces) is
+/// held out of line: a flat triangle is 144 bytes with no heap block (it was
+/// 152 and a block of 64; `raster::project::tests::a_flat_triangle_is_144_bytes`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScreenPoly {
     /// Screen positions in pixels, y up, counter-clockwise, no repeated neighbours.
-    pub verts: Vec<DVec2>,
+    pub verts: ScreenVerts,
     /// Nearness `q = a*x + b*y + c` over the screen (bigger is nearer).
     pub plane: [f64; 3],
     /// Linear-light colour.
     pub color: [f64; 3],
-    /// What colours the polygon instead of `color`, if anything: one
-    /// source per polygon, so no precedence between sources is needed.
-    pub shader: Shader,
     /// Position in the stream: draw order, for visibility ties.
     pub order: u32,
-    /// Smooth lighting: a per-channel factor that multiplies the colour the
-    /// shader gives, varying over the polygon ([`ShadeField`]); `None` for
-    /// unlit and flat-lit polygons (flat lighting is already in `color` or
-    /// the texture's intrinsic colour).
-    pub shade: Option<Arc<ShadeField>>,
-    /// Convex pieces that tile the polygon exactly: none when it is convex
-    /// (it is its own piece, see [`ScreenPoly::piece`]), else its
-    /// triangles, clipped and projected (`concave_pieces`). (A copy of a convex polygon's vertices
-    /// cost a million allocations on a million triangles, and the exact
-    /// resolver a cache miss more per polygon and tile to reach them.)
-    pub pieces: Vec<Vec<DVec2>>,
     /// Absolute part of the tie tolerance: [`DEPTH_TIE_REL`] times the view's
     /// [`View::nearness_scale`].
     pub tie_floor: f64,
     /// Pixel bounding box, inclusive-exclusive: `x0..x1`, `y0..y1` (y up).
     pub bbox: [u32; 4],
+    /// The shader, the smooth lighting and the concave pieces, when any of
+    /// them is not the default.
+    rare: Option<Box<Rare>>,
 }
 
+/// The parts of a [`ScreenPoly`] that few polygons have.
+#[derive(Clone, Debug, PartialEq, Default)]
+struct Rare {
+    shader: Shader,
+    shade: Option<Arc<ShadeField>>,
+    pieces: Vec<Vec<DVec2>>,
+}
+
+/// What a [`ScreenPoly`] without [`Rare`] parts is coloured by.
+static FLAT: Shader = Shader::Flat;
+
 impl ScreenPoly {
+    /// A flat, convex polygon (the shader [`Shader::Flat`], no smooth
+    /// lighting); the setters below add the rest.
+    pub fn new(verts: ScreenVerts, plane: [f64; 3], color: [f64; 3], order: u32) -> ScreenPoly {
+        ScreenPoly {
+            verts,
+            plane,
+            color,
+            order,
+            tie_floor: 0.0,
+            bbox: [0; 4],
+            rare: None,
+        }
+    }
+
+    fn rare_mut(&mut self) -> &mut Rare {
+        self.rare.get_or_insert_with(Box::default)
+    }
+
+    /// What colours the polygon instead of `color`, if anything: one
+    /// source per polygon, so no precedence between sources is needed.
+    #[inline]
+    pub fn shader(&self) -> &Shader {
+        self.rare.as_ref().map_or(&FLAT, |r| &r.shader)
+    }
+
+    /// Sets [`ScreenPoly::shader`].
+    pub fn set_shader(&mut self, shader: Shader) {
+        self.rare_mut().shader = shader;
+    }
+
+    /// Smooth lighting: a per-channel factor that multiplies the colour the
+    /// shader gives, varying over the polygon ([`ShadeField`]); `None` for
+    /// unlit and flat-lit polygons (flat lighting is already in `color` or
+    /// the texture's intrinsic colour).
+    #[inline]
+    pub fn shade(&self) -> Option<&Arc<ShadeField>> {
+        self.rare.as_ref().and_then(|r| r.shade.as_ref())
+    }
+
+    /// Sets [`ScreenPoly::shade`].
+    pub fn set_shade(&mut self, shade: Arc<ShadeField>) {
+        self.rare_mut().shade = Some(shade);
+    }
+
+    /// Convex pieces that tile the polygon exactly: none when it is convex
+    /// (it is its own piece, see [`ScreenPoly::piece`]), else its
+    /// triangles, clipped and projected (`concave_pieces`). (A copy of a
+    /// convex polygon's vertices cost a million allocations on a million
+    /// triangles, and the exact resolver a cache miss more per polygon and
+    /// tile to reach them.)
+    pub fn pieces(&self) -> &[Vec<DVec2>] {
+        self.rare.as_ref().map_or(&[], |r| &r.pieces)
+    }
+
+    /// Sets [`ScreenPoly::pieces`].
+    pub fn set_pieces(&mut self, pieces: Vec<Vec<DVec2>>) {
+        if !pieces.is_empty() {
+            self.rare_mut().pieces = pieces;
+        }
+    }
+
     /// How many convex pieces tile the polygon.
     pub fn piece_count(&self) -> usize {
-        self.pieces.len().max(1)
+        self.pieces().len().max(1)
     }
 
     /// Convex piece `k` of the polygon (`k < piece_count()`).
     pub fn piece(&self, k: usize) -> &[DVec2] {
-        if self.pieces.is_empty() {
+        let pieces = self.pieces();
+        if pieces.is_empty() {
             &self.verts
         } else {
-            &self.pieces[k]
+            &pieces[k]
         }
     }
 
     /// The screen-mode pattern, if that is the shader.
     #[inline]
     pub fn screen(&self) -> Option<&Arc<Texels>> {
-        match &self.shader {
+        match self.shader() {
             Shader::Screen(t) => Some(t),
             _ => None,
         }
@@ -171,7 +248,7 @@ impl ScreenPoly {
     /// The placed texture, if that is the shader.
     #[inline]
     pub fn texture(&self) -> Option<&Arc<PolyTexture>> {
-        match &self.shader {
+        match self.shader() {
             Shader::Texture(t) => Some(t),
             _ => None,
         }
@@ -180,7 +257,7 @@ impl ScreenPoly {
     /// The stripe texture, if that is the shader.
     #[inline]
     pub fn stripe(&self) -> Option<&Arc<StripeTexture>> {
-        match &self.shader {
+        match self.shader() {
             Shader::Stripe(t) => Some(t),
             _ => None,
         }
@@ -229,7 +306,7 @@ impl ScreenPoly {
             // Stripes and flat colours.
             None => self.color_at_point(x, y, sx, sy),
         };
-        match &self.shade {
+        match self.shade() {
             Some(s) => c.map(|c| s.apply(c, sx, sy)),
             None => c,
         }
@@ -351,7 +428,7 @@ pub fn try_project(
     if clipped.len() < 3 {
         return Err(Dropped::Outside);
     }
-    let mut verts: Vec<DVec2> = Vec::with_capacity(clipped.len());
+    let mut verts = ScreenVerts::with_capacity(clipped.len());
     let mut qs: Vec<f64> = Vec::with_capacity(clipped.len());
     for &c in &clipped {
         let s = view.to_screen(c).map(snap_grid);
@@ -403,17 +480,11 @@ pub fn try_project(
         (y1.ceil().max(0.0) as u32).min(h),
     ];
     let c = color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0));
-    Ok(ScreenPoly {
-        verts,
-        plane,
-        color: c,
-        shader: Shader::Flat,
-        order,
-        shade: None,
-        pieces,
-        tie_floor: DEPTH_TIE_REL * view.nearness_scale(),
-        bbox,
-    })
+    let mut p = ScreenPoly::new(verts, plane, c, order);
+    p.tie_floor = DEPTH_TIE_REL * view.nearness_scale();
+    p.bbox = bbox;
+    p.set_pieces(pieces);
+    Ok(p)
 }
 
 /// The convex pieces of a concave polygon on screen: its triangles, found in
@@ -479,6 +550,25 @@ mod tests {
     use crate::math::sum_compensated;
     use crate::view::tests::perspective;
 
+    /// A million triangles keep a million screen polygons until the frame
+    /// is drawn: a flat triangle's must need no heap block of its own.
+    #[test]
+    fn a_flat_triangle_is_144_bytes() {
+        assert!(std::mem::size_of::<ScreenPoly>() <= 144);
+        let v = View::ortho2(0.0, 100.0, 0.0, 50.0, 100, 50);
+        let p = poly2(
+            &v,
+            &[[10.0, 5.0], [20.0, 5.0], [20.0, 15.0]],
+            Rgb8::WHITE,
+            0,
+        )
+        .unwrap();
+        assert!(!p.verts.spilled());
+        assert!(p.rare.is_none());
+        assert_eq!(p.shader(), &Shader::Flat);
+        assert_eq!(p.piece_count(), 1);
+    }
+
     #[test]
     fn ortho2_maps_world_units_to_pixels() {
         let v = View::ortho2(0.0, 100.0, 0.0, 50.0, 100, 50);
@@ -541,9 +631,9 @@ mod tests {
     /// The pieces of a concave polygon: counter-clockwise, with positive
     /// area, adding up to the outline's area within 1e-12.
     fn assert_tiled(p: &ScreenPoly) {
-        assert!(!p.pieces.is_empty());
-        assert!(p.pieces.iter().all(|t| area2(t) > 0.0));
-        let sum = sum_compensated(p.pieces.iter().map(|t| area2(t)));
+        assert!(!p.pieces().is_empty());
+        assert!(p.pieces().iter().all(|t| area2(t) > 0.0));
+        let sum = sum_compensated(p.pieces().iter().map(|t| area2(t)));
         let (o, n) = (p.verts[0], p.verts.len());
         let a =
             sum_compensated((0..n).map(|i| (p.verts[i] - o).perp_dot(p.verts[(i + 1) % n] - o)));
@@ -579,7 +669,7 @@ mod tests {
         let p = project(&legs, &arch, Rgb8::WHITE, 0, Cull::None).unwrap();
         assert_tiled(&p);
         assert!((area2(&p.verts) - 2.0 * 3.0 * 100.0).abs() < 1e-9);
-        assert!(p.pieces.iter().flatten().all(|v| v.y <= 25.0));
+        assert!(p.pieces().iter().flatten().all(|v| v.y <= 25.0));
         // Seen from behind, and through a perspective camera that clips it
         // at the near plane.
         let back: Vec<DVec3> = arch.iter().rev().copied().collect();
@@ -610,7 +700,7 @@ mod tests {
             .collect();
         let v = View::ortho2(0.0, 16.0, 0.0, 16.0, 16, 16);
         let p = project(&v, &star, Rgb8::WHITE, 0, Cull::None).unwrap();
-        assert_eq!(p.pieces.len(), n - 2);
+        assert_eq!(p.pieces().len(), n - 2);
         assert_tiled(&p);
     }
 

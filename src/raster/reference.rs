@@ -341,7 +341,7 @@ fn pixel(
         // A textured polygon's colour varies over the square (and may be
         // transparent): always integrated. A stripe's is integrated exactly
         // over the square below.
-        if f.texture().is_some() || f.shade.is_some() || !covers_square(&f.verts, x, y) {
+        if f.texture().is_some() || f.shade().is_some() || !covers_square(&f.verts, x, y) {
             continue;
         }
         let hides_all = cands.iter().all(|&gi| {
@@ -919,7 +919,7 @@ fn line_colour(
             None => bgc,
             // Smooth lighting: the colour is constant between the breaks,
             // the factor is not; its mean over the piece multiplies it.
-            Some((p, c)) => match &p.shade {
+            Some((p, c)) => match p.shade() {
                 Some(s) => {
                     let f = s.mean_along(a, b, y);
                     [c[0] * f[0], c[1] * f[1], c[2] * f[2]]
@@ -1119,7 +1119,9 @@ mod tests {
             Rgb8([255, 200, 100]),
             LodMode::Blend,
         );
-        p.shader = super::super::Shader::Stripe(std::sync::Arc::new(st.clone()));
+        p.set_shader(super::super::Shader::Stripe(std::sync::Arc::new(
+            st.clone(),
+        )));
         let bg = Background::color(Rgb8([0, 0, 80]));
         let r = render(std::slice::from_ref(&p), &bg, w, h, 24);
         let bgl = bg.at(0, 0);

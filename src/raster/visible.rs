@@ -663,7 +663,7 @@ fn cut_texture<'a>(
         return Some(lit(t, l, (px, py), frag, c.map(f64::from)));
     }
     let tex = p.texture().expect("CUT_LATER fragments are textured");
-    let factor = p.shade.as_ref().map(|shade| {
+    let factor = p.shade().map(|shade| {
         move |piece: &[DVec2]| {
             let c = crate::geom::polygon::area_centroid(piece)
                 .unwrap_or_else(|| crate::geom::polygon::vertex_mean(piece));

@@ -812,7 +812,7 @@ fn draw_polygon(
     };
     match d.texture() {
         TextureSource::Flat => {}
-        TextureSource::Screen(texels) => p.shader = Shader::Screen(texels.clone()),
+        TextureSource::Screen(texels) => p.set_shader(Shader::Screen(texels.clone())),
         TextureSource::Stripe(st) => match stripe::shader(st, view, outline, how.stripe_lod)? {
             Some(t) => {
                 let t = match &lit {
@@ -821,7 +821,9 @@ fn draw_polygon(
                     Some(l) => t.lit(flat_irradiance(l, outline)),
                     None => t,
                 };
-                p.shader = Shader::Stripe(Arc::new(t.with_footprint(how.stripe_footprint)))
+                p.set_shader(Shader::Stripe(Arc::new(
+                    t.with_footprint(how.stripe_footprint),
+                )))
             }
             // Edge-on: a sliver of rounding; nothing to draw.
             None => {
@@ -850,7 +852,7 @@ fn draw_polygon(
                     if let Some(l) = &lit {
                         light_texture(&mut t, &mut p, view, outline, l)?;
                     }
-                    p.shader = Shader::Texture(Arc::new(t));
+                    p.set_shader(Shader::Texture(Arc::new(t)));
                     out.push(p);
                     return Ok(());
                 }
@@ -863,10 +865,10 @@ fn draw_polygon(
             }
         }
     }
-    if let (Some(l), Shader::Flat | Shader::Screen(_)) = (&lit, &p.shader) {
+    if let (Some(l), Shader::Flat | Shader::Screen(_)) = (&lit, p.shader()) {
         let colour = p.color;
         match smooth_field(l, view, outline, colour) {
-            Some(field) => p.shade = Some(field),
+            Some(field) => p.set_shade(field),
             None => p.color = lit_flat(colour, flat_irradiance(l, outline)),
         }
     }
@@ -964,7 +966,7 @@ fn light_texture(
         Compose::Replace | Compose::Blend | Compose::Decal => Ok(()),
         Compose::Modulate => {
             match smooth_field(l, view, outline, t.intrinsic) {
-                Some(field) => p.shade = Some(field),
+                Some(field) => p.set_shade(field),
                 None => t.intrinsic = lit_flat(t.intrinsic, flat_irradiance(l, outline)),
             }
             Ok(())
