@@ -443,14 +443,13 @@ fn run_in_pool(args: Args) -> Result<()> {
         )?;
         return write_depfile(&args, Some(scene.files()));
     }
+    // One frame needs only its screen polygons: the scene's parts go as
+    // they are projected, before the render's own buffers come.
+    let files = scene.files().to_vec();
     let (polys, tally) = scene
-        .project_tallied(&view, &how, 0)
+        .into_frame(&view, &how, 0)
         .with_context(|| display_name(&args.input).to_string())?;
     warn_if_blank(&args, (&view, camera_given), 0, &tally);
-    // One frame needs only its screen polygons from here: the scene's parts
-    // (160 bytes a triangle) go before the render's own buffers come.
-    let files = scene.files().to_vec();
-    drop(scene);
     let t_render = std::time::Instant::now();
     let bar = args.progress.bar(TOOL);
     let (img, residual, estimated) = if args.reference {

@@ -172,9 +172,11 @@ pub struct LoadOptions {
     /// given `slices` and `stacks` its 2 x slices x stacks triangles. A scene
     /// over it is refused when read, before any work, naming the record
     /// where the count passes it (a 4 KB stream of 40 nested objects, each
-    /// placing the previous twice, expands to 2^40 polygons). At about 400
-    /// bytes per triangle at the peak (`bench/memory.sh`: the scene's parts
-    /// and the projected polygons), the default allows about 4 GB.
+    /// placing the previous twice, expands to 2^40 polygons). At about 160
+    /// bytes per triangle at the peak of a frame drawn once
+    /// (`bench/memory.sh`: the projected polygons; an animation keeps the
+    /// scene's parts beside them, about 130 more), the default allows about
+    /// 1.6 GB.
     ///
     /// Default value: 10,000,000.
     pub max_polygons: u64,
@@ -217,7 +219,11 @@ impl Part {
 /// threads at once, as [`Scene::project`] itself does with its parts.
 #[derive(Default)]
 pub struct Scene {
-    parts: Vec<Part>,
+    /// The top-level parts in stream order, a projection wave
+    /// ([`PROJECT_WAVE`] runs of [`PROJECT_RUN`]) to a list, so that a
+    /// single frame's projection frees each wave once it is projected
+    /// ([`Scene::into_frame`]).
+    waves: Vec<Vec<Part>>,
     /// The files read besides the stream, in the order they were first read.
     files: Vec<PathBuf>,
     /// What the reading found worth a warning ([`Scene::warnings`]).
@@ -506,31 +512,67 @@ impl Scene {
         how: &DrawOptions,
         frame: u64,
     ) -> Result<(Vec<ScreenPoly>, Tally), SceneError> {
-        use rayon::prelude::*;
-        // Runs of parts are projected on every thread and joined in stream
-        // order: the same polygons in the same order, and the first error
-        // in the stream, as one thread would give. A wave of runs at a
-        // time, so that the runs' lists, freed once joined, are the next
-        // wave's memory: all runs at once held the frame's polygons twice
-        // (a million triangles peaked at 512 MB instead of 390).
-        let mut out = Projected::default();
-        for wave in self.parts.chunks(PROJECT_RUN * PROJECT_WAVE) {
-            let runs: Vec<Result<Projected, SceneError>> = wave
-                .par_chunks(PROJECT_RUN)
-                .map(|parts| {
-                    let mut run = Projected::default();
-                    project_parts(parts, view, None, None, how, frame, &self.lights, &mut run)?;
-                    Ok(run)
-                })
-                .collect();
-            for run in runs {
-                let run = run?;
-                out.polygons.extend(run.polygons);
-                out.tally.add(&run.tally);
-            }
-        }
-        Ok((out.polygons, out.tally))
+        project_waves(&self.waves, view, how, frame, &self.lights)
     }
+
+    /// [`Scene::project_tallied`] for a scene drawn once: each wave of parts
+    /// is freed as soon as it is projected, so the scene's parts and the
+    /// frame's polygons are not held whole at once. A million triangles
+    /// peaked at both (112 and 144 bytes each, bench/memory.sh).
+    pub fn into_frame(
+        self,
+        view: &View,
+        how: &DrawOptions,
+        frame: u64,
+    ) -> Result<(Vec<ScreenPoly>, Tally), SceneError> {
+        project_waves(self.waves, view, how, frame, &self.lights)
+    }
+
+    /// Adds a top-level part at the end of the stream.
+    fn push(&mut self, part: Part) {
+        match self.waves.last_mut() {
+            Some(wave) if wave.len() < PROJECT_RUN * PROJECT_WAVE => wave.push(part),
+            _ => self.waves.push(vec![part]),
+        }
+    }
+}
+
+/// Projects `waves` of top-level parts (a scene's, borrowed or owned), each
+/// dropped before the next is projected.
+///
+/// Runs of parts are projected on every thread and joined in stream order:
+/// the same polygons in the same order, and the first error in the stream,
+/// as one thread would give. A wave of runs at a time, so that the runs'
+/// lists, freed once joined, are the next wave's memory: all runs at once
+/// held the frame's polygons twice (a million triangles peaked at 512 MB
+/// instead of 390).
+fn project_waves<W: AsRef<[Part]>>(
+    waves: impl IntoIterator<Item = W>,
+    view: &View,
+    how: &DrawOptions,
+    frame: u64,
+    lights: &Lights,
+) -> Result<(Vec<ScreenPoly>, Tally), SceneError> {
+    use rayon::prelude::*;
+    let mut out = Projected::default();
+    for wave in waves {
+        let runs: Vec<Result<Projected, SceneError>> = wave
+            .as_ref()
+            .par_chunks(PROJECT_RUN)
+            .map(|parts| {
+                let mut run = Projected::default();
+                project_parts(parts, view, None, None, how, frame, lights, &mut run)?;
+                Ok(run)
+            })
+            .collect();
+        drop(wave);
+        for run in runs {
+            let run = run?;
+            out.polygons.extend(run.polygons);
+            out.tally.add(&run.tally);
+        }
+    }
+    Ok((out.polygons, out.tally))
 }
 
 /// How many of a scene's top-level parts one projection job takes: enough
@@ -603,7 +645,7 @@ fn read_items(
                 let index = rec.index;
                 let part = Part::Draw(each(rec)?);
                 count(&part, index, &sizes)?;
-                scene.parts.push(part);
+                scene.push(part);
             }
             Item::Object(def) => {
                 checks.define(def.skeleton()).map_err(|e| e.named(name))?;
@@ -629,7 +671,7 @@ fn read_items(
                 let index = inst.index;
                 let part = place(inst, &objects);
                 count(&part, index, &sizes)?;
-                scene.parts.push(part);
+                scene.push(part);
             }
         }
         Ok::<(), SceneError>(())
