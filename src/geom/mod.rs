@@ -56,13 +56,22 @@ pub use plane::{map_to_plane, Frame, PlaneError, PlanePolygon};
 
 use crate::math;
 use glam::DVec3;
+use smallvec::SmallVec;
 use std::f64::consts::PI;
+
+/// A polygon record's vertices: a triangle's or a quad's (polyfill3's
+/// cells) held in the [`Shape`] itself, more on the heap. A million
+/// triangles kept a million 72-byte blocks (80 with `malloc`'s header)
+/// besides their shapes (bench/memory.sh), and reading a polyfill3 stream
+/// made and freed a block a cell; reading either is 5-8% faster without
+/// (the read phase, paired runs).
+pub type Vertices = SmallVec<[DVec3; 4]>;
 
 /// The geometry of a stream record (docs/stream-format.md), in its own coordinates.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
     /// A planar polygon, counter-clockwise seen from its front. `[x,y]` means z = 0.
-    Polygon(Vec<DVec3>),
+    Polygon(Vertices),
     /// `{"rect": [x1,y1,x2,y2]}` in the z = 0 plane.
     Rect([f64; 4]),
     /// `{"circle": {"center": [x,y], "radius": r}}` in the z = 0 plane.
@@ -130,7 +139,7 @@ pub fn circle_segments(radius: f64, tolerance: f64) -> usize {
 pub fn outline(shape: &Shape, tolerance: f64) -> Vec<DVec3> {
     match *shape {
         Shape::Quadric(_) => Vec::new(),
-        Shape::Polygon(ref v) => v.clone(),
+        Shape::Polygon(ref v) => v.to_vec(),
         Shape::Rect([x1, y1, x2, y2]) => {
             let (x0, x1) = (x1.min(x2), x1.max(x2));
             let (y0, y1) = (y1.min(y2), y1.max(y2));

@@ -100,11 +100,13 @@ pub enum TextureSource {
 /// One record ready to draw, in its own coordinates (world coordinates at the
 /// top level, the object's inside a definition). Only the geometry is kept,
 /// not the record's JSON; what most records lack is kept out of line
-/// ([`Extras`]), so a flat polygon's part is 72 bytes and its vertex list
-/// (the fields inline made every part 336 bytes: a third of a gigabyte for
-/// a million triangles).
+/// ([`Extras`]), and a triangle's or a quad's vertices inline, so a flat
+/// polygon's part is 128 bytes (the fields inline made every part 336 bytes:
+/// a third of a gigabyte for a million triangles).
 struct Drawable {
-    index: usize,
+    /// The record's place in the stream, which is its draw order: a stream
+    /// of more than 2^32 records is refused when read.
+    index: u32,
     shape: Shape,
     color: Rgb8,
     /// How a lit scene shades it.
@@ -443,7 +445,7 @@ impl Scene {
                 && rec.normals.is_none()
                 && animated.is_none();
             Ok(Drawable {
-                index: rec.index,
+                index: draw_order(rec.index)?,
                 // Kept as read: the reader makes every record's vertex list
                 // on this thread, at its exact size (`stream::plain`), so a
                 // million triangles' scene is not scattered over the parsing
@@ -712,13 +714,13 @@ fn project_parts(
             Part::Draw(d) => {
                 let order = match order {
                     Some(o) => o,
-                    None => draw_order(d.index)?,
+                    None => d.index,
                 };
                 let to_world = placed.unwrap_or_default();
                 if let Shape::Quadric(q) = &d.shape {
                     let lit = Lit::new(lights, d, to_world);
                     project_quadric(d, q, view, order, how, frame, lit, out)
-                        .in_record(None, d.index)?;
+                        .in_record(None, d.index as usize)?;
                     continue;
                 }
                 // A record's own animated transform moves it as an instance
@@ -726,7 +728,8 @@ fn project_parts(
                 let animated_view;
                 let (view, to_world) = match d.animated() {
                     Some(v) => {
-                        let t = record_transform_at(d, v, frame).in_record(None, d.index)?;
+                        let t =
+                            record_transform_at(d, v, frame).in_record(None, d.index as usize)?;
                         animated_view = View {
                             world_to_clip: view.world_to_clip * t.matrix(),
                             ..view.clone()
@@ -747,7 +750,7 @@ fn project_parts(
                     ..l
                 });
                 draw_polygon(d, view, &outline, d.uv(), order, how, lit, out)
-                    .in_record(None, d.index)?;
+                    .in_record(None, d.index as usize)?;
             }
             Part::Place(p) => {
                 let Placement {
@@ -1204,14 +1207,31 @@ fn build_mips_eagerly(polys: &[ScreenPoly]) {
 
 #[cfg(test)]
 mod part_size {
+    use crate::geom::Shape;
+
     /// A million polygons keep a million parts: the fields few records have
-    /// stay out of line ([`super::Extras`], [`super::Placement`]). At 336
-    /// bytes a part, the scene took a third of a gigabyte for a million
-    /// triangles before projecting them.
+    /// stay out of line ([`super::Extras`], [`super::Placement`]), and a
+    /// triangle's or quad's vertices inline ([`crate::geom::Vertices`]).
+    /// At 336 bytes a part, the scene took a third of a gigabyte for a
+    /// million triangles before projecting them; at 72 bytes and a heap
+    /// block of 80, 152 MB.
     #[test]
-    fn a_part_is_at_most_80_bytes() {
-        assert!(std::mem::size_of::<super::Part>() <= 80);
-        assert!(std::mem::size_of::<super::Drawable>() <= 80);
+    fn a_triangles_part_is_at_most_128_bytes_and_no_heap_block() {
+        assert!(std::mem::size_of::<super::Part>() <= 128);
+        assert!(std::mem::size_of::<super::Drawable>() <= 128);
+        let scene = super::Scene::read(
+            Box::new(&b"{\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]}\n"[..]),
+            "-",
+            std::path::Path::new("."),
+        )
+        .unwrap();
+        let super::Part::Draw(d) = &scene.waves[0][0] else {
+            panic!("a polygon is drawn")
+        };
+        let Shape::Polygon(v) = &d.shape else {
+            panic!("a polygon")
+        };
+        assert!(!v.spilled() && d.extras.is_none());
     }
 }
 

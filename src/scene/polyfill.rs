@@ -543,7 +543,7 @@ impl<W: Write> Job<'_, W> {
         };
         let rotate = pref.rotate.unwrap_or(a.rotate);
         let vertices = match &rec.shape {
-            Shape::Polygon(v) => v.clone(),
+            Shape::Polygon(v) => v.to_vec(),
             other => outline(other, a.tolerance),
         };
         let poly = map_to_plane(&vertices, rotate, a.planarity_tol)?;

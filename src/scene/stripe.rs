@@ -57,7 +57,7 @@ pub fn shader(
     mode: LodMode,
 ) -> Result<Option<StripeTexture>, NoMapping> {
     match s.loaded.texture_on(
-        &Shape::Polygon(outline.to_vec()),
+        &Shape::Polygon(outline.into()),
         view.world_to_clip,
         view.width,
         view.height,

@@ -447,7 +447,7 @@ pub(super) fn move_record(
     }
     Ok(Record {
         index,
-        shape: Shape::Polygon(verts),
+        shape: Shape::Polygon(verts.into()),
         color: r.color,
         pattern,
         uv: r.uv.clone(),

@@ -94,7 +94,7 @@ impl PlainView {
     pub(super) fn record(&self, verts: &[DVec3], line: &[u8], index: usize) -> Record {
         Record {
             index,
-            shape: Shape::Polygon(verts[self.start..self.start + self.len].to_vec()),
+            shape: Shape::Polygon(verts[self.start..self.start + self.len].into()),
             color: Some(Rgb8(self.color)),
             pattern: None,
             uv: None,

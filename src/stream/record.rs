@@ -97,7 +97,7 @@ impl Record {
             .filter(|k| fields.contains_key(k))
             .collect();
         let shape = match present.as_slice() {
-            ["vertices"] => Shape::Polygon(parse_vertices(&fields["vertices"]).map_err(e)?),
+            ["vertices"] => Shape::Polygon(parse_vertices(&fields["vertices"]).map_err(e)?.into()),
             ["rect"] => Shape::Rect(number_array::<4>(&fields["rect"], "rect").map_err(e)?),
             ["circle"] => {
                 let c = &fields["circle"];

@@ -696,7 +696,7 @@ mod tests {
 
     #[test]
     fn newell_normal_follows_counter_clockwise_order() {
-        let sq = Shape::Polygon(vec![
+        let sq = Shape::Polygon(smallvec::smallvec![
             DVec3::new(0.0, 0.0, 0.0),
             DVec3::new(1.0, 0.0, 0.0),
             DVec3::new(1.0, 0.0, -1.0),
@@ -705,7 +705,7 @@ mod tests {
         // Counter-clockwise seen from above (x right, north = -z up the page): the normal points up.
         let (n, _) = face_plane(&sq).unwrap();
         assert!((n - DVec3::Y).length() < 1e-15, "{n}");
-        let line = Shape::Polygon(vec![DVec3::ZERO, DVec3::X, DVec3::X * 2.0]);
+        let line = Shape::Polygon(smallvec::smallvec![DVec3::ZERO, DVec3::X, DVec3::X * 2.0]);
         assert_eq!(face_plane(&line), None);
     }
 }
