@@ -263,7 +263,6 @@ fn render_pixels<P: Copy + Default + Send>(
     order: RowOrder,
     encode: impl Fn([f32; 3]) -> P + Sync,
 ) -> (Vec<P>, u64) {
-    use rayon::prelude::*;
     let tiles = tiles(width, height);
     let bins = bin(polys, width, height);
     let size = (width, height);
@@ -282,12 +281,8 @@ fn render_pixels<P: Copy + Default + Send>(
         }
         Aa::None | Aa::Ss(_) => {
             let k = if let Aa::Ss(k) = aa { k } else { 1 };
-            let snapped: Vec<scan::FixedPoly> = polys
-                .par_iter()
-                .map(|p| scan::FixedPoly::new(p, k))
-                .collect();
             let render = |i: usize| {
-                let block = scan::render_tile(polys, &snapped, &bins[i], bg, tiles[i], k);
+                let block = scan::render_tile(polys, &bins[i], bg, tiles[i], k);
                 progress.advance(1);
                 block
             };
