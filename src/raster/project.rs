@@ -185,9 +185,12 @@ impl ScreenPoly {
         self.rare.as_ref().map_or(&FLAT, |r| &r.shader)
     }
 
-    /// Sets [`ScreenPoly::shader`].
+    /// Sets [`ScreenPoly::shader`]. A flat polygon keeps no [`Rare`] block
+    /// for it, so it equals the polygon that never had a shader set.
     pub fn set_shader(&mut self, shader: Shader) {
-        self.rare_mut().shader = shader;
+        if shader != Shader::Flat || self.rare.is_some() {
+            self.rare_mut().shader = shader;
+        }
     }
 
     /// Smooth lighting: a per-channel factor that multiplies the colour the
