@@ -553,19 +553,24 @@ mod tests {
     use crate::math::sum_compensated;
     use crate::view::tests::perspective;
 
-    /// A million triangles keep a million screen polygons until the frame
-    /// is drawn: a flat triangle's must need no heap block of its own.
-    #[test]
-    fn a_flat_triangle_is_144_bytes() {
-        assert!(std::mem::size_of::<ScreenPoly>() <= 144);
+    /// A right triangle 10 pixels a side, corner at (10, 5), in a 100x50 frame.
+    fn right_triangle() -> ScreenPoly {
         let v = View::ortho2(0.0, 100.0, 0.0, 50.0, 100, 50);
-        let p = poly2(
+        poly2(
             &v,
             &[[10.0, 5.0], [20.0, 5.0], [20.0, 15.0]],
             Rgb8::WHITE,
             0,
         )
-        .unwrap();
+        .unwrap()
+    }
+
+    /// A million triangles keep a million screen polygons until the frame
+    /// is drawn: a flat triangle's must need no heap block of its own.
+    #[test]
+    fn a_flat_triangle_is_144_bytes() {
+        assert!(std::mem::size_of::<ScreenPoly>() <= 144);
+        let p = right_triangle();
         assert!(!p.verts.spilled());
         assert!(p.rare.is_none());
         assert_eq!(p.shader(), &Shader::Flat);
@@ -574,14 +579,7 @@ mod tests {
 
     #[test]
     fn ortho2_maps_world_units_to_pixels() {
-        let v = View::ortho2(0.0, 100.0, 0.0, 50.0, 100, 50);
-        let p = poly2(
-            &v,
-            &[[10.0, 5.0], [20.0, 5.0], [20.0, 15.0]],
-            Rgb8::WHITE,
-            0,
-        )
-        .unwrap();
+        let p = right_triangle();
         assert_eq!(p.verts[0], DVec2::new(10.0, 5.0));
         assert_eq!(p.bbox, [10, 5, 20, 15]);
     }
