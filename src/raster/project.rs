@@ -161,7 +161,9 @@ static FLAT: Shader = Shader::Flat;
 
 impl ScreenPoly {
     /// A flat, convex polygon (the shader [`Shader::Flat`], no smooth
-    /// lighting); the setters below add the rest.
+    /// lighting); the setters below add the rest. Its bounding box is empty
+    /// and its tie floor 0 until the caller sets them: [`try_project`] sets
+    /// both from the view, and a polygon with an empty box is drawn nowhere.
     pub fn new(verts: ScreenVerts, plane: [f64; 3], color: [f64; 3], order: u32) -> ScreenPoly {
         ScreenPoly {
             verts,
@@ -174,8 +176,17 @@ impl ScreenPoly {
         }
     }
 
-    fn rare_mut(&mut self) -> &mut Rare {
-        self.rare.get_or_insert_with(Box::default)
+    /// Changes the out-of-line parts, dropping the block when they are all
+    /// the defaults again: two polygons that differ only in having had a
+    /// shader set and reset compare equal.
+    /// (A default is changed on the stack first: a flat polygon makes no
+    /// block to drop.)
+    fn change_rare(&mut self, change: impl FnOnce(&mut Rare)) {
+        let mut rare = self.rare.take().map_or_else(Rare::default, |b| *b);
+        change(&mut rare);
+        if rare != Rare::default() {
+            self.rare = Some(Box::new(rare));
+        }
     }
 
     /// What colours the polygon instead of `color`, if anything: one
@@ -185,12 +196,9 @@ impl ScreenPoly {
         self.rare.as_ref().map_or(&FLAT, |r| &r.shader)
     }
 
-    /// Sets [`ScreenPoly::shader`]. A flat polygon keeps no [`Rare`] block
-    /// for it, so it equals the polygon that never had a shader set.
+    /// Sets [`ScreenPoly::shader`].
     pub fn set_shader(&mut self, shader: Shader) {
-        if shader != Shader::Flat || self.rare.is_some() {
-            self.rare_mut().shader = shader;
-        }
+        self.change_rare(|r| r.shader = shader);
     }
 
     /// Smooth lighting: a per-channel factor that multiplies the colour the
@@ -203,8 +211,8 @@ impl ScreenPoly {
     }
 
     /// Sets [`ScreenPoly::shade`].
-    pub fn set_shade(&mut self, shade: Arc<ShadeField>) {
-        self.rare_mut().shade = Some(shade);
+    pub fn set_shade(&mut self, shade: Option<Arc<ShadeField>>) {
+        self.change_rare(|r| r.shade = shade);
     }
 
     /// Convex pieces that tile the polygon exactly: none when it is convex
@@ -217,11 +225,9 @@ impl ScreenPoly {
         self.rare.as_ref().map_or(&[], |r| &r.pieces)
     }
 
-    /// Sets [`ScreenPoly::pieces`].
+    /// Sets [`ScreenPoly::pieces`] (none: the polygon is convex).
     pub fn set_pieces(&mut self, pieces: Vec<Vec<DVec2>>) {
-        if !pieces.is_empty() {
-            self.rare_mut().pieces = pieces;
-        }
+        self.change_rare(|r| r.pieces = pieces);
     }
 
     /// How many convex pieces tile the polygon.
@@ -575,6 +581,14 @@ mod tests {
         assert!(p.rare.is_none());
         assert_eq!(p.shader(), &Shader::Flat);
         assert_eq!(p.piece_count(), 1);
+        // Set and reset, it is the polygon it was, block and all.
+        let mut q = p.clone();
+        q.set_pieces(vec![p.verts.to_vec()]);
+        q.set_shader(Shader::Flat);
+        assert!(q.rare.is_some() && q != p);
+        q.set_pieces(Vec::new());
+        assert!(q.rare.is_none());
+        assert_eq!(q, p);
     }
 
     #[test]

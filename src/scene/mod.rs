@@ -104,8 +104,9 @@ pub enum TextureSource {
 /// polygon's part is 128 bytes (the fields inline made every part 336 bytes:
 /// a third of a gigabyte for a million triangles).
 struct Drawable {
-    /// The record's place in the stream, which is its draw order: a stream
-    /// of more than 2^32 records is refused when read.
+    /// The record's place in the stream (a top-level record's draw order)
+    /// while it fits 32 bits; past that [`Extras::index`] holds it, and
+    /// projecting the record refuses it ([`draw_order`]) as before.
     index: u32,
     shape: Shape,
     color: Rgb8,
@@ -127,6 +128,8 @@ struct Extras {
     /// static one was applied when the record was read, or, for a quadric,
     /// is its `QuadricShape::transform`).
     animated: Option<serde_json::Value>,
+    /// The record's place in the stream when it is past `u32::MAX`.
+    index: Option<usize>,
 }
 
 /// What a [`Drawable`] without [`Extras`] is coloured by.
@@ -144,6 +147,13 @@ impl Drawable {
     }
     fn animated(&self) -> Option<&serde_json::Value> {
         self.extras.as_ref().and_then(|e| e.animated.as_ref())
+    }
+    /// The record's place in the stream.
+    fn index(&self) -> usize {
+        self.extras
+            .as_ref()
+            .and_then(|e| e.index)
+            .unwrap_or(self.index as usize)
     }
 }
 
@@ -440,12 +450,14 @@ impl Scene {
             if let Some(st) = stripe {
                 texture = TextureSource::Stripe(st);
             }
+            let far = u32::try_from(rec.index).is_err().then_some(rec.index);
             let plain = matches!(texture, TextureSource::Flat)
                 && rec.uv.is_none()
                 && rec.normals.is_none()
-                && animated.is_none();
+                && animated.is_none()
+                && far.is_none();
             Ok(Drawable {
-                index: draw_order(rec.index)?,
+                index: u32::try_from(rec.index).unwrap_or(u32::MAX),
                 // Kept as read: the reader makes every record's vertex list
                 // on this thread, at its exact size (`stream::plain`), so a
                 // million triangles' scene is not scattered over the parsing
@@ -460,6 +472,7 @@ impl Scene {
                         uv: rec.uv,
                         normals: rec.normals,
                         animated,
+                        index: far,
                     })
                 }),
             })
@@ -520,7 +533,7 @@ impl Scene {
     /// [`Scene::project_tallied`] for a scene drawn once: each wave of parts
     /// is freed as soon as it is projected, so the scene's parts and the
     /// frame's polygons are not held whole at once. A million triangles
-    /// peaked at both (112 and 144 bytes each, bench/memory.sh).
+    /// peaked at both (128 and 144 bytes each, bench/memory.sh).
     pub fn into_frame(
         self,
         view: &View,
@@ -714,13 +727,13 @@ fn project_parts(
             Part::Draw(d) => {
                 let order = match order {
                     Some(o) => o,
-                    None => d.index,
+                    None => draw_order(d.index())?,
                 };
                 let to_world = placed.unwrap_or_default();
                 if let Shape::Quadric(q) = &d.shape {
                     let lit = Lit::new(lights, d, to_world);
                     project_quadric(d, q, view, order, how, frame, lit, out)
-                        .in_record(None, d.index as usize)?;
+                        .in_record(None, d.index())?;
                     continue;
                 }
                 // A record's own animated transform moves it as an instance
@@ -728,8 +741,7 @@ fn project_parts(
                 let animated_view;
                 let (view, to_world) = match d.animated() {
                     Some(v) => {
-                        let t =
-                            record_transform_at(d, v, frame).in_record(None, d.index as usize)?;
+                        let t = record_transform_at(d, v, frame).in_record(None, d.index())?;
                         animated_view = View {
                             world_to_clip: view.world_to_clip * t.matrix(),
                             ..view.clone()
@@ -750,7 +762,7 @@ fn project_parts(
                     ..l
                 });
                 draw_polygon(d, view, &outline, d.uv(), order, how, lit, out)
-                    .in_record(None, d.index as usize)?;
+                    .in_record(None, d.index())?;
             }
             Part::Place(p) => {
                 let Placement {
@@ -913,7 +925,7 @@ fn draw_polygon(
     if let (Some(l), Shader::Flat | Shader::Screen(_)) = (&lit, p.shader()) {
         let colour = p.color;
         match smooth_field(l, view, outline, colour) {
-            Some(field) => p.set_shade(field),
+            Some(field) => p.set_shade(Some(field)),
             None => p.color = lit_flat(colour, flat_irradiance(l, outline)),
         }
     }
@@ -1011,7 +1023,7 @@ fn light_texture(
         Compose::Replace | Compose::Blend | Compose::Decal => Ok(()),
         Compose::Modulate => {
             match smooth_field(l, view, outline, t.intrinsic) {
-                Some(field) => p.set_shade(field),
+                Some(field) => p.set_shade(Some(field)),
                 None => t.intrinsic = lit_flat(t.intrinsic, flat_irradiance(l, outline)),
             }
             Ok(())
@@ -1314,5 +1326,9 @@ mod project_tests {
             .install(|| scene.project_tallied(&view, &how, 0))
             .unwrap();
         assert_eq!(polys, alone);
+        // Freeing each wave once projected changes nothing.
+        let (once, once_tally) = two.install(|| scene.into_frame(&view, &how, 0)).unwrap();
+        assert_eq!(polys, once);
+        assert_eq!(tally, once_tally);
     }
 }
