@@ -458,11 +458,12 @@ impl Scene {
                 && far.is_none();
             Ok(Drawable {
                 index: u32::try_from(rec.index).unwrap_or(u32::MAX),
-                // Kept as read: the reader makes every record's vertex list
-                // on this thread, at its exact size (`stream::plain`), so a
-                // million triangles' scene is not scattered over the parsing
-                // threads' malloc arenas (it peaked at 196 MB that way, 158
-                // once copied here, bench/RESULTS-memory.md).
+                // Kept as read: a triangle's or a quad's vertices inline
+                // (`geom::Vertices`), a longer list made on this thread at
+                // its exact size (`stream::plain`), so a scene is not
+                // scattered over the parsing threads' malloc arenas (a
+                // million triangles' peaked at 196 MB that way, 158 once
+                // copied here, before their vertices were inline).
                 shape: rec.shape,
                 color,
                 shade: rec.shade,
