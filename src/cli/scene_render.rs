@@ -433,15 +433,16 @@ fn run_in_pool(args: Args) -> Result<()> {
     let how = draw_options(&args, texture);
     if animation || args.animate {
         let format = format.expect("animations have an output");
+        let files = scene.files().to_vec();
         render_frames(
             &args,
             &how,
-            &scene,
+            scene,
             (&view, camera_given),
             &bg,
             (format, encoding),
         )?;
-        return write_depfile(&args, Some(scene.files()));
+        return write_depfile(&args, Some(&files));
     }
     // One frame needs only its screen polygons: the scene's parts go as
     // they are projected, before the render's own buffers come.
@@ -780,11 +781,13 @@ fn cull_name(cull: Cull) -> String {
 
 /// Renders the frames of an animation from one reading of the scene: the
 /// objects are read (and their patterns loaded) once, and each frame only
-/// projects and resolves. With --frame K only frame K is drawn.
+/// projects and resolves. With --frame K only frame K is drawn. The last
+/// frame (the only one with --frame K) frees the scene as it is projected
+/// ([`Scene::into_frame`]).
 fn render_frames(
     args: &Args,
     how: &DrawOptions,
-    scene: &Scene,
+    scene: Scene,
     (view, camera_given): (&View, bool),
     bg: &raster::Background,
     (format, encoding): (ImageFormat, crate::io::Encoding),
@@ -804,12 +807,19 @@ fn render_frames(
     let mut frame_reports = Vec::new();
     let bar = args.progress.bar(TOOL);
     bar.phase("frames", frames.len() as u64);
-    for k in frames {
+    // Kept while a frame is still to come; the last one frees it.
+    let mut scene = Some(scene);
+    let last = frames.len().saturating_sub(1);
+    for (i, k) in frames.into_iter().enumerate() {
         let name = frame_name(pattern, k).unwrap_or_else(|| pattern.to_string());
         let t0 = std::time::Instant::now();
-        let (polys, tally) = scene
-            .project_tallied(view, how, k)
-            .with_context(|| display_name(&args.input).to_string())?;
+        let kept = "the scene is kept until the last frame";
+        let projected = if i == last {
+            scene.take().expect(kept).into_frame(view, how, k)
+        } else {
+            scene.as_ref().expect(kept).project_tallied(view, how, k)
+        };
+        let (polys, tally) = projected.with_context(|| display_name(&args.input).to_string())?;
         warn_if_blank(args, (view, camera_given), k, &tally);
         let t1 = std::time::Instant::now();
         let rendered = scene::render_encoded(
