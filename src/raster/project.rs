@@ -492,7 +492,10 @@ pub fn try_project(
     let mut p = ScreenPoly::new(verts, plane, c, order);
     p.tie_floor = DEPTH_TIE_REL * view.nearness_scale();
     p.bbox = bbox;
-    p.set_pieces(pieces);
+    if !pieces.is_empty() {
+        // A convex polygon, most of them, is its own piece: nothing to set.
+        p.set_pieces(pieces);
+    }
     Ok(p)
 }
 
