@@ -101,13 +101,12 @@ pub enum TextureSource {
 /// top level, the object's inside a definition). Only the geometry is kept,
 /// not the record's JSON; what most records lack is kept out of line
 /// ([`Extras`]), and a triangle's or a quad's vertices inline, so a flat
-/// polygon's part is 128 bytes (the fields inline made every part 336 bytes:
+/// polygon's part is 136 bytes (the fields inline made every part 336 bytes:
 /// a third of a gigabyte for a million triangles).
 struct Drawable {
-    /// The record's place in the stream (a top-level record's draw order)
-    /// while it fits 32 bits; past that [`Extras::index`] holds it, and
-    /// projecting the record refuses it ([`draw_order`]) as before.
-    index: u32,
+    /// The record's place in the stream (a top-level record's draw order,
+    /// [`draw_order`]).
+    index: usize,
     shape: Shape,
     color: Rgb8,
     /// How a lit scene shades it.
@@ -128,8 +127,6 @@ struct Extras {
     /// static one was applied when the record was read, or, for a quadric,
     /// is its `QuadricShape::transform`).
     animated: Option<serde_json::Value>,
-    /// The record's place in the stream when it is past `u32::MAX`.
-    index: Option<usize>,
 }
 
 /// What a [`Drawable`] without [`Extras`] is coloured by.
@@ -147,13 +144,6 @@ impl Drawable {
     }
     fn animated(&self) -> Option<&serde_json::Value> {
         self.extras.as_ref().and_then(|e| e.animated.as_ref())
-    }
-    /// The record's place in the stream.
-    fn index(&self) -> usize {
-        self.extras
-            .as_ref()
-            .and_then(|e| e.index)
-            .unwrap_or(self.index as usize)
     }
 }
 
@@ -187,7 +177,7 @@ pub struct LoadOptions {
     /// placing the previous twice, expands to 2^40 polygons). At about 160
     /// bytes per triangle at the peak of a frame drawn once
     /// (`bench/memory.sh`: the projected polygons; an animation keeps the
-    /// scene's parts beside them, about 130 more), the default allows about
+    /// scene's parts beside them, about 140 more), the default allows about
     /// 1.6 GB.
     ///
     /// Default value: 10,000,000.
@@ -450,14 +440,12 @@ impl Scene {
             if let Some(st) = stripe {
                 texture = TextureSource::Stripe(st);
             }
-            let far = u32::try_from(rec.index).is_err().then_some(rec.index);
             let plain = matches!(texture, TextureSource::Flat)
                 && rec.uv.is_none()
                 && rec.normals.is_none()
-                && animated.is_none()
-                && far.is_none();
+                && animated.is_none();
             Ok(Drawable {
-                index: u32::try_from(rec.index).unwrap_or(u32::MAX),
+                index: rec.index,
                 // Kept as read: a triangle's or a quad's vertices inline
                 // (`geom::Vertices`), a longer list made on this thread at
                 // its exact size (`stream::plain`), so a scene is not
@@ -473,7 +461,6 @@ impl Scene {
                         uv: rec.uv,
                         normals: rec.normals,
                         animated,
-                        index: far,
                     })
                 }),
             })
@@ -534,7 +521,7 @@ impl Scene {
     /// [`Scene::project_tallied`] for a scene drawn once: each wave of parts
     /// is freed as soon as it is projected, so the scene's parts and the
     /// frame's polygons are not held whole at once. A million triangles
-    /// peaked at both (128 and 144 bytes each, bench/memory.sh).
+    /// peaked at both (136 and 144 bytes each, bench/memory.sh).
     pub fn into_frame(
         self,
         view: &View,
@@ -728,13 +715,13 @@ fn project_parts(
             Part::Draw(d) => {
                 let order = match order {
                     Some(o) => o,
-                    None => draw_order(d.index())?,
+                    None => draw_order(d.index)?,
                 };
                 let to_world = placed.unwrap_or_default();
                 if let Shape::Quadric(q) = &d.shape {
                     let lit = Lit::new(lights, d, to_world);
                     project_quadric(d, q, view, order, how, frame, lit, out)
-                        .in_record(None, d.index())?;
+                        .in_record(None, d.index)?;
                     continue;
                 }
                 // A record's own animated transform moves it as an instance
@@ -742,7 +729,7 @@ fn project_parts(
                 let animated_view;
                 let (view, to_world) = match d.animated() {
                     Some(v) => {
-                        let t = record_transform_at(d, v, frame).in_record(None, d.index())?;
+                        let t = record_transform_at(d, v, frame).in_record(None, d.index)?;
                         animated_view = View {
                             world_to_clip: view.world_to_clip * t.matrix(),
                             ..view.clone()
@@ -763,7 +750,7 @@ fn project_parts(
                     ..l
                 });
                 draw_polygon(d, view, &outline, d.uv(), order, how, lit, out)
-                    .in_record(None, d.index())?;
+                    .in_record(None, d.index)?;
             }
             Part::Place(p) => {
                 let Placement {
@@ -1229,9 +1216,9 @@ mod part_size {
     /// million triangles before projecting them; at 72 bytes and a heap
     /// block of 80, 152 MB.
     #[test]
-    fn a_triangles_part_is_at_most_128_bytes_and_no_heap_block() {
-        assert!(std::mem::size_of::<super::Part>() <= 128);
-        assert!(std::mem::size_of::<super::Drawable>() <= 128);
+    fn a_triangles_part_is_at_most_136_bytes_and_no_heap_block() {
+        assert!(std::mem::size_of::<super::Part>() <= 136);
+        assert!(std::mem::size_of::<super::Drawable>() <= 136);
         let scene = super::Scene::read(
             Box::new(&b"{\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]}\n"[..]),
             "-",
