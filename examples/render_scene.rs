@@ -59,7 +59,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // colorclear with bkgrnd.pat behind everything, black where it is transparent.
     let bkgrnd = Pattern::read_file(&root.join("fixtures/patterns/bkgrnd.pat"))?;
     let background = Background::new(Rgb8::BLACK, Some(Texels::new(&bkgrnd)));
-    let image = scene::render(&polygons, &background, width, height, Aa::Exact);
+    let image = scene::render(&polygons, &background, &view, Aa::Exact);
     image.save_with(&out, ImageFormat::Png, PngOptions::GENERAL)?;
     Ok(())
 }

@@ -455,7 +455,7 @@ fn run_in_pool(args: Args) -> Result<()> {
     let bar = args.progress.bar(TOOL);
     let (img, residual, estimated) = if args.reference {
         let pass = |bg: &Background| {
-            reference::render_with(&polys, bg, width, height, args.reference_samples, &bar)
+            reference::render_with(&polys, bg, &view, args.reference_samples, &bar)
         };
         let r = if bg.is_transparent() {
             pass(&bg.opaque(Rgb8::BLACK))
@@ -471,7 +471,7 @@ fn run_in_pool(args: Args) -> Result<()> {
         };
         (img, Some(res), None)
     } else {
-        let r = scene::render_encoded(&polys, &bg, (width, height), args.aa, &bar, encoding);
+        let r = scene::render_encoded(&polys, &bg, &view, args.aa, &bar, encoding);
         let estimated = Estimated::of(&r, &polys);
         (r.image, None, estimated)
     };
@@ -825,7 +825,7 @@ fn render_frames(
         let rendered = scene::render_encoded(
             &polys,
             bg,
-            (view.width, view.height),
+            view,
             args.aa,
             &crate::progress::Silent,
             encoding,

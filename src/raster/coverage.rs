@@ -458,17 +458,18 @@ thread_local! {
     static SCRATCH: std::cell::RefCell<(TileScratch, TileGeom)> = Default::default();
 }
 
-/// Renders the tile `tile` of polygons `bin` (see [`super::bin`]) with
-/// exact coverage, on this thread's tile buffers, or fresh ones if they are
-/// in use (a tile's work waiting in rayon could let this thread start
-/// another).
+/// Renders the tile `tile` of polygons `bin` (see [`super::bin`]), projected
+/// with the tie floor `tie_floor` ([`super::tie_floor`]), with exact
+/// coverage, on this thread's tile buffers, or fresh ones if they are in use
+/// (a tile's work waiting in rayon could let this thread start another).
 pub fn render_bin(
     polys: &[ScreenPoly],
     bin: &[u32],
     bg: &Background,
     tile: [u32; 4],
+    tie_floor: f64,
 ) -> Vec<[f32; 3]> {
-    render_bin_counted(polys, bin, bg, tile).0
+    render_bin_counted(polys, bin, bg, tile, tie_floor).0
 }
 
 /// [`render_bin`], with the number of textured fragments whose colour was
@@ -478,13 +479,14 @@ pub fn render_bin_counted(
     bin: &[u32],
     bg: &Background,
     tile: [u32; 4],
+    tie_floor: f64,
 ) -> (Vec<[f32; 3]>, u64) {
     let render = |s: &mut TileScratch, g: &mut TileGeom| {
         let estimated = |s: &TileScratch| s.tex.cells.estimated + s.resolve.texels.estimated;
         let before = estimated(s);
         let side = sweep_side(polys, bin, tile);
         if side >= tile[2] - tile[0] {
-            g.gather(polys, bin, tile);
+            g.gather(polys, bin, tile, tie_floor);
             let block = render_tile(polys, g, bg, tile, s);
             return (block, estimated(s) - before);
         }
@@ -499,9 +501,9 @@ pub fn render_bin_counted(
                 part.extend(
                     bin.iter()
                         .copied()
-                        .filter(|&pi| boxes_meet(&polys[pi as usize].bbox, &square)),
+                        .filter(|&pi| boxes_meet(&polys[pi as usize].bbox(), &square)),
                 );
-                g.gather(polys, &part, square);
+                g.gather(polys, &part, square, tie_floor);
                 let sub = render_tile(polys, g, bg, square, s);
                 let sw = (square[2] - sx) as usize;
                 for (row, y) in sub.chunks_exact(sw).zip(sy..square[3]) {
@@ -556,7 +558,7 @@ fn sweep_side(polys: &[ScreenPoly], bin: &[u32], tile: [u32; 4]) -> u32 {
     let deepest = DEEP_TILES[0].0 * area(tile);
     let mut sum = 0.0;
     for &pi in bin {
-        let b = polys[pi as usize].bbox;
+        let b = polys[pi as usize].bbox();
         sum += area([
             b[0].max(tile[0]),
             b[1].max(tile[1]),
@@ -732,8 +734,8 @@ mod tests {
     use crate::view::View;
     use glam::DVec3;
 
-    fn render_exact(polys: &[ScreenPoly], w: u32, h: u32) -> crate::io::Image {
-        render(polys, &Background::color(Rgb8::BLACK), w, h, Aa::Exact).to_image()
+    fn render_exact(polys: &[ScreenPoly], view: &View) -> crate::io::Image {
+        render(polys, &Background::color(Rgb8::BLACK), view, Aa::Exact).to_image()
     }
 
     /// Regression: the occluder of `tests/cli/texture.rs`'s
@@ -780,7 +782,7 @@ mod tests {
             0,
         )
         .unwrap();
-        let img = render_exact(&[p], 2, 1);
+        let img = render_exact(&[p], &v);
         assert_eq!(img.data, vec![255, 255, 255, 188, 188, 188]);
     }
 
@@ -792,10 +794,7 @@ mod tests {
         let quad = poly2(&v, &[a, b, c, d], c1, 0).unwrap();
         let t1 = poly2(&v, &[a, b, c], c1, 0).unwrap();
         let t2 = poly2(&v, &[a, c, d], c1, 1).unwrap();
-        assert_eq!(
-            render_exact(&[quad], 16, 16),
-            render_exact(&[t1, t2], 16, 16)
-        );
+        assert_eq!(render_exact(&[quad], &v), render_exact(&[t1, t2], &v));
     }
 
     #[test]
@@ -820,7 +819,7 @@ mod tests {
         };
         let red = sq(0.5, -0.5, Rgb8([255, 0, 0]), 0);
         let blue = sq(-0.5, 0.5, Rgb8([0, 0, 255]), 1);
-        let img = render_exact(&[red, blue], 1, 1);
+        let img = render_exact(&[red, blue], &v);
         assert_eq!(img.data, vec![188, 0, 188]);
     }
 
@@ -834,7 +833,7 @@ mod tests {
             DVec3::new(-500.0, -1.0, -800.0),
         ];
         let p = project(&v, &ground, Rgb8::WHITE, 0, Cull::None).unwrap();
-        let img = render_exact(&[p], 32, 24);
+        let img = render_exact(&[p], &v);
         // Bottom row white, top row black: the horizon lies in between.
         assert!(img.data[(23 * 32) * 3..].iter().all(|&c| c == 255));
         assert!(img.data[..32 * 3].iter().all(|&c| c == 0));
@@ -876,12 +875,12 @@ mod ties {
             }
         };
         for aa in [Aa::Exact, Aa::None, Aa::Ss(4)] {
-            let img = render(&[red.clone(), blue.clone()], &bg, 4, 4, aa).to_image();
+            let img = render(&[red.clone(), blue.clone()], &bg, &v, aa).to_image();
             for (i, p) in img.data.chunks(3).enumerate() {
                 assert_eq!(p, want(i), "{aa:?} pixel {i}");
             }
         }
-        let r = super::super::reference::render(&[red, blue], &bg, 4, 4, 6);
+        let r = super::super::reference::render(&[red, blue], &bg, &v, 6);
         for (i, p) in r.frame.to_image().data.chunks(3).enumerate() {
             assert_eq!(p, want(i), "reference pixel {i}");
         }
@@ -914,10 +913,11 @@ mod sweep {
 
     /// `n` random triangles of a few pixels in a `w x h` frame, at random
     /// depths: flat ones (layers), or tilted ones that cross each other.
-    fn scene(seed: u64, n: usize, tilted: bool, w: u32, h: u32) -> Vec<ScreenPoly> {
+    /// Also gives the view they were projected through.
+    fn scene(seed: u64, n: usize, tilted: bool, w: u32, h: u32) -> (View, Vec<ScreenPoly>) {
         let v = View::ortho2(0.0, w as f64, 0.0, h as f64, w, h);
         let mut r = Lcg(seed);
-        (0..n)
+        let polys = (0..n)
             .filter_map(|i| {
                 let (cx, cy) = (r.unit() * w as f64, r.unit() * h as f64);
                 let z = r.unit() * 1.6 - 0.8;
@@ -930,7 +930,8 @@ mod sweep {
                 let c = Rgb8([(r.unit() * 255.0) as u8, (r.unit() * 255.0) as u8, 90]);
                 project(&v, &pts, c, i as u32, Cull::None).ok()
             })
-            .collect()
+            .collect();
+        (v, polys)
     }
 
     /// Ten layers of small triangles, flat and crossing: `--aa exact`
@@ -940,9 +941,9 @@ mod sweep {
     fn deep_random_scenes_match_the_reference() {
         let bg = Background::color(Rgb8([20, 40, 60]));
         for (seed, tilted) in [(1, false), (2, false), (3, true), (4, true)] {
-            let polys = scene(seed, 400, tilted, 32, 24);
-            let exact = render(&polys, &bg, 32, 24, Aa::Exact).to_image();
-            let r = reference::render(&polys, &bg, 32, 24, 6);
+            let (v, polys) = scene(seed, 400, tilted, 32, 24);
+            let exact = render(&polys, &bg, &v, Aa::Exact).to_image();
+            let r = reference::render(&polys, &bg, &v, 6);
             let want = r.frame.to_image();
             let worst = exact
                 .data
@@ -963,13 +964,14 @@ mod sweep {
     fn a_deep_tile_swept_in_squares_is_the_whole_tile_swept_at_once() {
         let bg = Background::color(Rgb8([20, 40, 60]));
         for (seed, tilted, n, side) in [(5, false, 300, 8), (6, true, 300, 8), (7, true, 1000, 4)] {
-            let polys = scene(seed, n, tilted, 32, 32);
+            let (v, polys) = scene(seed, n, tilted, 32, 32);
+            let floor = super::super::tie_floor(&v);
             let bin: Vec<u32> = (0..polys.len() as u32).collect();
             let tile = [0, 0, 32, 32];
             assert_eq!(sweep_side(&polys, &bin, tile), side);
-            let (squares, _) = render_bin_counted(&polys, &bin, &bg, tile);
+            let (squares, _) = render_bin_counted(&polys, &bin, &bg, tile, floor);
             let mut g = TileGeom::default();
-            g.gather(&polys, &bin, tile);
+            g.gather(&polys, &bin, tile, floor);
             let whole = render_tile(&polys, &g, &bg, tile, &mut TileScratch::default());
             for (k, (a, b)) in squares.iter().zip(&whole).enumerate() {
                 for ch in 0..3 {

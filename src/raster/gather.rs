@@ -25,7 +25,7 @@ use glam::DVec2;
 pub struct Local {
     /// Nearness `q = a*x + b*y + c`, as [`ScreenPoly::plane`].
     pub plane: [f64; 3],
-    /// Absolute part of the tie tolerance, as [`ScreenPoly::tie_floor`].
+    /// Absolute part of the tie tolerance: the frame's [`super::tie_floor`].
     pub tie_floor: f64,
     /// Position in the stream, as [`ScreenPoly::order`]: on a depth tie the
     /// later polygon wins.
@@ -43,11 +43,12 @@ pub struct Local {
 }
 
 impl Local {
-    /// The copy of `p`, which is polygon `global` of the frame's list.
-    pub fn new(p: &ScreenPoly, global: u32) -> Local {
+    /// The copy of `p`, which is polygon `global` of the frame's list,
+    /// projected with the tie floor `tie_floor`.
+    pub fn new(p: &ScreenPoly, global: u32, tie_floor: f64) -> Local {
         Local {
             plane: p.plane,
-            tie_floor: p.tie_floor,
+            tie_floor,
             order: p.order,
             global,
             color: p.screen().is_none().then_some(p.color),
@@ -120,10 +121,10 @@ fn nearest_in(plane: &[f64; 3], bbox: [u32; 4], tile: [u32; 4]) -> f64 {
 
 impl TileGeom {
     /// Appends polygon `pi` of `polys`.
-    fn push(&mut self, polys: &[ScreenPoly], pi: u32) {
+    fn push(&mut self, polys: &[ScreenPoly], pi: u32, tie_floor: f64) {
         let p = &polys[pi as usize];
         let local = self.locals.len() as u32;
-        self.locals.push(Local::new(p, pi));
+        self.locals.push(Local::new(p, pi, tie_floor));
         for k in 0..p.piece_count() {
             let piece = p.piece(k);
             let bb = bounds(piece);
@@ -163,8 +164,10 @@ impl TileGeom {
     /// sweeps it: nearest first by the greatest nearness of the polygon's
     /// box in the tile; on a tie the later polygon first, as the tie rule
     /// decides; then the stream, so that the order is total. (Gathering in
-    /// stream order and sorting the copy measured 1.07x slower.)
-    pub fn gather(&mut self, polys: &[ScreenPoly], bin: &[u32], tile: [u32; 4]) {
+    /// stream order and sorting the copy measured 1.07x slower.) The
+    /// polygons were projected with the tie floor `tie_floor`
+    /// ([`super::tie_floor`]).
+    pub fn gather(&mut self, polys: &[ScreenPoly], bin: &[u32], tile: [u32; 4], tie_floor: f64) {
         self.locals.clear();
         self.pieces.clear();
         self.verts.clear();
@@ -172,11 +175,11 @@ impl TileGeom {
         keyed.clear();
         keyed.extend(bin.iter().map(|&pi| {
             let p = &polys[pi as usize];
-            (nearest_in(&p.plane, p.bbox, tile), p.order, pi)
+            (nearest_in(&p.plane, p.bbox(), tile), p.order, pi)
         }));
         keyed.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(b.1.cmp(&a.1)).then(a.2.cmp(&b.2)));
         for &(_, _, pi) in &keyed {
-            self.push(polys, pi);
+            self.push(polys, pi, tie_floor);
         }
         self.keyed = keyed;
     }
@@ -221,8 +224,9 @@ mod tests {
             )
             .unwrap(),
         ];
+        let floor = super::super::tie_floor(&v);
         let mut g = TileGeom::default();
-        g.gather(&polys, &[0, 1], [0, 0, 200, 200]);
+        g.gather(&polys, &[0, 1], [0, 0, 200, 200], floor);
         assert_eq!(g.verts.len(), 3, "only the triangle is copied");
         for r in &g.pieces {
             let whole = polys[g.locals[r.local as usize].global as usize].piece(0);
@@ -231,7 +235,7 @@ mod tests {
         let bins = super::super::bin(&polys, 200, 200);
         let tiles = super::super::tiles(200, 200);
         for (t, bin) in bins.iter().enumerate() {
-            g.gather(&polys, bin, tiles[t]);
+            g.gather(&polys, bin, tiles[t], floor);
             for r in &g.pieces {
                 let whole = polys[g.locals[r.local as usize].global as usize].piece(0);
                 assert_eq!(g.piece(&polys, r), whole, "tile {t}");
@@ -254,8 +258,8 @@ mod tests {
             .unwrap(),
         ];
         let bg = Background::color(Rgb8::BLACK);
-        let exact = render(&polys, &bg, 150, 150, Aa::Exact).to_image();
-        let want = reference::render(&polys, &bg, 150, 150, 6).frame.to_image();
+        let exact = render(&polys, &bg, &v, Aa::Exact).to_image();
+        let want = reference::render(&polys, &bg, &v, 6).frame.to_image();
         let worst = exact
             .data
             .iter()

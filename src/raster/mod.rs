@@ -50,6 +50,7 @@ mod visible;
 use crate::color::{linear_to_srgb, linear_to_srgb16};
 use crate::io::{AnyImage, Encoding, Image, Image16, LinearImage};
 use crate::progress::{Progress, Silent};
+use crate::view::View;
 use frame::RowOrder;
 pub use frame::{Background, Frame};
 #[cfg(test)]
@@ -73,8 +74,16 @@ pub const TILE: u32 = 32;
 /// separation in a scene that f64 can tell apart.
 pub const DEPTH_TIE_REL: f64 = 1e-9;
 
+/// The absolute part of the tie tolerance for polygons projected through
+/// `view`: [`DEPTH_TIE_REL`] times its [`View::nearness_scale`]. One number
+/// a frame, given to the resolvers with the view (kept in every polygon it
+/// was 8 bytes of each, bench/memory.sh).
+pub fn tie_floor(view: &View) -> f64 {
+    DEPTH_TIE_REL * view.nearness_scale()
+}
+
 /// The tie tolerance between two nearness values at a point: relative to
-/// them, floored by the view's scale (stored in each polygon as `tie_floor`).
+/// them, floored by the view's scale ([`tie_floor`]).
 #[inline]
 pub fn tie_tolerance(qa: f64, qb: f64, floor: f64) -> f64 {
     DEPTH_TIE_REL * qa.abs().max(qb.abs()) + floor
@@ -138,53 +147,103 @@ pub fn tiles(width: u32, height: u32) -> Vec<[u32; 4]> {
     out
 }
 
-/// For every tile, the indices of the polygons whose bounding box meets it, in
-/// stream order.
-pub fn bin(polys: &[ScreenPoly], width: u32, height: u32) -> Vec<Vec<u32>> {
-    let tx = width.div_ceil(TILE) as usize;
-    let ty = height.div_ceil(TILE) as usize;
-    let mut bins = vec![Vec::new(); tx * ty];
-    for (i, p) in polys.iter().enumerate() {
-        let [x0, y0, x1, y1] = p.bbox;
-        if x1 <= x0 || y1 <= y0 {
-            continue;
-        }
-        for ty_i in (y0 / TILE) as usize..=((y1 - 1) / TILE) as usize {
-            for tx_i in (x0 / TILE) as usize..=((x1 - 1) / TILE) as usize {
-                bins[ty_i * tx + tx_i].push(i as u32);
-            }
-        }
-    }
-    bins
+/// For every tile of [`tiles`], the indices of the polygons whose bounding
+/// box meets it, in stream order: tile `i`'s are `bins[i]`.
+///
+/// One list for all tiles, each tile's a range of it, sized by a first pass
+/// that counts: a list per tile, grown as it filled, held about twice its
+/// entries at a million triangles (4 bytes an entry), and that was the
+/// render's peak above the polygons themselves (bench/memory.sh).
+pub struct Bins {
+    /// Where each tile's range starts in `entries`, and where the last ends.
+    starts: Vec<usize>,
+    entries: Vec<u32>,
 }
 
-/// Renders projected polygons with the chosen anti-aliasing. Runs on the
-/// current rayon pool; the result does not depend on its size.
-pub fn render(polys: &[ScreenPoly], bg: &Background, width: u32, height: u32, aa: Aa) -> Frame {
-    render_with(polys, bg, width, height, aa, &Silent)
+impl std::ops::Index<usize> for Bins {
+    type Output = [u32];
+
+    fn index(&self, tile: usize) -> &[u32] {
+        &self.entries[self.starts[tile]..self.starts[tile + 1]]
+    }
+}
+
+impl Bins {
+    /// How many tiles.
+    pub fn len(&self) -> usize {
+        self.starts.len() - 1
+    }
+
+    /// Whether there are no tiles (a frame with no pixels).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Each tile's polygons, in the order of [`tiles`].
+    pub fn iter(&self) -> impl Iterator<Item = &[u32]> {
+        (0..self.len()).map(|i| &self[i])
+    }
+}
+
+/// Bins the polygons into the tiles of a `width x height` frame ([`Bins`]).
+pub fn bin(polys: &[ScreenPoly], width: u32, height: u32) -> Bins {
+    let tx = width.div_ceil(TILE) as usize;
+    let ty = height.div_ceil(TILE) as usize;
+    // The tiles a polygon's box meets, cut to the frame.
+    let tiles_of = |p: &ScreenPoly| {
+        let [x0, y0, x1, y1] = p.bbox();
+        let (x0, x1) = (x0.min(width), x1.min(width));
+        let (y0, y1) = (y0.min(height), y1.min(height));
+        let (cols, rows) = if x1 <= x0 || y1 <= y0 {
+            (0..0, 0..0)
+        } else {
+            (
+                (x0 / TILE) as usize..((x1 - 1) / TILE) as usize + 1,
+                (y0 / TILE) as usize..((y1 - 1) / TILE) as usize + 1,
+            )
+        };
+        rows.flat_map(move |r| cols.clone().map(move |c| r * tx + c))
+    };
+    let mut starts = vec![0usize; tx * ty + 1];
+    for p in polys {
+        for t in tiles_of(p) {
+            starts[t + 1] += 1;
+        }
+    }
+    for t in 0..tx * ty {
+        starts[t + 1] += starts[t];
+    }
+    let mut next = starts.clone();
+    let mut entries = vec![0u32; starts[tx * ty]];
+    for (i, p) in polys.iter().enumerate() {
+        for t in tiles_of(p) {
+            entries[next[t]] = i as u32;
+            next[t] += 1;
+        }
+    }
+    Bins { starts, entries }
+}
+
+/// Renders polygons projected through `view` ([`try_project`]) with the
+/// chosen anti-aliasing, in a frame of the view's size. Runs on the current
+/// rayon pool; the result does not depend on its size.
+pub fn render(polys: &[ScreenPoly], bg: &Background, view: &View, aa: Aa) -> Frame {
+    render_with(polys, bg, view, aa, &Silent)
 }
 
 /// [`render`], reporting each tile done to `progress` (phase "render").
 pub fn render_with(
     polys: &[ScreenPoly],
     bg: &Background,
-    width: u32,
-    height: u32,
+    view: &View,
     aa: Aa,
     progress: &dyn Progress,
 ) -> Frame {
-    let (pixels, estimated) = render_pixels(
-        polys,
-        bg,
-        (width, height),
-        aa,
-        progress,
-        RowOrder::BottomFirst,
-        |p| p,
-    );
+    let (pixels, estimated) =
+        render_pixels(polys, bg, view, aa, progress, RowOrder::BottomFirst, |p| p);
     Frame {
-        width,
-        height,
+        width: view.width,
+        height: view.height,
         pixels,
         estimated,
     }
@@ -196,15 +255,15 @@ pub fn render_with(
 pub fn render_encoded(
     polys: &[ScreenPoly],
     bg: &Background,
-    (width, height): (u32, u32),
+    view: &View,
     aa: Aa,
     progress: &dyn Progress,
     encoding: Encoding,
 ) -> (AnyImage, u64) {
-    let size = (width, height);
+    let (width, height) = (view.width, view.height);
     match encoding {
         Encoding::Srgb8 => {
-            let (data, n) = render_channels(polys, bg, size, aa, progress, linear_to_srgb);
+            let (data, n) = render_channels(polys, bg, view, aa, progress, linear_to_srgb);
             let image = Image {
                 width,
                 height,
@@ -214,7 +273,7 @@ pub fn render_encoded(
             (AnyImage::Srgb8(image), n)
         }
         Encoding::Srgb16 => {
-            let (data, n) = render_channels(polys, bg, size, aa, progress, linear_to_srgb16);
+            let (data, n) = render_channels(polys, bg, view, aa, progress, linear_to_srgb16);
             let image = Image16 {
                 width,
                 height,
@@ -224,7 +283,7 @@ pub fn render_encoded(
             (AnyImage::Srgb16(image), n)
         }
         Encoding::LinearF32 => {
-            let (data, n) = render_channels(polys, bg, size, aa, progress, |x| x);
+            let (data, n) = render_channels(polys, bg, view, aa, progress, |x| x);
             let image = LinearImage {
                 width,
                 height,
@@ -240,12 +299,12 @@ pub fn render_encoded(
 fn render_channels<T: Copy + Default + Send>(
     polys: &[ScreenPoly],
     bg: &Background,
-    size: (u32, u32),
+    view: &View,
     aa: Aa,
     progress: &dyn Progress,
     encode: fn(f32) -> T,
 ) -> (Vec<T>, u64) {
-    let (pixels, n) = render_pixels(polys, bg, size, aa, progress, RowOrder::TopFirst, |p| {
+    let (pixels, n) = render_pixels(polys, bg, view, aa, progress, RowOrder::TopFirst, |p| {
         p.map(encode)
     });
     (pixels.into_flattened(), n)
@@ -257,21 +316,22 @@ fn render_channels<T: Copy + Default + Send>(
 fn render_pixels<P: Copy + Default + Send>(
     polys: &[ScreenPoly],
     bg: &Background,
-    (width, height): (u32, u32),
+    view: &View,
     aa: Aa,
     progress: &dyn Progress,
     order: RowOrder,
     encode: impl Fn([f32; 3]) -> P + Sync,
 ) -> (Vec<P>, u64) {
-    let tiles = tiles(width, height);
-    let bins = bin(polys, width, height);
-    let size = (width, height);
+    let size = (view.width, view.height);
+    let tiles = tiles(size.0, size.1);
+    let bins = bin(polys, size.0, size.1);
+    let floor = tie_floor(view);
     progress.phase("render", tiles.len() as u64);
     match aa {
         Aa::Exact => {
             let estimated = std::sync::atomic::AtomicU64::new(0);
             let render = |i: usize| {
-                let (block, n) = coverage::render_bin_counted(polys, &bins[i], bg, tiles[i]);
+                let (block, n) = coverage::render_bin_counted(polys, &bins[i], bg, tiles[i], floor);
                 estimated.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
                 progress.advance(1);
                 block
@@ -282,7 +342,7 @@ fn render_pixels<P: Copy + Default + Send>(
         Aa::None | Aa::Ss(_) => {
             let k = if let Aa::Ss(k) = aa { k } else { 1 };
             let render = |i: usize| {
-                let block = scan::render_tile(polys, &bins[i], bg, tiles[i], k);
+                let block = scan::render_tile(polys, &bins[i], bg, tiles[i], k, floor);
                 progress.advance(1);
                 block
             };
@@ -347,7 +407,7 @@ mod determinism {
                     .num_threads(n)
                     .build()
                     .unwrap()
-                    .install(|| render(&polys, &bg, 100, 70, aa).to_image())
+                    .install(|| render(&polys, &bg, &v, aa).to_image())
             };
             let one = run(1);
             assert_eq!(one, run(3), "{aa:?}");
@@ -357,7 +417,7 @@ mod determinism {
                 .num_threads(n)
                 .build()
                 .unwrap()
-                .install(|| reference::render(&polys, &bg, 100, 70, 6).frame.to_image())
+                .install(|| reference::render(&polys, &bg, &v, 6).frame.to_image())
         };
         assert_eq!(run_ref(1), run_ref(2));
     }
@@ -386,14 +446,14 @@ mod determinism {
                 .collect();
             let bg = Background::color(Rgb8([30, 4, 5]));
             for aa in [Aa::None, Aa::Ss(2), Aa::Exact] {
-                let frame = render(&polys, &bg, w, h, aa);
+                let frame = render(&polys, &bg, &v, aa);
                 for encoding in [Encoding::Srgb8, Encoding::Srgb16, Encoding::LinearF32] {
                     let run = |threads: usize| {
                         rayon::ThreadPoolBuilder::new()
                             .num_threads(threads)
                             .build()
                             .unwrap()
-                            .install(|| render_encoded(&polys, &bg, (w, h), aa, &Silent, encoding))
+                            .install(|| render_encoded(&polys, &bg, &v, aa, &Silent, encoding))
                     };
                     let (image, estimated) = run(1);
                     assert!(

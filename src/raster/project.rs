@@ -6,7 +6,6 @@
 //! the screen fitted through every vertex (Newell), and concave outlines are
 //! cut into triangles (`geom::triangulate`, in the world polygon's plane).
 
-use super::DEPTH_TIE_REL;
 use crate::color::{srgb_to_linear_f64, Rgb8};
 use crate::geom::plane::flat_view;
 use crate::geom::polygon::{area2, is_convex, newell_plane, GRID_SNAP_PX};
@@ -126,8 +125,10 @@ pub const INLINE_VERTS: usize = 3;
 /// screen (back faces are reversed when not culled).
 ///
 /// What most polygons lack (a shader, smooth lighting, concave pieces) is
-/// held out of line: a flat triangle is 144 bytes with no heap block (it was
-/// 152 and a block of 64; `raster::project::tests::a_flat_triangle_is_144_bytes`).
+/// held out of line, and what the frame or the vertices decide (the tie
+/// floor, [`super::tie_floor`]; the pixel box, [`ScreenPoly::bbox`]) is not
+/// kept: a flat triangle is 120 bytes with no heap block (it was 152 and a
+/// block of 64; `raster::project::tests::a_flat_triangle_is_120_bytes`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScreenPoly {
     /// Screen positions in pixels, y up, counter-clockwise, no repeated neighbours.
@@ -138,11 +139,6 @@ pub struct ScreenPoly {
     pub color: [f64; 3],
     /// Position in the stream: draw order, for visibility ties.
     pub order: u32,
-    /// Absolute part of the tie tolerance: [`DEPTH_TIE_REL`] times the view's
-    /// [`View::nearness_scale`].
-    pub tie_floor: f64,
-    /// Pixel bounding box, inclusive-exclusive: `x0..x1`, `y0..y1` (y up).
-    pub bbox: [u32; 4],
     /// The shader, the smooth lighting and the concave pieces, when any of
     /// them is not the default.
     rare: Option<Box<Rare>>,
@@ -161,19 +157,35 @@ static FLAT: Shader = Shader::Flat;
 
 impl ScreenPoly {
     /// A flat, convex polygon (the shader [`Shader::Flat`], no smooth
-    /// lighting); the setters below add the rest. Its bounding box is empty
-    /// and its tie floor 0 until the caller sets them: [`try_project`] sets
-    /// both from the view, and a polygon with an empty box is drawn nowhere.
+    /// lighting); the setters below add the rest.
     pub fn new(verts: ScreenVerts, plane: [f64; 3], color: [f64; 3], order: u32) -> ScreenPoly {
         ScreenPoly {
             verts,
             plane,
             color,
             order,
-            tie_floor: 0.0,
-            bbox: [0; 4],
             rare: None,
         }
+    }
+
+    /// The pixels the polygon can touch, inclusive-exclusive: `x0..x1`,
+    /// `y0..y1` (y up), from its vertices' floors and ceilings, not below 0.
+    /// Not cut to the frame: a resolver cuts it to the tile it draws
+    /// ([`super::bin`] to the frame).
+    ///
+    /// Worked out where it is needed rather than kept: four numbers a
+    /// polygon were 16 of its bytes, and a frame holds every polygon at once
+    /// (bench/memory.sh); a triangle's box is a few compares.
+    pub fn bbox(&self) -> [u32; 4] {
+        let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+        for v in &self.verts {
+            x0 = x0.min(v.x);
+            y0 = y0.min(v.y);
+            x1 = x1.max(v.x);
+            y1 = y1.max(v.y);
+        }
+        // `as` saturates: a vertex beyond u32 pixels is cut by the tile.
+        [x0.floor(), y0.floor(), x1.ceil(), y1.ceil()].map(|c| c.max(0.0) as u32)
     }
 
     /// Changes the out-of-line parts, dropping the block when they are all
@@ -474,24 +486,8 @@ pub fn try_project(
         let whole = clipped == clip_space;
         concave_pieces(view, world, &clip_space, whole, a2 < 0.0).ok_or(Dropped::NoArea)?
     };
-    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
-    for v in &verts {
-        x0 = x0.min(v.x);
-        y0 = y0.min(v.y);
-        x1 = x1.max(v.x);
-        y1 = y1.max(v.y);
-    }
-    let (w, h) = (view.width, view.height);
-    let bbox = [
-        (x0.floor().max(0.0) as u32).min(w),
-        (y0.floor().max(0.0) as u32).min(h),
-        (x1.ceil().max(0.0) as u32).min(w),
-        (y1.ceil().max(0.0) as u32).min(h),
-    ];
     let c = color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0));
     let mut p = ScreenPoly::new(verts, plane, c, order);
-    p.tie_floor = DEPTH_TIE_REL * view.nearness_scale();
-    p.bbox = bbox;
     if !pieces.is_empty() {
         // A convex polygon, most of them, is its own piece: nothing to set.
         p.set_pieces(pieces);
@@ -577,8 +573,8 @@ mod tests {
     /// A million triangles keep a million screen polygons until the frame
     /// is drawn: a flat triangle's must need no heap block of its own.
     #[test]
-    fn a_flat_triangle_is_144_bytes() {
-        assert!(std::mem::size_of::<ScreenPoly>() <= 144);
+    fn a_flat_triangle_is_120_bytes() {
+        assert!(std::mem::size_of::<ScreenPoly>() <= 120);
         let p = right_triangle();
         assert!(!p.verts.spilled());
         assert!(p.rare.is_none());
@@ -598,7 +594,7 @@ mod tests {
     fn ortho2_maps_world_units_to_pixels() {
         let p = right_triangle();
         assert_eq!(p.verts[0], DVec2::new(10.0, 5.0));
-        assert_eq!(p.bbox, [10, 5, 20, 15]);
+        assert_eq!(p.bbox(), [10, 5, 20, 15]);
     }
 
     #[test]

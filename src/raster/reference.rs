@@ -47,6 +47,7 @@ use super::{tie_tolerance, Background, Frame, ScreenPoly};
 use crate::color::linear_to_srgb;
 use crate::progress::{Progress, Silent};
 use crate::texture::{Appearance, PolyTexture};
+use crate::view::View;
 
 /// Default grid strips per pixel (on top of the events; a multiple of 3).
 pub const DEFAULT_LINES: u32 = 24;
@@ -121,37 +122,35 @@ impl Reference {
 
 /// Renders the reference with a grid of `lines` strips per pixel on top of the
 /// events (rounded down to a multiple of 3, at least 3).
-pub fn render(
-    polys: &[ScreenPoly],
-    bg: &Background,
-    width: u32,
-    height: u32,
-    lines: u32,
-) -> Reference {
-    render_with(polys, bg, width, height, lines, &Silent)
+pub fn render(polys: &[ScreenPoly], bg: &Background, view: &View, lines: u32) -> Reference {
+    render_with(polys, bg, view, lines, &Silent)
 }
 
 /// [`render`], reporting each tile done to `progress` (phase "reference").
 pub fn render_with(
     polys: &[ScreenPoly],
     bg: &Background,
-    width: u32,
-    height: u32,
+    view: &View,
     lines: u32,
     progress: &dyn Progress,
 ) -> Reference {
     use rayon::prelude::*;
+    let (width, height) = (view.width, view.height);
     let lines = (lines / 3).max(1) * 3;
     let tiles = super::tiles(width, height);
     let bins = super::bin(polys, width, height);
+    let polys = &Projected {
+        polys,
+        tie_floor: super::tie_floor(view),
+    };
     progress.phase("reference", tiles.len() as u64);
     let contrasts = Contrasts::default();
     let blocks: Vec<(Vec<[f32; 3]>, Vec<f32>)> = tiles
         .par_iter()
-        .zip(&bins)
+        .enumerate()
         .with_max_len(1) // one tile per job, as `frame::render_bands` says why
-        .map(|(t, b)| {
-            let block = render_tile(polys, b, bg, *t, lines, &contrasts);
+        .map(|(i, t)| {
+            let block = render_tile(polys, &bins[i], bg, *t, lines, &contrasts);
             progress.advance(1);
             block
         })
@@ -198,7 +197,7 @@ impl Contrasts {
 }
 
 fn render_tile(
-    polys: &[ScreenPoly],
+    polys: &Projected,
     bin: &[u32],
     bg: &Background,
     tile: [u32; 4],
@@ -210,14 +209,15 @@ fn render_tile(
     let mut errs = Vec::new();
     let mut cands: Vec<u32> = Vec::new();
     let mut line = LineScratch::default();
+    let boxes: Vec<[u32; 4]> = bin.iter().map(|&i| polys[i as usize].bbox()).collect();
     for py in ty0..ty1 {
         for px in tx0..tx1 {
             cands.clear();
-            cands.extend(bin.iter().copied().filter(|&i| {
+            cands.extend(bin.iter().zip(&boxes).filter_map(|(&i, b)| {
                 let p = &polys[i as usize];
-                let b = p.bbox;
                 // Transparent texels of a screen-mode pattern: absent here.
-                px >= b[0] && px < b[2] && py >= b[1] && py < b[3] && p.color_at(px, py).is_some()
+                let here = px >= b[0] && px < b[2] && py >= b[1] && py < b[3];
+                (here && p.color_at(px, py).is_some()).then_some(i)
             }));
             let bgc = bg.at(px, py);
             let (c, e) = pixel(polys, &cands, bgc, px, py, lines, contrasts, &mut line);
@@ -296,15 +296,33 @@ fn crosses_open_square(a: glam::DVec2, b: glam::DVec2, x: f64, y: f64) -> bool {
     t0 < t1
 }
 
-/// Whether G is in front of F at (x, y), with the tie rule: the later one wins.
-#[inline]
-fn in_front(g: &ScreenPoly, f: &ScreenPoly, x: f64, y: f64) -> bool {
-    let (qg, qf) = (g.q(x, y), f.q(x, y));
-    let tie = tie_tolerance(qg, qf, g.tie_floor);
-    if g.order > f.order {
-        qg - qf > -tie
-    } else {
-        qg - qf > tie
+/// A frame's screen polygons and the tie floor of the view they were
+/// projected through ([`super::tie_floor`]).
+struct Projected<'a> {
+    polys: &'a [ScreenPoly],
+    tie_floor: f64,
+}
+
+impl std::ops::Deref for Projected<'_> {
+    type Target = [ScreenPoly];
+
+    fn deref(&self) -> &[ScreenPoly] {
+        self.polys
+    }
+}
+
+impl Projected<'_> {
+    /// Whether G is in front of F at (x, y), with the tie rule: the later
+    /// one wins.
+    #[inline]
+    fn in_front(&self, g: &ScreenPoly, f: &ScreenPoly, x: f64, y: f64) -> bool {
+        let (qg, qf) = (g.q(x, y), f.q(x, y));
+        let tie = tie_tolerance(qg, qf, self.tie_floor);
+        if g.order > f.order {
+            qg - qf > -tie
+        } else {
+            qg - qf > tie
+        }
     }
 }
 
@@ -322,7 +340,7 @@ struct LineScratch {
 
 #[allow(clippy::too_many_arguments)]
 fn pixel(
-    polys: &[ScreenPoly],
+    polys: &Projected,
     cands: &[u32],
     bgc: [f64; 3],
     px: u32,
@@ -348,7 +366,7 @@ fn pixel(
             gi == ci
                 || [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)]
                     .iter()
-                    .all(|&(cx, cy)| !in_front(&polys[gi as usize], f, cx, cy))
+                    .all(|&(cx, cy)| !polys.in_front(&polys[gi as usize], f, cx, cy))
         });
         if hides_all {
             let c = match f.stripe() {
@@ -409,7 +427,7 @@ fn pixel(
 /// a uniform grid of `strips` strips.
 #[allow(clippy::too_many_arguments)]
 fn integrate(
-    polys: &[ScreenPoly],
+    polys: &Projected,
     cands: &[u32],
     bgc: [f64; 3],
     x: f64,
@@ -472,7 +490,7 @@ pub const MAX_EVENT_PRIMS: usize = 2048;
 /// `incomplete`. False, with only the vertices' events, where the pixel has
 /// more than [`MAX_EVENT_PRIMS`] features to intersect.
 fn events(
-    polys: &[ScreenPoly],
+    polys: &Projected,
     cands: &[u32],
     x: f64,
     y: f64,
@@ -541,7 +559,7 @@ fn events(
             let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
             let d = corners.map(|(cx, cy)| a * cx + b * cy + c);
             let tied = corners.iter().zip(&d).all(|(&(cx, cy), dv)| {
-                dv.abs() <= tie_tolerance(f.q(cx, cy), g.q(cx, cy), f.tie_floor)
+                dv.abs() <= tie_tolerance(f.q(cx, cy), g.q(cx, cy), polys.tie_floor)
             });
             if tied || d.iter().all(|&v| v > 0.0) || d.iter().all(|&v| v < 0.0) {
                 continue;
@@ -801,7 +819,7 @@ fn texel_breaks(n: [f64; 3], d: [f64; 3], a: f64, b: f64, y: f64, breaks: &mut V
 
 /// The exact mean linear colour along the segment `[x, x+1]` at height `y`.
 fn line_colour(
-    polys: &[ScreenPoly],
+    polys: &Projected,
     cands: &[u32],
     bgc: [f64; 3],
     x: f64,
@@ -911,7 +929,7 @@ fn line_colour(
             };
             best = match best {
                 None => Some((p, c)),
-                Some((b, _)) if in_front(p, b, mid, y) => Some((p, c)),
+                Some((b, _)) if polys.in_front(p, b, mid, y) => Some((p, c)),
                 keep => keep,
             };
         }
@@ -976,8 +994,8 @@ mod tests {
                 polys.extend(project(&v, tri, col, i, Cull::None));
             }
             let bg = Background::color(Rgb8([10, 20, 30]));
-            let r = render(&polys, &bg, 40, 30, 96);
-            let e = render_fast(&polys, &bg, 40, 30, Aa::Exact);
+            let r = render(&polys, &bg, &v, 96);
+            let e = render_fast(&polys, &bg, &v, Aa::Exact);
 
             for (i, (a, b)) in r.frame.pixels.iter().zip(&e.pixels).enumerate() {
                 // Allowed: the reference's own estimate, plus f32 storage.
@@ -1010,11 +1028,11 @@ mod tests {
             let shade = (i % 200) as u8;
             polys.extend(poly2(&v, &tri, Rgb8([shade, 100, 200 - shade]), i));
         }
-        let r = render(&polys, &Background::color(Rgb8::BLACK), 2, 1, 24);
+        let r = render(&polys, &Background::color(Rgb8::BLACK), &v, 24);
         assert_eq!(r.error[0], 1.0);
         assert!(r.frame.pixels[0].iter().all(|c| (0.0..=1.0).contains(c)));
         assert!(r.error[1] < 1e-9, "{}", r.error[1]);
-        let e = render_fast(&polys, &Background::color(Rgb8::BLACK), 2, 1, Aa::Exact);
+        let e = render_fast(&polys, &Background::color(Rgb8::BLACK), &v, Aa::Exact);
         for ch in 0..3 {
             assert!((r.frame.pixels[1][ch] - e.pixels[1][ch]).abs() < 1e-5);
         }
@@ -1030,7 +1048,7 @@ mod tests {
             0,
         )
         .unwrap();
-        let r = render(&[p], &Background::color(Rgb8::BLACK), 2, 1, 96);
+        let r = render(&[p], &Background::color(Rgb8::BLACK), &v, 96);
         assert_eq!(r.frame.to_image().data, vec![255, 255, 255, 188, 188, 188]);
         assert_eq!(r.residual(96).max_codes, 0);
     }
@@ -1053,12 +1071,11 @@ mod tests {
             [0.0, 5.4],
         ];
         let p = poly2(&v, &notch, Rgb8::WHITE, 0).unwrap();
-        let r = render(&[p], &Background::color(Rgb8::BLACK), 10, 10, 24);
+        let r = render(&[p], &Background::color(Rgb8::BLACK), &v, 24);
         let e = render_fast(
             &[poly2(&v, &notch, Rgb8::WHITE, 0).unwrap()],
             &Background::color(Rgb8::BLACK),
-            10,
-            10,
+            &v,
             Aa::Exact,
         );
         // The notch's width over x in 4..5 is 0.2 * (1 - x/8.5) on
@@ -1123,7 +1140,7 @@ mod tests {
             st.clone(),
         )));
         let bg = Background::color(Rgb8([0, 0, 80]));
-        let r = render(std::slice::from_ref(&p), &bg, w, h, 24);
+        let r = render(std::slice::from_ref(&p), &bg, &v, 24);
         let bgl = bg.at(0, 0);
         let mut checked = 0;
         for py in 0..h {

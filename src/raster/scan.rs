@@ -157,13 +157,16 @@ fn ceil_div(a: i64, b: i64) -> i64 {
 }
 
 /// Renders one tile by point sampling: per sample the nearest polygon wins
-/// (ties to the later one, painter's order); a pixel is the linear-light mean of its samples.
+/// (ties to the later one, painter's order, within
+/// [`super::tie_tolerance`] floored by `tie_floor`); a pixel is the
+/// linear-light mean of its samples.
 pub fn render_tile(
     polys: &[ScreenPoly],
     bin: &[u32],
     bg: &Background,
     tile: [u32; 4],
     k: u32,
+    tie_floor: f64,
 ) -> Vec<[f32; 3]> {
     let [tx0, ty0, tx1, ty1] = tile;
     let (tw, th) = ((tx1 - tx0) as usize, (ty1 - ty0) as usize);
@@ -178,7 +181,7 @@ pub fn render_tile(
     let kf = k as f64;
     for &pi in bin {
         let p = &polys[pi as usize];
-        let [bx0, by0, bx1, by1] = p.bbox;
+        let [bx0, by0, bx1, by1] = p.bbox();
         let (x0, x1) = (bx0.max(tx0), bx1.min(tx1));
         let (y0, y1) = (by0.max(ty0), by1.min(ty1));
         if x0 >= x1 || y0 >= y1 {
@@ -215,7 +218,7 @@ pub fn render_tile(
                         // than the tie tolerance.
                         if opaque
                             && (old == f64::NEG_INFINITY
-                                || q - old >= -tie_tolerance(q, old, p.tie_floor))
+                                || q - old >= -tie_tolerance(q, old, tie_floor))
                         {
                             depth[idx] = q;
                             owner[idx] = pi;
@@ -414,9 +417,9 @@ pub(crate) mod tests {
         let blue = Rgb8([0, 0, 255]);
         let bg = Background::color(Rgb8::BLACK);
         // Blue nearer (z = 0.5 is toward the viewer) though drawn first.
-        let img = render(&[sq(0.5, blue, 0), sq(0.0, red, 1)], &bg, 4, 4, Aa::None).to_image();
+        let img = render(&[sq(0.5, blue, 0), sq(0.0, red, 1)], &bg, &view, Aa::None).to_image();
         assert_eq!(&img.data[..3], &[0, 0, 255]);
-        let img = render(&[sq(0.0, red, 0), sq(0.0, blue, 1)], &bg, 4, 4, Aa::Ss(2)).to_image();
+        let img = render(&[sq(0.0, red, 0), sq(0.0, blue, 1)], &bg, &view, Aa::Ss(2)).to_image();
         assert_eq!(&img.data[..3], &[0, 0, 255]);
     }
 }

@@ -34,7 +34,7 @@ fn two_colour_pat(size: u32, colours: [Rgb8; 2], pick: impl Fn(u32, u32) -> u32)
 }
 
 /// The ground with its checker turned `rotate` degrees, projected.
-fn ground(rotate: f64) -> Vec<crate::raster::ScreenPoly> {
+fn ground(rotate: f64) -> (View, Vec<crate::raster::ScreenPoly>) {
     let dir = std::env::temp_dir().join(format!(
         "patkit-horizon-{}-{}",
         std::process::id(),
@@ -56,17 +56,18 @@ fn ground(rotate: f64) -> Vec<crate::raster::ScreenPoly> {
     projected(&scene, camera, WIDTH, HEIGHT)
 }
 
-/// `scene` through the camera `camera` (its JSON form) at `w` x `h`.
+/// `scene` through the camera `camera` (its JSON form) at `w` x `h`, and
+/// the view.
 fn projected(
     scene: &Scene,
     camera: serde_json::Value,
     w: u32,
     h: u32,
-) -> Vec<crate::raster::ScreenPoly> {
+) -> (View, Vec<crate::raster::ScreenPoly>) {
     let camera = Camera::from_json(&camera, "camera").unwrap();
-    scene
-        .project(&View::new(&camera, w, h), &DrawOptions::default(), 0)
-        .unwrap()
+    let view = View::new(&camera, w, h);
+    let polys = scene.project(&view, &DrawOptions::default(), 0).unwrap();
+    (view, polys)
 }
 
 /// The 8-bit code of linear `v` (one channel).
@@ -121,9 +122,9 @@ fn against_certain_reference(
 fn the_default_equals_the_reference_wherever_the_reference_is_certain() {
     let bg = Background::color(Rgb8([90, 140, 200]));
     for rotate in [0.0, 45.0, 100.0 / std::f64::consts::E] {
-        let polys = ground(rotate);
-        let exact = crate::raster::render(&polys, &bg, WIDTH, HEIGHT, Aa::Exact);
-        let r = reference::render(&polys, &bg, WIDTH, HEIGHT, 6);
+        let (view, polys) = ground(rotate);
+        let exact = crate::raster::render(&polys, &bg, &view, Aa::Exact);
+        let r = reference::render(&polys, &bg, &view, 6);
         let (certain, off) = against_certain_reference(&r, &exact, WIDTH);
         let all = WIDTH * HEIGHT;
         // In 16 bits: where the reference's estimate is below a 16-bit
@@ -208,11 +209,11 @@ fn a_pattern_minified_150_times_is_integrated_exactly() {
     let camera = serde_json::json!({
         "ortho": {"left": 0, "right": w, "bottom": 0, "top": h, "near": 0, "far": 10}
     });
-    let polys = projected(&scene, camera, w, h);
+    let (view, polys) = projected(&scene, camera, w, h);
     let bg = Background::color(Rgb8::BLACK);
-    let exact = crate::raster::render(&polys, &bg, w, h, Aa::Exact);
+    let exact = crate::raster::render(&polys, &bg, &view, Aa::Exact);
     assert_eq!(exact.estimated, 0);
-    let r = reference::render(&polys, &bg, w, h, 6);
+    let r = reference::render(&polys, &bg, &view, 6);
     let (certain, off) = against_certain_reference(&r, &exact, w);
     assert!(off.is_empty(), "{} pixels off: {:?}", off.len(), off);
     assert_eq!(certain, w * h, "the reference is certain everywhere");
@@ -277,10 +278,10 @@ fn striped_ground_default_equals_the_reference_wherever_it_is_certain() {
         "lookat": {"eye": [0, 8, 10], "center": [0, 4, -100]},
         "perspective": {"fovy": 50, "aspect": 1.333, "near": 1, "far": 3000}
     });
-    let polys = projected(&scene, camera, w, h);
+    let (view, polys) = projected(&scene, camera, w, h);
     let bg = Background::color(Rgb8::BLACK);
-    let exact = crate::raster::render(&polys, &bg, w, h, Aa::Exact);
-    let r = reference::render(&polys, &bg, w, h, 24);
+    let exact = crate::raster::render(&polys, &bg, &view, Aa::Exact);
+    let r = reference::render(&polys, &bg, &view, 24);
     let (certain, off) = against_certain_reference(&r, &exact, w);
     assert!(
         off.is_empty(),

@@ -28,7 +28,7 @@
 //! let view = View::new(&Camera::ortho2(0.0, 8.0, 0.0, 8.0), 8, 8);
 //! let polygons = scene.project(&view, &DrawOptions::default(), 0)?;
 //! let background = Background::color(Rgb8::BLACK);
-//! let image = scene::render(&polygons, &background, 8, 8, Aa::Exact);
+//! let image = scene::render(&polygons, &background, &view, Aa::Exact);
 //! // Pixel (4, 3) from the lower-left (row 4 from the top) lies inside the triangle.
 //! let at = (4 * 8 + 4) * image.channels as usize;
 //! assert_eq!(image.data[at..at + 3], [255, 128, 0]);
@@ -521,7 +521,7 @@ impl Scene {
     /// [`Scene::project_tallied`] for a scene drawn once: each wave of parts
     /// is freed as soon as it is projected, so the scene's parts and the
     /// frame's polygons are not held whole at once. A million triangles
-    /// peaked at both (136 and 144 bytes each, bench/memory.sh).
+    /// peaked at both (136 and 144 bytes each then, bench/memory.sh).
     pub fn into_frame(
         self,
         view: &View,
@@ -1100,11 +1100,11 @@ fn curve_tolerance(shape: &Shape, view: &View) -> f64 {
     }
 }
 
-/// Renders one frame's polygons with the anti-aliasing `aa`. With the `mip`
-/// skip off (benchmarks), every textured polygon's MIP pyramid is built
-/// first.
-pub fn render(polys: &[ScreenPoly], bg: &Background, width: u32, height: u32, aa: Aa) -> Image {
-    render_with(polys, bg, width, height, aa, &Silent)
+/// Renders one frame's polygons, projected through `view`, with the
+/// anti-aliasing `aa`, in an image of the view's size. With the `mip` skip
+/// off (benchmarks), every textured polygon's MIP pyramid is built first.
+pub fn render(polys: &[ScreenPoly], bg: &Background, view: &View, aa: Aa) -> Image {
+    render_with(polys, bg, view, aa, &Silent)
 }
 
 /// [`render`], reporting its tiles to `progress` (a transparent background
@@ -1112,12 +1112,11 @@ pub fn render(polys: &[ScreenPoly], bg: &Background, width: u32, height: u32, aa
 pub fn render_with(
     polys: &[ScreenPoly],
     bg: &Background,
-    width: u32,
-    height: u32,
+    view: &View,
     aa: Aa,
     progress: &dyn Progress,
 ) -> Image {
-    match render_encoded(polys, bg, (width, height), aa, progress, Encoding::Srgb8).image {
+    match render_encoded(polys, bg, view, aa, progress, Encoding::Srgb8).image {
         AnyImage::Srgb8(image) => image,
         _ => unreachable!("8-bit sRGB asked for"),
     }
@@ -1171,7 +1170,7 @@ impl Rendered {
 pub fn render_encoded(
     polys: &[ScreenPoly],
     bg: &Background,
-    (width, height): (u32, u32),
+    view: &View,
     aa: Aa,
     progress: &dyn Progress,
     encoding: Encoding,
@@ -1181,15 +1180,14 @@ pub fn render_encoded(
         // Two passes, over black and over white: the difference is the
         // coverage (Background::transparent).
         let (black, white) = (bg.opaque(Rgb8::BLACK), bg.opaque(Rgb8::WHITE));
-        let over_black = raster::render_with(polys, &black, width, height, aa, progress);
-        let over_white = raster::render_with(polys, &white, width, height, aa, progress);
+        let over_black = raster::render_with(polys, &black, view, aa, progress);
+        let over_white = raster::render_with(polys, &white, view, aa, progress);
         return Rendered {
             image: Frame::encode_with_alpha(&over_black, &over_white, encoding),
             estimated: over_black.estimated,
         };
     }
-    let (image, estimated) =
-        raster::render_encoded(polys, bg, (width, height), aa, progress, encoding);
+    let (image, estimated) = raster::render_encoded(polys, bg, view, aa, progress, encoding);
     Rendered { image, estimated }
 }
 

@@ -20,21 +20,28 @@ use std::path::Path;
 
 /// The polygons of the stream `text` (patterns named relative to `dir`)
 /// through the camera `camera` (docs/camera.md's JSON) at `w` x `h`.
-fn project(text: &str, dir: &Path, camera: serde_json::Value, w: u32, h: u32) -> Vec<ScreenPoly> {
+fn project(
+    text: &str,
+    dir: &Path,
+    camera: serde_json::Value,
+    w: u32,
+    h: u32,
+) -> (View, Vec<ScreenPoly>) {
     let stream = Box::new(std::io::Cursor::new(text.to_owned()));
     let scene = Scene::read(stream, "scene.json", dir).unwrap();
     let camera = Camera::from_json(&camera, "camera").unwrap();
-    scene
-        .project(&View::new(&camera, w, h), &DrawOptions::default(), 0)
-        .unwrap()
+    let view = View::new(&camera, w, h);
+    let polys = scene.project(&view, &DrawOptions::default(), 0).unwrap();
+    (view, polys)
 }
 
 /// The default against the reference: certain everywhere, the same 8-bit
 /// codes everywhere, and within `1e-6` in linear light.
-fn assert_default_is_the_reference(name: &str, polys: &[ScreenPoly], w: u32, h: u32) {
+fn assert_default_is_the_reference(name: &str, polys: &[ScreenPoly], view: &View) {
     let bg = Background::color(Rgb8([90, 140, 200]));
-    let exact = crate::raster::render(polys, &bg, w, h, Aa::Exact);
-    let r = reference::render(polys, &bg, w, h, 24);
+    let w = view.width;
+    let exact = crate::raster::render(polys, &bg, view, Aa::Exact);
+    let r = reference::render(polys, &bg, view, 24);
     let code = |v: f32| Rgb8::from_linear([v; 3]).0[0];
     for (i, (p, q, e)) in r.pixels_against(&exact).enumerate() {
         let (x, y) = (i as u32 % w, i as u32 / w);
@@ -64,8 +71,8 @@ fn demo2_in_a_few_pixels_is_the_reference() {
         "perspective": {"fovy": 55, "aspect": 1, "near": 0, "far": 1000}
     });
     for (w, h) in [(8, 8), (3, 2), (1, 1)] {
-        let polys = project(&text, &dir, camera.clone(), w, h);
-        assert_default_is_the_reference(&format!("demo 2 at {w}x{h}"), &polys, w, h);
+        let (view, polys) = project(&text, &dir, camera.clone(), w, h);
+        assert_default_is_the_reference(&format!("demo 2 at {w}x{h}"), &polys, &view);
     }
 }
 
@@ -87,7 +94,7 @@ fn crossing_textured_planes_are_the_reference() {
         "ortho": {"left": -3.7, "right": 3.6, "bottom": -3.3, "top": 3.9, "near": -10, "far": 10}
     });
     for (w, h) in [(8, 8), (5, 3)] {
-        let polys = project(text, &dir, camera.clone(), w, h);
-        assert_default_is_the_reference(&format!("crossing planes at {w}x{h}"), &polys, w, h);
+        let (view, polys) = project(text, &dir, camera.clone(), w, h);
+        assert_default_is_the_reference(&format!("crossing planes at {w}x{h}"), &polys, &view);
     }
 }

@@ -45,7 +45,7 @@ fn draw(v: &View, polys: &[Vec<DVec3>], aa: Aa) -> Vec<u8> {
             screen.push(s);
         }
     }
-    let frame = render(&screen, &Background::color(Rgb8([0, 0, 0])), W, H, aa);
+    let frame = render(&screen, &Background::color(Rgb8([0, 0, 0])), v, aa);
     for px in &frame.pixels {
         for &c in px {
             assert!(
