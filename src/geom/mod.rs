@@ -50,22 +50,15 @@ pub mod slice;
 mod sweep;
 pub mod transform;
 pub mod triangulate;
+mod vertices;
 
 pub use partition::{CellSink, Grid, GridError, Partitioner, Placement};
 pub use plane::{map_to_plane, Frame, PlaneError, PlanePolygon};
+pub use vertices::Vertices;
 
 use crate::math;
 use glam::DVec3;
-use smallvec::SmallVec;
 use std::f64::consts::PI;
-
-/// A polygon record's vertices: a triangle's or a quad's (polyfill3's
-/// cells) held in the [`Shape`] itself, more on the heap. A million
-/// triangles kept a million 72-byte blocks (80 with `malloc`'s header)
-/// besides their shapes (bench/memory.sh), and reading a polyfill3 stream
-/// made and freed a block a cell; reading either is 5-8% faster without
-/// (the read phase, paired runs).
-pub type Vertices = SmallVec<[DVec3; 4]>;
 
 /// The geometry of a stream record (docs/stream-format.md), in its own coordinates.
 #[derive(Clone, Debug, PartialEq)]

@@ -31,7 +31,9 @@ pub enum SceneError {
         /// Why (boxed: errors stay small on the success path).
         error: Box<RecordError>,
     },
-    /// A stream of more than 2^32 records: draw order is 32 bits.
+    /// An instance past the 2^32nd record of its stream: draw order is 32
+    /// bits (a record there is refused as it is read,
+    /// [`RecordError::TooManyRecords`]).
     TooManyRecords,
     /// The scene expands to more polygons per frame than
     /// [`super::LoadOptions::max_polygons`] allows, first at record `index`.
@@ -81,6 +83,9 @@ pub enum RecordError {
     /// `decal_intrinsic`, which mix the texel with the lit colour in a way
     /// only flat lighting gives exactly.
     SmoothCompose(crate::texture::compose::Compose),
+    /// The record comes after the 4,294,967,296th of its stream: draw
+    /// order is 32 bits.
+    TooManyRecords,
     /// An instance's animated transform fails at a frame.
     InstanceTransform {
         /// The object the instance places.
@@ -116,6 +121,9 @@ impl fmt::Display for RecordError {
                 f.write_str("has both \"pattern\" and \"stripe\": a face takes one texture")
             }
             RecordError::NoPatternFile => f.write_str("pattern.file is missing"),
+            RecordError::TooManyRecords => {
+                f.write_str("more than 2^32 records in one stream: draw order is 32 bits")
+            }
             RecordError::TextureState(m) => f.write_str(m),
             RecordError::Pattern(e) => e.fmt(f),
             RecordError::Image(e) => e.fmt(f),
@@ -146,6 +154,7 @@ impl Error for RecordError {
             }
             RecordError::PatternAndStripe
             | RecordError::NoPatternFile
+            | RecordError::TooManyRecords
             | RecordError::TextureState(_)
             | RecordError::SmoothCompose(_) => None,
             other => other.as_cause().source(),

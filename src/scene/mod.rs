@@ -101,12 +101,14 @@ pub enum TextureSource {
 /// top level, the object's inside a definition). Only the geometry is kept,
 /// not the record's JSON; what most records lack is kept out of line
 /// ([`Extras`]), and a triangle's or a quad's vertices inline, so a flat
-/// polygon's part is 136 bytes (the fields inline made every part 336 bytes:
+/// polygon's part is 120 bytes (the fields inline made every part 336 bytes:
 /// a third of a gigabyte for a million triangles).
 struct Drawable {
-    /// The record's place in the stream (a top-level record's draw order,
-    /// [`draw_order`]).
-    index: usize,
+    /// The record's place in the stream: a top-level record's draw order,
+    /// 32 bits as [`ScreenPoly::order`] is. A stream of more records is
+    /// refused as it is read, at the first one past ([`record_index`]); 4
+    /// bytes rather than a word made a triangle's part 120 bytes, not 128.
+    index: u32,
     shape: Shape,
     color: Rgb8,
     /// How a lit scene shades it.
@@ -174,11 +176,11 @@ pub struct LoadOptions {
     /// given `slices` and `stacks` its 2 x slices x stacks triangles. A scene
     /// over it is refused when read, before any work, naming the record
     /// where the count passes it (a 4 KB stream of 40 nested objects, each
-    /// placing the previous twice, expands to 2^40 polygons). At about 160
+    /// placing the previous twice, expands to 2^40 polygons). At about 130
     /// bytes per triangle at the peak of a frame drawn once
-    /// (`bench/memory.sh`: the projected polygons; an animation keeps the
-    /// scene's parts beside them, about 140 more), the default allows about
-    /// 1.6 GB.
+    /// (`bench/memory.sh`: the scene's parts while it is read, the projected
+    /// polygons while they are drawn; an animation keeps the parts beside
+    /// the polygons, about 120 more), the default allows about 1.3 GB.
     ///
     /// Default value: 10,000,000.
     pub max_polygons: u64,
@@ -445,7 +447,7 @@ impl Scene {
                 && rec.normals.is_none()
                 && animated.is_none();
             Ok(Drawable {
-                index: rec.index,
+                index: record_index(rec.index).in_record(at.0, at.1)?,
                 // Kept as read: a triangle's or a quad's vertices inline
                 // (`geom::Vertices`), a longer list made on this thread at
                 // its exact size (`stream::plain`), so a scene is not
@@ -715,13 +717,13 @@ fn project_parts(
             Part::Draw(d) => {
                 let order = match order {
                     Some(o) => o,
-                    None => draw_order(d.index)?,
+                    None => d.index,
                 };
                 let to_world = placed.unwrap_or_default();
                 if let Shape::Quadric(q) = &d.shape {
                     let lit = Lit::new(lights, d, to_world);
                     project_quadric(d, q, view, order, how, frame, lit, out)
-                        .in_record(None, d.index)?;
+                        .in_record(None, d.index as usize)?;
                     continue;
                 }
                 // A record's own animated transform moves it as an instance
@@ -729,7 +731,8 @@ fn project_parts(
                 let animated_view;
                 let (view, to_world) = match d.animated() {
                     Some(v) => {
-                        let t = record_transform_at(d, v, frame).in_record(None, d.index)?;
+                        let t =
+                            record_transform_at(d, v, frame).in_record(None, d.index as usize)?;
                         animated_view = View {
                             world_to_clip: view.world_to_clip * t.matrix(),
                             ..view.clone()
@@ -739,7 +742,7 @@ fn project_parts(
                     None => (view, to_world),
                 };
                 let outline = match &d.shape {
-                    Shape::Polygon(v) => std::borrow::Cow::Borrowed(v.as_slice()),
+                    Shape::Polygon(v) => std::borrow::Cow::Borrowed(&v[..]),
                     other => std::borrow::Cow::Owned(crate::geom::outline(
                         other,
                         curve_tolerance(other, view),
@@ -750,7 +753,7 @@ fn project_parts(
                     ..l
                 });
                 draw_polygon(d, view, &outline, d.uv(), order, how, lit, out)
-                    .in_record(None, d.index)?;
+                    .in_record(None, d.index as usize)?;
             }
             Part::Place(p) => {
                 let Placement {
@@ -807,9 +810,16 @@ fn record_transform_at(
     })
 }
 
-/// A record's index as its draw order.
+/// An instance's index as its draw order.
 fn draw_order(index: usize) -> Result<u32, SceneError> {
     u32::try_from(index).map_err(|_| SceneError::TooManyRecords)
+}
+
+/// A record's index as [`Drawable::index`] keeps it: refused past 32 bits,
+/// where draw order ends. Checked last of the record's fields, so that a
+/// record with another fault is refused for that one.
+fn record_index(index: usize) -> Result<u32, RecordError> {
+    u32::try_from(index).map_err(|_| RecordError::TooManyRecords)
 }
 
 /// How one polygon is lit: the scene's lights, the transform from the
@@ -1212,11 +1222,12 @@ mod part_size {
     /// triangle's or quad's vertices inline ([`crate::geom::Vertices`]).
     /// At 336 bytes a part, the scene took a third of a gigabyte for a
     /// million triangles before projecting them; at 72 bytes and a heap
-    /// block of 80, 152 MB.
+    /// block of 80, 152 MB; at 136 (a `SmallVec` of vertices, a word of
+    /// index), the scene was a single frame's peak (bench/memory.sh).
     #[test]
-    fn a_triangles_part_is_at_most_136_bytes_and_no_heap_block() {
-        assert!(std::mem::size_of::<super::Part>() <= 136);
-        assert!(std::mem::size_of::<super::Drawable>() <= 136);
+    fn a_triangles_part_is_at_most_120_bytes_and_no_heap_block() {
+        assert!(std::mem::size_of::<super::Part>() <= 120);
+        assert!(std::mem::size_of::<super::Drawable>() <= 120);
         let scene = super::Scene::read(
             Box::new(&b"{\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]}\n"[..]),
             "-",
@@ -1229,7 +1240,23 @@ mod part_size {
         let Shape::Polygon(v) = &d.shape else {
             panic!("a polygon")
         };
-        assert!(!v.spilled() && d.extras.is_none());
+        assert!(v.is_inline() && d.extras.is_none());
+    }
+
+    /// The 2^32nd record and later are refused, each naming itself: no
+    /// stream that long is at hand, so the conversion is tested alone.
+    #[test]
+    fn a_record_past_32_bits_of_draw_order_is_refused_by_name() {
+        use super::InRecord;
+        assert_eq!(super::record_index(7).unwrap(), 7);
+        assert_eq!(super::record_index(u32::MAX as usize).unwrap(), u32::MAX);
+        let past = u32::MAX as usize + 1;
+        let e = super::record_index(past).in_record(Some("big.ndjson"), past);
+        assert_eq!(
+            crate::test_util::chain(&e.unwrap_err()),
+            "big.ndjson: record 4294967296: more than 2^32 records in one stream: \
+             draw order is 32 bits"
+        );
     }
 }
 

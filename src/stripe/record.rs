@@ -584,6 +584,7 @@ pub fn face_plane(shape: &Shape) -> Option<(DVec3, DVec3)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::Vertices;
     use serde_json::json;
 
     fn spec(v: Value) -> Result<StripeSpec, String> {
@@ -696,16 +697,16 @@ mod tests {
 
     #[test]
     fn newell_normal_follows_counter_clockwise_order() {
-        let sq = Shape::Polygon(smallvec::smallvec![
+        let sq = Shape::Polygon(Vertices::from([
             DVec3::new(0.0, 0.0, 0.0),
             DVec3::new(1.0, 0.0, 0.0),
             DVec3::new(1.0, 0.0, -1.0),
             DVec3::new(0.0, 0.0, -1.0),
-        ]);
+        ]));
         // Counter-clockwise seen from above (x right, north = -z up the page): the normal points up.
         let (n, _) = face_plane(&sq).unwrap();
         assert!((n - DVec3::Y).length() < 1e-15, "{n}");
-        let line = Shape::Polygon(smallvec::smallvec![DVec3::ZERO, DVec3::X, DVec3::X * 2.0]);
+        let line = Shape::Polygon(Vertices::from([DVec3::ZERO, DVec3::X, DVec3::X * 2.0]));
         assert_eq!(face_plane(&line), None);
     }
 }
