@@ -399,6 +399,36 @@ clitest!(
     }
 );
 
+/// The README's library code is `examples/render_scene.rs`'s, line for line
+/// (the example is built and run above): it had drifted to an API that no
+/// longer compiled.
+#[test]
+fn the_readmes_library_code_is_the_examples() {
+    let readme = std::fs::read_to_string(crate::util::repo("README.md")).unwrap();
+    let example = std::fs::read_to_string(crate::util::repo("examples/render_scene.rs")).unwrap();
+    let start = readme
+        .find("```rust\nlet camera")
+        .expect("the README shows the library example");
+    let code = readme[start..]
+        .lines()
+        .skip(1)
+        .take_while(|l| *l != "```")
+        .collect::<Vec<_>>();
+    assert!(code.len() > 20, "{code:?}");
+    // The example's body is indented once, inside `main`.
+    let body: Vec<String> = example
+        .lines()
+        .map(|l| l.strip_prefix("    ").unwrap_or(l).to_string())
+        .collect();
+    let at = body
+        .windows(code.len())
+        .position(|w| w.iter().zip(&code).all(|(a, b)| a == b));
+    assert!(
+        at.is_some(),
+        "README.md's rust block is not a run of examples/render_scene.rs's lines"
+    );
+}
+
 // The thesis's demo 2 view described by the IRIS model and by the textbook's
 // view system (VRP at the eye, VPN towards the look-at point, a window of
 // tan(27.5°) at view distance 1, front 0, back 1000): the images are identical.
