@@ -4,7 +4,8 @@
 #
 #   bench/memory.sh > bench/RESULTS-memory.md
 #
-# Peak RSS (bench/timing.py, one run each) of: an empty stream (the baseline),
+# Peak RSS (bench/timing.py: one run each, through GNU time, so the
+# process's own) of: an empty stream (the baseline),
 # the seeded random triangles of bench/random_triangles.py (200,000 and
 # 1,000,000, about four layers a pixel) at 1024x768, and one triangle at
 # 1024x1024, 4096x4096 and 16384x16384; bytes per triangle above the
@@ -23,7 +24,7 @@ peak() { python3 bench/timing.py --runs 1 --warmup 0 -- "$SR" "$@" -o "$WORK/out
 base=$(peak --size 1024x768 "$WORK/empty.ndjson")
 echo "# scene-render memory"
 echo
-echo "Run $(date -u '+%Y-%m-%d %H:%M UTC') at commit $(git rev-parse --short HEAD); peak RSS of one run each (bench/timing.py)."
+echo "Run $(date -u '+%Y-%m-%d %H:%M UTC') at commit $(git rev-parse --short HEAD); peak RSS of one run each (bench/timing.py, through GNU time)."
 echo
 echo "| input | --aa | peak MiB | bytes per triangle above the empty stream |"
 echo "|---|---|---:|---:|"
