@@ -151,9 +151,10 @@ pub fn tiles(width: u32, height: u32) -> Vec<[u32; 4]> {
 /// box meets it, in stream order: tile `i`'s are `bins[i]`.
 ///
 /// One list for all tiles, each tile's a range of it, sized by a first pass
-/// that counts: a list per tile, grown as it filled, held about twice its
-/// entries at a million triangles (4 bytes an entry), and that was the
-/// render's peak above the polygons themselves (bench/memory.sh).
+/// that counts: a list per tile, grown as it filled, held up to twice its
+/// entries (4 bytes each) in blocks scattered over the heap, 2.2 MB more at
+/// the peak of a million triangles (bench/memory.sh's input,
+/// `/usr/bin/time`).
 pub struct Bins {
     /// Where each tile's range starts in `entries`, and where the last ends.
     starts: Vec<usize>,
@@ -371,6 +372,39 @@ pub(crate) mod tests {
         assert_eq!("ss1".parse::<Aa>().unwrap(), Aa::None);
         for bad in ["ss3", "ss0", "ss", "ss512", "ssx", "fxaa"] {
             assert!(bad.parse::<Aa>().unwrap_err().contains(bad));
+        }
+    }
+
+    /// Each tile's bin holds, in stream order, the polygons whose pixel
+    /// box meets the tile, as asking every polygon of every tile says: on
+    /// frames whose sides are and are not whole tiles, with polygons inside,
+    /// across and partly off the frame.
+    #[test]
+    fn bins_hold_each_tiles_polygons_in_stream_order() {
+        let mut rng = scan::tests::Rng(3);
+        for (w, h) in [(100, 70), (64, 32), (1, 1), (33, 97)] {
+            let v = View::ortho2(0.0, w as f64, 0.0, h as f64, w, h);
+            let polys: Vec<ScreenPoly> = (0..300)
+                .filter_map(|i| {
+                    let (cx, cy) = (rng.next() * 1.4 - 0.2, rng.next() * 1.4 - 0.2);
+                    let r = rng.next() * 40.0;
+                    let pts = [[0.0, 0.0], [1.0, 0.1], [0.3, 1.0]]
+                        .map(|[x, y]| [cx * w as f64 + r * x, cy * h as f64 + r * y]);
+                    poly2(&v, &pts, Rgb8::WHITE, i)
+                })
+                .collect();
+            let bins = bin(&polys, w, h);
+            let tiles = tiles(w, h);
+            assert_eq!(bins.len(), tiles.len());
+            for (t, tile) in tiles.iter().enumerate() {
+                let want: Vec<u32> = (0..polys.len() as u32)
+                    .filter(|&i| {
+                        let b = polys[i as usize].bbox();
+                        b[0] < tile[2] && tile[0] < b[2] && b[1] < tile[3] && tile[1] < b[3]
+                    })
+                    .collect();
+                assert_eq!(&bins[t], &want[..], "{w}x{h}, tile {tile:?}");
+            }
         }
     }
 }
