@@ -246,11 +246,18 @@ pub fn for_each_item_in<R: BufRead, E: From<StreamError>>(
             // parallel (`parse_plain_batch`) and then handed on in order, one
             // by one, as a line at a time would: each line is parsed on its
             // own, so the records, their numbers and every error are the
-            // same, only the parsing is spread over the threads.
+            // same, only the parsing is spread over the threads. The next
+            // batch is read and parsed while this one is handed on: handing
+            // on is one thread's work, and parsing beside it rather than
+            // before it hides most of the parse. (A million triangles read
+            // in 0.62 s on one thread and 0.48 on two, so about 0.34 s of
+            // hand-over and 0.28 of parsing; read ahead, 0.35-0.43 s.)
             let mut batch = Batch::default();
+            let mut failed = batch.fill(&mut reader);
+            let mut typed = parse_plain_batch(&batch);
+            let mut next = Batch::default();
             let mut newlines = 0u64;
             loop {
-                let failed = batch.fill(&mut reader);
                 if batch.lines.is_empty() {
                     return match failed {
                         // serde_json words a read error as the error itself.
@@ -260,47 +267,108 @@ pub fn for_each_item_in<R: BufRead, E: From<StreamError>>(
                         None => Ok(()),
                     };
                 }
-                let typed = parse_plain_batch(&batch);
-                let views = typed.iter().flat_map(|run| {
-                    run.views
-                        .iter()
-                        .map(|v| v.as_ref().map(|v| (v, &run.verts)))
-                });
-                for (k, pre) in views.enumerate() {
-                    let (start, end) = batch.lines[k];
-                    let line = &batch.buf[start..end];
-                    let body = trim_json_whitespace(line);
-                    if !body.is_empty() {
-                        if let Some((view, verts)) = pre {
-                            let rec = view.record(verts, body, index);
-                            handle(Parsed::Item(Item::Record(rec)), &mut index)?;
-                        } else if let Ok(e) = serde_json::from_slice::<Element>(body) {
-                            handle(Parsed::Element(e), &mut index)?;
-                        } else {
-                            // The rest of the input from this line: the
-                            // batch's lines from here, then the reader.
-                            use std::io::Read as _;
-                            let rest = std::io::repeat(b'\n')
-                                .take(newlines)
-                                .chain(&batch.buf[start..])
-                                .chain(reader);
-                            let de =
-                                serde_json::Deserializer::from_reader(rest).into_iter::<Element>();
-                            for e in de {
-                                let e = e.map_err(|e| stream_err(Some(index), json_message(&e)))?;
-                                handle(Parsed::Element(e), &mut index)?;
-                            }
-                            return Ok(());
-                        }
+                // Nothing is read past a read error: it ends the stream.
+                let next_failed = match failed {
+                    None => next.fill(&mut reader),
+                    Some(_) => {
+                        next.clear();
+                        None
                     }
-                    if line.last() == Some(&b'\n') {
-                        newlines += 1;
+                };
+                let mut next_typed = Vec::new();
+                let handed = rayon::in_place_scope(|scope| {
+                    let next = &next;
+                    let next_typed = &mut next_typed;
+                    scope.spawn(move |_| *next_typed = parse_plain_batch(next));
+                    hand_on_batch(&batch, &typed, &mut newlines, &mut index, &mut handle)
+                });
+                match handed? {
+                    Handed::All => {}
+                    Handed::NotOneValueAt(start) => {
+                        // The rest of the input from that line: the batch's
+                        // lines from there, the next batch's, then the
+                        // reader (and a read error the next batch met).
+                        use std::io::Read as _;
+                        let rest = std::io::repeat(b'\n')
+                            .take(newlines)
+                            .chain(&batch.buf[start..])
+                            .chain(&next.buf[..])
+                            .chain(FailedRead(next_failed))
+                            .chain(reader);
+                        let de = serde_json::Deserializer::from_reader(rest).into_iter::<Element>();
+                        for e in de {
+                            let e = e.map_err(|e| stream_err(Some(index), json_message(&e)))?;
+                            handle(Parsed::Element(e), &mut index)?;
+                        }
+                        return Ok(());
                     }
                 }
                 if let Some(e) = failed {
                     return Err(stream_err(Some(index), format!("invalid JSON: {e}")).into());
                 }
+                std::mem::swap(&mut batch, &mut next);
+                typed = next_typed;
+                failed = next_failed;
             }
+        }
+    }
+}
+
+/// How far [`hand_on_batch`] got.
+enum Handed {
+    /// Every line of the batch.
+    All,
+    /// Up to the line that starts at this byte of the batch, which is not
+    /// one whole JSON value: the rest of the input goes to serde_json's
+    /// stream reader from there.
+    NotOneValueAt(usize),
+}
+
+/// Hands on each line of `batch` in order: its typed view from `typed`
+/// ([`parse_plain_batch`]) if it is a plain polygon record, else the JSON
+/// value the line holds. `newlines` counts the lines handed on.
+fn hand_on_batch<E>(
+    batch: &Batch,
+    typed: &[PlainRun],
+    newlines: &mut u64,
+    index: &mut usize,
+    handle: &mut impl FnMut(Parsed, &mut usize) -> Result<(), E>,
+) -> Result<Handed, E> {
+    let views = typed.iter().flat_map(|run| {
+        run.views
+            .iter()
+            .map(|v| v.as_ref().map(|v| (v, &run.verts)))
+    });
+    for (k, pre) in views.enumerate() {
+        let (start, end) = batch.lines[k];
+        let line = &batch.buf[start..end];
+        let body = trim_json_whitespace(line);
+        if !body.is_empty() {
+            if let Some((view, verts)) = pre {
+                let rec = view.record(verts, body, *index);
+                handle(Parsed::Item(Item::Record(rec)), index)?;
+            } else if let Ok(e) = serde_json::from_slice::<Element>(body) {
+                handle(Parsed::Element(e), index)?;
+            } else {
+                return Ok(Handed::NotOneValueAt(start));
+            }
+        }
+        if line.last() == Some(&b'\n') {
+            *newlines += 1;
+        }
+    }
+    Ok(Handed::All)
+}
+
+/// A reader that fails with the read error it holds (once), or is empty:
+/// the read error the next batch met, in its place in the input.
+struct FailedRead(Option<std::io::Error>);
+
+impl std::io::Read for FailedRead {
+    fn read(&mut self, _: &mut [u8]) -> std::io::Result<usize> {
+        match self.0.take() {
+            Some(e) => Err(e),
+            None => Ok(0),
         }
     }
 }
@@ -321,11 +389,16 @@ struct Batch {
 }
 
 impl Batch {
+    /// Empties the batch.
+    fn clear(&mut self) {
+        self.buf.clear();
+        self.lines.clear();
+    }
+
     /// Reads the next batch; a read error ends it early and is returned
     /// after the lines read before it.
     fn fill(&mut self, reader: &mut impl BufRead) -> Option<std::io::Error> {
-        self.buf.clear();
-        self.lines.clear();
+        self.clear();
         while self.buf.len() < BATCH_BYTES && self.lines.len() < BATCH_LINES {
             let start = self.buf.len();
             match reader.read_until(b'\n', &mut self.buf) {
@@ -562,6 +635,80 @@ mod tests {
             err(&broken),
             format!("s.json: record {}: {}", elements + 2, json_message(&whole))
         );
+    }
+
+    /// A value spread over lines in the first batch, while the second is
+    /// already read and parsed: the rest of the input (the first batch from
+    /// that line, the second, the reader) goes to the stream reader whole,
+    /// and every record comes as a line at a time would give it.
+    #[test]
+    fn a_spread_value_early_hands_on_the_batch_read_ahead_too() {
+        let plain =
+            |k: usize| format!("{{\"vertices\":[[0,0],[1,0],[0,{k}]],\"color\":[1,2,3]}}\n");
+        let mut text: String = (1..=100).map(plain).collect();
+        text += "{\"rect\":[0,0,1,1],\n \"color\":[4,5,6]}\n";
+        text.extend((101..=2 * BATCH_LINES + 50).map(plain));
+        let records = read_all(&text).unwrap();
+        assert_eq!(records.len(), 2 * BATCH_LINES + 51);
+        assert_eq!(records[100].color, Some(crate::color::Rgb8([4, 5, 6])));
+        for (i, r) in records.iter().enumerate() {
+            assert_eq!(r.index, i);
+            if let Shape::Polygon(v) = &r.shape {
+                let k = if i < 100 { i + 1 } else { i };
+                assert_eq!(v[2].y, k as f64, "record {i}");
+            }
+        }
+    }
+
+    /// A reader that fails after its text: the error comes after every
+    /// record before it, numbered as the next record, whether the failing
+    /// batch was read ahead of lines still handed on one by one or of a
+    /// value spread over lines.
+    #[test]
+    fn a_read_error_in_the_batch_read_ahead_comes_after_the_records_before_it() {
+        /// Its text, then one error, then the end: an error read again
+        /// would hide one that was dropped.
+        struct Failing<'a>(&'a [u8], bool);
+        impl std::io::Read for Failing<'_> {
+            fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+                if self.0.is_empty() {
+                    return match std::mem::replace(&mut self.1, true) {
+                        false => Err(std::io::Error::other("the disk is gone")),
+                        true => Ok(0),
+                    };
+                }
+                let n = out.len().min(self.0.len()).min(4096);
+                out[..n].copy_from_slice(&self.0[..n]);
+                self.0 = &self.0[n..];
+                Ok(n)
+            }
+        }
+        let plain =
+            |k: usize| format!("{{\"vertices\":[[0,0],[1,0],[0,{k}]],\"color\":[1,2,3]}}\n");
+        let lines: String = (1..=BATCH_LINES + 300).map(plain).collect();
+        let spread = format!(
+            "{}{{\"rect\":[0,0,1,1],\n \"color\":[4,5,6]}}\n{}",
+            plain(1),
+            lines
+        );
+        for text in [lines.clone(), spread] {
+            let mut n = 0;
+            let e = for_each_record(
+                std::io::BufReader::new(Failing(text.as_bytes(), false)),
+                "s.json",
+                |_| {
+                    n += 1;
+                    Ok::<(), StreamError>(())
+                },
+            )
+            .unwrap_err();
+            let records = text.matches("\"color\"").count();
+            assert_eq!(n, records);
+            assert_eq!(
+                e.to_string(),
+                format!("s.json: record {records}: invalid JSON: the disk is gone")
+            );
+        }
     }
 
     #[test]
