@@ -8,7 +8,7 @@
   project) on seeded random triangles (bench/random_triangles.py, 100k and
   1M) and on polyfill3's streams of demo 2's faces at incr 0.5 and 0.25, at a
   16x12 frame for the triangles (nothing to render) and 1024x768 for demo 2;
-  MB/s of NDJSON read. Median of 3 after a warm-up.
+  MB/s of NDJSON read. Median of 5 after a warm-up, the builds taking turns.
 - Writing: polyfill3 alone, output discarded (bench/timing.py); MB/s written.
 - The pipeline `polyfill3 | scene-render` against scene-render texturing the
   same faces directly (bench/timing.py, whole process), and the ratio.
@@ -30,14 +30,21 @@ def median(xs):
     return xs[len(xs) // 2]
 
 
-def read_phase(sr, args):
-    cmd = [sr, "--timings"] + args
-    subprocess.run(cmd, check=True, capture_output=True)
-    times = []
-    for _ in range(3):
-        err = subprocess.run(cmd, check=True, capture_output=True, text=True).stderr
-        times.append(float(re.search(r"read ([0-9.]+) s", err).group(1)))
-    return median(times)
+def read_phases(srs, args, runs=5):
+    """The median read phase (--timings) of each scene-render in `srs` on
+    `args`, over `runs` rounds after a warm-up; the builds take turns in each
+    round, so that a slow spell of this shared machine falls on both (the
+    medians of 3 runs of one build, then of the other, moved by 10-20% from
+    one run of this script to the next)."""
+    cmds = [[sr, "--timings"] + args for sr in srs]
+    for cmd in cmds:
+        subprocess.run(cmd, check=True, capture_output=True)
+    times = [[] for _ in cmds]
+    for _ in range(runs):
+        for cmd, ts in zip(cmds, times):
+            err = subprocess.run(cmd, check=True, capture_output=True, text=True).stderr
+            ts.append(float(re.search(r"read ([0-9.]+) s", err).group(1)))
+    return [median(ts) for ts in times]
 
 
 def main():
@@ -72,8 +79,9 @@ def main():
     for name, path, args in inputs:
         mb = os.path.getsize(path) / 1e6
         cells = []
-        for b, d in builds:
-            t = read_phase(os.path.join(d, "scene-render"), args + [path, "-o", os.path.join(work, "out.png")])
+        srs = [os.path.join(d, "scene-render") for _, d in builds]
+        ts = read_phases(srs, args + [path, "-o", os.path.join(work, "out.png")])
+        for (b, _), t in zip(builds, ts):
             read_times[(name, b)] = (mb, t)
             cells.append(f"{t:.3f} | {mb / t:.0f}")
         print(f"| {name} | {mb:.0f} | " + " | ".join(cells) + " |")
