@@ -3,7 +3,7 @@
 //! apart, words JSON syntax errors with their positions in the whole input,
 //! and hands each element to the record and object parsers; plain polygon
 //! lines take the fast path ([`super::plain`]), a batch of lines at a time
-//! in parallel.
+//! in parallel, the next batch read and parsed while one is handed on.
 
 use super::fields::Element;
 use super::objects::{Instance, Item, Objects};
@@ -20,7 +20,8 @@ use std::io::BufRead;
 /// transform (see [`Objects`]); a tool that must keep objects intact uses
 /// [`for_each_item`] instead. Stops at the first error, which names the input
 /// and the record. Memory stays bounded by the largest single record plus the
-/// object definitions.
+/// object definitions (and, for NDJSON, two batches of lines, each ending at
+/// the line that takes it past 2 MiB, or at 8,192 lines).
 ///
 /// `each` may fail with an error of its own type `E`, which ends the reading
 /// and comes back unchanged; the stream's own errors come back as `E` too.
