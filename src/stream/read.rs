@@ -287,14 +287,15 @@ pub fn for_each_item_in<R: BufRead, E: From<StreamError>>(
                     Handed::All => {}
                     Handed::NotOneValueAt(start) => {
                         // The rest of the input from that line: the batch's
-                        // lines from there, the next batch's, then the
-                        // reader (and a read error the next batch met).
+                        // bytes from there, the next batch's, then the read
+                        // error either met (one at most: nothing is read
+                        // after one), then the reader.
                         use std::io::Read as _;
                         let rest = std::io::repeat(b'\n')
                             .take(newlines)
                             .chain(&batch.buf[start..])
                             .chain(&next.buf[..])
-                            .chain(FailedRead(next_failed))
+                            .chain(FailedRead(failed.or(next_failed)))
                             .chain(reader);
                         let de = serde_json::Deserializer::from_reader(rest).into_iter::<Element>();
                         for e in de {
@@ -397,7 +398,10 @@ impl Batch {
     }
 
     /// Reads the next batch; a read error ends it early and is returned
-    /// after the lines read before it.
+    /// after the lines read before it. The bytes of the line it cut short
+    /// stay in `buf`, after the last line: a value spread over lines before
+    /// it reads them, as serde's stream reader would have, before the error
+    /// (with its position; dropped, a whole last record went missing too).
     fn fill(&mut self, reader: &mut impl BufRead) -> Option<std::io::Error> {
         self.clear();
         while self.buf.len() < BATCH_BYTES && self.lines.len() < BATCH_LINES {
@@ -405,10 +409,7 @@ impl Batch {
             match reader.read_until(b'\n', &mut self.buf) {
                 Ok(0) => break,
                 Ok(_) => self.lines.push((start, self.buf.len())),
-                Err(e) => {
-                    self.buf.truncate(start);
-                    return Some(e);
-                }
+                Err(e) => return Some(e),
             }
         }
         None
@@ -709,6 +710,71 @@ mod tests {
                 e.to_string(),
                 format!("s.json: record {records}: invalid JSON: the disk is gone")
             );
+        }
+    }
+
+    /// A read error in the middle of a line, after a value spread over
+    /// lines (so the rest of the input goes to serde's stream reader): in
+    /// the batch read ahead and in the spread value's own batch, the bytes
+    /// before the error are read, and the error comes where serde's stream
+    /// reader over the whole input puts it, record number and position. A
+    /// review found the batch read ahead dropping the cut line (the
+    /// position went, or a record), and the spread value's own batch
+    /// ending the stream without the error, exit status 0.
+    #[test]
+    fn a_read_error_mid_line_after_a_spread_value_comes_where_serde_puts_it() {
+        /// `text[..cut]`, then one error, then the end.
+        struct Cut<'a>(&'a [u8], bool);
+        impl std::io::Read for Cut<'_> {
+            fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+                if self.0.is_empty() {
+                    return match std::mem::replace(&mut self.1, true) {
+                        false => Err(std::io::Error::other("the disk is gone")),
+                        true => Ok(0),
+                    };
+                }
+                let n = out.len().min(self.0.len()).min(4096);
+                out[..n].copy_from_slice(&self.0[..n]);
+                self.0 = &self.0[n..];
+                Ok(n)
+            }
+        }
+        let plain =
+            |k: usize| format!("{{\"vertices\":[[0,0],[1,0],[0,{k}]],\"color\":[1,2,3]}}\n");
+        let mut text: String = (1..=3).map(plain).collect();
+        text += "{\"rect\":[0,0,1,1],\n \"color\":[4,5,6]}\n";
+        text.extend((4..=BATCH_LINES + 300).map(plain));
+        let line_start = |k: usize| text.match_indices('\n').nth(k - 1).unwrap().0 + 1;
+        // In the spread value's batch, then in the next: inside a line,
+        // and with all of a line but its newline.
+        for (cut, mid_value) in [
+            (line_start(100) + 10, true),
+            (line_start(BATCH_LINES + 50) + 10, true),
+            (line_start(BATCH_LINES + 51) - 1, false),
+        ] {
+            let bytes = &text.as_bytes()[..cut];
+            let mut n = 0;
+            let e = for_each_record(std::io::BufReader::new(Cut(bytes, false)), "s.json", |_| {
+                n += 1;
+                Ok::<(), StreamError>(())
+            })
+            .unwrap_err();
+            let mut values = serde_json::Deserializer::from_reader(Cut(bytes, false))
+                .into_iter::<serde_json::Value>();
+            let ok = values.by_ref().take_while(Result::is_ok).count();
+            let want = serde_json::Deserializer::from_reader(Cut(bytes, false))
+                .into_iter::<serde_json::Value>()
+                .nth(ok)
+                .unwrap()
+                .unwrap_err();
+            assert_eq!(n, ok, "cut at {cut}");
+            assert_eq!(
+                e.to_string(),
+                format!("s.json: record {ok}: {}", json_message(&want)),
+                "cut at {cut}"
+            );
+            // Inside a value serde says where; between values it cannot.
+            assert_eq!(e.to_string().contains(" at line "), mid_value, "{e}");
         }
     }
 
