@@ -491,7 +491,7 @@ pub fn render_bin_counted(
         // 8% slower than with the boxes kept in the polygons).
         let mut boxed = std::mem::take(&mut s.boxed_bin);
         boxed.clear();
-        boxed.extend(bin.iter().map(|&pi| (pi, polys[pi as usize].bbox())));
+        boxed.extend(super::boxed(polys, bin));
         let side = sweep_side(&boxed, tile);
         if side >= tile[2] - tile[0] {
             g.gather(polys, &boxed, tile, tie_floor);
@@ -975,7 +975,7 @@ mod sweep {
             let floor = super::super::tie_floor(&v);
             let bin: Vec<u32> = (0..polys.len() as u32).collect();
             let tile = [0, 0, 32, 32];
-            let boxed = super::super::gather::boxed(&polys, &bin);
+            let boxed: Vec<_> = super::super::boxed(&polys, &bin).collect();
             assert_eq!(sweep_side(&boxed, tile), side);
             let (squares, _) = render_bin_counted(&polys, &bin, &bg, tile, floor);
             let mut g = TileGeom::default();
@@ -998,7 +998,7 @@ mod sweep {
             0,
         )
         .unwrap();
-        let boxed = super::super::gather::boxed(std::slice::from_ref(&big), &[0]);
+        let boxed: Vec<_> = super::super::boxed(std::slice::from_ref(&big), &[0]).collect();
         assert_eq!(sweep_side(&boxed, [0, 0, 32, 32]), 32);
     }
 

@@ -119,14 +119,6 @@ fn nearest_in(plane: &[f64; 3], bbox: [u32; 4], tile: [u32; 4]) -> f64 {
     c + (a * x[0]).max(a * x[1]) + (b * y[0]).max(b * y[1])
 }
 
-/// A bin ([`super::Bins`]) with each polygon's pixel box, as
-/// [`TileGeom::gather`] takes it.
-pub fn boxed(polys: &[ScreenPoly], bin: &[u32]) -> Vec<(u32, [u32; 4])> {
-    bin.iter()
-        .map(|&pi| (pi, polys[pi as usize].bbox()))
-        .collect()
-}
-
 impl TileGeom {
     /// Appends polygon `pi` of `polys`.
     fn push(&mut self, polys: &[ScreenPoly], pi: u32, tie_floor: f64) {
@@ -173,7 +165,8 @@ impl TileGeom {
     /// box in the tile; on a tie the later polygon first, as the tie rule
     /// decides; then the stream, so that the order is total. (Gathering in
     /// stream order and sorting the copy measured 1.07x slower.) `boxed`
-    /// is the bin with each polygon's [`ScreenPoly::bbox`] ([`boxed`]); the
+    /// is the bin with each polygon's [`ScreenPoly::bbox`]
+    /// ([`super::boxed`]); the
     /// polygons were projected with the tie floor `tie_floor`
     /// ([`super::tie_floor`]).
     pub fn gather(
@@ -241,7 +234,8 @@ mod tests {
         ];
         let floor = super::super::tie_floor(&v);
         let mut g = TileGeom::default();
-        g.gather(&polys, &boxed(&polys, &[0, 1]), [0, 0, 200, 200], floor);
+        let boxed: Vec<_> = super::super::boxed(&polys, &[0, 1]).collect();
+        g.gather(&polys, &boxed, [0, 0, 200, 200], floor);
         assert_eq!(g.verts.len(), 3, "only the triangle is copied");
         for r in &g.pieces {
             let whole = polys[g.locals[r.local as usize].global as usize].piece(0);
@@ -249,8 +243,9 @@ mod tests {
         }
         let bins = super::super::bin(&polys, 200, 200);
         let tiles = super::super::tiles(200, 200);
-        for (t, bin) in bins.iter().enumerate() {
-            g.gather(&polys, &boxed(&polys, bin), tiles[t], floor);
+        for (t, tile) in tiles.iter().enumerate() {
+            let boxed: Vec<_> = super::super::boxed(&polys, &bins[t]).collect();
+            g.gather(&polys, &boxed, *tile, floor);
             for r in &g.pieces {
                 let whole = polys[g.locals[r.local as usize].global as usize].piece(0);
                 assert_eq!(g.piece(&polys, r), whole, "tile {t}");

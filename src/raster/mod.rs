@@ -179,11 +179,16 @@ impl Bins {
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
+}
 
-    /// Each tile's polygons, in the order of [`tiles`].
-    pub fn iter(&self) -> impl Iterator<Item = &[u32]> {
-        (0..self.len()).map(|i| &self[i])
-    }
+/// The polygons of `bin` (a tile's, [`Bins`]) each with its pixel box
+/// ([`ScreenPoly::bbox`]), worked out once for a tile that reads them more
+/// than once.
+pub fn boxed<'a>(
+    polys: &'a [ScreenPoly],
+    bin: &'a [u32],
+) -> impl Iterator<Item = (u32, [u32; 4])> + 'a {
+    bin.iter().map(|&pi| (pi, polys[pi as usize].bbox()))
 }
 
 /// Bins the polygons into the tiles of a `width x height` frame ([`Bins`]).

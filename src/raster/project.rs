@@ -177,13 +177,7 @@ impl ScreenPoly {
     /// polygon were 16 of its bytes, and a frame holds every polygon at once
     /// (bench/memory.sh); a triangle's box is a few compares.
     pub fn bbox(&self) -> [u32; 4] {
-        let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
-        for v in &self.verts {
-            x0 = x0.min(v.x);
-            y0 = y0.min(v.y);
-            x1 = x1.max(v.x);
-            y1 = y1.max(v.y);
-        }
+        let [x0, y0, x1, y1] = super::visible::bounds(&self.verts);
         // `as` saturates: a vertex beyond u32 pixels is cut by the tile.
         [x0.floor(), y0.floor(), x1.ceil(), y1.ceil()].map(|c| c.max(0.0) as u32)
     }

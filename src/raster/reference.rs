@@ -209,11 +209,11 @@ fn render_tile(
     let mut errs = Vec::new();
     let mut cands: Vec<u32> = Vec::new();
     let mut line = LineScratch::default();
-    let boxes: Vec<[u32; 4]> = bin.iter().map(|&i| polys[i as usize].bbox()).collect();
+    let boxed: Vec<_> = super::boxed(polys, bin).collect();
     for py in ty0..ty1 {
         for px in tx0..tx1 {
             cands.clear();
-            cands.extend(bin.iter().zip(&boxes).filter_map(|(&i, b)| {
+            cands.extend(boxed.iter().filter_map(|&(i, b)| {
                 let p = &polys[i as usize];
                 // Transparent texels of a screen-mode pattern: absent here.
                 let here = px >= b[0] && px < b[2] && py >= b[1] && py < b[3];
