@@ -607,10 +607,7 @@ mod tests {
             if k % 7 == 3 {
                 text += &format!("{{\"rect\":[0,0,1,1],\"color\":[1,2,3],\"n\":{elements}}}\n");
             } else {
-                text += &format!(
-                    "{{\"vertices\":[[0,0],[1,0],[0,{}]],\"color\":[1,2,3]}}\n",
-                    elements + 1
-                );
+                text += &plain_line(elements + 1);
             }
             elements += 1;
         }
@@ -645,11 +642,9 @@ mod tests {
     /// and every record comes as a line at a time would give it.
     #[test]
     fn a_spread_value_early_hands_on_the_batch_read_ahead_too() {
-        let plain =
-            |k: usize| format!("{{\"vertices\":[[0,0],[1,0],[0,{k}]],\"color\":[1,2,3]}}\n");
-        let mut text: String = (1..=100).map(plain).collect();
+        let mut text: String = (1..=100).map(plain_line).collect();
         text += "{\"rect\":[0,0,1,1],\n \"color\":[4,5,6]}\n";
-        text.extend((101..=2 * BATCH_LINES + 50).map(plain));
+        text.extend((101..=2 * BATCH_LINES + 50).map(plain_line));
         let records = read_all(&text).unwrap();
         assert_eq!(records.len(), 2 * BATCH_LINES + 51);
         assert_eq!(records[100].color, Some(crate::color::Rgb8([4, 5, 6])));
@@ -662,53 +657,63 @@ mod tests {
         }
     }
 
+    /// A plain polygon line, its third vertex at height `k`.
+    fn plain_line(k: usize) -> String {
+        format!("{{\"vertices\":[[0,0],[1,0],[0,{k}]],\"color\":[1,2,3]}}\n")
+    }
+
+    /// A reader of `bytes`, then one error, then the end: an error read
+    /// again would hide one that was dropped.
+    struct FailsAfter<'a>(&'a [u8], bool);
+
+    impl std::io::Read for FailsAfter<'_> {
+        fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+            if self.0.is_empty() {
+                return match std::mem::replace(&mut self.1, true) {
+                    false => Err(std::io::Error::other("the disk is gone")),
+                    true => Ok(0),
+                };
+            }
+            let n = out.len().min(self.0.len()).min(4096);
+            out[..n].copy_from_slice(&self.0[..n]);
+            self.0 = &self.0[n..];
+            Ok(n)
+        }
+    }
+
+    /// How many records the reader hands on from `bytes` read through
+    /// [`FailsAfter`], and the error it ends with.
+    fn records_then_error(bytes: &[u8]) -> (usize, String) {
+        let mut n = 0;
+        let reader = std::io::BufReader::new(FailsAfter(bytes, false));
+        let e = for_each_record(reader, "s.json", |_| {
+            n += 1;
+            Ok::<(), StreamError>(())
+        })
+        .unwrap_err();
+        (n, e.to_string())
+    }
+
     /// A reader that fails after its text: the error comes after every
     /// record before it, numbered as the next record, whether the failing
     /// batch was read ahead of lines still handed on one by one or of a
     /// value spread over lines.
     #[test]
     fn a_read_error_in_the_batch_read_ahead_comes_after_the_records_before_it() {
-        /// Its text, then one error, then the end: an error read again
-        /// would hide one that was dropped.
-        struct Failing<'a>(&'a [u8], bool);
-        impl std::io::Read for Failing<'_> {
-            fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
-                if self.0.is_empty() {
-                    return match std::mem::replace(&mut self.1, true) {
-                        false => Err(std::io::Error::other("the disk is gone")),
-                        true => Ok(0),
-                    };
-                }
-                let n = out.len().min(self.0.len()).min(4096);
-                out[..n].copy_from_slice(&self.0[..n]);
-                self.0 = &self.0[n..];
-                Ok(n)
-            }
-        }
-        let plain =
-            |k: usize| format!("{{\"vertices\":[[0,0],[1,0],[0,{k}]],\"color\":[1,2,3]}}\n");
-        let lines: String = (1..=BATCH_LINES + 300).map(plain).collect();
+        let lines: String = (1..=BATCH_LINES + 300).map(plain_line).collect();
         let spread = format!(
             "{}{{\"rect\":[0,0,1,1],\n \"color\":[4,5,6]}}\n{}",
-            plain(1),
+            plain_line(1),
             lines
         );
         for text in [lines.clone(), spread] {
-            let mut n = 0;
-            let e = for_each_record(
-                std::io::BufReader::new(Failing(text.as_bytes(), false)),
-                "s.json",
-                |_| {
-                    n += 1;
-                    Ok::<(), StreamError>(())
-                },
-            )
-            .unwrap_err();
             let records = text.matches("\"color\"").count();
-            assert_eq!(n, records);
             assert_eq!(
-                e.to_string(),
-                format!("s.json: record {records}: invalid JSON: the disk is gone")
+                records_then_error(text.as_bytes()),
+                (
+                    records,
+                    format!("s.json: record {records}: invalid JSON: the disk is gone")
+                )
             );
         }
     }
@@ -723,27 +728,9 @@ mod tests {
     /// ending the stream without the error, exit status 0.
     #[test]
     fn a_read_error_mid_line_after_a_spread_value_comes_where_serde_puts_it() {
-        /// `text[..cut]`, then one error, then the end.
-        struct Cut<'a>(&'a [u8], bool);
-        impl std::io::Read for Cut<'_> {
-            fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
-                if self.0.is_empty() {
-                    return match std::mem::replace(&mut self.1, true) {
-                        false => Err(std::io::Error::other("the disk is gone")),
-                        true => Ok(0),
-                    };
-                }
-                let n = out.len().min(self.0.len()).min(4096);
-                out[..n].copy_from_slice(&self.0[..n]);
-                self.0 = &self.0[n..];
-                Ok(n)
-            }
-        }
-        let plain =
-            |k: usize| format!("{{\"vertices\":[[0,0],[1,0],[0,{k}]],\"color\":[1,2,3]}}\n");
-        let mut text: String = (1..=3).map(plain).collect();
+        let mut text: String = (1..=3).map(plain_line).collect();
         text += "{\"rect\":[0,0,1,1],\n \"color\":[4,5,6]}\n";
-        text.extend((4..=BATCH_LINES + 300).map(plain));
+        text.extend((4..=BATCH_LINES + 300).map(plain_line));
         let line_start = |k: usize| text.match_indices('\n').nth(k - 1).unwrap().0 + 1;
         // In the spread value's batch, then in the next: inside a line,
         // and with all of a line but its newline.
@@ -753,28 +740,24 @@ mod tests {
             (line_start(BATCH_LINES + 51) - 1, false),
         ] {
             let bytes = &text.as_bytes()[..cut];
-            let mut n = 0;
-            let e = for_each_record(std::io::BufReader::new(Cut(bytes, false)), "s.json", |_| {
-                n += 1;
-                Ok::<(), StreamError>(())
-            })
-            .unwrap_err();
-            let mut values = serde_json::Deserializer::from_reader(Cut(bytes, false))
+            let mut values = serde_json::Deserializer::from_reader(FailsAfter(bytes, false))
                 .into_iter::<serde_json::Value>();
-            let ok = values.by_ref().take_while(Result::is_ok).count();
-            let want = serde_json::Deserializer::from_reader(Cut(bytes, false))
-                .into_iter::<serde_json::Value>()
-                .nth(ok)
-                .unwrap()
-                .unwrap_err();
+            let mut ok = 0;
+            let want = loop {
+                match values.next().expect("the reader fails") {
+                    Ok(_) => ok += 1,
+                    Err(e) => break e,
+                }
+            };
+            let (n, e) = records_then_error(bytes);
             assert_eq!(n, ok, "cut at {cut}");
             assert_eq!(
-                e.to_string(),
+                e,
                 format!("s.json: record {ok}: {}", json_message(&want)),
                 "cut at {cut}"
             );
             // Inside a value serde says where; between values it cannot.
-            assert_eq!(e.to_string().contains(" at line "), mid_value, "{e}");
+            assert_eq!(e.contains(" at line "), mid_value, "{e}");
         }
     }
 
