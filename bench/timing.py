@@ -37,21 +37,26 @@ def run_once(cmd, stdin=None, gnu_time=False):
     """Wall seconds and peak resident KB of one run of `cmd`; with
     `gnu_time`, the peak is GNU time's and the wall time includes its fork."""
     inp = open(stdin, "rb") if stdin else subprocess.DEVNULL
-    fd, peak_file = tempfile.mkstemp(prefix="timing-")
-    os.close(fd)
-    launch = [GNU_TIME, "-f", "%M", "-o", peak_file, *cmd] if gnu_time else cmd
+    peak_file = None
+    launch = cmd
+    if gnu_time:
+        fd, peak_file = tempfile.mkstemp(prefix="timing-")
+        os.close(fd)
+        launch = [GNU_TIME, "-f", "%M", "-o", peak_file, *cmd]
     try:
         start = time.perf_counter()
         proc = subprocess.Popen(launch, stdin=inp, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         err = proc.stderr.read()
         _, status, usage = os.wait4(proc.pid, 0)
         wall = time.perf_counter() - start
-        # GNU time's last line is the peak (a failure adds a line before it).
-        with open(peak_file) as f:
-            words = f.read().split()
-        peak = int(words[-1]) if gnu_time and words else usage.ru_maxrss
+        peak = usage.ru_maxrss
+        if peak_file:
+            # GNU time's last line is the peak (a failure adds one before it).
+            with open(peak_file) as f:
+                peak = int(f.read().split()[-1])
     finally:
-        os.unlink(peak_file)
+        if peak_file:
+            os.unlink(peak_file)
         if stdin:
             inp.close()
     code = os.waitstatus_to_exitcode(status)
