@@ -487,8 +487,9 @@ pub fn render_bin_counted(
         let estimated = |s: &TileScratch| s.tex.cells.estimated + s.resolve.texels.estimated;
         let before = estimated(s);
         // Each polygon's box once a tile: a deep tile's squares read them
-        // again and again (recomputed there, 20-pixel triangles rendered
-        // 8% slower than with the boxes kept in the polygons).
+        // again and again (recomputed there, random triangles rendered
+        // 5-8% slower than with the boxes kept in the polygons:
+        // bench/same_images.sh's timings, one run each).
         let mut boxed = std::mem::take(&mut s.boxed_bin);
         boxed.clear();
         boxed.extend(super::boxed(polys, bin));

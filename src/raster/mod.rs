@@ -152,9 +152,9 @@ pub fn tiles(width: u32, height: u32) -> Vec<[u32; 4]> {
 ///
 /// One list for all tiles, each tile's a range of it, sized by a first pass
 /// that counts: a list per tile, grown as it filled, held up to twice its
-/// entries (4 bytes each) in blocks scattered over the heap, 2.2 MB more at
-/// the peak of a million triangles (bench/memory.sh's input,
-/// `/usr/bin/time`).
+/// entries (4 bytes each) in blocks scattered over the heap: 2.2 MB more at
+/// the peak of a million triangles (bench/memory.sh's input, `/usr/bin/time`,
+/// one run each; runs of one build spread by about 1 MB).
 pub struct Bins {
     /// Where each tile's range starts in `entries`, and where the last ends.
     starts: Vec<usize>,
