@@ -12,14 +12,15 @@
 //!    `q_G - q_F > 0`): a convex polygon. The visible part of F is F minus the
 //!    union of those pieces over every other G, by convex subtraction (the
 //!    remainder stays a list of convex polygons): exact for interpenetrating
-//!    polygons too (`raster::visible::subtract_pairwise`).
+//!    polygons too (the tests' oracle, `raster::visible::subtract_pairwise`).
 //! 3. **Tile sweep.** The same areas, found front to back: the tile's
 //!    polygons come nearest first (a deep tile's square by square,
 //!    `DEEP_TILES`), and each fragment is cut out of its
 //!    pixel's uncovered part as it is made, its visible area being what it
 //!    removed (`raster::visible::PixelStates`). That holds where no fragment is in front of
-//!    one that showed before it, which is checked; a pixel where the check
-//!    fails is resolved again pairwise. A covered pixel drops what comes
+//!    one that showed before it, which is checked; where the check fails the
+//!    newcomer takes from each shower its part in front of it (it
+//!    *overtakes*). A covered pixel drops what comes
 //!    behind everything that showed in it before it is clipped, and a pixel
 //!    row wholly behind is never cut from its piece.
 //!
@@ -536,8 +537,8 @@ pub fn render_bin_counted(
 ///
 /// The sweep takes pieces nearest first by their greatest nearness over
 /// what it sweeps; over a smaller square that bound is closer to each
-/// pixel's own order, so fewer fragments arrive out of order (each a
-/// pairwise re-resolve of its pixel) and more are dropped as hidden before
+/// pixel's own order, so fewer fragments arrive out of order (each one
+/// overtaking, which cuts the pixel's map) and more are dropped as hidden before
 /// they are cut. But a piece is cut into rows once per square it meets, so
 /// a shallow tile of large polygons loses by it, and a large polygon's
 /// piece (read in place and clipped to the square) would be clipped once
@@ -598,7 +599,7 @@ fn boxes_meet(a: &[u32; 4], b: &[u32; 4]) -> bool {
 /// is clipped, and a pixel row wholly behind is never cut from its piece.
 /// At depth (ten layers of small triangles) most fragments die there.
 /// Pixels where that order does not hold (polygons crossing inside the
-/// pixel, or met out of order) are resolved again by pairwise subtraction.
+/// pixel, or met out of order) the newcomer overtakes what it is in front of.
 fn render_tile(
     polys: &[ScreenPoly],
     geom: &TileGeom,
@@ -899,7 +900,7 @@ mod ties {
 /// against the independent reference.
 #[cfg(test)]
 mod sweep {
-    use super::super::visible::subtract_pairwise;
+    use super::super::visible::{subtract_pairwise, Pairwise};
     use super::super::{project, reference, render, Aa, Cull};
     use super::*;
     use crate::color::Rgb8;
@@ -943,7 +944,7 @@ mod sweep {
     }
 
     /// Ten layers of small triangles, flat and crossing: `--aa exact`
-    /// (the tile sweep, its drops, and pairwise subtraction where its order
+    /// (the tile sweep, its drops, and its overtaking where its order
     /// fails) against the reference, which shares none of that code.
     #[test]
     fn deep_random_scenes_match_the_reference() {
@@ -1048,7 +1049,7 @@ mod sweep {
 
     /// Sweeps `frags` into one pixel in the order `order`, fragment `k`
     /// coloured `colors[k]`: the pixel's colour (linear, before the
-    /// background) and covered area, and how often it was resolved again.
+    /// background) and covered area, and how many fragments overtook.
     fn swept(
         locals: &[Local],
         frags: &[Frag],
@@ -1068,13 +1069,13 @@ mod sweep {
         for &k in order {
             pixels.sweep(&frags[k], (0, 0), None, &shown, &mut work);
         }
-        (pixels.acc[0], pixels.resolved_again)
+        (pixels.acc[0], pixels.overtaken)
     }
 
     proptest! {
         /// The tile sweep gives each pixel the colour and covered area that
         /// pairwise subtraction gives, whatever order its fragments come
-        /// in; nearest first over flat layers, it never resolves again.
+        /// in; nearest first over flat layers, no fragment overtakes.
         #[test]
         fn the_tile_sweep_agrees_with_pairwise_subtraction_in_any_order(
             tris in proptest::collection::vec(
@@ -1101,7 +1102,7 @@ mod sweep {
                 f.color = k as u32;
             }
             let square = super::pixel_square(0, 0);
-            let mut s = Scratch::default();
+            let mut s = Pairwise::default();
             s.qc.extend(frags.iter().map(|f| locals[f.poly as usize].q(0.5, 0.5)));
             s.alive.resize(frags.len(), true);
             subtract_pairwise(&locals, &frags, &arena, &square, &mut s);
@@ -1127,7 +1128,7 @@ mod sweep {
             for ch in 0..4 {
                 prop_assert!((got[ch] - want[ch]).abs() <= 1e-9, "nearest first: {got:?} against {want:?}");
             }
-            prop_assert!(again == 0 || !all_flat, "flat layers resolved again {again} times");
+            prop_assert!(again == 0 || !all_flat, "{again} fragments of flat layers overtook");
         }
     }
 }

@@ -1,8 +1,8 @@
 //! Visibility within one pixel, for `--aa exact` ([`super::coverage`]):
-//! the tile sweep's state of each pixel ([`PixelStates`]), the pairwise
-//! subtraction that resolves a pixel where the sweep's order fails
-//! ([`subtract_pairwise`]), and the convex geometry both stand on
-//! ([`subtract`], [`disjoint`]).
+//! the tile sweep's state of each pixel ([`PixelStates`]) with its map of
+//! what shows where, the convex geometry it stands on ([`subtract`],
+//! [`disjoint`]), and the pairwise subtraction the tests check it against
+//! (`subtract_pairwise`).
 
 use super::coverage::{
     deferred_filter, shade_factor, shaded, Frag, CUT_LATER, EDGE_EPS, FILTER_LATER, POLY_COLOR,
@@ -20,12 +20,18 @@ enum Status {
     /// What has shown (if anything) is pairwise disjoint, so the uncovered
     /// part is the square minus their areas, and it is never built: a pixel
     /// cut into texel cells or split between neighbours that only touch
-    /// costs no subtraction at all.
+    /// costs no subtraction at all. Each shower's visible part is its
+    /// fragment.
     Disjoint,
+    /// Wholly covered by pairwise disjoint showers (the whole square, most
+    /// often): no uncovered part, and no map (each shower's visible part is
+    /// its fragment).
+    Covered,
     /// Partly covered, with overlaps: the uncovered part is the pixel's
-    /// convex pieces.
+    /// convex pieces, and the visible part of each shower is kept (the
+    /// pixel's map, [`PixelStates::map`]).
     Open,
-    /// Wholly covered.
+    /// Wholly covered, with its map.
     Closed,
 }
 
@@ -42,6 +48,8 @@ struct Shower {
     q_lo: f64,
     bb: [f64; 4],
     color: [f64; 3],
+    /// The area of the pixel it shows in.
+    area: f64,
     /// A [`CUT_LATER`] fragment: `color` is the box integral over the part
     /// that shows, so it changes when that part does.
     cut_later: bool,
@@ -71,10 +79,24 @@ pub(super) struct Shown<'a> {
 /// showers, which are in front of them there.
 ///
 /// Where the check fails (polygons crossing inside the pixel, or met out
-/// of order) the pixel is resolved again among its showers and the
-/// newcomer by pairwise subtraction ([`subtract_pairwise`]), exact for any
-/// arrangement. The showers are enough: every other fragment lies, at each
-/// of its points, behind a shower. The sweep then goes on from there.
+/// of order) the newcomer *overtakes* ([`PixelStates::overtake`]): it
+/// takes from each shower the part of that shower's visible pieces where
+/// it is in front (the shower's pieces cut by the newcomer's part in front
+/// of it, a convex polygon, as in the pairwise subtraction), and its part
+/// of the uncovered region. That is exact for any arrangement, because the
+/// showers' visible parts and the uncovered part partition the pixel and
+/// every other fragment lies, at each of its points, behind the shower
+/// there: what lies at a point is the newcomer if it is in front of the
+/// shower there, and stays the shower otherwise. So once a pixel's showers
+/// overlap, each one's visible part is kept (the pixel's *map*); while they
+/// are pairwise disjoint, each one's visible part is its fragment.
+///
+/// Before the map, such a pixel was resolved again from its fragments by
+/// pairwise subtraction, quadratic in its showers each time; at depth
+/// (random tilted triangles) half of all fragments did so, and it took 71%
+/// of the render's time (`perf`, 200,000 triangles of
+/// `bench/aa_scaling.sh`). Pairwise subtraction is kept as the tests'
+/// oracle (`subtract_pairwise`).
 #[derive(Default)]
 pub(super) struct PixelStates {
     status: Vec<Status>,
@@ -86,14 +108,25 @@ pub(super) struct PixelStates {
     /// The uncovered part of an [`Status::Open`] pixel, as convex pieces.
     open: Vec<Vec<Vec<DVec2>>>,
     showers: Vec<Vec<Shower>>,
+    /// The visible part of each shower of an [`Status::Open`] or
+    /// [`Status::Closed`] pixel, as convex pieces.
+    map: Vec<Vec<Owned>>,
     /// Whether a pixel's showers come from more than one polygon. While they
     /// do not, a fragment of that polygon needs no check against them (its
     /// pieces never overlap), and skipping them one by one would cost a
     /// pixel under k pieces of one polygon O(k²): a concave polygon of a
     /// million vertices drawn on a few pixels has thousands per pixel.
     mixed: Vec<bool>,
-    /// How many times a pixel was resolved again (a count for the tests).
-    pub(super) resolved_again: u32,
+    /// How many fragments overtook a shower (a count for the tests).
+    pub(super) overtaken: u32,
+}
+
+/// A convex piece of a pixel where one shower shows: a piece of the
+/// pixel's map. The map and the uncovered pieces partition the pixel.
+struct Owned {
+    /// The shower's index in the pixel's list.
+    shower: u32,
+    verts: Vec<DVec2>,
 }
 
 /// A fragment on its way into [`PixelStates::sweep`].
@@ -120,9 +153,10 @@ enum Paint {
 }
 
 impl Newcomer<'_> {
-    /// This fragment as a shower of colour `color`.
-    fn shower(&self, color: [f64; 3]) -> Shower {
+    /// This fragment as a shower of colour `color` over `area` of the pixel.
+    fn shower(&self, color: [f64; 3], area: f64) -> Shower {
         Shower {
+            area,
             cut_later: matches!(self.paint, Paint::CutLater),
             poly: self.f.poly,
             start: self.f.start,
@@ -142,12 +176,16 @@ impl PixelStates {
         for open in &mut self.open {
             pool.append(open);
         }
+        for map in &mut self.map {
+            pool.extend(map.drain(..).map(|o| o.verts));
+        }
         for s in &mut self.showers {
             s.clear();
         }
         if self.open.len() < n {
             self.open.resize_with(n, Vec::new);
             self.showers.resize_with(n, Vec::new);
+            self.map.resize_with(n, Vec::new);
         }
         self.mixed.clear();
         self.mixed.resize(n, false);
@@ -173,7 +211,7 @@ impl PixelStates {
     #[inline]
     pub(super) fn hides(&self, pixel: u32, l: &Local, cx: f64, cy: f64) -> bool {
         let p = pixel as usize;
-        if self.status[p] != Status::Closed {
+        if !matches!(self.status[p], Status::Closed | Status::Covered) {
             return false;
         }
         let [q_lo, abs] = self.floor[p];
@@ -227,18 +265,18 @@ impl PixelStates {
             // (the common case inside polygons; nothing to check or cut).
             if let Some(c) = paint_of(&n, [&square[..]], (px, py), t, work) {
                 self.show(p, &n, 1.0, c);
-                self.status[p] = Status::Closed;
+                self.status[p] = Status::Covered;
             }
             return;
         }
         let (in_order, overlaps) = self.check(p, &n, &square, t);
         if !in_order {
-            self.resolve_again(p, &n, (px, py), &square, t, work);
+            self.overtake(p, &n, (px, py), &square, t, work);
             return;
         }
-        let cut_later = matches!(n.paint, Paint::CutLater);
         let (seen2, whole) = match status {
-            Status::Closed => return, // Hidden: behind what covers the pixel.
+            // Hidden: behind what covers the pixel.
+            Status::Closed | Status::Covered => return,
             Status::Disjoint if !overlaps => {
                 let seen2 = if f.len == 0 { 2.0 } else { area2(verts) };
                 (seen2, true)
@@ -247,28 +285,30 @@ impl PixelStates {
                 if status == Status::Disjoint {
                     self.build_open(p, &square, t.arena, work);
                 }
-                (self.cut(p, &n, &square, cut_later, work), false)
+                (self.cut(p, &n, &square, work), false)
             }
         };
         let area = 0.5 * seen2;
+        let mut hits = std::mem::take(&mut work.hits);
         if area > AREA_EPS {
-            // What shows of the fragment: all of it, or what the cut found.
-            let mut hits = std::mem::take(&mut work.hits);
+            // What shows of the fragment: all of it, or what the cut found
+            // (its pieces of the map).
             let c = if whole {
                 paint_of(&n, [verts], (px, py), t, work)
             } else {
                 paint_of(&n, hits.iter().map(|h| &h[..]), (px, py), t, work)
             };
-            work.pool.append(&mut hits);
-            work.hits = hits;
             if let Some(c) = c {
                 self.show(p, &n, area, c);
+                let shower = self.showers[p].len() as u32 - 1;
+                let owned = hits.drain(..).map(|verts| Owned { shower, verts });
+                self.map[p].extend(owned);
             }
-        } else {
-            work.pool.append(&mut work.hits);
         }
+        work.pool.append(&mut hits);
+        work.hits = hits;
         if self.status[p] == Status::Disjoint && self.acc[p][3] >= 1.0 - AREA_EPS {
-            self.status[p] = Status::Closed;
+            self.status[p] = Status::Covered;
         }
     }
 
@@ -312,17 +352,27 @@ impl PixelStates {
         (true, overlaps)
     }
 
-    /// Builds the uncovered part of a [`Status::Disjoint`] pixel: the
-    /// square minus each shower.
+    /// Builds the uncovered part and the map of a [`Status::Disjoint`] or
+    /// [`Status::Covered`] pixel: the square minus each shower, and each
+    /// shower's fragment as its visible part (they are pairwise disjoint,
+    /// and their fragments lie in the pixel: a row's band stands for a
+    /// fragment only in an open pixel).
     fn build_open(&mut self, p: usize, square: &[DVec2; 4], arena: &[DVec2], work: &mut Scratch) {
         let open = &mut self.open[p];
         let mut whole = work.pool.pop().unwrap_or_default();
         whole.clear();
         whole.extend_from_slice(square);
         open.push(whole);
-        for c in &self.showers[p] {
+        for (i, c) in self.showers[p].iter().enumerate() {
             let cv = shape(c.start, c.len, arena, square);
             cut_out(open, cv, &c.bb, square, false, work);
+            let mut verts = work.pool.pop().unwrap_or_default();
+            verts.clear();
+            verts.extend_from_slice(cv);
+            self.map[p].push(Owned {
+                shower: i as u32,
+                verts,
+            });
         }
         self.status[p] = if open.is_empty() {
             Status::Closed
@@ -332,18 +382,11 @@ impl PixelStates {
     }
 
     /// Cuts `n` out of the uncovered part of an [`Status::Open`] pixel;
-    /// twice the area it removed. With `keep_hits`, what it removed is left
-    /// in `work.hits` as convex pieces.
-    fn cut(
-        &mut self,
-        p: usize,
-        n: &Newcomer,
-        square: &[DVec2; 4],
-        keep_hits: bool,
-        work: &mut Scratch,
-    ) -> f64 {
+    /// twice the area it removed, and what it removed left in `work.hits`
+    /// as convex pieces.
+    fn cut(&mut self, p: usize, n: &Newcomer, square: &[DVec2; 4], work: &mut Scratch) -> f64 {
         let open = &mut self.open[p];
-        let seen2 = cut_out(open, n.verts, &n.bb, square, keep_hits, work);
+        let seen2 = cut_out(open, n.verts, &n.bb, square, true, work);
         if open.is_empty() {
             self.status[p] = Status::Closed;
         }
@@ -357,7 +400,7 @@ impl PixelStates {
             acc[ch] += area * c[ch];
         }
         acc[3] += area;
-        let shower = n.shower(c);
+        let shower = n.shower(c, area);
         let showers = &mut self.showers[p];
         if showers.first().is_some_and(|f| f.poly != shower.poly) {
             self.mixed[p] = true;
@@ -367,11 +410,12 @@ impl PixelStates {
         *fl = [fmin(fl[0], shower.q_lo), fmax(fl[1], shower.qc.abs())];
     }
 
-    /// Resolves pixel `p` again among its showers and `n`, which is in front
-    /// of one of them somewhere, by pairwise subtraction; then cuts `n` out
-    /// of the uncovered part.
+    /// `n`, in front of a shower of pixel `p` somewhere they overlap, takes
+    /// what it covers of the uncovered part and, from each shower, the part
+    /// of its visible pieces where `n` is in front (see [`PixelStates`]);
+    /// the showers' areas, colours and the pixel's sums follow.
     #[allow(clippy::too_many_arguments)]
-    fn resolve_again(
+    fn overtake(
         &mut self,
         p: usize,
         n: &Newcomer,
@@ -380,126 +424,160 @@ impl PixelStates {
         t: &Shown,
         work: &mut Scratch,
     ) {
-        self.resolved_again += 1;
+        self.overtaken += 1;
+        if matches!(self.status[p], Status::Disjoint | Status::Covered) {
+            self.build_open(p, square, t.arena, work);
+        }
+        if self.status[p] == Status::Open {
+            self.cut(p, n, square, work);
+        }
+        // `n`'s part in front of each shower (`None` where there is none):
+        // `n` cut by the line where their nearness is equal, as the pairwise
+        // subtraction cuts it.
+        let Scratch {
+            next,
+            pool,
+            occ,
+            occ_of,
+            a,
+            b,
+            hits,
+            lost,
+            areas,
+            kept,
+            ..
+        } = work;
         let showers = &mut self.showers[p];
-        // Each one's part of the pixel (a row's band stands for the
-        // fragments of open pixels), copied into an arena of their own.
-        let mut cells = std::mem::take(&mut work.cells);
-        cells.clear();
-        let batch = &mut work.batch;
-        batch.clear();
-        work.alive.clear();
-        let members = showers
-            .iter()
-            .map(|c| (c.poly, c.start, c.len, c.bb))
-            .chain([(n.f.poly, n.f.start, n.f.len, n.bb)]);
-        let pixel = box_of(square);
-        for (poly, start, len, bb) in members {
-            let at = cells.len() as u32;
-            // `len == 0`: the full square. A band that meets the pixel in no
-            // area is absent (and its empty vertex list is never read).
-            let present = len == 0 || {
-                let v = &t.arena[start as usize..(start + len) as usize];
-                if within(&bb, &pixel) {
-                    cells.extend_from_slice(v);
-                } else {
-                    clip_to_box(v, &pixel, &mut work.a, &mut work.b);
-                    if work.b.len() >= 3 {
-                        cells.extend_from_slice(&work.b);
-                    }
+        occ.clear();
+        occ_of.clear();
+        for c in showers.iter() {
+            let at = occ.len();
+            if c.poly != n.f.poly {
+                let d = front_of(n.l, &t.locals[c.poly as usize], n.qc, c.qc);
+                let val = |v: &DVec2| d[0] * v.x + d[1] * v.y + d[2];
+                if n.verts.iter().all(|v| val(v) >= 0.0) {
+                    occ.extend_from_slice(n.verts);
+                } else if !n.verts.iter().all(|v| val(v) <= 0.0) {
+                    a.clear();
+                    clip_line(n.verts, d, a);
+                    occ.extend_from_slice(a);
                 }
-                cells.len() as u32 > at
-            };
-            work.alive.push(present);
-            batch.push(Frag {
-                pixel: p as u32,
-                poly,
-                start: at,
-                len: cells.len() as u32 - at,
-                color: POLY_COLOR,
+                if occ.len() - at < 3 || area2(&occ[at..]) <= 2.0 * AREA_EPS {
+                    occ.truncate(at);
+                }
+            }
+            occ_of.push((at as u32, occ.len() as u32, bounds(&occ[at..])));
+        }
+        // Each piece of the map loses that part to `n`.
+        let pixel = box_of(square);
+        lost.clear();
+        lost.resize(showers.len(), false);
+        kept.clear();
+        for piece in self.map[p].drain(..) {
+            let (from, to, obb) = occ_of[piece.shower as usize];
+            if to == from || boxes_apart(&bounds(&piece.verts), &obb) {
+                kept.push(piece);
+                continue;
+            }
+            let o = &occ[from as usize..to as usize];
+            next.clear();
+            match subtract(&piece.verts, o, pixel, next, a, b, pool) {
+                None => kept.push(piece),
+                Some(s2) => {
+                    lost[piece.shower as usize] = true;
+                    if s2 > 0.0 {
+                        // `subtract` leaves `piece ∩ o` in its `cur`.
+                        let mut hit = pool.pop().unwrap_or_default();
+                        hit.clear();
+                        hit.extend_from_slice(a);
+                        hits.push(hit);
+                    }
+                    let shower = piece.shower;
+                    kept.extend(next.drain(..).map(|verts| Owned { shower, verts }));
+                    pool.push(piece.verts);
+                }
+            }
+        }
+        std::mem::swap(&mut self.map[p], kept);
+        let map = &mut self.map[p];
+        // The new areas of those that lost, and the new colours of those
+        // coloured by what shows.
+        areas.clear();
+        areas.resize(showers.len(), 0.0);
+        for o in map.iter().filter(|o| lost[o.shower as usize]) {
+            areas[o.shower as usize] += area2(&o.verts);
+        }
+        let counted = work.texels.estimated;
+        for (i, c) in showers.iter_mut().enumerate().filter(|(i, _)| lost[*i]) {
+            c.area = 0.5 * areas[i];
+            if c.cut_later && c.area > AREA_EPS {
+                // Counted as estimated when it first showed; what shows of it
+                // now is a part of that.
+                let l = &t.locals[c.poly as usize];
+                let frag = if c.len == 0 {
+                    &[][..]
+                } else {
+                    &t.arena[c.start as usize..(c.start + c.len) as usize]
+                };
+                let pieces = map
+                    .iter()
+                    .filter(|o| o.shower as usize == i)
+                    .map(|o| &o.verts[..]);
+                let recoloured = cut_texture(t, l, pieces, (px, py), frag, &mut work.texels);
+                c.color = recoloured.unwrap_or(c.color);
+            }
+        }
+        work.texels.estimated = counted;
+        // Those left with no area are gone.
+        if showers.iter().any(|c| c.area <= AREA_EPS) {
+            let mut renumbered = 0;
+            let to: Vec<u32> = showers
+                .iter()
+                .map(|c| {
+                    if c.area > AREA_EPS {
+                        renumbered += 1;
+                        renumbered - 1
+                    } else {
+                        u32::MAX
+                    }
+                })
+                .collect();
+            showers.retain(|c| c.area > AREA_EPS);
+            map.retain_mut(|o| {
+                o.shower = to[o.shower as usize];
+                if o.shower == u32::MAX {
+                    work.pool.push(std::mem::take(&mut o.verts));
+                }
+                o.shower != u32::MAX
             });
         }
-        work.qc.clear();
-        work.qc.extend(showers.iter().map(|c| c.qc));
-        work.qc.push(n.qc);
-        // Whose visible pieces are kept: those coloured by what shows.
-        let newcomer_cut_later = matches!(n.paint, Paint::CutLater);
-        work.keep.clear();
-        work.keep.extend(showers.iter().map(|c| c.cut_later));
-        work.keep.push(newcomer_cut_later);
-        let batch = std::mem::take(&mut work.batch);
-        subtract_pairwise(t.locals, &batch, &cells, square, work);
-        work.batch = batch;
-        work.cells = cells;
-        // The new showers, with their new areas (and, for those coloured by
-        // what shows, their new colours).
-        let mut acc = [0.0; 4];
-        let mut kept = std::mem::take(&mut work.showers);
-        kept.clear();
-        let seen = std::mem::take(&mut work.seen);
-        let visible = std::mem::take(&mut work.visible);
-        let visible_of = std::mem::take(&mut work.visible_of);
-        for &(i, area) in &seen {
-            let pieces = || {
-                let &(_, from, to) = visible_of
-                    .iter()
-                    .find(|r| r.0 == i)
-                    .expect("kept for each one that shows");
-                visible[from as usize..to as usize].iter().map(|v| &v[..])
-            };
-            let c = match showers.get(i as usize) {
-                Some(s) if s.cut_later => {
-                    // Counted as estimated when it first showed; what
-                    // shows of it now is a part of that.
-                    let counted = work.texels.estimated;
-                    let l = &t.locals[s.poly as usize];
-                    let frag = if s.len == 0 {
-                        &[][..]
-                    } else {
-                        &t.arena[s.start as usize..(s.start + s.len) as usize]
-                    };
-                    let c = cut_texture(t, l, pieces(), (px, py), frag, &mut work.texels);
-                    work.texels.estimated = counted;
-                    Shower {
-                        color: c.unwrap_or(s.color),
-                        ..*s
-                    }
-                }
-                Some(s) => *s,
-                None => {
-                    let shown = match n.paint {
-                        Paint::CutLater => paint_of(n, pieces(), (px, py), t, work),
-                        _ => paint_of(n, [], (px, py), t, work),
-                    };
-                    match shown {
-                        Some(c) => n.shower(c),
-                        None => continue,
-                    }
-                }
-            };
-            for ch in 0..3 {
-                acc[ch] += area * c.color[ch];
-            }
-            acc[3] += area;
-            kept.push(c);
+        // `n` shows where it took anything.
+        let mut taken = std::mem::take(&mut work.hits);
+        let area = 0.5 * taken.iter().map(|h| area2(h)).sum::<f64>();
+        let shown = if area > AREA_EPS {
+            paint_of(n, taken.iter().map(|h| &h[..]), (px, py), t, work)
+        } else {
+            None
+        };
+        if let Some(c) = shown {
+            let shower = showers.len() as u32;
+            showers.push(n.shower(c, area));
+            map.extend(taken.drain(..).map(|verts| Owned { shower, verts }));
         }
-        work.seen = seen;
-        work.visible = visible;
-        work.visible_of = visible_of;
-        std::mem::swap(showers, &mut kept);
-        work.showers = kept;
-        self.mixed[p] = showers.iter().any(|c| c.poly != showers[0].poly);
+        work.pool.append(&mut taken);
+        work.hits = taken;
+        let mut acc = [0.0; 4];
+        for c in showers.iter() {
+            for ch in 0..3 {
+                acc[ch] += c.area * c.color[ch];
+            }
+            acc[3] += c.area;
+        }
         self.acc[p] = acc;
+        self.mixed[p] = showers.iter().any(|c| c.poly != showers[0].poly);
         self.floor[p] = showers.iter().fold([f64::INFINITY, 0.0], |[lo, abs], c| {
             [fmin(lo, c.q_lo), fmax(abs, c.qc.abs())]
         });
-        match self.status[p] {
-            Status::Closed => {}
-            Status::Disjoint => self.build_open(p, square, t.arena, work),
-            Status::Open => {
-                self.cut(p, n, square, false, work);
-            }
-        }
     }
 
     /// The pixel's colour.
@@ -568,39 +646,24 @@ fn cut_out(
 /// Per-tile buffers of the per-pixel visibility, reused from pixel to pixel.
 #[derive(Default)]
 pub(super) struct Scratch {
-    pieces: Vec<Vec<DVec2>>,
     next: Vec<Vec<DVec2>>,
     /// Vertex lists no longer in use, kept for their allocations: the convex
     /// subtraction makes and drops several small pieces per fragment pair, and
     /// recycling them keeps the allocator out of the inner loop.
     pub(super) pool: Vec<Vec<DVec2>>,
-    occ: Vec<DVec2>,
     a: Vec<DVec2>,
     b: Vec<DVec2>,
-    /// The fragments [`subtract_pairwise`] resolves, and which of them are
-    /// present.
-    batch: Vec<Frag>,
-    pub(super) alive: Vec<bool>,
-    /// Runs `[start, end)` of consecutive fragments of one polygon.
-    runs: Vec<(u32, u32)>,
-    /// Each fragment's nearness at the pixel centre (the point the tie rule
-    /// is evaluated at), computed once per pixel instead of once per pair.
-    pub(super) qc: Vec<f64>,
-    /// Visible area of each fragment that shows, found by
-    /// [`subtract_pairwise`].
-    pub(super) seen: Vec<(u32, f64)>,
-    /// A spare list of showers, and the vertices of the fragments it
-    /// resolves, for [`PixelStates::resolve_again`].
-    showers: Vec<Shower>,
-    cells: Vec<DVec2>,
-    /// Which fragments [`subtract_pairwise`] keeps the visible pieces of
-    /// (in `visible`, each one's run in `visible_of` as `(i, from, to)`,
-    /// in the order of `seen`): the [`CUT_LATER`] ones.
-    keep: Vec<bool>,
-    visible: Vec<Vec<DVec2>>,
-    visible_of: Vec<(u32, u32, u32)>,
-    /// What a [`CUT_LATER`] fragment's cut removed from the uncovered part:
-    /// the convex pieces of it that show.
+    /// An overtaking fragment's part in front of each shower, each one's
+    /// run of `occ` and its box in `occ_of`.
+    occ: Vec<DVec2>,
+    occ_of: Vec<(u32, u32, [f64; 4])>,
+    /// Which showers lost part of their visible pieces to it, their new
+    /// areas (twice), and the map being rebuilt.
+    lost: Vec<bool>,
+    areas: Vec<f64>,
+    kept: Vec<Owned>,
+    /// What a fragment's cut removed from the uncovered part (and took from
+    /// the showers, when it overtakes): the convex pieces of it that show.
     hits: Vec<Vec<DVec2>>,
     /// Buffers of the texel cut of [`CUT_LATER`] fragments, and the count
     /// of those estimated.
@@ -707,114 +770,67 @@ fn front_of(g: &Local, f: &Local, qg: f64, qf: f64) -> [f64; 3] {
     [d[0], d[1], c]
 }
 
+/// What [`subtract_pairwise`] reads besides the fragments (each one's
+/// nearness at the pixel centre, where the tie rule is evaluated, and
+/// whether it is present) and what it finds: the visible area of each
+/// fragment that shows.
+#[cfg(test)]
+#[derive(Default)]
+pub(super) struct Pairwise {
+    pub(super) qc: Vec<f64>,
+    pub(super) alive: Vec<bool>,
+    pub(super) seen: Vec<(u32, f64)>,
+}
+
 /// The visible area of each live fragment, in `s.seen` in `frags`' order: F
 /// minus the part of every other fragment G in front of it (G cut by the
 /// line where their nearness is equal, so a convex polygon), by convex
-/// subtraction. Exact for any arrangement, interpenetration included;
-/// quadratic in the fragments, but it cuts nothing for neighbours that
-/// only touch, the common case on a textured or finely split face.
+/// subtraction. Exact for any arrangement, interpenetration included, and
+/// quadratic in the fragments: the tests' oracle for the sweep, which finds
+/// the same areas front to back and overtakes where its order fails.
+#[cfg(test)]
 pub(super) fn subtract_pairwise(
     locals: &[Local],
     frags: &[Frag],
     arena: &[DVec2],
     square: &[DVec2; 4],
-    s: &mut Scratch,
+    s: &mut Pairwise,
 ) {
     let pixel = box_of(square);
-    let Scratch {
-        pieces,
-        next,
-        pool,
-        occ,
-        a,
-        b,
-        qc,
-        alive,
-        runs,
-        seen,
-        keep,
-        visible,
-        visible_of,
-        ..
-    } = s;
-    runs.clear();
-    pool.append(visible);
-    visible_of.clear();
-    let mut start = 0;
-    for k in 1..=frags.len() {
-        if k == frags.len() || frags[k].poly != frags[start].poly {
-            runs.push((start as u32, k as u32));
-            start = k;
-        }
-    }
-    seen.clear();
-    for i in (0..frags.len()).filter(|&i| alive[i]) {
+    let (mut next, mut pool) = (Vec::new(), Vec::new());
+    let (mut occ, mut a, mut b) = (Vec::new(), Vec::new(), Vec::new());
+    s.seen.clear();
+    for i in (0..frags.len()).filter(|&i| s.alive[i]) {
         let f = &frags[i];
         let fp = &locals[f.poly as usize];
-        pool.append(pieces);
-        let mut whole = pool.pop().unwrap_or_default();
-        whole.clear();
-        whole.extend_from_slice(frag_verts(f, arena, square));
-        pieces.push(whole);
-        // Pieces of one polygon (a concave one's triangles, texel cells) never
-        // hide each other: `front_of` is then the constant `-tie` < 0. They
-        // come in runs (fragments are made polygon by polygon), and F's own
-        // runs are skipped whole, so a pixel over n texel cells of one
-        // polygon costs O(n), not O(n²) tests or even O(n²) skips.
-        for &(r0, r1) in runs.iter() {
-            if frags[r0 as usize].poly == f.poly {
+        let mut pieces = vec![frag_verts(f, arena, square).to_vec()];
+        for (j, g) in frags.iter().enumerate() {
+            // One polygon's pieces never hide each other.
+            if !s.alive[j] || g.poly == f.poly {
                 continue;
             }
-            for j in r0 as usize..r1 as usize {
-                if !alive[j] || pieces.is_empty() {
-                    continue;
-                }
-                let g = &frags[j];
-                let gv = frag_verts(g, arena, square);
-                let gp = &locals[g.poly as usize];
-                let d = front_of(gp, fp, qc[j], qc[i]);
-                let val = |v: &DVec2| d[0] * v.x + d[1] * v.y + d[2];
-                // The two tests that let G pass are independent of each
-                // other; the cheap depth test goes first (it passes about
-                // half the pairs at depth), the separating-axis test second.
-                if gv.iter().all(|v| val(v) <= 0.0) {
-                    continue; // G is behind F wherever G is.
-                }
-                if pieces.len() == 1 && disjoint(&pieces[0], gv) {
-                    continue; // Neighbours that only share an edge.
-                }
-                occ.clear();
-                if gv.iter().all(|v| val(v) >= 0.0) {
-                    occ.extend_from_slice(gv);
-                } else {
-                    clip_line(gv, d, occ);
-                }
-                if occ.len() < 3 || area2(occ) <= 2.0 * AREA_EPS {
-                    continue;
-                }
-                next.clear();
-                for piece in pieces.drain(..) {
-                    match subtract(&piece, occ, pixel, next, a, b, pool) {
-                        None => next.push(piece),
-                        Some(_) => pool.push(piece),
-                    }
-                }
-                std::mem::swap(pieces, next);
+            let gv = frag_verts(g, arena, square);
+            let d = front_of(&locals[g.poly as usize], fp, s.qc[j], s.qc[i]);
+            if gv.iter().all(|v| d[0] * v.x + d[1] * v.y + d[2] <= 0.0) {
+                continue; // G is behind F wherever G is.
             }
+            occ.clear();
+            clip_line(gv, d, &mut occ);
+            if occ.len() < 3 || area2(&occ) <= 2.0 * AREA_EPS {
+                continue;
+            }
+            let mut left = Vec::new();
+            for piece in pieces {
+                if subtract(&piece, &occ, pixel, &mut next, &mut a, &mut b, &mut pool).is_none() {
+                    left.push(piece);
+                }
+                left.append(&mut next);
+            }
+            pieces = left;
         }
         let area: f64 = pieces.iter().map(|p| area2(p)).sum::<f64>() * 0.5;
         if area > AREA_EPS {
-            seen.push((i as u32, area));
-            if keep.get(i) == Some(&true) {
-                let from = visible.len() as u32;
-                for piece in pieces.iter() {
-                    let mut v = pool.pop().unwrap_or_default();
-                    v.clear();
-                    v.extend_from_slice(piece);
-                    visible.push(v);
-                }
-                visible_of.push((i as u32, from, visible.len() as u32));
-            }
+            s.seen.push((i as u32, area));
         }
     }
 }
@@ -866,11 +882,6 @@ pub(super) fn bounds(v: &[DVec2]) -> [f64; 4] {
         [f64::MAX, f64::MAX, f64::MIN, f64::MIN],
         |[x0, y0, x1, y1], p| [fmin(x0, p.x), fmin(y0, p.y), fmax(x1, p.x), fmax(y1, p.y)],
     )
-}
-
-/// Whether box `a` lies within box `b`.
-fn within(a: &[f64; 4], b: &[f64; 4]) -> bool {
-    a[0] >= b[0] && a[1] >= b[1] && a[2] <= b[2] && a[3] <= b[3]
 }
 
 /// The part of the convex `v` in the box `[x0, y0, x1, y1]`, into `out`

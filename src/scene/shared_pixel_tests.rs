@@ -4,8 +4,8 @@
 //! Every textured fragment here meets hundreds to thousands of texel cells
 //! and shares its pixel with another polygon. It is swept whole and its
 //! cells are cut from the part of it that shows
-//! (`raster::coverage::CUT_LATER`); where the planes cross, the pixel is
-//! resolved again pairwise and the cut follows the new visible part. Cut
+//! (`raster::coverage::CUT_LATER`); where the planes cross, the later
+//! fragment overtakes the earlier and the cut follows the new visible part. Cut
 //! cell by cell instead, these pixels cost each other a subtraction per
 //! pair of cells (demo 2 at 8x8 took 34 s). The default must equal
 //! `--reference`, which shares none of that code (scanline events and
@@ -79,7 +79,7 @@ fn demo2_in_a_few_pixels_is_the_reference() {
 /// Two planes crossing along x = 0, through the middle of a pixel column,
 /// each under a pattern about a tenth of a pixel per texel (one turned
 /// 30°): every pixel holds both planes' cells, and the column where they
-/// cross is resolved again pairwise.
+/// cross is where fragments overtake.
 #[test]
 fn crossing_textured_planes_are_the_reference() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/patterns");
