@@ -424,14 +424,14 @@ impl PixelStates {
         t: &Shown,
         work: &mut Scratch,
     ) {
-        self.overtaken += 1;
+        self.overtaken = self.overtaken.saturating_add(1);
         if matches!(self.status[p], Status::Disjoint | Status::Covered) {
             self.build_open(p, square, t.arena, work);
         }
         if self.status[p] == Status::Open {
             self.cut(p, n, square, work);
         }
-        // `n`'s part in front of each shower (`None` where there is none):
+        // `n`'s part in front of each shower (an empty run where it has none):
         // `n` cut by the line where their nearness is equal, as the pairwise
         // subtraction cuts it.
         let Scratch {
