@@ -533,34 +533,37 @@ pub fn render_bin_counted(
 }
 
 /// How many times over its polygons' boxes (clipped to it) cover a tile
-/// before it is swept in squares of 8 pixels, and of 4.
+/// before it is swept in squares of 8 pixels.
 ///
-/// The sweep takes pieces nearest first by their greatest nearness over
-/// what it sweeps; over a smaller square that bound is closer to each
-/// pixel's own order, so fewer fragments arrive out of order (each one
-/// overtaking, which cuts the pixel's map) and more are dropped as hidden before
-/// they are cut. But a piece is cut into rows once per square it meets, so
-/// a shallow tile of large polygons loses by it, and a large polygon's
-/// piece (read in place and clipped to the square) would be clipped once
-/// per square. Render phase of `bench/aa_scaling.sh`'s triangles (median
-/// of 3), swept by the whole 32-pixel tile, in 4-pixel squares wherever
-/// the boxes cover a tile 4 times over, and by these rules:
+/// The sweep takes pieces nearest first by their least nearness over what
+/// it sweeps (`gather::farthest_in`); over a smaller square that key is
+/// closer to each pixel's own order, so fewer fragments arrive out of
+/// order (each one overtaking, which cuts the pixel's map) and more are
+/// dropped as hidden before they are cut. But a piece is cut into rows
+/// once per square it meets, so a shallow tile of large polygons loses by
+/// it, and a large polygon's piece (read in place and clipped to the
+/// square) would be clipped once per square. Render phase of
+/// `bench/aa_scaling.sh`'s triangles (2 or 3 runs; one at a million), swept
+/// by the whole 32-pixel tile, by the rule before (squares of 4 from 12
+/// layers, of 8 from 4, chosen when the key was the greatest nearness and
+/// a pixel met out of order was resolved again pairwise), and by this one:
 ///
-/// | scene | mean box layers, box side | whole tile | 4 | rules |
-/// |---|---|---:|---:|---:|
-/// | 20-pixel triangles, 10,000 | 5.5, 21 px | 0.185 s | 0.237 | 0.184 |
-/// | `auto`, 10,000 | 14, 34 px | 0.347 | 0.277 | 0.265 |
-/// | `auto`, 100,000 | 16, 11 px | 2.131 | 1.650 | 1.630 |
-/// | 20-pixel triangles, 100,000 | 55, 21 px | 3.802 | 2.194 | 2.231 |
+/// | scene | whole tile | 4 from 12, 8 from 4 | 8 from 6 |
+/// |---|---:|---:|---:|
+/// | `auto`, 10,000 | 0.191-0.197 s | 0.189-0.190 | 0.171-0.172 |
+/// | 20-pixel triangles, 10,000 | 0.132 | 0.156-0.160 | 0.139-0.146 |
+/// | `auto`, 100,000 | 0.79-0.81 | 0.705-0.709 | 0.696-0.708 |
+/// | 20-pixel triangles, 100,000 | 0.79-0.80 | 0.759-0.769 | 0.681-0.691 |
+/// | `auto`, 200,000 | 1.37-1.40 | 1.17-1.19 | 1.18 |
+/// | 20-pixel triangles, 200,000 | 1.23-1.24 | 1.28 | 1.10 |
+/// | `auto`, 1,000,000 | 6.96 | 4.79 | 4.76 |
+/// | 20-pixel triangles, 1,000,000 | 4.27 | 5.15 | 3.95 |
 ///
-/// One run each at 100,000 by squares of 16, 8, 4 and 2 pixels: 1.93,
-/// 1.72, 1.59, 1.74 s (`auto`), 3.02, 2.48, 2.19, 2.41 s (20 pixels). With
-/// these rules the 8-bit images are the whole-tile sweep's
-/// (`bench/RESULTS-same-images.md`). Timed again once out-of-order
-/// fragments overtook instead of resolving their pixel again, the rules
-/// were within 1% of squares of 4 everywhere and 1.2-1.9x faster than
-/// the whole tile at 100,000 and 200,000 (`bench/RESULTS-aa-scaling.md`).
-const DEEP_TILES: [(f64, u32); 2] = [(12.0, 4), (4.0, 8)];
+/// Squares of 16 from 2 layers besides gained 10% on the 20-pixel
+/// triangles at 10,000 and nothing elsewhere, and textured scenes
+/// (`bench/same_images.sh`'s demo 2, globes and house) moved by a few
+/// percent either way, within their spread.
+const DEEP_TILES: [(f64, u32); 1] = [(6.0, 8)];
 
 /// The side of the squares `tile` is swept in: the tile's own side unless
 /// its polygons' boxes (`boxed`, [`TileGeom::gather`]'s) cover it
@@ -595,8 +598,8 @@ fn boxes_meet(a: &[u32; 4], b: &[u32; 4]) -> bool {
 /// Renders one tile (or one square of a deep tile) with exact coverage,
 /// from its gathered geometry.
 ///
-/// The tile's pieces are swept nearest first (by their greatest nearness
-/// in the tile), and each fragment is cut out of its pixel's uncovered part
+/// The tile's pieces are swept nearest first (by their least nearness in
+/// the tile, `gather::farthest_in`), and each fragment is cut out of its pixel's uncovered part
 /// as it is made ([`super::visible::PixelStates`]): once a pixel is covered, what comes
 /// later and lies behind everything that showed in it is dropped before it
 /// is clipped, and a pixel row wholly behind is never cut from its piece.
@@ -975,7 +978,13 @@ mod sweep {
     #[test]
     fn a_deep_tile_swept_in_squares_is_the_whole_tile_swept_at_once() {
         let bg = Background::color(Rgb8([20, 40, 60]));
-        for (seed, tilted, n, side) in [(5, false, 300, 8), (6, true, 300, 8), (7, true, 1000, 4)] {
+        let cases = [
+            (5, false, 1000, 8),
+            (6, true, 1000, 8),
+            (7, true, 600, 8),
+            (8, true, 100, 32),
+        ];
+        for (seed, tilted, n, side) in cases {
             let (v, polys) = scene(seed, n, tilted, 32, 32);
             let floor = super::super::tie_floor(&v);
             let bin: Vec<u32> = (0..polys.len() as u32).collect();
