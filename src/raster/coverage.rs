@@ -1097,8 +1097,9 @@ mod sweep {
     /// A hostile pixel: 120 slivers crossing it at random angles and
     /// random tilts, so that nearly every one is in front of the others
     /// somewhere and the pixel's map is cut into hundreds of pieces. (3,000
-    /// such slivers over a 4x4 frame took the pairwise re-resolve more than
-    /// 10 minutes; the map, 1.4 s.)
+    /// such slivers over a 4x4 frame: stopped after 10 minutes when a pixel
+    /// met out of order was resolved again pairwise, 1.4 s with the map;
+    /// bench/RESULTS-aa-scaling.md, *Hostile pixels*.)
     #[test]
     fn crossing_slivers_overtaking_in_one_pixel_match_pairwise_subtraction() {
         let mut r = Lcg(11);
