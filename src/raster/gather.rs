@@ -176,7 +176,7 @@ impl TileGeom {
     /// Replaces the contents with the geometry of one tile's bin (see
     /// [`super::bin`]), in the order `coverage::render_tile`
     /// sweeps it: nearest first by the least nearness of the polygon's
-    /// box in the tile ([`farthest_in`]); on a tie the later polygon first, as the tie rule
+    /// box in the tile (`farthest_in`); on a tie the later polygon first, as the tie rule
     /// decides; then the stream, so that the order is total. (Gathering in
     /// stream order and sorting the copy measured 1.07x slower.) `boxed`
     /// is the bin with each polygon's [`ScreenPoly::bbox`]

@@ -530,18 +530,13 @@ impl PixelStates {
         work.texels.estimated = counted;
         // Those left with no area are gone.
         if showers.iter().any(|c| c.area <= AREA_EPS) {
-            let mut renumbered = 0;
-            let to: Vec<u32> = showers
-                .iter()
-                .map(|c| {
-                    if c.area > AREA_EPS {
-                        renumbered += 1;
-                        renumbered - 1
-                    } else {
-                        u32::MAX
-                    }
-                })
-                .collect();
+            let to = &mut work.renumbered;
+            to.clear();
+            let mut next = 0;
+            for c in showers.iter() {
+                to.push(if c.area > AREA_EPS { next } else { u32::MAX });
+                next += u32::from(c.area > AREA_EPS);
+            }
             showers.retain(|c| c.area > AREA_EPS);
             map.retain_mut(|o| {
                 o.shower = to[o.shower as usize];
@@ -662,6 +657,8 @@ pub(super) struct Scratch {
     lost: Vec<bool>,
     areas: Vec<f64>,
     kept: Vec<Owned>,
+    /// Each shower's new index once those with no area left are gone.
+    renumbered: Vec<u32>,
     /// What a fragment's cut removed from the uncovered part (and took from
     /// the showers, when it overtakes): the convex pieces of it that show.
     hits: Vec<Vec<DVec2>>,
