@@ -187,7 +187,7 @@ pub(crate) fn render_bands<P: Copy + Default + Send>(
 
 impl Frame {
     /// Assembles a frame from per-tile results (each a row-major block of the
-    /// tile's pixels, in [`tiles`] order).
+    /// tile's pixels, in [`super::tiles`] order).
     pub(crate) fn from_tiles(
         width: u32,
         height: u32,

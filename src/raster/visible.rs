@@ -14,7 +14,7 @@ use crate::geom::polygon::{area2, clip_axis, clip_line, pixel_square, AREA_EPS};
 use glam::DVec2;
 
 /// Where a pixel stands in the tile-order sweep of
-/// [`super::coverage::render_tile`].
+/// `super::coverage::render_tile`.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 enum Status {
     /// What has shown (if anything) is pairwise disjoint, so the uncovered

@@ -966,7 +966,7 @@ fn lit_flat(colour: [f64; 3], e: [f64; 3]) -> [f64; 3] {
 /// the factor is the lit colour over the unlit one, `min(1, C e_i) / C`
 /// (0 where `C` is 0: the product is 0 either way), with `e_i` the light at
 /// the vertex along its normal (the face's where the record gives none);
-/// [`ShadeField`] interpolates it.
+/// [`crate::raster::ShadeField`] interpolates it.
 fn smooth_field(
     l: &Lit,
     view: &View,
