@@ -52,8 +52,10 @@ def run_once(cmd, stdin=None, gnu_time=False):
         peak = usage.ru_maxrss
         if peak_file:
             # GNU time's last line is the peak (a failure adds one before it).
+            # An empty file (GNU time itself killed) keeps the child's own.
             with open(peak_file) as f:
-                peak = int(f.read().split()[-1])
+                words = f.read().split()
+            peak = int(words[-1]) if words else peak
     finally:
         if peak_file:
             os.unlink(peak_file)
