@@ -15,12 +15,13 @@ time against N (least squares on log-log) for each set and renderer.
 """
 import math
 import os
+import statistics
 import subprocess
 import sys
-import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import scene_render_bench as srb  # noqa: E402
+from timing import measure_in_turns  # noqa: E402
 
 # Runs per measurement (median); scenes of a million triangles take minutes
 # under --aa exact, so they get one run and no warm-up.
@@ -30,24 +31,11 @@ HEAVY = 1_000_000
 W, H = 1024, 768
 
 
-def median(xs):
-    xs = sorted(xs)
-    n = len(xs)
-    return xs[n // 2] if n % 2 else (xs[n // 2 - 1] + xs[n // 2]) / 2
-
-
 def scene_render(sr, path, out, runs, warmup):
     """(median render-phase s, median whole-process s)."""
     cmd = [sr, "--size", f"{W}x{H}", "--background", "20,20,80", "--aa", "exact", "--timings", path, "-o", out]
-    for _ in range(warmup):
-        subprocess.run(cmd, check=True, capture_output=True)
-    renders, walls = [], []
-    for _ in range(runs):
-        t0 = time.perf_counter()
-        err = subprocess.run(cmd, check=True, capture_output=True, text=True).stderr
-        walls.append(time.perf_counter() - t0)
-        renders.append(float(err.split("render ")[1].split(" s")[0]))
-    return median(renders), median(walls)
+    (whole, phases), = measure_in_turns([cmd], runs, warmup)
+    return phases["render"], whole
 
 
 def fit(ns, ts):
@@ -80,7 +68,7 @@ def main():
             tris = srb.load_triangles(path)
             png = os.path.join(work, f"tri-{name}-{n}-msaa4.png")
             srb.llvmpipe(ctx, tris, mvp, 4, png)
-            t_gl = median([srb.llvmpipe(ctx, tris, mvp, 4, png) for _ in range(RUNS)])
+            t_gl = statistics.median([srb.llvmpipe(ctx, tris, mvp, 4, png) for _ in range(RUNS)])
             ex.append(render)
             gl.append(t_gl)
             print(f"| {name} | {n} | {render:.3f} | {whole:.3f} | {t_gl:.3f} | {render / t_gl:.2f} |", flush=True)

@@ -36,7 +36,8 @@ echo
 echo "Run $(date -u '+%Y-%m-%d %H:%M UTC') on $(uname -sm), $(nproc) cores"
 echo "($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')), load average $(cut -d' ' -f1-3 /proc/loadavg)."
 echo "Commit $(git rev-parse --short HEAD). $FRAMES frames of 1024x768, --aa exact, demo 2's camera, --cull back,"
-echo "each frame written as a PNG. Wall-clock time of the whole batch, best of 2."
+echo "each frame written as a PNG. Wall-clock time of the whole batch, median of 3 after a warm-up,"
+echo "the two scene-render ways taking turns (bench/timing.py); llvmpipe's own time of its batch, median of 3."
 echo
 echo "| incr | polygons per frame (pyramid + plain) | renderer | total (s) | frames/s | s/frame |"
 echo "|---:|---:|---|---:|---:|---:|"
@@ -51,32 +52,33 @@ import json,sys
 lines=open(sys.argv[1]).read().splitlines()
 face=len(json.loads(lines[0])['records'])
 print(4*face + len(lines) - 3)" "$cells")
-    best() { # best of 2 wall-clock runs of "$@"
-        b=""
-        for _ in 1 2; do
-            t0=$(date +%s.%N); "$@"; t1=$(date +%s.%N)
-            t=$(echo "$t1 - $t0" | bc -l)
-            if [ -z "$b" ] || [ "$(echo "$t < $b" | bc -l)" = 1 ]; then b=$t; fi
-        done
-        echo "$b"
-    }
-    per_frame() {
-        k=0
-        while [ "$k" -lt "$FRAMES" ]; do
-            # shellcheck disable=SC2086
-            "$BIN/scene-render" $CAM --frames "$FRAMES" --frame "$k" -o "$WORK/pf-%04d.png" "$cells"
-            k=$((k + 1))
-        done
-    }
-    one_process() {
-        # shellcheck disable=SC2086
-        "$BIN/scene-render" $CAM --frames "$FRAMES" -o "$WORK/seq-%04d.png" "$cells"
-    }
+    # The two scene-render ways, a shell loop of processes and one process,
+    # timed whole: median of 3 after a warm-up, taking turns (bench/timing.py).
+    per_frame="k=0; while [ \$k -lt $FRAMES ]; do '$BIN/scene-render' $CAM --frames $FRAMES --frame \$k -o '$WORK/pf-%04d.png' '$cells'; k=\$((k + 1)); done"
+    one_process="'$BIN/scene-render' $CAM --frames $FRAMES -o '$WORK/seq-%04d.png' '$cells'"
+    set -- $(python3 - "$ROOT/bench" "$per_frame" "$one_process" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[1])
+from timing import measure_in_turns
+print(*(wall for wall, _ in measure_in_turns([["sh", "-c", c] for c in sys.argv[2:]], runs=3)))
+PY
+)
+    t_per_frame=$1 t_one_process=$2
     row() { printf '| %s | %s | %s | %.2f | %.2f | %.3f |\n' "$incr" "$polys" "$1" "$2" "$(echo "$FRAMES / $2" | bc -l)" "$(echo "$2 / $FRAMES" | bc -l)"; }
-    row "scene-render, one process per frame" "$(best per_frame)"
-    row "scene-render, one process for the sequence" "$(best one_process)"
+    row "scene-render, one process per frame" "$t_per_frame"
+    row "scene-render, one process for the sequence" "$t_one_process"
     cmp "$WORK/pf-0017.png" "$WORK/seq-0017.png" >&2
-    gl=$("$VENV/bin/python" bench/animate_llvmpipe.py "$cells" "$FRAMES" "$WORK/gl-incr$incr")
+    # llvmpipe's own time of its sequence (it prints it), median of 3 after
+    # a warm-up, as bench/timing.py takes a process's.
+    gl=$(python3 - "$ROOT/bench" "$VENV/bin/python" bench/animate_llvmpipe.py "$cells" "$FRAMES" "$WORK/gl-incr$incr" <<'PY'
+import statistics, sys
+sys.path.insert(0, sys.argv[1])
+from timing import run_logged
+cmd = sys.argv[2:]
+run_logged(cmd)
+print(statistics.median(float(run_logged(cmd, keep_stdout=True).stdout) for _ in range(3)))
+PY
+)
     row "llvmpipe MSAA 4x, one process, object uploaded once" "$gl"
     err=$("$BIN/scene-render" --image "$WORK/gl-incr$incr-0017.png" --compare "$WORK/seq-0017.png" --json |
         python3 -c 'import json,sys; m=json.load(sys.stdin)["compare"]; print("%.3f" % m["rmse"])')
@@ -85,7 +87,7 @@ done
 echo
 echo "Fig. 5.1: demo 2's pyramid partitioned as four faces (examples/scenes/demo2.json) or as one"
 echo "face placed by four instances (fixtures/scenes/demo2-fig51.json); polyfill3's own --json seconds,"
-echo "best of 3, plain included in both. Both render the same image (tested)."
+echo "median of 3 after a warm-up, plain included in both. Both render the same image (tested)."
 echo
 echo "| incr | four faces: polygons written | s | one face + 4 instances: polygons written | s | time saved |"
 echo "|---:|---:|---:|---:|---:|---:|"
@@ -96,15 +98,16 @@ for incr in 2 1; do
         examples/scenes/demo2.json > "$four"
     sed -e "s/\"incr\":2,/\"incr\":$incr,/" -e "s#\.\./patterns/#$ROOT/fixtures/patterns/#g" \
         fixtures/scenes/demo2-fig51.json > "$one"
-    stat() { # polygons and best-of-3 seconds of polyfill3 on $1
-        b=""; n=""
-        for _ in 1 2 3; do
-            j=$("$BIN/polyfill3" --json "$1" 2>&1 >/dev/null)  # -o - : polyfill3 -o FILE renames over FILE
-            t=$(echo "$j" | python3 -c 'import json,sys; print(json.load(sys.stdin)["seconds"])')
-            n=$(echo "$j" | python3 -c 'import json,sys; print(json.load(sys.stdin)["polygons"])')
-            if [ -z "$b" ] || [ "$(echo "$t < $b" | bc -l)" = 1 ]; then b=$t; fi
-        done
-        echo "$n $b"
+    stat() { # polygons and the median of polyfill3's own seconds on $1, 3 runs after a warm-up
+        python3 - "$ROOT/bench" "$BIN/polyfill3" --json "$1" <<'PY'
+import json, statistics, sys
+sys.path.insert(0, sys.argv[1])
+from timing import run_logged
+cmd = sys.argv[2:]  # to standard output, discarded: polyfill3 -o FILE renames over FILE
+run_logged(cmd)
+runs = [json.loads(run_logged(cmd).stderr) for _ in range(3)]
+print(runs[0]["polygons"], statistics.median(r["seconds"] for r in runs))
+PY
     }
     set -- $(stat "$four") $(stat "$one")
     printf '| %s | %s | %.3f | %s | %.3f | %.0f%% |\n' "$incr" "$1" "$2" "$3" "$4" "$(echo "100 * (1 - $4 / $2)" | bc -l)"

@@ -7,7 +7,7 @@
 #
 # Each scene: 640x360, eye 3 units over a 40,000-unit ground, horizon in
 # the middle of the frame. Whole-process time (read, render, write the PNG),
-# median of 5 runs, for this build's scene-render and, when BASELINE_BINDIR
+# median of 5 runs after a warm-up (bench/timing.py), for this build's scene-render and, when BASELINE_BINDIR
 # is given, for that directory's (say, a build of the commit before a
 # change) side by side as a ratio; the fragments --aa exact reports as
 # estimated (its warning); the reference's own uncertainty; and each image
@@ -17,9 +17,11 @@ cd "$(dirname "$0")/.."
 BENCH=horizon
 . bench/setup.sh
 python3 - "$TARGET/release" "$WORK" "${1:-}" <<'PY'
-import json, os, re, statistics, subprocess, sys, time
+import json, os, re, subprocess, sys, time
 
 bin_dir, work, base_dir = sys.argv[1:4]
+sys.path.insert(0, os.path.join(os.getcwd(), "bench"))
+from timing import measure, run_logged
 sr = os.path.join(bin_dir, "scene-render")
 base = os.path.join(os.path.abspath(base_dir), "scene-render") if base_dir else None
 os.chdir(work)
@@ -34,12 +36,8 @@ ANGLES = [("0", 0.0), ("45", 45.0), ("100/e", 100 / 2.718281828459045)]
 
 
 def median_time(cmd):
-    times = []
-    for _ in range(5):
-        t = time.perf_counter()
-        subprocess.run(cmd, check=True, capture_output=True)
-        times.append(time.perf_counter() - t)
-    return statistics.median(times)
+    """Whole process, median of 5 runs after a warm-up (bench/timing.py)."""
+    return measure(cmd, runs=5)[0]
 
 
 def compare(img, ref):
@@ -54,7 +52,7 @@ load = ", ".join("%.2f" % l for l in os.getloadavg())
 commit = subprocess.run(["git", "-C", os.path.dirname(os.path.abspath(sys.argv[0])) or ".", "rev-parse", "--short", "HEAD"],
                         capture_output=True, text=True).stdout.strip()
 print(f"Run {time.strftime('%Y-%m-%d %H:%M', time.gmtime())} UTC, {os.cpu_count()} cores, load average {load}. "
-      f"640x360, eye 3 units up, whole process, median of 5 runs. "
+      f"640x360, eye 3 units up, whole process, median of 5 runs after a warm-up (bench/timing.py). "
       f"Errors in 8-bit sRGB codes against `--reference`; 'estimated' is the fragment count of --aa exact's warning.")
 print()
 cols = "| angle | exact s | " + ("baseline s | exact / baseline | " if base else "") + \
@@ -71,10 +69,9 @@ for name, deg in ANGLES:
     warn = subprocess.run([sr] + VIEW + [scene, "-o", "exact.png"], check=True, capture_output=True, text=True).stderr
     m = re.search(r"(\d+) pixel fragment\(s\) too fine to integrate exactly", warn)
     estimated = m.group(1) if m else "0"
-    t = time.perf_counter()
-    ref = json.loads(subprocess.run([sr] + VIEW + [scene, "--reference", "--json", "-o", "ref.png"], check=True,
-                                    capture_output=True, text=True).stdout)["reference"]
-    ref_s = time.perf_counter() - t
+    # One run: the reference takes seconds (bench/timing.py).
+    r = run_logged([sr] + VIEW + [scene, "--reference", "--json", "-o", "ref.png"], keep_stdout=True)
+    ref, ref_s = json.loads(r.stdout)["reference"], r.wall
     c = compare("exact.png", "ref.png")
     row = f"| {name} | {exact:.3f} | "
     if base:

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # pat-tile against ImageMagick (`convert -size WxH tile:in.png`) and netpbm
 # (`pnmtile W H`): a 64x64 pattern tiled to 4096x4096, PNG and PPM output.
-# Prints one markdown table: median wall time of each command (hyperfine),
+# Prints one markdown table: median wall time of each command (bench/timing.py),
 # its ratio to pat-tile for the same format, and the output size. It also
 # checks that the three tools produce the same pixels.
 # Not run in CI. Usage: bench/pat_tile.sh [RUNS]
@@ -13,9 +13,9 @@ size=4096
 need() { command -v "$1" >/dev/null 2>&1; }
 # The real ImageMagick: /usr/local/bin/convert may be a stand-in on these machines.
 im=/usr/bin/convert-im6.q16
-if [ ! -x "$im" ] || ! need pnmtile || ! need hyperfine || ! need pnmtopng; then
+if [ ! -x "$im" ] || ! need pnmtile || ! need pnmtopng; then
   apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq imagemagick netpbm hyperfine >/dev/null
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq imagemagick netpbm >/dev/null
 fi
 cargo build --release --quiet --bins
 bin=$PWD/target/release
@@ -37,10 +37,14 @@ add "pat-tile ppm"      "$bin/pat-tile --size ${size}x${size} -o ours.ppm $OLDPW
 add "imagemagick ppm"   "$im -size ${size}x${size} tile:in.png -depth 8 im.ppm"
 add "netpbm ppm"        "sh -c 'pnmtile $size $size in.ppm > nb.ppm'"
 
-args=()
-for c in "${cmds[@]}"; do args+=("$c"); done
-hyperfine -N --warmup 1 --runs "$runs" --export-json times.json "${args[@]}" >/dev/null 2>&1 \
-  || hyperfine --warmup 1 --runs "$runs" --export-json times.json "${args[@]}" >/dev/null
+# Median of $runs after a warm-up, the six taking turns (bench/timing.py).
+python3 - "$runs" "$OLDPWD/bench" "${cmds[@]}" <<'PY' > times.txt
+import shlex, sys
+sys.path.insert(0, sys.argv[2])
+from timing import measure_in_turns
+for wall, _ in measure_in_turns([shlex.split(c) for c in sys.argv[3:]], int(sys.argv[1])):
+    print(wall)
+PY
 
 # Same pixels from every route (all three anchor the pattern so that 4096 = 64k
 # rows end on the pattern's bottom row; PPM files are compared after the header).
@@ -50,12 +54,12 @@ pixels_im=$(same ours.ppm im.ppm); pixels_nb=$(same ours.ppm nb.ppm)
 pixels_png=$( [ "$(same ours_png.ppm im_png.ppm)" = yes ] && [ "$(same ours_png.ppm nb_png.ppm)" = yes ] && echo yes || echo NO)
 
 python3 - "$runs" <<PY
-import json, os, sys
-t = json.load(open("times.json"))["results"]
+import os, sys
 names = """$(printf '%s\n' "${names[@]}")""".strip().split("\n")
 files = ["ours.png", "im.png", "nb.png", "ours.ppm", "im.ppm", "nb.ppm"]
-med = [r["median"] for r in t]
-print(f"pat-tile: 64x64 brick.pat -> ${size}x${size}, median of {sys.argv[1]} runs (hyperfine)")
+med = [float(t) for t in open("times.txt")]
+print(f"pat-tile: 64x64 brick.pat -> ${size}x${size}, median of {sys.argv[1]} runs after a warm-up, "
+      "the commands taking turns (bench/timing.py)")
 print()
 print("| command | median s | vs pat-tile (same format) | output MiB |")
 print("|---|---:|---:|---:|")

@@ -20,12 +20,12 @@ import array
 import os
 import subprocess
 import sys
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 import texbench  # noqa: E402
+from timing import run_once  # noqa: E402
 
 
 def read_pfm(path):
@@ -44,10 +44,8 @@ def read_pfm(path):
 
 
 def render(sr, args, out):
-    """Seconds of one whole-process run of `sr args -o out`."""
-    t0 = time.perf_counter()
-    subprocess.run([sr] + args + ["-o", out], check=True, stderr=subprocess.DEVNULL)
-    return time.perf_counter() - t0
+    """Seconds of one whole-process run of `sr args -o out` (bench/timing.py)."""
+    return run_once([sr] + args + ["-o", out])[0]
 
 
 def scenes(work):

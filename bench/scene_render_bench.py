@@ -17,6 +17,9 @@ import time
 
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from timing import measure_in_turns, run_logged  # noqa: E402
+
 RUNS = 5
 W, H = 1024, 768
 BACKGROUND = (20, 20, 80)
@@ -141,15 +144,9 @@ def save_png(img, path):
 
 def median_time(cmd):
     """Median whole-pipeline time and median render-only time (--timings), of
-    RUNS runs after a warm-up (bench/timing.py's rule)."""
-    subprocess.run(cmd + ["--timings"], check=True, capture_output=True)
-    walls, renders = [], []
-    for _ in range(RUNS):
-        t0 = time.perf_counter()
-        err = subprocess.run(cmd + ["--timings"], check=True, capture_output=True, text=True).stderr
-        walls.append(time.perf_counter() - t0)
-        renders.append(float(err.split("render ")[1].split(" s")[0]))
-    return statistics.median(walls), statistics.median(renders)
+    RUNS runs after a warm-up (bench/timing.py)."""
+    (whole, phases), = measure_in_turns([cmd + ["--timings"]], RUNS)
+    return whole, phases["render"]
 
 
 def measure(sr, image, ref):
@@ -205,10 +202,9 @@ def main():
         ref = os.path.join(work, f"{name}-reference.png")
         with_ref = kind in ("demo2", "demo2cull")
         if with_ref:
-            t0 = time.perf_counter()
-            r = subprocess.run(base + ["--reference", "--json", path, "-o", ref], check=True,
-                               capture_output=True, text=True)
-            t_ref = time.perf_counter() - t0
+            # One run: the reference takes seconds (bench/timing.py).
+            r = run_logged(base + ["--reference", "--json", path, "-o", ref], keep_stdout=True)
+            t_ref = r.wall
             res = json.loads(r.stdout)["reference"]
             notes.append(f"{name}: reference in {t_ref:.1f} s, own error estimate {res['max_linear']:.1e} "
                          f"linear light, {res['max_codes']} 8-bit code(s), {res['uncertain_pixels']} uncertain pixels")

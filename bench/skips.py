@@ -1,14 +1,14 @@
 """What each of scene-render's work-saving skips saves (issue 7): per skip, a
 scene where it matters, rendered with the skip and without it
-(`--no-skip NAME`), best of RUNS of the render phase (`--timings`) with one
-thread, and whether the two PNGs are byte-identical. The referenced-patterns
+(`--no-skip NAME`), the median of RUNS render phases (`--timings`) after a
+warm-up, with one thread, the two taking turns (bench/timing.py), and whether the two PNGs are byte-identical. The referenced-patterns
 skip has no switch: a stream referencing 1 of 200 pattern files in its
 directory is compared with one referencing all 200 (read phase and whole
 process).
 
     python3 bench/skips.py TARGET/release WORK > bench/RESULTS-skips.md
 
-Standard library only. Driven by bench/skips.sh.
+Standard library only (and bench/timing.py). Driven by bench/skips.sh.
 """
 
 import json
@@ -18,6 +18,9 @@ import shutil
 import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from timing import measure_in_turns  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RUNS = 5
@@ -163,28 +166,13 @@ NOTES = """Notes:
 """
 
 
-def phases(stderr):
-    """(read s, render s) from scene-render --timings."""
-    line = next(l for l in stderr.splitlines() if "timings:" in l)
-    read = float(line.split("read ")[1].split(" s")[0])
-    render = float(line.split("render ")[1].split(" s")[0])
-    return read, render
-
-
-def run(sr, scene, size, flags, out):
-    """Best of RUNS: (read s, render s, whole s); the PNG is left in `out`."""
-    best = None
-    for _ in range(RUNS):
-        cmd = [sr, "--size", size, "--threads", "1", "--timings", *flags, scene, "-o", out]
-        t0 = time.perf_counter()
-        r = subprocess.run(cmd, capture_output=True, text=True)
-        whole = time.perf_counter() - t0
-        if r.returncode != 0:
-            raise RuntimeError(f"{' '.join(cmd)}: exit {r.returncode}: {r.stderr.strip()}")
-        read, render = phases(r.stderr)
-        t = (read, render, whole)
-        best = t if best is None else tuple(min(a, b) for a, b in zip(best, t))
-    return best
+def run(sr, cases):
+    """For each case (scene, size, flags, out): (read s, render s, whole s),
+    medians of RUNS rounds after a warm-up, the cases taking turns
+    (bench/timing.py); each PNG is left in its `out`."""
+    cmds = [[sr, "--size", size, "--threads", "1", "--timings", *flags, scene, "-o", out]
+            for scene, size, flags, out in cases]
+    return [(ph["read"], ph["render"], whole) for whole, ph in measure_in_turns(cmds, RUNS)]
 
 
 def same(a, b):
@@ -207,7 +195,8 @@ def header():
     print(f"Commit {commit}{' (with uncommitted changes)' if dirty else ''}. The machine is shared "
           "with other jobs (load above its 2 cores): compare the ratios, measured in the same run, "
           "rather than times across runs.")
-    print(f"Times: best of {RUNS} runs, `scene-render --threads 1 --timings`' render phase; "
+    print(f"Times: median of {RUNS} runs after a warm-up, with and without taking turns "
+          "(bench/timing.py), `scene-render --threads 1 --timings`' render phase; "
           "'without' is `--no-skip NAME` (a hidden flag, for this benchmark). 'identical' compares "
           "the two PNGs byte for byte.")
     print()
@@ -222,8 +211,7 @@ def main():
     for name, what, scene, size, flags in scenes(work):
         scene = os.path.join(work, scene)
         a, b = os.path.join(work, f"{name}-with.png"), os.path.join(work, f"{name}-without.png")
-        w = run(sr, scene, size, flags, a)
-        wo = run(sr, scene, size, flags + ["--no-skip", name], b)
+        w, wo = run(sr, [(scene, size, flags, a), (scene, size, flags + ["--no-skip", name], b)])
         flagtext = " ".join(flags[4:])
         print(f"| {name} | {what}: {os.path.basename(scene)} {size} `{flagtext}` | {w[1]:.4f} | "
               f"{wo[1]:.4f} | {wo[1] / w[1]:.2f} | {'yes' if same(a, b) else 'NO'} |")
@@ -231,8 +219,7 @@ def main():
     one, every = referenced_scenes(work)
     a, b = os.path.join(work, "referenced-one.png"), os.path.join(work, "referenced-all.png")
     cam = ["--ortho2", "0,20,0,10"]
-    w = run(sr, one, "640x320", cam, a)
-    wo = run(sr, every, "640x320", cam, b)
+    w, wo = run(sr, [(one, "640x320", cam, a), (every, "640x320", cam, b)])
     print(f"Referenced patterns: {REFERENCED_FILES} tiles over a directory of {REFERENCED_FILES} "
           f"{REFERENCED_SIDE}x{REFERENCED_SIDE} pattern files "
           f"({os.path.getsize(os.path.join(os.path.dirname(one), 'p000.pat')) // 1024} KiB each, "

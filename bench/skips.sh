@@ -1,7 +1,7 @@
 #!/bin/sh
 # What each of scene-render's work-saving skips saves (issue 7): per skip a
-# scene where it matters, rendered with and without it (`--no-skip`), best of
-# 5 render phases with one thread, ratio, and a byte-identical output check;
+# scene where it matters, rendered with and without it (`--no-skip`), median
+# of 5 render phases after a warm-up with one thread (bench/timing.py), ratio, and a byte-identical output check;
 # then a stream referencing 1 of 200 pattern files against one referencing
 # all 200. The driver is bench/skips.py (Python standard library only).
 #

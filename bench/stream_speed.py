@@ -15,36 +15,21 @@
 """
 import math
 import os
-import re
 import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from timing import measure  # noqa: E402
+from timing import measure, measure_in_turns  # noqa: E402
 
 VIEW = ["--perspective", "55,1,0,1000", "--lookat", "0,100,-5,0,0,-900"]
 
 
-def median(xs):
-    xs = sorted(xs)
-    return xs[len(xs) // 2]
-
-
 def read_phases(srs, args, runs=5):
     """The median read phase (--timings) of each scene-render in `srs` on
-    `args`, over `runs` rounds after a warm-up; the builds take turns in each
-    round, so that a slow spell of this shared machine falls on both (the
-    medians of 3 runs of one build, then of the other, moved by 10-20% from
-    one run of this script to the next)."""
+    `args`, over `runs` rounds after a warm-up, the builds taking turns
+    (bench/timing.py's `measure_in_turns`)."""
     cmds = [[sr, "--timings"] + args for sr in srs]
-    for cmd in cmds:
-        subprocess.run(cmd, check=True, capture_output=True)
-    times = [[] for _ in cmds]
-    for _ in range(runs):
-        for cmd, ts in zip(cmds, times):
-            err = subprocess.run(cmd, check=True, capture_output=True, text=True).stderr
-            ts.append(float(re.search(r"read ([0-9.]+) s", err).group(1)))
-    return [median(ts) for ts in times]
+    return [phases["read"] for _, phases in measure_in_turns(cmds, runs)]
 
 
 def main():

@@ -13,7 +13,8 @@
 # The pattern frame has the same geometry with a 16x16 two-colour pattern of
 # the same bars (6 of 16 texel columns light, as 24 of 64 map samples are),
 # the same period, object placement. Times are the render phase of
-# `--timings` (no file writing), one thread, best of RUNS, modes interleaved.
+# `--timings` (no file writing), one thread, median of RUNS after a warm-up,
+# the modes taking turns in each round (bench/timing.py).
 set -eu
 cd "$(dirname "$0")/.."
 RUNS=${1:-5}
@@ -23,6 +24,8 @@ cp fixtures/stripes/runway.map "$WORK/"
 python3 - "$TARGET/release/scene-render" "$WORK" "$RUNS" <<'PY'
 import json, math, os, re, subprocess, sys, time
 sr, work, runs = sys.argv[1], sys.argv[2], int(sys.argv[3])
+sys.path.insert(0, os.path.join(os.getcwd(), "bench"))
+from timing import measure_in_turns
 
 def lin(c):
     c /= 255
@@ -73,10 +76,12 @@ with open(os.path.join(work, "pattern.json"), "w") as f:
 
 view = ["--size", "1024x768", "--perspective", "50,1.333,1,3000", "--lookat", "0,8,10,0,4,-100"]
 
-def render(scene, extra, out=None):
+def render_args(scene, extra, out=None):
     args = [sr, *view, "--threads", "1", "--timings", *extra, os.path.join(work, scene)]
-    args += ["-o", out] if out else ["-o", "/dev/null", "--format", "ppm"]
-    p = subprocess.run(args, capture_output=True, text=True, check=True)
+    return args + (["-o", out] if out else ["-o", "/dev/null", "--format", "ppm"])
+
+def render(scene, extra, out=None):
+    p = subprocess.run(render_args(scene, extra, out), capture_output=True, text=True, check=True)
     return float(re.search(r"render ([0-9.]+) s", p.stderr).group(1)), p.stderr
 
 def compare(img, ref):
@@ -97,19 +102,10 @@ rows = [  # (label, scene, flags)
     ("pattern (trilinear)", "pattern.json", ["--filter", "trilinear"]),
 ]
 aas = ["exact", "none", "ss4"]
-# Rows timed once rather than RUNS times (none at present; the pattern
-# frame's exact texel cells took minutes before the box filter's heavy
-# minification bound).
-SLOW = set()
-best = {}
-for r in range(runs):
-    for label, scene, flags in rows:
-        for aa in aas:
-            k = (label, aa)
-            if k in SLOW and r > 0:
-                continue
-            t, _ = render(scene, flags + ["--aa", aa])
-            best[k] = min(best.get(k, t), t)
+# Every (frame, --aa) in turn in each round (bench/timing.py).
+keys = [(label, aa) for label, _, _ in rows for aa in aas]
+cmds = [render_args(scene, flags + ["--aa", aa]) for _, scene, flags in rows for aa in aas]
+median = {k: ph["render"] for k, (_, ph) in zip(keys, measure_in_turns(cmds, runs))}
 err = {}
 for label, scene, flags in rows:
     if scene != "stripe.json":
@@ -130,7 +126,7 @@ print("1024x768, a receding ground plane and a wall facing the camera, both stri
 print("with `fixtures/stripes/runway.map` (fade `none`). Error: RMSE, PSNR and share of")
 print("values off by more than 4, 8-bit sRGB over RGB, against `scene-render --reference`")
 print("(%.1f s on one thread; %s). Time: render phase of `--timings`, one thread," % (t_ref, residual.replace("scene-render: ", "")))
-print("best of %d." % runs)
+print("median of %d after a warm-up, the modes taking turns (bench/timing.py)." % runs)
 print()
 print("| frame | --aa | RMSE | PSNR dB | off>4 | render s |")
 print("|---|---|---:|---:|---:|---:|")
@@ -138,18 +134,18 @@ for label, scene, flags in rows:
     for aa in aas:
         e = err.get((label, aa))
         cells = ("%.2f" % e["rmse"], "%.2f" % e["psnr"], "%.2f%%" % (100 * e["share_off"])) if e else ("–", "–", "–")
-        print("| %s | %s | %s | %s | %s | %.3f |" % (label, aa, *cells, best[(label, aa)]))
+        print("| %s | %s | %s | %s | %s | %.3f |" % (label, aa, *cells, median[(label, aa)]))
 print()
 print("Goals:")
 print()
 for aa in aas:
     n, b = ("stripe, nearest level", aa), ("stripe, blended levels", aa)
-    ratio = best[b] / best[n]
+    ratio = median[b] / median[n]
     ok = err[b]["rmse"] < err[n]["rmse"] and ratio < 1.5
     print("- --aa %s: blended beats nearest on error (%.2f vs %.2f) at under 1.5x its time (%.2fx): **%s**"
           % (aa, err[b]["rmse"], err[n]["rmse"], ratio, "met" if ok else "not met"))
 for aa in aas:
-    s, p = best[("stripe, blended levels", aa)], best[("pattern (trilinear)", aa)]
+    s, p = median[("stripe, blended levels", aa)], median[("pattern (trilinear)", aa)]
     print("- --aa %s: the stripe frame (blended) renders no slower than the pattern frame at trilinear (%.3f s vs %.3f s, %.2fx): **%s**"
           % (aa, s, p, s / p, "met" if s <= p else "not met"))
 print()

@@ -27,6 +27,9 @@ import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from timing import run_logged  # noqa: E402
+
 ROOT = os.path.dirname(HERE)
 
 # The methods, in table order. kind:
@@ -49,7 +52,7 @@ METHODS = [
     for f in ("nearest", "trilinear", "aniso16") for m in (0, 4)
 ]
 
-# A method whose first run takes longer than this (seconds, whole process) is
+# A method whose warm-up run takes longer than this (seconds, whole process) is
 # run SLOW_RUNS times instead of the report's usual count, so that the study
 # stays within its 10-minute budget (polyfill3 at incr x0.5 on the plane
 # writes 640 000 polygons); such rows are marked in the table.
@@ -249,12 +252,10 @@ def filter_methods(sr):
 
 
 def timed(cmd, shell=False):
-    t0 = time.perf_counter()
-    r = subprocess.run(cmd, shell=shell, capture_output=True, text=True)
-    dt = time.perf_counter() - t0
-    if r.returncode != 0:
-        raise RuntimeError(f"{cmd}: exit {r.returncode}: {r.stderr.strip()}")
-    return dt, r
+    """(wall seconds, the run) of one run of `cmd` (a shell command line
+    when `shell`), with its output kept (bench/timing.py)."""
+    r = run_logged(["sh", "-c", cmd] if shell else cmd, keep_stdout=True)
+    return r.wall, r
 
 
 def sr_render_time(stderr):
@@ -271,11 +272,11 @@ def measure(sr, image, ref):
 
 
 class Runner:
-    def __init__(self, bins, work, runs, stat, python):
+    def __init__(self, bins, work, runs, python):
         self.sr = os.path.join(bins, "scene-render")
         self.p3 = os.path.join(bins, "polyfill3")
         self.pat_tile = os.path.join(bins, "pat-tile")
-        self.work, self.runs, self.stat, self.python = work, runs, stat, python
+        self.work, self.runs, self.python = work, runs, python
         self.notes = []
         # (scene, method) run SLOW_RUNS times only.
         self.slow = set()
@@ -327,12 +328,13 @@ class Runner:
             shell = False
         else:
             raise ValueError(f"unknown method kind {m['kind']!r}")
+        # The warm-up run also tells a slow method (bench/timing.py's rule:
+        # the median of the runs after one warm-up).
+        warm, _ = timed(cmd, shell)
+        runs = min(self.runs, SLOW_RUNS) if warm > SLOW_RUN_S else self.runs
         wholes, renders = [], []
-        runs = self.runs
         while len(wholes) < runs:
             dt, r = timed(cmd, shell)
-            if not wholes and dt > SLOW_RUN_S:
-                runs = min(runs, SLOW_RUNS)
             wholes.append(dt)
             if m["kind"] == "llvmpipe":
                 renders.append(json.loads(r.stdout)["render_s"])
@@ -341,7 +343,8 @@ class Runner:
         renders = [x for x in renders if x is not None]
         if runs < self.runs:
             self.slow.add((name, m["name"]))
-        return (self.stat(wholes), self.stat(renders) if renders else None, measure(self.sr, img, ref))
+        return (statistics.median(wholes), statistics.median(renders) if renders else None,
+                measure(self.sr, img, ref))
 
 
 def md(label):
@@ -358,7 +361,7 @@ def fmt_err(c):
     return f"{c['rmse']:.4f} | {psnr} | {c['largest_error']} | {100 * c['share_off']:.3f}%"
 
 
-def header(runs, stat_name):
+def header(runs):
     import platform
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
     load = " ".join(open("/proc/loadavg").read().split()[:3])
@@ -370,8 +373,8 @@ def header(runs, stat_name):
           f"{platform.machine()}, {os.cpu_count()} cores ({cpu}), load average {load} at the start.")
     print(f"Commit {commit}{' (with uncommitted changes)' if dirty else ''}. The machine is shared with "
           "other jobs: compare ratios within this run rather than times across runs.")
-    print(f"Times: {stat_name} of {runs} runs ({SLOW_RUNS} when the first run takes over {SLOW_RUN_S:g} s; "
-          "marked). 'whole' is the wall-clock time of the whole process "
+    print(f"Times: median of {runs} runs after a warm-up ({SLOW_RUNS} when the warm-up takes over "
+          f"{SLOW_RUN_S:g} s; marked), bench/timing.py's rule. 'whole' is the wall-clock time of the whole process "
           "(start, read, render, write the PNG; for polyfill3 rows the whole pipeline "
           "`polyfill3 | scene-render`; for llvmpipe the Python process: start, imports, reading the "
           "uv stream, pat-tile for the texels, EGL context, render, PNG). 'render' is the render-only "
@@ -386,11 +389,11 @@ TEXTURE_SCENES = ["plane", "wall", "demo2", "photo-plane", "photo-sphere"]
 
 
 def texture_report(bins, work, python, names):
-    runner = Runner(bins, work, 3, min, python)
+    runner = Runner(bins, work, 3, python)
     methods = TEXTURE_METHODS + filter_methods(runner.sr)
     print("# Direct texturing benchmark (issues 7 and 19)")
     print()
-    header(3, "best")
+    header(3)
     print(f"The photo scenes texture with NASA's Blue Marble ({os.path.relpath(PHOTO_SOURCE, ROOT)}) "
           f"resampled to {PHOTO_SIDE}x{PHOTO_SIDE} PNG, an image texture (no .pat): llvmpipe draws the same "
           "texels as an sRGB8 texture; polyfill3 cuts .pat files only, so those scenes have no polyfill3 "
@@ -479,11 +482,11 @@ def notes(runner, methods):
 
 
 def tradeoff(bins, work, png, python):
-    runner = Runner(bins, work, 5, statistics.median, python)
+    runner = Runner(bins, work, 5, python)
     methods = METHODS + filter_methods(runner.sr)
     print("# Run time against error: the trade-off study (issue 5)")
     print()
-    header(5, "median")
+    header(5)
     print("polyfill3 rows multiply every object pattern's incr (texel side) by the factor: x1 is the "
           "scene itself; other factors draw the pattern at another scale, so their error is that of a "
           "different texture (what a coarser or finer incr costs), not of an approximation of the same one.")
