@@ -83,7 +83,10 @@ pub(super) struct Shown<'a> {
 /// takes from each shower the part of that shower's visible pieces where
 /// it is in front (the shower's pieces cut by the newcomer's part in front
 /// of it, a convex polygon, as in the pairwise subtraction), and its part
-/// of the uncovered region. That is exact for any arrangement, because the
+/// of the uncovered region. That is exact for any arrangement (with no
+/// cycle in the tie rule among the pixel's polygons, which takes depths
+/// within about two tie tolerances: docs/rendering.md, *Visibility and
+/// ties*), because the
 /// showers' visible parts and the uncovered part partition the pixel and
 /// every other fragment lies, at each of its points, behind the shower
 /// there: what lies at a point is the newcomer if it is in front of the

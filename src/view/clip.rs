@@ -20,9 +20,14 @@
 //! rounded once. In plain `f64` an edge from -3e16 to 3e16 crossed the
 //! plane x = -1 at 0 (t rounded to 0.5), so a square at ±1e18 covered a
 //! quarter of the frame (issue 17, item 6); now the crossing is within an
-//! `f64` rounding of the true one for any finite coordinates that do not
-//! overflow. The clip-space coordinates themselves are the projection's
-//! `f64` products: their rounding is relative to their own size.
+//! `f64` rounding of the true one while the edge is shorter than about
+//! 2^100 times that rounding: double-double carries 106 bits, and the
+//! crossing's error is its last bit times the edge's length. A polygon of
+//! radius 1e30 around a 4-pixel view covers it; of radius 1e50 it drew
+//! nothing or half the frame (a stress run, 2026-11-28; a known limit, not
+//! yet refused, README's *Limits*). The clip-space coordinates themselves are
+//! the projection's `f64` products: their rounding is relative to their own
+//! size.
 
 use super::{View, W_EPSILON_REL};
 use crate::geom::polygon::clip_against;
