@@ -20,6 +20,7 @@ use super::polygon::area2;
 use crate::math;
 use crate::text::readable;
 use glam::{DVec2, DVec3};
+use smallvec::SmallVec;
 use std::fmt;
 
 /// A polygon whose area is at most this fraction of the square of its size
@@ -238,6 +239,11 @@ pub fn map_to_plane(
     })
 }
 
+/// A polygon seen flat ([`flat_view`]): a polygon of up to 8 vertices (a
+/// mesh's triangles and quads, polyfill3's cells) without a heap block,
+/// since every polygon read is seen flat once to check it is simple.
+pub type FlatView = SmallVec<[DVec2; 8]>;
+
 /// The polygon seen along the coordinate axis its plane faces most: for each
 /// vertex the two other coordinates, copied without arithmetic, so that exact
 /// predicates on them are exact about the polygon as given. The axes stay in
@@ -251,7 +257,7 @@ pub fn map_to_plane(
 /// self-intersecting polygon is still seen flat. `None` when that too is
 /// within [`ZERO_AREA_REL`] of the size² (the vertices are collinear or
 /// repeated, which [`map_to_plane`] words as no area) or a vertex is not finite.
-pub fn flat_view(v: &[DVec3]) -> Option<Vec<DVec2>> {
+pub fn flat_view(v: &[DVec3]) -> Option<FlatView> {
     let &first = v.first()?;
     if v.iter().any(|p| !p.is_finite()) {
         return None;
@@ -264,7 +270,8 @@ pub fn flat_view(v: &[DVec3]) -> Option<Vec<DVec2>> {
     let has_area = |n: DVec3| n.length() > ZERO_AREA_REL * size * size;
     // A polygon in a plane z = constant (every 2D record) faces z: its
     // normal is the shoelace of its (x, y), and those are its flat view.
-    let level = (lo.z == hi.z).then(|| v.iter().map(|p| DVec2::new(p.x, p.y)).collect::<Vec<_>>());
+    let level =
+        (lo.z == hi.z).then(|| v.iter().map(|p| DVec2::new(p.x, p.y)).collect::<FlatView>());
     let mut normal = match &level {
         Some(flat) => DVec3::new(0.0, 0.0, area2(flat)),
         None => newell_normal(v, first),

@@ -32,6 +32,7 @@ use super::plane::flat_view;
 use super::polygon::orient2d;
 use super::sweep::Treap;
 use glam::{DVec2, DVec3};
+use smallvec::SmallVec;
 use std::cmp::Ordering;
 use std::fmt;
 
@@ -167,9 +168,11 @@ fn lex(a: DVec2, b: DVec2) -> Ordering {
 /// input's vertices `first[k]..=last[k]` (cyclically), and its edge `k`, from
 /// `q[k]` to `q[k + 1]`, is the input's edge `last[k]`.
 struct Ring {
-    q: Vec<DVec2>,
-    first: Vec<usize>,
-    last: Vec<usize>,
+    // Inline up to 8 vertices: a quad's ring (every cell polyfill3 writes
+    // is checked as it is read) makes no heap block.
+    q: SmallVec<[DVec2; 8]>,
+    first: SmallVec<[usize; 8]>,
+    last: SmallVec<[usize; 8]>,
     /// The input's vertex count.
     n: usize,
 }
@@ -181,7 +184,7 @@ impl Ring {
         let n = p.len();
         // A vertex that differs from the one before it starts a run.
         let start = (0..n).find(|&i| p[i] != p[(i + n - 1) % n])?;
-        let (mut q, mut first, mut last) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut q, mut first, mut last) = (SmallVec::new(), SmallVec::new(), SmallVec::new());
         for k in 0..n {
             let i = (start + k) % n;
             if k > 0 && p[i] == p[(i + n - 1) % n] {
