@@ -71,12 +71,10 @@ PY
     # llvmpipe's own time of its sequence (it prints it), median of 3 after
     # a warm-up, as bench/timing.py takes a process's.
     gl=$(python3 - "$ROOT/bench" "$VENV/bin/python" bench/animate_llvmpipe.py "$cells" "$FRAMES" "$WORK/gl-incr$incr" <<'PY'
-import statistics, sys
+import sys
 sys.path.insert(0, sys.argv[1])
-from timing import run_logged
-cmd = sys.argv[2:]
-run_logged(cmd)
-print(statistics.median(float(run_logged(cmd, keep_stdout=True).stdout) for _ in range(3)))
+from timing import medians
+print(medians(sys.argv[2:], lambda r: float(r.stdout), runs=3, keep_stdout=True)[1])
 PY
 )
     row "llvmpipe MSAA 4x, one process, object uploaded once" "$gl"
@@ -100,13 +98,12 @@ for incr in 2 1; do
         fixtures/scenes/demo2-fig51.json > "$one"
     stat() { # polygons and the median of polyfill3's own seconds on $1, 3 runs after a warm-up
         python3 - "$ROOT/bench" "$BIN/polyfill3" --json "$1" <<'PY'
-import json, statistics, sys
+import json, sys
 sys.path.insert(0, sys.argv[1])
-from timing import run_logged
+from timing import medians
 cmd = sys.argv[2:]  # to standard output, discarded: polyfill3 -o FILE renames over FILE
-run_logged(cmd)
-runs = [json.loads(run_logged(cmd).stderr) for _ in range(3)]
-print(runs[0]["polygons"], statistics.median(r["seconds"] for r in runs))
+_, seconds, last = medians(cmd, lambda r: json.loads(r.stderr)["seconds"], runs=3)
+print(json.loads(last.stderr)["polygons"], seconds)
 PY
     }
     set -- $(stat "$four") $(stat "$one")

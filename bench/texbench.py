@@ -21,14 +21,13 @@ import json
 import math
 import os
 import re
-import statistics
 import subprocess
 import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from timing import run_logged  # noqa: E402
+from timing import medians, run_logged  # noqa: E402
 
 ROOT = os.path.dirname(HERE)
 
@@ -330,21 +329,19 @@ class Runner:
             raise ValueError(f"unknown method kind {m['kind']!r}")
         # The warm-up run also tells a slow method (bench/timing.py's rule:
         # the median of the runs after one warm-up).
-        warm, _ = timed(cmd, shell)
-        runs = min(self.runs, SLOW_RUNS) if warm > SLOW_RUN_S else self.runs
-        wholes, renders = [], []
-        while len(wholes) < runs:
-            dt, r = timed(cmd, shell)
-            wholes.append(dt)
-            if m["kind"] == "llvmpipe":
-                renders.append(json.loads(r.stdout)["render_s"])
-            else:
-                renders.append(sr_render_time(r.stderr))
-        renders = [x for x in renders if x is not None]
-        if runs < self.runs:
-            self.slow.add((name, m["name"]))
-        return (statistics.median(wholes), statistics.median(renders) if renders else None,
-                measure(self.sr, img, ref))
+        def runs(warm):
+            if warm > SLOW_RUN_S and SLOW_RUNS < self.runs:
+                self.slow.add((name, m["name"]))
+                return SLOW_RUNS
+            return self.runs
+
+        if m["kind"] == "llvmpipe":
+            render = lambda r: json.loads(r.stdout)["render_s"]  # noqa: E731
+        else:
+            render = lambda r: sr_render_time(r.stderr)  # noqa: E731
+        whole, render_s, _ = medians(["sh", "-c", cmd] if shell else cmd, render, runs=runs,
+                                     keep_stdout=True)
+        return whole, render_s, measure(self.sr, img, ref)
 
 
 def md(label):

@@ -20,8 +20,9 @@ prints `MEDIAN_SECONDS PEAK_KB` on one line, followed by the median of each
 stops the benchmark with its exit status and stderr.
 
 From Python (bench/ on sys.path): `measure` (one command, wall time and
-peak) and `measure_in_turns` (several commands taking turns in each round,
-wall time and `--timings` phases); `run_logged` times one run and keeps its
+peak), `measure_in_turns` (several commands taking turns in each round,
+wall time and `--timings` phases) and `medians` (one command, wall time and
+a figure it reports itself); `run_logged` times one run and keeps its
 output. Every benchmark's times of a process are medians of RUNS after
 WARMUP taken by these, so that every RESULTS table means the same thing.
 """
@@ -118,6 +119,28 @@ def measure(cmd, runs=RUNS, warmup=WARMUP, stdin=None):
         _warned.append(True)
         sys.stderr.write("timing.py: no GNU time: peaks include this script's ~14 MB\n")
     return statistics.median(walls), peak
+
+
+def medians(cmd, read, runs=RUNS, warmup=WARMUP, stdin=None, keep_stdout=False):
+    """The same rule for a figure the command reports itself (a render
+    time it prints, polyfill3's `--json` seconds): `warmup` unmeasured
+    runs, then `runs` runs; (median wall seconds, median of `read(run)`
+    over the runs where it is not None (None when it never is), the last
+    `Run`). `runs` may be a function of the last warm-up's wall seconds,
+    for a benchmark that runs a slow command fewer times."""
+    warm = None
+    for _ in range(warmup):
+        warm = run_logged(cmd, stdin, keep_stdout=keep_stdout).wall
+    if callable(runs):
+        runs = runs(warm)
+    walls, figures, last = [], [], None
+    for _ in range(runs):
+        last = run_logged(cmd, stdin, keep_stdout=keep_stdout)
+        walls.append(last.wall)
+        figure = read(last)
+        if figure is not None:
+            figures.append(figure)
+    return (statistics.median(walls), statistics.median(figures) if figures else None, last)
 
 
 def phases_of(stderr):
