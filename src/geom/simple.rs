@@ -127,9 +127,30 @@ pub fn check(v: &[DVec3]) -> Result<(), Contact> {
         return Ok(());
     }
     match flat_view(v) {
+        Some(flat) if turns_strictly_one_way(&flat) => Ok(()),
         Some(flat) => find_contact(&flat).map_or(Ok(()), Err),
         None => Ok(()),
     }
+}
+
+/// A quadrilateral that turns strictly the same way at each of its four
+/// vertices (exact orientations), which is simple: each exterior angle is
+/// then below a half turn, so the four sum to less than two turns, and a
+/// closed polygon turns through whole turns, so it goes round once, convex.
+/// [`find_contact`] says so too, through its ring; this is the common case
+/// (every cell polyfill3 writes, every quad of a mesh, is checked as it is
+/// read) without the ring.
+fn turns_strictly_one_way(p: &[DVec2]) -> bool {
+    let &[a, b, c, d] = p else {
+        return false;
+    };
+    let t = [
+        orient2d(d, a, b),
+        orient2d(a, b, c),
+        orient2d(b, c, d),
+        orient2d(c, d, a),
+    ];
+    t.iter().all(|&o| o > 0.0) || t.iter().all(|&o| o < 0.0)
 }
 
 /// Up to this many distinct vertices every pair of edges is tested (the
@@ -776,6 +797,31 @@ mod tests {
         })
     }
 
+    #[test]
+    fn convex_quads_take_the_shortcut_and_others_do_not() {
+        let quad = |v: [[f64; 2]; 4]| turns_strictly_one_way(&pts(&v));
+        assert!(quad([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]));
+        assert!(quad([[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]));
+        assert!(quad([
+            [98.8, 1.6],
+            [98.8, 1.6 + 1e-9],
+            [100.0, 0.0],
+            [99.0, 0.5]
+        ]));
+        assert!(
+            !quad([[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]]),
+            "a bow tie"
+        );
+        assert!(
+            !quad([[0.0, 0.0], [2.0, 0.0], [1.0, 1.0], [1.0, 0.5]]),
+            "concave"
+        );
+        assert!(
+            !quad([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [1.0, 1.0]]),
+            "a straight vertex"
+        );
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(3000))]
 
@@ -798,6 +844,15 @@ mod tests {
             let sweep = find_contact_by_sweep(&p);
             prop_assert_eq!(sweep.is_none(), want != Some(false), "{:?} {:?}", v, sweep);
             prop_assert_eq!(find_contact(&p).is_none(), want != Some(false), "{:?}", v);
+        }
+
+        /// The quadrilateral shortcut calls simple only what is.
+        #[test]
+        fn a_quad_turning_one_way_is_simple(v in prop::collection::vec((0i64..6, 0i64..6), 4)) {
+            if turns_strictly_one_way(&float(&v)) {
+                prop_assert_eq!(oracle(&v), Some(true), "{:?}", v);
+                prop_assert!(find_contact(&float(&v)).is_none(), "{:?}", v);
+            }
         }
 
         /// Convex polygons gone round once or more (a regular polygon's

@@ -1,9 +1,16 @@
 //! The plain line read by hand, as the tools and most generators write it:
 //! `"vertices"` and `"color"` read straight into numbers, any other field
-//! read and stepped over by serde alone. serde's route spent
+//! stepped over by serde (by hand when it is an integer or an array of
+//! integers, [`Scanner::integers`]). serde's route spent
 //! its time in visitor calls and number parsing; this one walks the bytes
 //! once: the read phase of a million random triangles took 0.58 s against
 //! 0.65-0.67 through serde's route (paired runs, `bench/RESULTS-stream.md`).
+//!
+//! For polyfill3's cells (17-digit coordinates, a `"texel"` and the
+//! input's own fields) the line is checked as UTF-8 once, digits are read
+//! eight at a time and integer fields stepped over by hand: reading and
+//! drawing 100,000 of them took 1.68 G instructions against 1.88 before
+//! (callgrind, one thread, `bench/RESULTS-stream.md`).
 //!
 //! It only ever *accepts* what serde's route accepts, with the same numbers
 //! to the bit; anything it does not know (a key with an escape, a repeated
@@ -22,9 +29,10 @@ use serde_json::Value;
 /// `None` (with `verts` as it was) leaves it to serde's route.
 pub(super) fn vertices_and_color(line: &[u8], verts: &mut Vec<DVec3>) -> Option<[u8; 3]> {
     // One UTF-8 check of the whole line, so that keys and the texts of
-    // numbers are cut from it as `str` without one each: ten checks a line
-    // of polyfill3's cells cost 5% of reading them (callgrind). A line that
-    // is not UTF-8 is serde's route's to refuse, as before.
+    // numbers are cut from it as `str` without one each (about ten a line
+    // of polyfill3's cells; `from_utf8` was 4.6% of the instructions of
+    // reading and drawing them, callgrind). A line that is not UTF-8 is
+    // serde's route's to refuse, as before.
     let text = std::str::from_utf8(line).ok()?;
     let start = verts.len();
     let found = scan_object(&mut Scanner::new(text), verts);
@@ -143,9 +151,10 @@ impl<'a> Scanner<'a> {
     /// Steps over an integer of at most 18 digits, or a flat array of
     /// them, if that is what starts here: polyfill3's `"texel"` (`[column,
     /// row]`) and most generators' ids. Such a value is a `Value` (a `u64`
-    /// or an `i64`) and a `RawValue` alike, so serde's route takes it too;
-    /// serde took a fifth of the fast path's time on polyfill3's cells to
-    /// step over it. `None` (the cursor anywhere) for anything else.
+    /// or an `i64`) and a `RawValue` alike, so serde's route takes it too,
+    /// and stepping over it by hand spares a serde deserializer made for
+    /// the field and, for `"texel"`, a `Value` built and freed. `None` (the
+    /// cursor anywhere) for anything else.
     fn integers(&mut self) -> Option<()> {
         self.skip_ws();
         if self.b.get(self.i) != Some(&b'[') {
@@ -333,8 +342,7 @@ impl<'a> Scanner<'a> {
     /// Eight digits are taken at once while `m < 10^10`: the digit-by-digit
     /// loop would take all eight too (`m` stays below 10^17 before each),
     /// so `m` and `inexact` come out the same. polyfill3 writes 16 and 17
-    /// significant digits; a digit at a time was a fifth of reading its
-    /// cells.
+    /// significant digits.
     #[inline]
     fn digits(&mut self, m: &mut u64, inexact: &mut bool) {
         while *m < 10_000_000_000 {
