@@ -326,6 +326,12 @@ impl<'a> Scanner<'a> {
             } else {
                 m / POW10[(-exp10) as usize]
             }
+        } else if let Some(x) = u32::try_from(-exp10)
+            .ok()
+            .filter(|_| !inexact)
+            .and_then(|k| divide_by_pow10(m, k))
+        {
+            x
         } else {
             // Cut between ASCII bytes, so on character boundaries.
             self.s.get(start..self.i)?.parse::<f64>().ok()?.abs()
@@ -339,21 +345,23 @@ impl<'a> Scanner<'a> {
     /// Consumes a run of decimal digits into `m`; past 10^18 `m` takes no
     /// more and `inexact` is set (the standard parser then reads the text).
     ///
-    /// Eight digits are taken at once while `m < 10^10`: the digit-by-digit
-    /// loop would take all eight too (`m` stays below 10^17 before each),
-    /// so `m` and `inexact` come out the same. polyfill3 writes 16 and 17
-    /// significant digits.
+    /// Up to eight digits are taken at once ([`leading_digits`]) while
+    /// `m < 10^10`: the digit-by-digit loop would take them all too (`m`
+    /// stays below 10^17 before each), so `m` and `inexact` come out the
+    /// same. A digit at a time was half of reading a number (callgrind);
+    /// polyfill3 writes 16 and 17 significant digits.
     #[inline]
     fn digits(&mut self, m: &mut u64, inexact: &mut bool) {
         while *m < 10_000_000_000 {
-            let Some(eight) = self.b.get(self.i..self.i + 8) else {
+            let Some(&eight) = self.b.get(self.i..).and_then(|r| r.first_chunk::<8>()) else {
                 break;
             };
-            let Some(v) = eight_digits(eight) else {
-                break;
-            };
-            *m = *m * 100_000_000 + v;
-            self.i += 8;
+            let (n, v) = leading_digits(eight);
+            *m = *m * POW10_U64[n] + v;
+            self.i += n;
+            if n < 8 {
+                return; // The next byte is not a digit.
+            }
         }
         while let Some(&d @ b'0'..=b'9') = self.b.get(self.i) {
             if *m < 1_000_000_000_000_000_000 {
@@ -366,21 +374,88 @@ impl<'a> Scanner<'a> {
     }
 }
 
-/// The value of eight ASCII decimal digits, or `None` if any byte is not
-/// one, by word arithmetic (SWAR): the bytes are read as a little-endian
-/// word, so the first digit is its lowest byte.
-#[inline]
-fn eight_digits(bytes: &[u8]) -> Option<u64> {
-    const LOW: u64 = 0x0101_0101_0101_0101;
-    let w = u64::from_le_bytes(bytes.try_into().ok()?);
-    // Each byte is 0x30..=0x39: its high nibble is 3, and adding 6 to it
-    // leaves the high nibble 3 (0x39 + 6 = 0x3f; 0x3a + 6 carries to 0x40).
-    let high = w & (0xf0 * LOW);
-    let carried = w.wrapping_add(0x06 * LOW) & (0xf0 * LOW);
-    if high != 0x30 * LOW || carried != 0x30 * LOW {
+/// `m / 10^k`, correctly rounded (to nearest, ties to even), by integer
+/// division, for `m` from 2^53 (below it the caller's Clinger fast path
+/// serves), `k` up to 19 (`10^k` below 2^64) and a quotient below 2^55;
+/// `None` for anything else.
+/// polyfill3 writes 17 significant digits, a third of its numbers above
+/// 2^53; the standard parser read their text a second time.
+///
+/// With `s = 54 + bits(10^k) - bits(m)`, `q = floor(m * 2^s / 10^k)` has
+/// 54 or 55 bits (`m / 10^k` lies within a factor 2 either side of
+/// `2^(bits(m) - bits(10^k))`), and `m * 2^s` fits 128 bits. `q` is taken
+/// down to 54 bits, the last of them the round bit, with everything below
+/// it (the division's remainder, a bit shifted out) as the sticky bit.
+fn divide_by_pow10(m: u64, k: u32) -> Option<f64> {
+    if m < 1 << 53 || k > 19 {
         return None;
     }
-    let d = w - 0x30 * LOW;
+    if k == 0 {
+        return Some(m as f64); // `as` rounds to nearest, ties to even.
+    }
+    let d = 10u64.pow(k);
+    // Negative when the quotient has more than 55 bits (19 digits over a
+    // small power of ten): left to the standard parser.
+    let s = u32::try_from(54 + m.leading_zeros() as i32 - d.leading_zeros() as i32).ok()?;
+    let num = u128::from(m) << s;
+    let mut q = num / u128::from(d);
+    let mut sticky = num % u128::from(d) != 0;
+    // x = q * 2^e, and then some below q's last bit.
+    let mut e = -(s as i32);
+    if q >= 1 << 54 {
+        sticky |= q & 1 != 0;
+        q >>= 1;
+        e += 1;
+    }
+    let round = q & 1 != 0;
+    let mut mantissa = (q >> 1) as u64; // 53 bits
+    e += 1;
+    if round && (sticky || mantissa & 1 != 0) {
+        mantissa += 1; // At most 2^53: still exact.
+    }
+    // 2^e is a normal f64 (e from -63 to 2 here), so the product is exact.
+    Some(mantissa as f64 * f64::from_bits(((1023 + e) as u64) << 52))
+}
+
+/// `10^n` for the digit counts of [`leading_digits`].
+const POW10_U64: [u64; 9] = [
+    1,
+    10,
+    100,
+    1_000,
+    10_000,
+    100_000,
+    1_000_000,
+    10_000_000,
+    100_000_000,
+];
+
+/// How many of eight bytes, from the first, are ASCII decimal digits, and
+/// the value of those digits, by word arithmetic (SWAR): the bytes are read
+/// as a little-endian word, so the first is its lowest byte.
+#[inline]
+fn leading_digits(bytes: [u8; 8]) -> (usize, u64) {
+    const LOW: u64 = 0x0101_0101_0101_0101;
+    let w = u64::from_le_bytes(bytes);
+    // A digit byte is 0x30..=0x39: its high nibble is 3, and adding 6 to it
+    // leaves the high nibble 3 (0x39 + 6 = 0x3f; 0x3a + 6 = 0x40). Adding 6
+    // to a byte of 0xfa or more carries into the next one, spoiling the
+    // test of the bytes after it only: it is not a digit itself, and only
+    // the bytes before the first that is not are used.
+    let high = (w & (0xf0 * LOW)) ^ (0x30 * LOW);
+    let carried = (w.wrapping_add(0x06 * LOW) & (0xf0 * LOW)) ^ (0x30 * LOW);
+    // A non-zero byte here marks a byte that is not a digit.
+    let n = ((high | carried).trailing_zeros() / 8) as usize;
+    if n == 0 {
+        return (0, 0);
+    }
+    // The n digits as the last of eight, behind leading '0's.
+    let padded = if n == 8 {
+        w
+    } else {
+        (w << (8 * (8 - n))) | ((0x30 * LOW) >> (8 * n))
+    };
+    let d = padded - 0x30 * LOW;
     // Pairs: byte 2k becomes 10 * digit 2k + digit 2k+1 (the junk in the
     // odd bytes is masked off below).
     let pairs = d.wrapping_mul(10).wrapping_add(d >> 8);
@@ -389,7 +464,7 @@ fn eight_digits(bytes: &[u8]) -> Option<u64> {
     let lanes = 0x0000_00ff_0000_00ff;
     let lo = (pairs & lanes).wrapping_mul(100 + (1_000_000 << 32));
     let hi = ((pairs >> 16) & lanes).wrapping_mul(1 + (10_000 << 32));
-    Some(lo.wrapping_add(hi) >> 32)
+    (n, lo.wrapping_add(hi) >> 32)
 }
 
 #[cfg(test)]
@@ -490,16 +565,68 @@ mod tests {
     }
 
     proptest! {
+        /// Integer division rounds as the standard parser does.
+        #[test]
+        fn division_by_a_power_of_ten_is_correctly_rounded(
+            m in prop_oneof![(1u64 << 53)..100_000_000_000_000_000, (1u64 << 53)..=u64::MAX],
+            k in 0u32..=19,
+        ) {
+            let text = format!("{m}e-{k}");
+            let want = text.parse::<f64>().unwrap();
+            match divide_by_pow10(m, k) {
+                Some(x) => prop_assert_eq!(x.to_bits(), want.to_bits(), "{}", text),
+                // Only a quotient of more than 54 bits is declined.
+                None => prop_assert!(want >= (1u64 << 54) as f64, "{}", text),
+            }
+        }
+
         /// Eight bytes read at once give what a digit at a time gives.
         #[test]
-        fn eight_digits_are_read_as_one_at_a_time(
-            bytes in prop::collection::vec(prop_oneof![b'0'..=b'9', any::<u8>()], 8),
+        fn leading_digits_are_read_as_one_at_a_time(
+            bytes in prop::array::uniform8(prop_oneof![
+                3 => b'0'..=b'9',
+                1 => any::<u8>(),
+                1 => prop::sample::select(vec![b'.', b'e', b',', b']', b'/', b':', 0xfa, 0xff]),
+            ]),
         ) {
-            let one_at_a_time = bytes
-                .iter()
-                .try_fold(0u64, |m, &d| d.is_ascii_digit().then(|| m * 10 + u64::from(d - b'0')));
-            prop_assert_eq!(eight_digits(&bytes), one_at_a_time);
+            let n = bytes.iter().take_while(|b| b.is_ascii_digit()).count();
+            let v = bytes[..n].iter().fold(0u64, |m, &d| m * 10 + u64::from(d - b'0'));
+            prop_assert_eq!(leading_digits(bytes), (n, v), "{:?}", bytes);
         }
+    }
+
+    /// Halfway cases, which random numbers seldom meet: `m / 10^k` a
+    /// 54-bit odd integer times a power of two, exactly between two f64s.
+    #[test]
+    fn division_by_a_power_of_ten_rounds_ties_to_even() {
+        let mut checked = 0;
+        for n in [
+            (1u64 << 53) + 1,
+            (1 << 53) + 3,
+            (1 << 54) - 1,
+            (1 << 53) + 12_345_677,
+        ] {
+            for k in 1..=4u32 {
+                for j in 0..=8 {
+                    let Some(m) = n
+                        .checked_mul(5u64.pow(k))
+                        .and_then(|m| m.checked_mul(1 << j))
+                    else {
+                        continue;
+                    };
+                    let text = format!("{m}e-{k}");
+                    if let Some(x) = divide_by_pow10(m, k) {
+                        assert_eq!(
+                            x.to_bits(),
+                            text.parse::<f64>().unwrap().to_bits(),
+                            "{text}"
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked >= 16, "{checked}");
     }
 
     #[test]
