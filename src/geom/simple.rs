@@ -127,7 +127,7 @@ pub fn check(v: &[DVec3]) -> Result<(), Contact> {
         return Ok(());
     }
     match flat_view(v) {
-        Some(flat) if turns_strictly_one_way(&flat) => Ok(()),
+        Some(flat) if turns_strictly_one_way(&flat) || convex_without_repeats(&flat) => Ok(()),
         Some(flat) => find_contact(&flat).map_or(Ok(()), Err),
         None => Ok(()),
     }
@@ -139,7 +139,8 @@ pub fn check(v: &[DVec3]) -> Result<(), Contact> {
 /// closed polygon turns through whole turns, so it goes round once, convex.
 /// [`find_contact`] says so too, through its ring; this is the common case
 /// (every cell polyfill3 writes, every quad of a mesh, is checked as it is
-/// read) without the ring.
+/// read), in four orientations: [`convex_without_repeats`] took 4% more of
+/// reading and drawing polyfill3's cells (callgrind).
 fn turns_strictly_one_way(p: &[DVec2]) -> bool {
     let &[a, b, c, d] = p else {
         return false;
@@ -153,6 +154,65 @@ fn turns_strictly_one_way(p: &[DVec2]) -> bool {
     t.iter().all(|&o| o > 0.0) || t.iter().all(|&o| o < 0.0)
 }
 
+/// Whether a polygon with no vertex repeated by the next (the last and the
+/// first included) is convex and gone round once ([`convex_once`]) without
+/// doubling back ([`fold_back_at`]): simple. Such a polygon is its own
+/// ring, so this is what [`find_contact`] decides, without building the
+/// ring: the common case (every cell and merged run polyfill3 writes, a
+/// mesh's faces) is checked as it is read. (20,000 of polyfill3's merged
+/// runs were checked in 113 M instructions against 180 M through the
+/// ring, callgrind.)
+fn convex_without_repeats(p: &[DVec2]) -> bool {
+    let m = p.len();
+    (0..m).all(|k| p[k] != p[(k + 1) % m]) && fold_back_at(p).is_none() && convex_once(p)
+}
+
+/// The first vertex where the polygon turns back on itself: the edges
+/// either side of it overlap (a zero-width spike).
+fn fold_back_at(q: &[DVec2]) -> Option<usize> {
+    let m = q.len();
+    (0..m).find(|&k| {
+        let (a, b, c) = (q[(k + m - 1) % m], q[k], q[(k + 1) % m]);
+        orient2d(a, b, c) == 0.0 && (lex(a, b) == lex(c, b))
+    })
+}
+
+/// Whether the polygon is convex and gone round once, which is simple: it
+/// turns the same way at every vertex (or goes straight on; doubling back
+/// is [`fold_back_at`]'s), and its edges turn through one full turn in
+/// all, not two or more like a pentagram's, which shows in the sign of
+/// their x extent changing exactly twice. O(n), and the common case
+/// (rectangles, circles, a mesh's faces).
+fn convex_once(q: &[DVec2]) -> bool {
+    let m = q.len();
+    let mut turn = 0.0f64;
+    for k in 0..m {
+        let o = orient2d(q[(k + m - 1) % m], q[k], q[(k + 1) % m]);
+        if o * turn < 0.0 {
+            return false;
+        }
+        if o != 0.0 {
+            turn = o;
+        }
+    }
+    let dx = |k: usize| q[(k + 1) % m].x.total_cmp(&q[k].x) as i8;
+    let signs = (0..m).map(dx).filter(|&s| s != 0);
+    let mut changes = 0;
+    let (mut first, mut last) = (0i8, 0i8);
+    for s in signs {
+        if first == 0 {
+            first = s;
+        } else if s != last {
+            changes += 1;
+        }
+        last = s;
+    }
+    if first != last {
+        changes += 1;
+    }
+    changes == 2
+}
+
 /// Up to this many distinct vertices every pair of edges is tested (the
 /// quadrilaterals of a mesh cost two pair tests), past it the sweep.
 const PAIRWISE_MAX: usize = 24;
@@ -162,7 +222,7 @@ const PAIRWISE_MAX: usize = 24;
 pub fn find_contact(p: &[DVec2]) -> Option<Contact> {
     let ring = Ring::new(p)?;
     ring.fold_back().or_else(|| {
-        if ring.convex_once() {
+        if convex_once(&ring.q) {
             None
         } else if ring.q.len() <= PAIRWISE_MAX {
             ring.pairwise()
@@ -282,47 +342,7 @@ impl Ring {
     /// shared vertex (a zero-width spike).
     fn fold_back(&self) -> Option<Contact> {
         let m = self.len();
-        (0..m).find_map(|k| {
-            let (a, b, c) = (self.q[(k + m - 1) % m], self.q[k], self.q[(k + 1) % m]);
-            let back = orient2d(a, b, c) == 0.0 && (lex(a, b) == lex(c, b));
-            back.then(|| self.overlap((k + m - 1) % m, k))
-        })
-    }
-
-    /// Whether the ring is a convex polygon gone round once, which is
-    /// simple: it turns the same way at every vertex (or goes straight on;
-    /// doubling back is [`Ring::fold_back`]'s), and its edges turn through
-    /// one full turn in all, not two or more like a pentagram's, which shows
-    /// in the sign of their x extent changing exactly twice. O(n), and the
-    /// common case (rectangles, circles, a mesh's faces).
-    fn convex_once(&self) -> bool {
-        let m = self.len();
-        let mut turn = 0.0f64;
-        for k in 0..m {
-            let o = orient2d(self.q[(k + m - 1) % m], self.q[k], self.q[(k + 1) % m]);
-            if o * turn < 0.0 {
-                return false;
-            }
-            if o != 0.0 {
-                turn = o;
-            }
-        }
-        let dx = |k: usize| self.q[(k + 1) % m].x.total_cmp(&self.q[k].x) as i8;
-        let signs = (0..m).map(dx).filter(|&s| s != 0);
-        let mut changes = 0;
-        let (mut first, mut last) = (0i8, 0i8);
-        for s in signs {
-            if first == 0 {
-                first = s;
-            } else if s != last {
-                changes += 1;
-            }
-            last = s;
-        }
-        if first != last {
-            changes += 1;
-        }
-        changes == 2
+        fold_back_at(&self.q).map(|k| self.overlap((k + m - 1) % m, k))
     }
 
     /// Whether edges `i` and `j`, not neighbours, meet, and how.
@@ -798,16 +818,10 @@ mod tests {
     }
 
     #[test]
-    fn convex_quads_take_the_shortcut_and_others_do_not() {
+    fn convex_quads_take_the_quad_shortcut_and_others_do_not() {
         let quad = |v: [[f64; 2]; 4]| turns_strictly_one_way(&pts(&v));
         assert!(quad([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]));
         assert!(quad([[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]));
-        assert!(quad([
-            [98.8, 1.6],
-            [98.8, 1.6 + 1e-9],
-            [100.0, 0.0],
-            [99.0, 0.5]
-        ]));
         assert!(
             !quad([[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]]),
             "a bow tie"
@@ -820,6 +834,54 @@ mod tests {
             !quad([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [1.0, 1.0]]),
             "a straight vertex"
         );
+    }
+
+    #[test]
+    fn convex_polygons_take_the_shortcut_and_others_do_not() {
+        let shortcut = |v: &[[f64; 2]]| convex_without_repeats(&pts(v));
+        assert!(shortcut(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]));
+        assert!(shortcut(&[[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]));
+        assert!(shortcut(&[
+            [98.8, 1.6],
+            [98.8, 1.6 + 1e-9],
+            [100.0, 0.0],
+            [99.0, 0.5]
+        ]));
+        // A merged run: straight on at the cells' shared corners.
+        assert!(shortcut(&[
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [2.0, 0.0],
+            [3.0, 0.0],
+            [3.0, 1.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [0.0, 1.0]
+        ]));
+        assert!(
+            !shortcut(&[[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]]),
+            "a bow tie"
+        );
+        assert!(
+            !shortcut(&[[0.0, 0.0], [2.0, 0.0], [1.0, 1.0], [1.0, 0.5]]),
+            "concave"
+        );
+        assert!(
+            !shortcut(&[[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [1.0, 1.0]]),
+            "a repeat"
+        );
+        assert!(
+            !shortcut(&[[0.0, 0.0], [2.0, 0.0], [1.0, 0.0], [1.0, 1.0]]),
+            "doubling back"
+        );
+        let pentagram = [
+            [0.0, 10.0],
+            [6.0, -8.0],
+            [-9.0, 3.0],
+            [9.0, 3.0],
+            [-6.0, -8.0],
+        ];
+        assert!(!shortcut(&pentagram), "round twice");
     }
 
     proptest! {
@@ -855,6 +917,15 @@ mod tests {
             }
         }
 
+        /// The convex shortcut calls simple only what is.
+        #[test]
+        fn a_convex_polygon_without_repeats_is_simple(v in grid_polygon()) {
+            if convex_without_repeats(&float(&v)) {
+                prop_assert_ne!(oracle(&v), Some(false), "{:?}", v);
+                prop_assert!(find_contact(&float(&v)).is_none(), "{:?}", v);
+            }
+        }
+
         /// Convex polygons gone round once or more (a regular polygon's
         /// vertices taken k at a time: a pentagram for 5 and 2).
         #[test]
@@ -869,6 +940,9 @@ mod tests {
             let p = float(&v);
             prop_assert_eq!(find_contact(&p).is_none(), want != Some(false), "{:?}", v);
             prop_assert_eq!(find_contact_by_sweep(&p).is_none(), want != Some(false), "{:?}", v);
+            if convex_without_repeats(&p) {
+                prop_assert_ne!(want, Some(false), "{:?}", v);
+            }
         }
 
         /// The reported edges really meet (or the vertices coincide).
