@@ -10,8 +10,10 @@
   16x12 frame for the triangles (nothing to render) and 1024x768 for demo 2;
   MB/s of NDJSON read. Median of 5 after a warm-up, the builds taking turns.
 - Writing: polyfill3 alone, output discarded (bench/timing.py); MB/s written.
-- The pipeline `polyfill3 | scene-render` against scene-render texturing the
-  same faces directly (bench/timing.py, whole process), and the ratio.
+- The pipeline `polyfill3 | scene-render`, and `polyfill3 --merge |
+  scene-render`, against scene-render texturing the same faces directly
+  (bench/timing.py, whole process, the three taking turns), and the ratios;
+  the three images must be byte for byte the same.
 """
 import math
 import os
@@ -97,19 +99,27 @@ def main():
         (m0, t0), (m1, t1) = write_times[("0.5", b)], write_times[("0.25", b)]
         print(f"- {b}, writing time against output size: N^{math.log(t1 / t0) / math.log(m1 / m0):.2f}.")
     print()
-    cols = " | ".join(f"{b}: pipe s | direct s | pipe/direct" for b, _ in builds)
+    cols = " | ".join(f"{b}: pipe s | --merge pipe s | direct s | pipe/direct | --merge/direct"
+                      for b, _ in builds)
     print(f"| pipeline, 1024x768 --aa exact | {cols} |")
-    print("|---|" + "---:|---:|---:|" * len(builds))
+    print("|---|" + "---:|---:|---:|---:|---:|" * len(builds))
     for incr, (scene, _) in scenes.items():
         cells = []
-        for _, d in builds:
+        for b, d in builds:
             p3, sr = os.path.join(d, "polyfill3"), os.path.join(d, "scene-render")
-            out = os.path.join(work, "out.png")
-            pipe, _ = measure(["sh", "-c", f"'{p3}' '{scene}' | '{sr}' --size 1024x768 {' '.join(VIEW)} - -o '{out}'"],
-                              runs=3)
-            direct, _ = measure([sr, "--size", "1024x768"] + VIEW + [scene, "-o", out], runs=3)
-            cells.append(f"{pipe:.3f} | {direct:.3f} | {pipe / direct:.1f}")
+            outs = [os.path.join(work, f"{name}.png") for name in ("pipe", "merge", "direct")]
+            render = f"'{sr}' --size 1024x768 {' '.join(VIEW)} -"
+            cmds = [["sh", "-c", f"'{p3}' '{scene}' | {render} -o '{outs[0]}'"],
+                    ["sh", "-c", f"'{p3}' --merge '{scene}' | {render} -o '{outs[1]}'"],
+                    [sr, "--size", "1024x768"] + VIEW + [scene, "-o", outs[2]]]
+            (pipe, _), (merge, _), (direct, _) = measure_in_turns(cmds, runs=3)
+            images = [open(o, "rb").read() for o in outs]
+            if images[0] != images[2] or images[1] != images[2]:
+                raise SystemExit(f"stream_speed.py: {b}, incr {incr}: the three images differ")
+            cells.append(f"{pipe:.3f} | {merge:.3f} | {direct:.3f} | {pipe / direct:.1f} | {merge / direct:.1f}")
         print(f"| demo 2 faces, incr {incr} | " + " | ".join(cells) + " |")
+    print()
+    print("The three images of each row are byte for byte the same (checked by this script).")
 
 
 if __name__ == "__main__":
