@@ -208,3 +208,42 @@ fn walk(p: &std::path::Path) -> Vec<std::path::PathBuf> {
     }
     all
 }
+
+clitest!(
+    demo2_makefile_pipeline_draws_the_full_partitions_picture,
+    |dir| {
+        // The Makefile gives polyfill3 the camera (--cull) and --merge: fewer,
+        // larger polygons, and the picture of the whole partition.
+        let out = dir.path().join("out");
+        let png = out.join("demo2.png");
+        let built = make(&out, &[png.to_str().unwrap()]);
+        assert!(built.status.success(), "{built:?}");
+        dir.cmd("polyfill3")
+            .arg(repo("examples/scenes/demo2.json"))
+            .args(["-o", "full.ndjson"])
+            .assert()
+            .success();
+        dir.cmd("scene-render")
+            .args([
+                "--perspective",
+                "55,1,0,1000",
+                "--lookat",
+                "0,100,-5,0,0,-900",
+            ])
+            .args(["--cull", "back", "--background-pattern"])
+            .arg(repo("fixtures/patterns/bkgrnd.pat"))
+            .args(["-o", "full.png", "full.ndjson"])
+            .assert()
+            .success();
+        assert!(
+            std::fs::read(&png).unwrap() == dir.read("full.png"),
+            "the Makefile's demo 2 differs from the whole partition's"
+        );
+        let size = |p: &std::path::Path| std::fs::metadata(p).unwrap().len();
+        let (cut, full) = (
+            size(&out.join("demo2.ndjson")),
+            size(&dir.path().join("full.ndjson")),
+        );
+        assert!(4 * cut < full, "{cut} bytes against {full}");
+    }
+);
