@@ -69,8 +69,9 @@ impl Plane {
 }
 
 /// The clip planes of a view, in the order they are clipped against. (Made
-/// for every polygon, so without a heap block: boxed closures, one block
-/// each, were three quarters of clipping a quad that lies outside.)
+/// for every polygon, so without a heap block: with a boxed closure each,
+/// clipping 100,000 of polyfill3's cells took 178 M instructions, against
+/// 83 M without, callgrind.)
 fn planes(view: &View) -> impl Iterator<Item = Plane> {
     // With near > 0 the near plane already keeps w >= near > 0 (z_clip = w
     // in perspective), and |x|, |y| <= w keeps the divide finite: a floor at
