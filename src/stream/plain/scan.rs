@@ -629,6 +629,17 @@ mod tests {
         assert!(checked >= 16, "{checked}");
     }
 
+    /// Shrunk from `division_by_a_power_of_ten_is_correctly_rounded`: 2^58
+    /// over 10 has 55 bits and a shift below zero; it is declined, and the
+    /// scanner reads it through the standard parser, to the bit.
+    #[test]
+    fn a_quotient_of_more_than_54_bits_is_left_to_the_standard_parser() {
+        assert_eq!(divide_by_pow10(1 << 58, 1), None);
+        let line = r#"{"vertices":[[28823037615171174.4,0],[1,0],[0,1]],"color":[1,2,3]}"#;
+        agree(line).unwrap();
+        assert!(scanned(line).is_some());
+    }
+
     #[test]
     fn integers_and_arrays_of_them_are_stepped_over_by_hand() {
         for (text, by_hand) in [
