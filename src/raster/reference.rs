@@ -381,9 +381,10 @@ impl Projected<'_> {
         [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)]
             .iter()
             .all(|&(cx, cy)| {
-                let lead = f.q(cx, cy) - g.q(cx, cy);
+                let (qf, qg) = (f.q(cx, cy), g.q(cx, cy));
+                let lead = qf - qg;
                 if g.order > f.order {
-                    lead >= tie_tolerance(f.q(cx, cy), g.q(cx, cy), self.tie_floor)
+                    lead >= tie_tolerance(qf, qg, self.tie_floor)
                 } else {
                     lead >= -self.tie_floor
                 }
