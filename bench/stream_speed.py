@@ -10,10 +10,12 @@
   16x12 frame for the triangles (nothing to render) and 1024x768 for demo 2;
   MB/s of NDJSON read. Median of 5 after a warm-up, the builds taking turns.
 - Writing: polyfill3 alone, output discarded (bench/timing.py); MB/s written.
-- The pipeline `polyfill3 | scene-render`, and `polyfill3 --merge |
-  scene-render`, against scene-render texturing the same faces directly
-  (bench/timing.py, whole process, the three taking turns), and the ratios;
-  the three images must be byte for byte the same.
+- The pipeline `polyfill3 | scene-render`, `polyfill3 --merge |
+  scene-render`, and `polyfill3 --merge VIEW --cull=none |
+  scene-render` (only the cells in view written), against scene-render
+  texturing the same faces directly (bench/timing.py, whole process, the
+  commands taking turns), and the ratios; the images must be byte for byte
+  the same.
 """
 import math
 import os
@@ -99,27 +101,38 @@ def main():
         (m0, t0), (m1, t1) = write_times[("0.5", b)], write_times[("0.25", b)]
         print(f"- {b}, writing time against output size: N^{math.log(t1 / t0) / math.log(m1 / m0):.2f}.")
     print()
-    cols = " | ".join(f"{b}: pipe s | --merge pipe s | direct s | pipe/direct | --merge/direct"
+    cols = " | ".join(f"{b}: pipe s | --merge s | --merge --cull=none s | direct s | "
+                      "pipe/direct | --merge/direct | --merge --cull=none/direct"
                       for b, _ in builds)
     print(f"| pipeline, 1024x768 --aa exact | {cols} |")
-    print("|---|" + "---:|---:|---:|---:|---:|" * len(builds))
+    print("|---|" + "---:|" * 7 * len(builds))
+    # polyfill3 takes scene-render's camera flags: the same view.
+    cull = " ".join(["--merge"] + VIEW + ["--cull=none"])
     for incr, (scene, _) in scenes.items():
         cells = []
         for b, d in builds:
             p3, sr = os.path.join(d, "polyfill3"), os.path.join(d, "scene-render")
-            outs = [os.path.join(work, f"{name}.png") for name in ("pipe", "merge", "direct")]
+            # A build from before polyfill3's --cull=FACES cannot leave out only
+            # what is off view: its row has no such column.
+            culls = "--cull[=" in subprocess.run([p3, "--help"], capture_output=True, text=True).stdout
+            names = ["pipe", "merge", "cull", "direct"] if culls else ["pipe", "merge", "direct"]
+            outs = {name: os.path.join(work, f"{name}.png") for name in names}
             render = f"'{sr}' --size 1024x768 {' '.join(VIEW)} -"
-            cmds = [["sh", "-c", f"'{p3}' '{scene}' | {render} -o '{outs[0]}'"],
-                    ["sh", "-c", f"'{p3}' --merge '{scene}' | {render} -o '{outs[1]}'"],
-                    [sr, "--size", "1024x768"] + VIEW + [scene, "-o", outs[2]]]
-            (pipe, _), (merge, _), (direct, _) = measure_in_turns(cmds, runs=3)
-            images = [open(o, "rb").read() for o in outs]
-            if images[0] != images[2] or images[1] != images[2]:
-                raise SystemExit(f"stream_speed.py: {b}, incr {incr}: the three images differ")
-            cells.append(f"{pipe:.3f} | {merge:.3f} | {direct:.3f} | {pipe / direct:.1f} | {merge / direct:.1f}")
+            piped = {"pipe": "", "merge": "--merge", "cull": cull}
+            cmds = [["sh", "-c", f"'{p3}' {piped[n]} '{scene}' | {render} -o '{outs[n]}'"]
+                    if n != "direct" else [sr, "--size", "1024x768"] + VIEW + [scene, "-o", outs[n]]
+                    for n in names]
+            times = dict(zip(names, (t for t, _ in measure_in_turns(cmds, runs=3))))
+            images = {n: open(o, "rb").read() for n, o in outs.items()}
+            if any(images[n] != images["direct"] for n in names):
+                raise SystemExit(f"stream_speed.py: {b}, incr {incr}: the images differ")
+            direct = times["direct"]
+            row = [f"{times[n]:.3f}" if n in times else "-" for n in ("pipe", "merge", "cull", "direct")]
+            row += [f"{times[n] / direct:.1f}" if n in times else "-" for n in ("pipe", "merge", "cull")]
+            cells.append(" | ".join(row))
         print(f"| demo 2 faces, incr {incr} | " + " | ".join(cells) + " |")
     print()
-    print("The three images of each row are byte for byte the same (checked by this script).")
+    print("The images of each row are byte for byte the same (checked by this script).")
 
 
 if __name__ == "__main__":

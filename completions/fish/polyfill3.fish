@@ -25,10 +25,12 @@ complete -c polyfill3 -l dop -d 'Parallel: direction of projection (world; obliq
 complete -c polyfill3 -l oblique -d 'Parallel: cavalier or cabinet oblique projection with the receding axis at ANGLE degrees (default 45), or isometric (no angle). Default: none' -r
 complete -c polyfill3 -l front -d 'Front clipping plane: distance from the VRP along the VPN. Default: none (required)' -r
 complete -c polyfill3 -l back -d 'Back clipping plane: distance from the VRP along the VPN. Default: none (required)' -r
+complete -c polyfill3 -l cull -d 'Drop cells wholly outside the camera\'s view volume, and whole polygons turning it the FACES side (back, front, or none: keep both), before they are written: what `scene-render --cull FACES` with the same camera would not draw. --cull alone is --cull=back; the value needs the `=`. Needs a camera' -r -f -a "none\t'Draw both faces'
+back\t'Drop polygons seen from behind (clockwise on screen)'
+front\t'Drop polygons seen from the front (counter-clockwise on screen)'"
 complete -c polyfill3 -l depfile -d 'Write the make rule of the output: every file the run read (the input, the patterns, --camera, --pattern), as `cc -MD` does. Needs -o' -r
 complete -c polyfill3 -l threads -d 'Worker threads (default: all cores). The output is identical for any N' -r
 complete -c polyfill3 -l merge -d 'Join runs of same-coloured whole cells of a row into one polygon (the record gets "cells": how many)'
-complete -c polyfill3 -l cull -d 'Drop polygons facing away from the camera and cells wholly outside its view volume before they are written. Needs a camera'
 complete -c polyfill3 -l uv -d 'Do not partition: write each "object"-mode polygon whole (curves flattened) with its placement as per-vertex "uv" texel coordinates and "pattern": {"file": ABSOLUTE PATH, "mode": "uv"}, for renderers that take texture coordinates. --cull drops whole polygons'
 complete -c polyfill3 -l json -d 'Print a JSON summary to standard error: {"version": 1, "tool": "polyfill3", ...} (docs/json.md)'
 complete -c polyfill3 -l no-progress -d 'Show no progress bar. Bars are drawn on standard error only when it is a terminal (and TERM is not "dumb"), never into a pipe or a file, and cleared when the job ends'

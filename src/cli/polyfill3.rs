@@ -4,6 +4,7 @@
 use crate::cli::usage_bail;
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::io::{display_name, Output, STDIO};
+use crate::raster::Cull;
 use crate::scene::polyfill::{
     partition_stream, Compat, PartitionOptions, DEFAULT_MAX_POLYGONS, DEFAULT_TOLERANCE,
 };
@@ -26,6 +27,9 @@ Examples:
   polyfill3 --merge scene.json | scene-render --camera cam.json -o out.png -
       Join runs of equal whole cells into fewer polygons. The camera is
       scene-render's: the cells are in world coordinates.
+  polyfill3 --camera cam.json --cull=none scene.json | scene-render --camera cam.json -o seen.png -
+      Leave out the cells this camera cannot see, both faces kept, as
+      scene-render draws them by default: the same picture from fewer records.
   polyfill3 --compat thesis --incr 25 plain.json | wc -l
       The thesis's own loop, degenerate polygons included (Table 5.1).
   polyfill3 --uv scene.json | scene-render --camera cam.json -o out.png -
@@ -129,10 +133,20 @@ pub struct Args {
     /// camera flags as scene-render's.
     #[command(flatten)]
     pub camera: super::camera::CameraArgs,
-    /// Drop polygons facing away from the camera and cells wholly outside
-    /// its view volume before they are written. Needs a camera.
-    #[arg(long)]
-    pub cull: bool,
+    /// Drop cells wholly outside the camera's view volume, and whole
+    /// polygons turning it the FACES side (back, front, or none: keep both),
+    /// before they are written: what `scene-render --cull FACES` with the
+    /// same camera would not draw. --cull alone is --cull=back; the value
+    /// needs the `=`. Needs a camera.
+    #[arg(
+        long,
+        value_enum,
+        value_name = "FACES",
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "back"
+    )]
+    pub cull: Option<Cull>,
     /// Do not partition: write each "object"-mode polygon whole (curves
     /// flattened) with its placement as per-vertex "uv" texel coordinates and
     /// "pattern": {"file": ABSOLUTE PATH, "mode": "uv"}, for renderers that
@@ -196,12 +210,25 @@ fn run_in_pool(args: Args) -> Result<()> {
             args.pattern.as_deref().and_then(|p| p.to_str()),
         ),
     ])?;
+    // `--cull none in.json` reads "none" as the input (the value needs its
+    // `=`, or a file named "back" after --cull would be read as the faces).
+    let faces = ["back", "front", "none"];
+    if args.cull.is_some()
+        && faces.contains(&args.input.as_str())
+        && !std::path::Path::new(&args.input).exists()
+    {
+        usage_bail!(
+            "{}: no such input file; to give --cull its faces, write --cull={}",
+            args.input,
+            args.input
+        );
+    }
     let camera = args.camera.resolve()?;
     match (&camera, args.cull) {
-        (Some(_), false) => {
+        (Some(_), None) => {
             usage_bail!("a camera is only used by --cull: add --cull, or leave out the camera flags")
         }
-        (None, true) => usage_bail!(
+        (None, Some(_)) => usage_bail!(
             "--cull needs a camera: --camera FILE, or camera flags such as --perspective and --lookat"
         ),
         _ => {}
@@ -253,6 +280,7 @@ fn run_in_pool(args: Args) -> Result<()> {
         max_polygons: args.max_polygons,
         tolerance: args.tolerance,
         volume,
+        cull: args.cull.unwrap_or(Cull::Back),
         uv: args.uv,
         refs: stream::RefTarget::for_output(&args.output)
             .with_context(|| format!("{}: cannot name files relative to it", args.output))?,

@@ -13,6 +13,7 @@ use crate::geom::partition::{estimate_cells, thesis_partition};
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::geom::{map_to_plane, outline, Grid, Partitioner, Placement, Shape};
 use crate::pat::Pattern;
+use crate::raster::Cull;
 use crate::stream::{self, Instance, Item, ObjectDef, Objects, PatternMode, Record};
 use crate::texture::map::object_uv;
 use crate::texture::state::{TextureState, KEYS as STATE_KEYS};
@@ -66,9 +67,15 @@ pub struct PartitionOptions {
     /// Largest distance of a circle's or arc's chords from the true curve, in
     /// world units; also the quadric tessellation's. Default value: 0.01.
     pub tolerance: f64,
-    /// Drop polygons facing away from this view volume, and cells wholly
-    /// outside it. Default value: none.
+    /// Drop cells wholly outside this view volume, and whole polygons
+    /// turning it the face [`Self::cull`] names. Default value: none.
     pub volume: Option<ViewVolume>,
+    /// With a [`Self::volume`], the faces dropped as well: what
+    /// `scene-render --cull` with the same value and camera would not draw
+    /// (edge-on polygons, which cover nothing, go with either face).
+    /// [`Cull::None`] drops only what lies outside the volume. Default value:
+    /// [`Cull::Back`].
+    pub cull: Cull,
     /// Do not partition: write each object-mode polygon whole with its
     /// placement as per-vertex "uv" texel coordinates. Default value: false.
     pub uv: bool,
@@ -94,6 +101,7 @@ impl PartitionOptions {
         max_polygons: DEFAULT_MAX_POLYGONS,
         tolerance: DEFAULT_TOLERANCE,
         volume: None,
+        cull: Cull::Back,
         uv: false,
         refs: stream::RefTarget::Absolute,
     };
@@ -561,7 +569,13 @@ impl<W: Write> Job<'_, W> {
             false => self.volume,
         };
         if let Some(vol) = &volume {
-            if vol.back_facing(poly.frame.normal, poly.frame.origin) || vol.outside(&vertices) {
+            let (normal, point) = (poly.frame.normal, poly.frame.origin);
+            let facing = match a.cull {
+                Cull::None => false,
+                Cull::Back => vol.back_facing(normal, point),
+                Cull::Front => vol.front_facing(normal, point),
+            };
+            if facing || vol.outside(&vertices) {
                 self.summary.culled += 1;
                 return Ok(());
             }

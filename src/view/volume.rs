@@ -1,6 +1,6 @@
-//! Culling against a camera (`polyfill3 --camera FILE --cull`): back-facing
-//! polygons and cells wholly outside the view volume are dropped before they
-//! are written, so the renderer never sees them.
+//! Culling against a camera (`polyfill3 --camera FILE --cull`): polygons
+//! facing the dropped way and cells wholly outside the view volume are
+//! dropped before they are written, so the renderer never sees them.
 //!
 //! Written against the two matrices of a camera (world→eye looking down -z,
 //! eye→clip) and its near/far distances, so it does not depend on how the
@@ -47,6 +47,13 @@ impl ViewVolume {
             None => self.direction,
         };
         normal.dot(to) >= 0.0
+    }
+
+    /// Whether a polygon with front `normal` through `point` turns its front
+    /// (or its edge) to the camera: the mirror of [`Self::back_facing`]. An
+    /// edge-on polygon counts as both, since it covers no area of the image.
+    pub fn front_facing(&self, normal: DVec3, point: DVec3) -> bool {
+        self.back_facing(-normal, point)
     }
 
     /// Whether every point lies beyond one and the same plane of the view
@@ -165,5 +172,11 @@ mod tests {
         assert!(!o.back_facing(DVec3::Z, DVec3::ZERO));
         assert!(o.back_facing(DVec3::NEG_Z, DVec3::ZERO));
         assert!(o.back_facing(DVec3::X, DVec3::ZERO), "edge-on");
+        for n in [DVec3::Y, DVec3::NEG_Y] {
+            assert_ne!(v.back_facing(n, p), v.front_facing(n, p), "{n}");
+        }
+        assert!(o.front_facing(DVec3::Z, DVec3::ZERO));
+        assert!(!o.front_facing(DVec3::NEG_Z, DVec3::ZERO));
+        assert!(o.front_facing(DVec3::X, DVec3::ZERO), "edge-on, both ways");
     }
 }

@@ -328,6 +328,89 @@ fn cull_drops_back_faces_and_cells_out_of_view() {
         .code(2);
 }
 
+/// `polyfill3 --cull=FACES` leaves out only what `scene-render --cull FACES`
+/// with the same camera does not draw: the picture of the culled cells is the
+/// picture of the whole partition, to the bit (PFM), for each choice of faces.
+#[test]
+fn cull_faces_leave_the_picture_of_scene_render_with_the_same_cull() {
+    let dir = tempfile::tempdir().unwrap();
+    demo2(dir.path());
+    let d = dir.path();
+    // The thesis's demo2 camera, and one looking at the pyramid of
+    // demo2-faces.json (at the origin) from above its faces 1 and 3.
+    std::fs::write(
+        d.join("cam.json"),
+        r#"{"lookat": {"eye": [0, 100, -5], "center": [0, 0, -900], "twist": 0},
+            "perspective": {"fovy": 55, "aspect": 1.0, "near": 0, "far": 1000}}"#,
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("above.json"),
+        r#"{"lookat": {"eye": [250, 150, 300], "center": [0, 50, 0], "twist": 0},
+            "perspective": {"fovy": 40, "aspect": 1.0, "near": 1, "far": 1000}}"#,
+    )
+    .unwrap();
+    let render = |camera: &str, cells: &str, faces: &str, out: &str| {
+        Command::cargo_bin("scene-render")
+            .unwrap()
+            .current_dir(d)
+            .args(["--camera", camera, "--size", "96x96", "--cull", faces])
+            .args([cells, "-o", out])
+            .assert()
+            .success();
+        std::fs::read(d.join(out)).unwrap()
+    };
+    // The plain's near cells lie below the view. Seen from above, all of the
+    // pyramid is in view, faces 1 and 3 turned to the camera; the demo2
+    // camera at z = -5 sees part of it, the rest behind the eye.
+    for (scene, camera) in [
+        ("scenes/demo2-plain.json", "cam.json"),
+        ("scenes/demo2-faces.json", "above.json"),
+        ("scenes/demo2-faces.json", "cam.json"),
+    ] {
+        polyfill3()
+            .current_dir(d)
+            .args([scene, "-o", "all.ndjson"])
+            .assert()
+            .success();
+        let all = count(d, &[scene]);
+        let mut kept = Vec::new();
+        for faces in ["none", "back", "front"] {
+            let cull = format!("--cull={faces}");
+            let args = ["--camera", camera, &cull, scene];
+            polyfill3()
+                .current_dir(d)
+                .args(args)
+                .args(["-o", "seen.ndjson"])
+                .assert()
+                .success();
+            kept.push(count(d, &args));
+            assert!(
+                render(camera, "seen.ndjson", faces, "seen.pfm")
+                    == render(camera, "all.ndjson", faces, "all.pfm"),
+                "{scene} {camera} {cull}: the picture changed"
+            );
+        }
+        let [none, back, front] = kept[..] else {
+            unreachable!()
+        };
+        let what = format!("{scene} {camera}: of {all}, {none} / {back} / {front} kept");
+        // Each face is dropped by one of back and front, none is by both.
+        assert_eq!(back + front, none, "{what}");
+        match camera {
+            "above.json" => assert!(none == all && back > 0 && front > 0, "{what}"),
+            _ => assert!(0 < none && none < all, "{what}"),
+        }
+    }
+    // `--cull none` reads "none" as the input: the error says to write the `=`.
+    polyfill3()
+        .current_dir(d)
+        .args(["--camera", "cam.json", "--cull", "none"])
+        .assert()
+        .code(2)
+        .stderr(predicates::str::contains("write --cull=none"));
+}
+
 #[test]
 fn json_summary_rotation_and_compat_shifts() {
     let dir = tempfile::tempdir().unwrap();
