@@ -136,6 +136,59 @@ impl DoubleDouble {
         }
     }
 
+    /// `(a * v + b * u) / (u + v)` for weights `u, v > 0`, to within about
+    /// an ulp of the result however much the numerator cancels: the point
+    /// at distance `u` from `a` and `v` from `b` on a line, as the view
+    /// clipper's crossings need it when the edge is more than about 2^40
+    /// times longer than the view is wide (`view::clip`), where
+    /// `a + (b - a) t` in double-double errs by the edge's length times
+    /// 2^-103. The numerator's four products are exact (two `f64`s each),
+    /// their sum exact (Shewchuk's grow-expansion, 1997), then rounded to a
+    /// double-double and divided by `u + v`: about 2^-100 relative, so the
+    /// `f64` returned is the nearest or next to nearest. Operands beyond
+    /// 2^500 are first scaled down by 2^600 (exactly), so that the products
+    /// stay finite.
+    pub fn weighted_mean(a: f64, u: Self, b: f64, v: Self) -> f64 {
+        const BIG: f64 = pow2(500);
+        const DOWN: f64 = pow2(-600);
+        const UP: f64 = pow2(600);
+        let largest = a.abs().max(b.abs()).max(u.hi.abs()).max(v.hi.abs());
+        if largest > BIG {
+            let down = |d: Self| DoubleDouble {
+                hi: d.hi * DOWN,
+                lo: d.lo * DOWN,
+            };
+            return Self::weighted_mean(a * DOWN, down(u), b * DOWN, down(v)) * UP;
+        }
+        // The exact numerator as a nonoverlapping expansion, smallest first.
+        let mut expansion = [0.0f64; 8];
+        let mut len = 0;
+        for (x, w) in [(a, v.hi), (a, v.lo), (b, u.hi), (b, u.lo)] {
+            let p = Self::product(x, w);
+            for term in [p.lo, p.hi] {
+                let mut q = term;
+                let mut kept = 0;
+                for i in 0..len {
+                    let s = Self::sum(q, expansion[i]);
+                    q = s.hi;
+                    if s.lo != 0.0 {
+                        expansion[kept] = s.lo;
+                        kept += 1;
+                    }
+                }
+                if q != 0.0 {
+                    expansion[kept] = q;
+                    kept += 1;
+                }
+                len = kept;
+            }
+        }
+        let numerator = expansion[..len]
+            .iter()
+            .fold(Self::from(0.0), |s, &c| s + Self::from(c));
+        (numerator / (u + v)).hi
+    }
+
     /// `hi + lo` normalised, for `|hi| >= |lo|` (Dekker's fast two-sum).
     fn fast(hi: f64, lo: f64) -> Self {
         let s = hi + lo;
@@ -144,6 +197,11 @@ impl DoubleDouble {
             lo: lo - (s - hi),
         }
     }
+}
+
+/// `2^k` for a normal exponent `k` (-1022..=1023), exactly.
+const fn pow2(k: i32) -> f64 {
+    f64::from_bits(((k + 1023) as u64) << 52)
 }
 
 impl std::ops::Add for DoubleDouble {
@@ -228,6 +286,87 @@ mod tests {
         let third = Dd::from(1.0) / Dd::from(3.0);
         let err = third * Dd::from(3.0) - Dd::from(1.0);
         assert!(err.hi.abs() < 1e-31, "{err:?}");
+    }
+
+    /// `Dd::weighted_mean` against exact rationals: within one ulp of the
+    /// true mean, on numerators that cancel up to the whole f64 range.
+    mod weighted_mean {
+        use super::super::DoubleDouble as Dd;
+        use num_bigint::BigInt;
+        use num_rational::BigRational;
+        use proptest::prelude::*;
+
+        fn exact(x: f64) -> BigRational {
+            BigRational::from_float(x).unwrap()
+        }
+
+        /// Whether `got` is within one ulp of `(a v + b u) / (u + v)`.
+        fn within_an_ulp(a: f64, u: Dd, b: f64, v: Dd, got: f64) -> Result<(), String> {
+            let (u_, v_) = (exact(u.hi) + exact(u.lo), exact(v.hi) + exact(v.lo));
+            let want = (exact(a) * &v_ + exact(b) * &u_) / (&u_ + &v_);
+            let ulp = exact(got.abs().max(f64::MIN_POSITIVE))
+                / BigRational::from_integer(BigInt::from(1u64 << 52));
+            let err = exact(got) - &want;
+            let err = if err < BigRational::from_integer(BigInt::from(0)) {
+                -err
+            } else {
+                err
+            };
+            match err <= ulp {
+                true => Ok(()),
+                false => Err(format!("{a} {u:?} {b} {v:?}: got {got}, want {want}")),
+            }
+        }
+
+        fn weight(hi: f64, lo_fraction: f64) -> Dd {
+            Dd::sum(hi, hi * lo_fraction * f64::EPSILON / 2.0)
+        }
+
+        #[test]
+        fn an_edge_of_1e34_crosses_the_plane_on_it() {
+            // An edge as long as those that drew a third of a 4-pixel view
+            // (README, Limits) crossing the plane x <= 1: its values there
+            // are u = 1 - xa > 0 inside, 1 - xb < 0 outside (v = xb - 1).
+            let (xa, xb) = (-7.071067811865476e33, 9.192388155425118e33);
+            let (u, v) = (Dd::sum(1.0, -xa), Dd::sum(xb, -1.0));
+            assert_eq!(Dd::weighted_mean(xa, u, xb, v), 1.0);
+            let (ya, yb) = (7.071067811865476e33, -3.0e33);
+            within_an_ulp(ya, u, yb, v, Dd::weighted_mean(ya, u, yb, v)).unwrap();
+        }
+
+        proptest! {
+            #![proptest_config(ProptestConfig::with_cases(20_000))]
+            #[test]
+            fn any_weights_and_ends(
+                a in -1e300f64..1e300, b in -1e300f64..1e300,
+                (ue, ve) in (-300i32..300, -300i32..300),
+                (um, vm, ul, vl) in (1.0f64..2.0, 1.0f64..2.0, -1.0f64..1.0, -1.0f64..1.0),
+            ) {
+                let u = weight(um * 2f64.powi(ue), ul);
+                let v = weight(vm * 2f64.powi(ve), vl);
+                within_an_ulp(a, u, b, v, Dd::weighted_mean(a, u, b, v))
+                    .map_err(TestCaseError::fail)?;
+            }
+
+            /// The mean near `p` from ends up to 2^1000 times farther
+            /// away: `b` made from `a` so that the numerator cancels.
+            #[test]
+            fn cancelling_ends(
+                p in -4.0f64..4.0, far in 1.0f64..1000.0, sign in prop::bool::ANY,
+                (um, vm, ul, vl) in (1.0f64..2.0, 1.0f64..2.0, -1.0f64..1.0, -1.0f64..1.0),
+                (ue, ve) in (-20i32..3, -20i32..3),
+            ) {
+                let a = if sign { 2f64.powf(far) } else { -(2f64.powf(far)) } * um;
+                let u = weight(vm * 2f64.powi(ue) * a.abs(), ul);
+                let v = weight(um * 2f64.powi(ve) * a.abs(), vl);
+                // b with a v + b u = p (u + v), rounded.
+                let ratio = v.hi / u.hi;
+                let b = p * (1.0 + ratio) - a * ratio;
+                prop_assume!(b.is_finite() && u.hi.is_finite() && v.hi.is_finite());
+                within_an_ulp(a, u, b, v, Dd::weighted_mean(a, u, b, v))
+                    .map_err(TestCaseError::fail)?;
+            }
+        }
     }
 
     #[test]

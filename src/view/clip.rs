@@ -19,18 +19,21 @@
 //! the new vertex `a + (b - a) t` are computed in double-double, then
 //! rounded once. In plain `f64` an edge from -3e16 to 3e16 crossed the
 //! plane x = -1 at 0 (t rounded to 0.5), so a square at ±1e18 covered a
-//! quarter of the frame (issue 17, item 6); now the crossing is within an
-//! `f64` rounding of the true one while the edge is shorter than about
-//! 2^100 times that rounding: double-double carries 106 bits, and the
-//! crossing's error is its last bit times the edge's length. A polygon of
-//! radius 1e30 around a 4-pixel view covers it; of radius 1e50 it drew
-//! nothing or half the frame (a stress run, 2026-11-28; a known limit, not
-//! yet refused, README's *Limits*). The clip-space coordinates themselves are
-//! the projection's `f64` products: their rounding is relative to their own
-//! size.
+//! quarter of the frame (issue 17, item 6). Double-double carries 106 bits,
+//! and its crossing errs by its last bit times the edge's length: an edge
+//! more than about 2^100 times the view (a polygon of radius 1e34 around a
+//! 4-pixel view) was placed off by more than the view, and drew a third of
+//! it or nothing. So an edge more than [`DD_CROSSING_SPAN`] times `|w|` at
+//! its crossing takes the weighted mean `(a d_b' + b d_a) / (d_a + d_b')`
+//! from its exact numerator instead ([`Dd::weighted_mean`], `d_b' = -d_b`),
+//! within an ulp of the true crossing for any `f64` coordinates: n-gons of
+//! radius up to 1e300 cover the view, and a triangle scaled by 2^1000 draws
+//! what it draws unscaled (test `edges_of_any_length_are_clipped_at_the_right_place`).
+//! The clip-space coordinates themselves are the projection's `f64`
+//! products: their rounding is relative to their own size.
 
 use super::{View, W_EPSILON_REL};
-use crate::geom::polygon::clip_against;
+use crate::geom::polygon::{clip_against, SignedDistance};
 use crate::math::DoubleDouble as Dd;
 use glam::{DVec2, DVec4};
 
@@ -89,23 +92,86 @@ fn planes(view: &View) -> impl Iterator<Item = Plane> {
     ])
 }
 
-/// `a + (b - a) t` in double-double, rounded once.
-fn lerp1(a: f64, b: f64, t: Dd) -> f64 {
-    (Dd::sum(b, -a) * t + Dd::from(a)).hi
+/// A plane's value at a vertex, for [`clip_against`]: its crossings carry
+/// both endpoints' values, which the exact crossing needs ([`Lerp`]).
+#[derive(Clone, Copy)]
+struct Distance(Dd);
+
+/// The plane's values at an edge's inside and outside endpoints.
+#[derive(Clone, Copy)]
+struct Ends {
+    inside: Dd,
+    outside: Dd,
 }
 
-fn lerp4(a: DVec4, b: DVec4, t: Dd) -> DVec4 {
-    DVec4::new(
-        lerp1(a.x, b.x, t),
-        lerp1(a.y, b.y, t),
-        lerp1(a.z, b.z, t),
-        lerp1(a.w, b.w, t),
-    )
+impl SignedDistance for Distance {
+    type Param = Ends;
+    fn rounded(self) -> f64 {
+        self.0.hi
+    }
+    fn crossing(inside: Self, outside: Self) -> Ends {
+        Ends {
+            inside: inside.0,
+            outside: outside.0,
+        }
+    }
+}
+
+/// How long an edge may be, relative to `|w|` at its crossing, for
+/// `a + (b - a) t` in double-double: that errs by about `|b - a| * 2^-102`,
+/// so up to 2^40 times `|w|` the crossing is within 2^-62 of `w`, far below
+/// a rounding of the divided coordinates (2^-53). Longer edges (a polygon of
+/// radius 1e34 around a 4-pixel view drew a third of it) take
+/// [`Dd::weighted_mean`], exact up to its last rounding; no picture of an
+/// ordinary scene meets one, so they draw as before, bit for bit.
+const DD_CROSSING_SPAN: f64 = (1u64 << 40) as f64;
+
+/// How a crossing's coordinates are interpolated between the inside
+/// endpoint `a` and the outside one `b`: every coordinate (and a carried
+/// attribute) the same way, so the crossing is one point.
+#[derive(Clone, Copy)]
+enum Lerp {
+    /// `a + (b - a) t` in double-double, rounded once.
+    Fraction(Dd),
+    /// The mean of `a` and `b` weighted by the plane's values, from the
+    /// exact numerator (`Dd::weighted_mean`).
+    Weighted(Ends),
+}
+
+impl Lerp {
+    /// The interpolation for the edge from `a` to `b` crossing the plane
+    /// where its values are `ends`, and the crossing.
+    fn choose(a: DVec4, b: DVec4, ends: Ends) -> (Lerp, DVec4) {
+        let fraction = Lerp::Fraction(ends.inside / (ends.inside - ends.outside));
+        let p = fraction.at4(a, b);
+        // Not `>`: a NaN or infinite span takes the exact route too.
+        if (b - a).abs().max_element() <= DD_CROSSING_SPAN * p.w.abs() {
+            return (fraction, p);
+        }
+        let weighted = Lerp::Weighted(ends);
+        (weighted, weighted.at4(a, b))
+    }
+
+    fn at(self, a: f64, b: f64) -> f64 {
+        match self {
+            Lerp::Fraction(t) => (Dd::sum(b, -a) * t + Dd::from(a)).hi,
+            Lerp::Weighted(Ends { inside, outside }) => Dd::weighted_mean(a, inside, b, -outside),
+        }
+    }
+
+    fn at4(self, a: DVec4, b: DVec4) -> DVec4 {
+        DVec4::new(
+            self.at(a.x, b.x),
+            self.at(a.y, b.y),
+            self.at(a.z, b.z),
+            self.at(a.w, b.w),
+        )
+    }
 }
 
 /// Clips a clip-space polygon to the view volume. The result may be empty.
 pub fn clip_polygon(poly: &[DVec4], view: &View) -> Vec<DVec4> {
-    clip_by_planes(poly, view, |c| c, lerp4)
+    clip_by_planes(poly, view, |c| c, |a, b, ends| Lerp::choose(a, b, ends).1)
 }
 
 /// Clips a clip-space polygon carrying a 2D attribute per vertex (texture
@@ -117,11 +183,9 @@ pub fn clip_carrying(poly: &[(DVec4, DVec2)], view: &View) -> Vec<(DVec4, DVec2)
         poly,
         view,
         |(c, _)| c,
-        |a, b, t| {
-            (
-                lerp4(a.0, b.0, t),
-                DVec2::new(lerp1(a.1.x, b.1.x, t), lerp1(a.1.y, b.1.y, t)),
-            )
+        |a, b, ends| {
+            let (lerp, p) = Lerp::choose(a.0, b.0, ends);
+            (p, DVec2::new(lerp.at(a.1.x, b.1.x), lerp.at(a.1.y, b.1.y)))
         },
     )
 }
@@ -136,7 +200,7 @@ fn clip_by_planes<T: Copy>(
     poly: &[T],
     view: &View,
     at: impl Fn(T) -> DVec4,
-    lerp: impl Fn(T, T, Dd) -> T,
+    lerp: impl Fn(T, T, Ends) -> T,
 ) -> Vec<T> {
     // `None` while no plane has cut `poly`.
     let (mut cur, mut spare): (Option<Vec<T>>, Vec<T>) = (None, Vec::new());
@@ -160,7 +224,7 @@ fn clip_by_planes<T: Copy>(
         let mut next = std::mem::take(&mut spare);
         next.clear();
         next.reserve(now.len() + 8);
-        clip_against(now, |v| f.value(at(v)), &mut next, &lerp);
+        clip_against(now, |v| Distance(f.value(at(v))), &mut next, &lerp);
         spare = cur.replace(next).unwrap_or_default();
     }
     cur.unwrap_or_else(|| poly.to_vec())

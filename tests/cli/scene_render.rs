@@ -1024,6 +1024,82 @@ clitest!(
     }
 );
 
+clitest!(edges_of_any_length_are_clipped_at_the_right_place, |dir| {
+    // Beyond about 2^100 times the view, a + (b - a) t in double-double put
+    // the crossings off by more than the view: an 8-gon of radius 1e34
+    // around a 4-pixel view drew 6 of its 16 pixels, of radius 1e50
+    // nothing. Long edges now cross by the exact weighted mean
+    // (`Dd::weighted_mean`). Two checks that need no renderer of their own:
+    // n-gons of every radius up to 1e300 around the view cover all of it,
+    // and a triangle scaled about the view's centre by 2^k, an edge through
+    // that centre, draws the same picture at every k, bit for bit (the
+    // scaling is exact in binary floating point).
+    for radius in [1e34, 1e50, 1e150, 1e300] {
+        for n in [8, 64] {
+            let vertices: Vec<String> = (0..n)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * k as f64 / n as f64;
+                    format!(
+                        "[{:e},{:e}]",
+                        radius * math::cos(a) + 2.0,
+                        radius * math::sin(a) + 2.0
+                    )
+                })
+                .collect();
+            dir.write(
+                "gon.json",
+                format!(
+                    r#"{{"vertices":[{}],"color":[255,255,255]}}"#,
+                    vertices.join(",")
+                ),
+            );
+            for mode in [&["--aa", "exact"][..], &["--aa", "none"], &["--reference"]] {
+                let png = dir
+                    .cmd("scene-render")
+                    .args(["--size", "4x4"])
+                    .args(mode)
+                    .args(["gon.json", "-o", "-"])
+                    .ok_stdout();
+                let img = image::load_from_memory(&png).unwrap().into_rgb8();
+                let dark = img.pixels().filter(|p| p.0 != [255, 255, 255]).count();
+                assert_eq!(
+                    dark, 0,
+                    "{n}-gon of radius {radius:e} {mode:?}: {dark} not covered"
+                );
+            }
+        }
+    }
+    let draw = |k: i32, mode: &[&str]| {
+        let r = 2f64.powi(k);
+        dir.write(
+            "tri.json",
+            format!(
+                r#"{{"vertices":[[{:e},{:e}],[{:e},{:e}],[{:e},{:e}]],"color":[255,255,255]}}"#,
+                -31.0 * r,
+                -17.0 * r,
+                62.0 * r,
+                34.0 * r,
+                -31.0 * r,
+                34.0 * r
+            ),
+        );
+        dir.cmd("scene-render")
+            .args(["--ortho2", "-2,2,-2,2", "--size", "8x8"])
+            .args(mode)
+            .args(["tri.json", "-o", "-", "--format", "pfm"])
+            .ok_stdout()
+    };
+    for mode in [&["--aa", "exact"][..], &["--aa", "none"], &["--reference"]] {
+        let near = draw(0, mode);
+        for k in [60, 113, 200, 500, 1000] {
+            assert!(
+                draw(k, mode) == near,
+                "scaled by 2^{k}, {mode:?}: a different picture"
+            );
+        }
+    }
+});
+
 clitest!(huge_coordinates_and_a_tiny_fovy_render_right, |dir| {
     // Issue 17, item 6: a white square at ±1e18 covered 25% of the frame, a
     // circle of radius 1e30 38%, a square seen with fovy 1e-300 25%: the
