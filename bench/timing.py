@@ -104,21 +104,17 @@ def run_logged(cmd, stdin=None, gnu_time=False, keep_stdout=False):
 
 
 def measure(cmd, runs=RUNS, warmup=WARMUP, stdin=None):
-    """(median wall seconds of `runs` runs after `warmup` ones, peak KB:
-    of one more run through GNU time, or of the timed runs without it)."""
-    for _ in range(warmup):
-        run_once(cmd, stdin)
-    walls, peak = [], 0
-    for _ in range(runs):
-        wall, kb = run_once(cmd, stdin)
-        walls.append(wall)
-        peak = max(peak, kb)
+    """(median wall seconds of `runs` runs after `warmup` ones, by `medians`;
+    peak KB: of one more run through GNU time, or of the timed runs without
+    it)."""
+    peaks = []
+    median, _, _ = medians(cmd, lambda r: peaks.append(r.peak), runs, warmup, stdin)
     if os.access(GNU_TIME, os.X_OK):
-        peak = run_once(cmd, stdin, gnu_time=True)[1]
-    elif not _warned:
+        return median, run_once(cmd, stdin, gnu_time=True)[1]
+    if not _warned:
         _warned.append(True)
         sys.stderr.write("timing.py: no GNU time: peaks include this script's ~14 MB\n")
-    return statistics.median(walls), peak
+    return median, max(peaks)
 
 
 def medians(cmd, read, runs=RUNS, warmup=WARMUP, stdin=None, keep_stdout=False):
