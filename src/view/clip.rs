@@ -122,8 +122,9 @@ impl SignedDistance for Distance {
 /// so up to 2^40 times `|w|` the crossing is within 2^-62 of `w`, far below
 /// a rounding of the divided coordinates (2^-53). Longer edges (a polygon of
 /// radius 1e34 around a 4-pixel view drew a third of it) take
-/// [`Dd::weighted_mean`], exact up to its last rounding; no picture of an
-/// ordinary scene meets one, so they draw as before, bit for bit.
+/// [`Dd::weighted_mean`], within an ulp of the true crossing. Ordinary
+/// scenes have no such edge and draw as they did, bit for bit (the 19
+/// scenes of `bench/RESULTS-same-images.md`).
 const DD_CROSSING_SPAN: f64 = (1u64 << 40) as f64;
 
 /// How a crossing's coordinates are interpolated between the inside
