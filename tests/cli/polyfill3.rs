@@ -162,6 +162,18 @@ fn demo2(dir: &Path) {
     write_pat(&dir.join("patterns/chex.pat"), 16, |_, _| false);
 }
 
+/// [`demo2`]'s scenes and patterns, and the thesis's demo2 camera as
+/// `cam.json` (docs/camera.md).
+fn demo2_and_its_camera(dir: &Path) {
+    demo2(dir);
+    std::fs::write(
+        dir.join("cam.json"),
+        r#"{"lookat": {"eye": [0, 100, -5], "center": [0, 0, -900], "twist": 0},
+            "perspective": {"fovy": 55, "aspect": 1.0, "near": 0, "far": 1000}}"#,
+    )
+    .unwrap();
+}
+
 fn count(dir: &Path, args: &[&str]) -> usize {
     let out = polyfill3().current_dir(dir).args(args).assert().success();
     out.get_output()
@@ -292,15 +304,8 @@ fn help_has_examples_and_defaults() {
 #[test]
 fn cull_drops_back_faces_and_cells_out_of_view() {
     let dir = tempfile::tempdir().unwrap();
-    demo2(dir.path());
+    demo2_and_its_camera(dir.path());
     let d = dir.path();
-    // The thesis's demo2 camera (docs/camera.md).
-    std::fs::write(
-        d.join("cam.json"),
-        r#"{"lookat": {"eye": [0, 100, -5], "center": [0, 0, -900], "twist": 0},
-            "perspective": {"fovy": 55, "aspect": 1.0, "near": 0, "far": 1000}}"#,
-    )
-    .unwrap();
     let all = count(d, &["scenes/demo2-plain.json"]);
     let seen = count(
         d,
@@ -334,16 +339,10 @@ fn cull_drops_back_faces_and_cells_out_of_view() {
 #[test]
 fn cull_faces_leave_the_picture_of_scene_render_with_the_same_cull() {
     let dir = tempfile::tempdir().unwrap();
-    demo2(dir.path());
+    demo2_and_its_camera(dir.path());
     let d = dir.path();
-    // The thesis's demo2 camera, and one looking at the pyramid of
+    // Beside the demo2 camera, one looking at the pyramid of
     // demo2-faces.json (at the origin) from above its faces 1 and 3.
-    std::fs::write(
-        d.join("cam.json"),
-        r#"{"lookat": {"eye": [0, 100, -5], "center": [0, 0, -900], "twist": 0},
-            "perspective": {"fovy": 55, "aspect": 1.0, "near": 0, "far": 1000}}"#,
-    )
-    .unwrap();
     std::fs::write(
         d.join("above.json"),
         r#"{"lookat": {"eye": [250, 150, 300], "center": [0, 50, 0], "twist": 0},
