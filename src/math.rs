@@ -141,30 +141,45 @@ impl DoubleDouble {
     /// distance `u` from `a` and `v` from `b` on a line, as the view
     /// clipper's crossings need it when the edge is more than 2^40 times
     /// longer than the view is wide (`view::clip`), where `a + (b - a) t` in
-    /// double-double errs by about the edge's length times 2^-102. The
-    /// numerator's four products are exact (two `f64`s each), their sum
-    /// exact (Shewchuk's grow-expansion, 1997), then rounded to a
-    /// double-double and divided by `u + v`: about 2^-100 relative, so the
-    /// `f64` returned is the nearest or next to nearest.
+    /// double-double errs by about the edge's length times 2^-102.
     ///
-    /// Where that holds: while the products neither overflow nor leave the
-    /// normal range, so for operands between 2^-400 and 2^400 in size (the
-    /// property test `any_weights_and_ends`). Operands beyond 2^500 are
-    /// first scaled down by 2^600 (exactly), so that the products stay
-    /// finite; a part of an operand below 2^-474 is then lost, less than
-    /// 2^-974 of the largest (the test `cancelling_ends` goes to 2^1000).
+    /// The ends are scaled by one power of two and the weights by another,
+    /// exactly, so that the larger of each is in [1/2, 1) (the mean is
+    /// unchanged by scaling both weights, and scales with the ends). Then
+    /// the numerator's four products are exact (two `f64`s each), their sum
+    /// exact (Shewchuk's grow-expansion, 1997), rounded to a double-double
+    /// and divided by `u + v`: about 2^-100 relative, so the `f64` returned
+    /// is the nearest or next to nearest. What the scaling can lose is a
+    /// part of a product below the normal range: at most about 2^-1070 of
+    /// the larger end. Tested against exact rationals with every operand
+    /// anywhere from 2^-1000 to 2^1000 (`any_weights_and_ends`) and on ends
+    /// built to cancel (`cancelling_ends`). NaN if an operand is not finite.
     pub fn weighted_mean(a: f64, u: Self, b: f64, v: Self) -> f64 {
-        const BIG: f64 = pow2(500);
-        const DOWN: f64 = pow2(-600);
-        const UP: f64 = pow2(600);
-        let largest = a.abs().max(b.abs()).max(u.hi.abs()).max(v.hi.abs());
-        if largest > BIG {
-            let down = |d: Self| DoubleDouble {
-                hi: d.hi * DOWN,
-                lo: d.lo * DOWN,
-            };
-            return Self::weighted_mean(a * DOWN, down(u), b * DOWN, down(v)) * UP;
+        let operands = [a, b, u.hi, u.lo, v.hi, v.lo];
+        if !operands.iter().all(|x| x.is_finite()) {
+            return f64::NAN;
         }
+        let ends = a.abs().max(b.abs());
+        if ends == 0.0 {
+            return 0.0;
+        }
+        let (_, ke) = libm::frexp(ends);
+        let (_, kw) = libm::frexp(u.hi.abs().max(v.hi.abs()));
+        let weight = |d: Self| DoubleDouble {
+            hi: libm::scalbn(d.hi, -kw),
+            lo: libm::scalbn(d.lo, -kw),
+        };
+        let mean = Self::mean_of_scaled(
+            libm::scalbn(a, -ke),
+            weight(u),
+            libm::scalbn(b, -ke),
+            weight(v),
+        );
+        libm::scalbn(mean, ke)
+    }
+
+    /// [`Self::weighted_mean`] of ends and weights of at most 1 in size.
+    fn mean_of_scaled(a: f64, u: Self, b: f64, v: Self) -> f64 {
         // The exact numerator as a nonoverlapping expansion, smallest first.
         let mut expansion = [0.0f64; 8];
         let mut len = 0;
@@ -202,11 +217,6 @@ impl DoubleDouble {
             lo: lo - (s - hi),
         }
     }
-}
-
-/// `2^k` for a normal exponent `k` (-1022..=1023), exactly.
-const fn pow2(k: i32) -> f64 {
-    f64::from_bits(((k + 1023) as u64) << 52)
 }
 
 impl std::ops::Add for DoubleDouble {
@@ -305,12 +315,15 @@ mod tests {
             BigRational::from_float(x).unwrap()
         }
 
-        /// Whether `got` is within one ulp of `(a v + b u) / (u + v)`.
+        /// Whether `got` is within one ulp of `(a v + b u) / (u + v)`, and
+        /// 2^-1060 of the larger end (what the scaling may lose below the
+        /// normal range).
         fn within_an_ulp(a: f64, u: Dd, b: f64, v: Dd, got: f64) -> Result<(), String> {
             let (u_, v_) = (exact(u.hi) + exact(u.lo), exact(v.hi) + exact(v.lo));
             let want = (exact(a) * &v_ + exact(b) * &u_) / (&u_ + &v_);
             let ulp = exact(got.abs().max(f64::MIN_POSITIVE))
-                / BigRational::from_integer(BigInt::from(1u64 << 52));
+                / BigRational::from_integer(BigInt::from(1u64 << 52))
+                + exact(a.abs().max(b.abs())) * exact(libm::scalbn(1.0, -1060));
             let err = exact(got) - &want;
             let err = if err < BigRational::from_integer(BigInt::from(0)) {
                 -err
@@ -339,12 +352,28 @@ mod tests {
             within_an_ulp(ya, u, yb, v, Dd::weighted_mean(ya, u, yb, v)).unwrap();
         }
 
+        /// Found by review (2026-11-28) in a first version, which scaled
+        /// ends and weights together by 2^-600 when one passed 2^500: a
+        /// weight below 2^-474 vanished (NaN, or the crossing on an end),
+        /// and an infinite operand recursed until the stack overflowed.
+        #[test]
+        fn weights_far_smaller_than_the_ends_and_infinities() {
+            let d = Dd::from;
+            assert_eq!(Dd::weighted_mean(1e200, d(1e-160), -1e200, d(1e-160)), 0.0);
+            assert_eq!(Dd::weighted_mean(1e-300, d(1.0), 1e-300, d(1e301)), 1e-300);
+            let (a, u, b, v) = (1e300, d(1e-300), -1e300, d(2e-300));
+            within_an_ulp(a, u, b, v, Dd::weighted_mean(a, u, b, v)).unwrap();
+            assert!(Dd::weighted_mean(1.0, d(f64::INFINITY), 2.0, d(1.0)).is_nan());
+            assert!(Dd::weighted_mean(f64::INFINITY, d(1.0), 2.0, d(1.0)).is_nan());
+            assert!(Dd::weighted_mean(f64::NAN, d(1.0), 2.0, d(1.0)).is_nan());
+        }
+
         proptest! {
             #![proptest_config(ProptestConfig::with_cases(20_000))]
             #[test]
             fn any_weights_and_ends(
                 (am, bm) in (-2.0f64..2.0, -2.0f64..2.0),
-                (ae, be, ue, ve) in (-400i32..400, -400i32..400, -400i32..400, -400i32..400),
+                (ae, be, ue, ve) in (-1000i32..1000, -1000i32..1000, -1000i32..1000, -1000i32..1000),
                 (um, vm, ul, vl) in (1.0f64..2.0, 1.0f64..2.0, -1.0f64..1.0, -1.0f64..1.0),
             ) {
                 let (a, b) = (am * 2f64.powi(ae), bm * 2f64.powi(be));

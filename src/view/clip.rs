@@ -26,9 +26,13 @@
 //! it or nothing. So an edge more than [`DD_CROSSING_SPAN`] times `|w|` at
 //! its crossing takes the weighted mean `(a d_b' + b d_a) / (d_a + d_b')`
 //! from its exact numerator instead ([`Dd::weighted_mean`], `d_b' = -d_b`),
-//! within an ulp of the true crossing for any `f64` coordinates: n-gons of
-//! radius up to 1e300 cover the view, and a triangle scaled by 2^1000 draws
-//! what it draws unscaled (test `edges_of_any_length_are_clipped_at_the_right_place`).
+//! within an ulp of the true crossing (and 2^-1070 of the larger end) for
+//! any finite clip-space coordinates: n-gons of radius up to 1e300 cover
+//! the view, a triangle scaled by 2^1000 draws what it draws unscaled, and
+//! planes at z = ±1e-160 under ends of 1e300 are placed right (test
+//! `edges_of_any_length_are_clipped_at_the_right_place`). A plane value
+//! that overflows to infinity has no such mean: that edge keeps the
+//! double-double crossing.
 //! The clip-space coordinates themselves are the projection's `f64`
 //! products: their rounding is relative to their own size.
 
@@ -149,8 +153,14 @@ impl Lerp {
         if (b - a).abs().max_element() <= DD_CROSSING_SPAN * p.w.abs() {
             return (fraction, p);
         }
+        // An infinite plane value (an overflowed sum of two coordinates)
+        // has no weighted mean: such an edge keeps what it had before.
         let weighted = Lerp::Weighted(ends);
-        (weighted, weighted.at4(a, b))
+        let q = weighted.at4(a, b);
+        match q.is_finite() {
+            true => (weighted, q),
+            false => (fraction, p),
+        }
     }
 
     fn at(self, a: f64, b: f64) -> f64 {

@@ -1098,6 +1098,55 @@ clitest!(edges_of_any_length_are_clipped_at_the_right_place, |dir| {
             );
         }
     }
+    // Found by review in a first version, which scaled the ends and the
+    // plane's values together: crossings whose values are far smaller than
+    // the ends (z = ±1e-160 against x, y of 1e200 or 1e300). The first
+    // covers the right half of the view, as it does at 1e20; the second all
+    // of it (its plane is at z = -5e-161 over the view, in front).
+    let covered = |scene: &str, x_from: u32| {
+        let png = dir
+            .cmd("scene-render")
+            .args([
+                "--ortho",
+                "-2,2,-2,2,0,10",
+                "--size",
+                "8x8",
+                scene,
+                "-o",
+                "-",
+            ])
+            .ok_stdout();
+        let img = image::load_from_memory(&png).unwrap().into_rgb8();
+        for (x, y, p) in img.enumerate_pixels() {
+            let white = p.0 == [255, 255, 255];
+            assert_eq!(white, x >= x_from, "{scene}: pixel ({x}, {y}) is {:?}", p.0);
+        }
+    };
+    for ends in ["1e20", "1e200"] {
+        dir.write(
+            "thin.json",
+            format!(
+                r#"{{"vertices":[[{ends},0,-1e-160],[-{ends},{ends},1e-160],[-{ends},-{ends},1e-160]],"color":[255,255,255]}}"#
+            ),
+        );
+        covered("thin.json", 4);
+    }
+    dir.write(
+        "slanted.json",
+        r#"{"vertices":[[-1e300,-1e300,-1],[1e300,-1e300,1],[0,1e300,-1e-160]],"color":[255,255,255]}"#,
+    );
+    covered("slanted.json", 0);
+    // A plane value that overflows to infinity: drawn as before (a first
+    // version recursed until its stack overflowed).
+    dir.write(
+        "overflow.json",
+        r#"{"vertices":[[1.5e308,0,-1.5e308],[-10,0,-1],[0,1,-2]],"color":[255,255,255]}"#,
+    );
+    dir.cmd("scene-render")
+        .args(["--perspective", "90,1,1,1.7e308", "--size", "8x8"])
+        .args(["overflow.json", "-o", "overflow.png"])
+        .assert()
+        .success();
 });
 
 clitest!(huge_coordinates_and_a_tiny_fovy_render_right, |dir| {
