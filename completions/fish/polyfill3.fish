@@ -25,7 +25,7 @@ complete -c polyfill3 -l dop -d 'Parallel: direction of projection (world; obliq
 complete -c polyfill3 -l oblique -d 'Parallel: cavalier or cabinet oblique projection with the receding axis at ANGLE degrees (default 45), or isometric (no angle). Default: none' -r
 complete -c polyfill3 -l front -d 'Front clipping plane: distance from the VRP along the VPN. Default: none (required)' -r
 complete -c polyfill3 -l back -d 'Back clipping plane: distance from the VRP along the VPN. Default: none (required)' -r
-complete -c polyfill3 -l cull -d 'Drop cells wholly outside the camera\'s view volume, and whole polygons turning it the FACES side (back, front, or none: keep both), before they are written: what `scene-render --cull FACES` with the same camera would not draw. --cull alone is --cull=back; the value needs the `=`. Needs a camera' -r -f -a "none\t'Draw both faces'
+complete -c polyfill3 -l cull -d 'Drop cells wholly outside the camera\'s view volume, and whole polygons turning it the FACES side (back, front, or none: keep both), before they are written: what `scene-render --cull FACES` with the same camera would not draw. --cull alone is --cull=back; the words back, front and none after it are its value (a file so named is ./none). Needs a camera' -r -f -a "none\t'Draw both faces'
 back\t'Drop polygons seen from behind (clockwise on screen)'
 front\t'Drop polygons seen from the front (counter-clockwise on screen)'"
 complete -c polyfill3 -l depfile -d 'Write the make rule of the output: every file the run read (the input, the patterns, --camera, --pattern), as `cc -MD` does. Needs -o' -r

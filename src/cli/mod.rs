@@ -89,11 +89,57 @@ pub fn main<A: clap::Parser>(run: fn(A) -> anyhow::Result<()>) -> ! {
     let tool = A::command().get_name().to_string();
     alloc::set_tool_name(&tool);
     clean_up_on_signals();
-    let args = match A::try_parse() {
+    let words = values_after_optional_flags(&A::command(), std::env::args_os().collect());
+    let args = match A::try_parse_from(words) {
         Ok(args) => args,
         Err(e) => exit_usage(&tool, e),
     };
     std::process::exit(report(&tool, run(args)))
+}
+
+/// `--flag VALUE` joined into `--flag=VALUE` for a flag whose value is
+/// optional (`polyfill3 --cull[=FACES]`), when VALUE is one of the flag's
+/// possible values: clap takes only the `=` form there, the word after a
+/// bare `--cull` being the next argument (the input), so `--cull back`,
+/// as scene-render's `--cull` is written and as the shell completions offer
+/// it, read a file named `back`. Any other word after the flag stays an
+/// argument of its own (`--cull scene.json`); a file named like a value is
+/// given as `./back`. Words after `--` are left alone.
+fn values_after_optional_flags(
+    command: &clap::Command,
+    words: Vec<std::ffi::OsString>,
+) -> Vec<std::ffi::OsString> {
+    let optional: Vec<(String, Vec<String>)> = command
+        .get_arguments()
+        .filter(|a| a.is_require_equals_set())
+        .filter_map(|a| {
+            let values = a.get_possible_values();
+            let names = values.iter().map(|v| v.get_name().to_string()).collect();
+            Some((format!("--{}", a.get_long()?), names))
+        })
+        .collect();
+    let mut out = Vec::with_capacity(words.len());
+    let mut words = words.into_iter().peekable();
+    while let Some(word) = words.next() {
+        if word == "--" {
+            out.push(word);
+            out.extend(words);
+            break;
+        }
+        let joined = optional.iter().find_map(|(flag, values)| {
+            let next = words.peek()?.to_str()?;
+            (word == flag.as_str() && values.iter().any(|v| v == next))
+                .then(|| format!("{flag}={next}"))
+        });
+        match joined {
+            Some(j) => {
+                words.next();
+                out.push(j.into());
+            }
+            None => out.push(word),
+        }
+    }
+    out
 }
 
 /// On SIGINT, SIGTERM or SIGHUP (Ctrl-C, a batch scheduler's pre-emption, a
@@ -635,6 +681,35 @@ pub fn dep_name(path: &std::path::Path) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_value_after_a_flag_whose_value_is_optional_is_joined_to_it() {
+        use clap::CommandFactory;
+        let command = polyfill3::Args::command();
+        let join = |words: &[&str]| -> Vec<String> {
+            let words = words.iter().map(std::ffi::OsString::from).collect();
+            values_after_optional_flags(&command, words)
+                .into_iter()
+                .map(|w| w.into_string().unwrap())
+                .collect()
+        };
+        assert_eq!(
+            join(&["p", "--cull", "none", "a.json"]),
+            ["p", "--cull=none", "a.json"]
+        );
+        assert_eq!(join(&["p", "--cull", "a.json"]), ["p", "--cull", "a.json"]);
+        assert_eq!(join(&["p", "--cull", "./none"]), ["p", "--cull", "./none"]);
+        assert_eq!(
+            join(&["p", "--cull=back", "front"]),
+            ["p", "--cull=back", "front"]
+        );
+        assert_eq!(
+            join(&["p", "--", "--cull", "none"]),
+            ["p", "--", "--cull", "none"]
+        );
+        // Flags whose value is required are clap's own business.
+        assert_eq!(join(&["p", "--incr", "none"]), ["p", "--incr", "none"]);
+    }
 
     #[test]
     fn size_parses_and_repeats_bad_values() {

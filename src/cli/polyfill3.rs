@@ -136,8 +136,9 @@ pub struct Args {
     /// Drop cells wholly outside the camera's view volume, and whole
     /// polygons turning it the FACES side (back, front, or none: keep both),
     /// before they are written: what `scene-render --cull FACES` with the
-    /// same camera would not draw. --cull alone is --cull=back; the value
-    /// needs the `=`. Needs a camera.
+    /// same camera would not draw. --cull alone is --cull=back; the words
+    /// back, front and none after it are its value (a file so named is
+    /// ./none). Needs a camera.
     #[arg(
         long,
         value_enum,
@@ -210,19 +211,6 @@ fn run_in_pool(args: Args) -> Result<()> {
             args.pattern.as_deref().and_then(|p| p.to_str()),
         ),
     ])?;
-    // `--cull none in.json` reads "none" as the input (the value needs its
-    // `=`, or a file named "back" after --cull would be read as the faces).
-    let faces = ["back", "front", "none"];
-    if args.cull.is_some()
-        && faces.contains(&args.input.as_str())
-        && !std::path::Path::new(&args.input).exists()
-    {
-        usage_bail!(
-            "{}: no such input file; to give --cull its faces, write --cull={}",
-            args.input,
-            args.input
-        );
-    }
     let camera = args.camera.resolve()?;
     match (&camera, args.cull) {
         (Some(_), None) => {

@@ -71,8 +71,9 @@ pub struct PartitionOptions {
     /// turning it the face [`Self::cull`] names. Default value: none.
     pub volume: Option<ViewVolume>,
     /// With a [`Self::volume`], the faces dropped as well: what
-    /// `scene-render --cull` with the same value and camera would not draw
-    /// (edge-on polygons, which cover nothing, go with either face).
+    /// `scene-render --cull` with the same value and camera would not draw.
+    /// A polygon within [`crate::view::EDGE_ON_SINE`] of edge-on is kept
+    /// whatever its face (the renderer's rounding may draw it).
     /// [`Cull::None`] drops only what lies outside the volume. Default value:
     /// [`Cull::Back`].
     pub cull: Cull,

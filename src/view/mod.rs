@@ -6,7 +6,7 @@
 pub mod clip;
 pub mod volume;
 
-pub use volume::ViewVolume;
+pub use volume::{ViewVolume, EDGE_ON_SINE};
 
 use crate::camera::Camera;
 use glam::{DMat4, DVec2, DVec3, DVec4};
