@@ -23,7 +23,7 @@
 //! and its crossing errs by its last bit times the edge's length: an edge
 //! more than about 2^100 times the view (a polygon of radius 1e34 around a
 //! 4-pixel view) was placed off by more than the view, and drew a third of
-//! it or nothing. So an edge more than [`DD_CROSSING_SPAN`] times `|w|` at
+//! it or nothing. So an edge more than `DD_CROSSING_SPAN` (2^40) times `|w|` at
 //! its crossing takes the weighted mean `(a d_b' + b d_a) / (d_a + d_b')`
 //! from its exact numerator instead ([`Dd::weighted_mean`], `d_b' = -d_b`),
 //! within an ulp of the true crossing (and 2^-1070 of the larger end) for
