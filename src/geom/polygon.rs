@@ -72,15 +72,15 @@ pub fn area2(v: &[DVec2]) -> f64 {
 }
 
 /// A signed distance to a clip plane, positive on the kept side: a plain
-/// `f64`, or a [`crate::math::DoubleDouble`] where the crossing must not
-/// lose what the rounded values cancel (`view::clip`).
+/// `f64`, or the view clipper's exact double-double value (`view::clip`'s
+/// `Distance`), whose crossings keep both ends' values for the exact one.
 pub trait SignedDistance: Copy {
     /// What says where along an edge the crossing is.
     type Param;
     /// The distance rounded to `f64`, whose sign decides inside and outside.
     fn rounded(self) -> f64;
-    /// `inside / (inside - outside)`: where the edge from the inside point
-    /// to the outside one crosses the plane.
+    /// Where the edge from the inside point to the outside one crosses the
+    /// plane (for `f64`, `inside / (inside - outside)`).
     fn crossing(inside: Self, outside: Self) -> Self::Param;
 }
 
@@ -90,16 +90,6 @@ impl SignedDistance for f64 {
         self
     }
     fn crossing(inside: f64, outside: f64) -> f64 {
-        inside / (inside - outside)
-    }
-}
-
-impl SignedDistance for crate::math::DoubleDouble {
-    type Param = Self;
-    fn rounded(self) -> f64 {
-        self.hi
-    }
-    fn crossing(inside: Self, outside: Self) -> Self {
         inside / (inside - outside)
     }
 }
