@@ -35,7 +35,7 @@
 //! their union up to ~1e-16; [`AREA_EPS`] absorbs that so no seam of background
 //! shows through, and the pixel is bit for bit that of one polygon.
 
-use super::gather::{Local, TileGeom, GATHER_MAX_VERTS};
+use super::gather::{Local, PieceRef, TileGeom, GATHER_MAX_VERTS};
 use super::visible::{bounds, clip_to_box, fmax, fmin, PixelStates, Scratch, Shown};
 use super::{Background, ScreenPoly};
 use crate::geom::polygon::{area2, clip_axis, pixel_square, vertex_mean, AREA_EPS};
@@ -452,6 +452,10 @@ struct TileScratch {
     boxed_bin: Vec<(u32, [u32; 4])>,
     /// The part of it a sweep square meets.
     sweep_bin: Vec<(u32, [u32; 4])>,
+    /// A square swept pixel by pixel: its pieces' row bands, and the
+    /// pixels they meet ([`render_square_by_pixel`]).
+    rows: Vec<BandRow>,
+    waiting: Vec<Waiting>,
 }
 
 thread_local! {
@@ -511,7 +515,11 @@ pub fn render_bin_counted(
                 part.clear();
                 part.extend(boxed.iter().filter(|(_, b)| boxes_meet(b, &square)));
                 g.gather(polys, &part, square, tie_floor);
-                let sub = render_tile(polys, g, bg, square, s);
+                let sub = if by_pixel(&part) && g.locals.iter().all(|l| l.plain) {
+                    render_square_by_pixel(polys, g, bg, square, s)
+                } else {
+                    render_tile(polys, g, bg, square, s)
+                };
                 let sw = (square[2] - sx) as usize;
                 for (row, y) in sub.chunks_exact(sw).zip(sy..square[3]) {
                     let at = ((y - ty0) * (tx1 - tx0) + (sx - tx0)) as usize;
@@ -569,25 +577,68 @@ const DEEP_TILES: [(f64, u32); 1] = [(6.0, 8)];
 /// its polygons' boxes (`boxed`, [`TileGeom::gather`]'s) cover it
 /// [`DEEP_TILES`] times over.
 fn sweep_side(boxed: &[(u32, [u32; 4])], tile: [u32; 4]) -> u32 {
-    let area = |b: [u32; 4]| b[2].saturating_sub(b[0]) as f64 * b[3].saturating_sub(b[1]) as f64;
-    let deepest = DEEP_TILES[0].0 * area(tile);
+    let deepest = DEEP_TILES[0].0 * box_area(tile);
     let mut sum = 0.0;
     for &(_, b) in boxed {
-        sum += area([
-            b[0].max(tile[0]),
-            b[1].max(tile[1]),
-            b[2].min(tile[2]),
-            b[3].min(tile[3]),
-        ]);
+        sum += box_area(box_in(b, tile));
         if sum >= deepest {
             break;
         }
     }
-    let depth = sum / area(tile);
+    let depth = sum / box_area(tile);
     DEEP_TILES
         .iter()
         .find(|&&(over, _)| depth >= over)
         .map_or(tile[2] - tile[0], |&(_, side)| side)
+}
+
+/// The pixels of a pixel box `[x0, y0, x1, y1]` (inclusive-exclusive).
+fn box_area(b: [u32; 4]) -> f64 {
+    b[2].saturating_sub(b[0]) as f64 * b[3].saturating_sub(b[1]) as f64
+}
+
+/// The part of pixel box `b` in `tile`.
+fn box_in(b: [u32; 4], tile: [u32; 4]) -> [u32; 4] {
+    [
+        b[0].max(tile[0]),
+        b[1].max(tile[1]),
+        b[2].min(tile[2]),
+        b[3].min(tile[3]),
+    ]
+}
+
+/// Mean pixels of a polygon's box in a square of a deep tile at or below
+/// which the square is swept pixel by pixel ([`render_square_by_pixel`]).
+///
+/// Each pixel's fragments then come in its own order, so fewer arrive out
+/// of order and overtake. It pays where polygons are a few pixels across,
+/// so that over a square of 8 the sweep's per-polygon key is far from each
+/// pixel's own order; larger polygons lose by it, because every pixel of
+/// every polygon is listed and sorted, where the polygon sweep drops whole
+/// rows that lie behind a covered pixel row before it cuts them.
+/// `valgrind --tool=callgrind`, one thread, the bottom-left 256x192 of
+/// `bench/aa_scaling.sh`'s triangles (whole process, reading included;
+/// mean box about 20, 80 and 150 pixels at 1,000,000, 200,000 and 100,000
+/// `auto` triangles, about 700 for the 20-pixel ones), polygon sweep
+/// against pixel sweep in every deep square: 1,000,000 `auto` 10.58 and
+/// 10.23 billion instructions (the render's own functions 3.6 and 3.1),
+/// 200,000 `auto` 2.441 and 2.435, 100,000 `auto` 1.396 and 1.431,
+/// 200,000 20-pixel 2.60 and 3.82.
+const BY_PIXEL_MEAN_BOX: f64 = 36.0;
+
+/// Whether a square of a deep tile, met by the polygons of `part` (with
+/// their pixel boxes, whole), is swept pixel by pixel
+/// ([`BY_PIXEL_MEAN_BOX`]).
+fn by_pixel(part: &[(u32, [u32; 4])]) -> bool {
+    let most = BY_PIXEL_MEAN_BOX * part.len() as f64;
+    let mut sum = 0.0;
+    for &(_, b) in part {
+        sum += box_area(b);
+        if sum > most {
+            return false;
+        }
+    }
+    !part.is_empty()
 }
 
 /// Whether the pixel boxes `a` and `b` (inclusive-exclusive) share a pixel.
@@ -627,8 +678,7 @@ fn render_tile(
         large,
         tex,
         resolve,
-        boxed_bin: _,
-        sweep_bin: _,
+        ..
     } = s;
     frags.clear();
     arena.clear();
@@ -642,13 +692,7 @@ fn render_tile(
         let pi = r.local;
         let l = &locals[pi as usize];
         let p = (!l.plain).then(|| &polys[l.global as usize]);
-        let mut piece = geom.piece(polys, r);
-        if piece.len() > GATHER_MAX_VERTS {
-            // A large polygon, read in place: clipped to the tile once,
-            // not whole for each of its rows.
-            clip_to_box(piece, &tile_box, tmp, large);
-            piece = large;
-        }
+        let piece = piece_in_tile(polys, geom, r, &tile_box, tmp, large);
         let [rx0, ry0, rx1, ry1] = pixel_range(&r.bb, tile);
         for py in ry0..ry1 {
             let cy = py as f64 + 0.5;
@@ -730,12 +774,170 @@ fn render_tile(
             }
         }
     }
-    (0..(tw * th) as u32)
-        .map(|idx| {
-            let (px, py) = (tx0 + idx % tw as u32, ty0 + idx / tw as u32);
-            pixels.colour(idx, bg, px, py)
-        })
+    colours(pixels, bg, tile)
+}
+
+/// The convex piece `r` of the tile's geometry: in place, or, for a large
+/// polygon read in place, clipped to the tile once (into `large`, `tmp`
+/// scratch) rather than cut whole for each of its rows.
+fn piece_in_tile<'a>(
+    polys: &'a [ScreenPoly],
+    geom: &'a TileGeom,
+    r: &PieceRef,
+    tile_box: &[f64; 4],
+    tmp: &mut Vec<DVec2>,
+    large: &'a mut Vec<DVec2>,
+) -> &'a [DVec2] {
+    let piece = geom.piece(polys, r);
+    if piece.len() <= GATHER_MAX_VERTS {
+        return piece;
+    }
+    clip_to_box(piece, tile_box, tmp, large);
+    large
+}
+
+/// The swept pixels of `tile`, row by row.
+fn colours(pixels: &PixelStates, bg: &Background, tile: [u32; 4]) -> Vec<[f32; 3]> {
+    let [tx0, ty0, tx1, ty1] = tile;
+    let tw = tx1 - tx0;
+    (0..tw * (ty1 - ty0))
+        .map(|idx| pixels.colour(idx, bg, tx0 + idx % tw, ty0 + idx / tw))
         .collect()
+}
+
+/// One row band of a piece in a square swept pixel by pixel: where the band
+/// is in the tile's arena, its box, its span, and its polygon and row.
+struct BandRow {
+    start: u32,
+    len: u32,
+    bb: [f64; 4],
+    span: RowSpan,
+    local: u32,
+    py: u32,
+}
+
+/// A pixel of a [`BandRow`], waiting for its turn in its pixel's order.
+struct Waiting {
+    pixel: u32,
+    /// The polygon's least nearness over the pixel: its pixel's order is
+    /// nearest first by it, as [`TileGeom::gather`]'s is by the least over
+    /// the polygon's box.
+    key: f64,
+    /// Its place in the polygon sweep's order, which breaks ties.
+    seq: u32,
+    row: u32,
+}
+
+/// Renders one square of a deep tile of plain polygons
+/// ([`super::gather::Local::plain`]) with exact coverage, as
+/// [`render_tile`] does, but with each pixel's fragments in its own order
+/// ([`BY_PIXEL_MEAN_BOX`]): every piece is cut into its row bands first,
+/// each pixel a band meets waits with the polygon's least nearness over
+/// that pixel, and then the pixels are swept one by one, each one's
+/// fragments nearest first by that key. Any order gives the same areas
+/// ([`super::visible::PixelStates`]); this one lets fewer fragments
+/// overtake. As in the polygon sweep, a fragment behind everything that
+/// covers its pixel is dropped before it is clipped, and in an open pixel
+/// the band stands for the fragment.
+fn render_square_by_pixel(
+    polys: &[ScreenPoly],
+    geom: &TileGeom,
+    bg: &Background,
+    tile: [u32; 4],
+    s: &mut TileScratch,
+) -> Vec<[f32; 3]> {
+    let [tx0, ty0, tx1, ty1] = tile;
+    let tw = tx1 - tx0;
+    let TileScratch {
+        frags,
+        arena,
+        pixels,
+        band,
+        tmp,
+        cell,
+        tmp2,
+        large,
+        tex,
+        resolve,
+        rows,
+        waiting,
+        ..
+    } = s;
+    frags.clear();
+    arena.clear();
+    tex.colors.clear();
+    rows.clear();
+    waiting.clear();
+    pixels.reset((tw * (ty1 - ty0)) as usize, &mut resolve.pool);
+    let locals = &geom.locals[..];
+    let tile_box = [tx0 as f64, ty0 as f64, tx1 as f64, ty1 as f64];
+    for r in &geom.pieces {
+        let l = &locals[r.local as usize];
+        let piece = piece_in_tile(polys, geom, r, &tile_box, tmp, large);
+        let [_, ry0, _, ry1] = pixel_range(&r.bb, tile);
+        for py in ry0..ry1 {
+            let Some(span) = row_band(piece, py, (tx0, tx1), tmp, band) else {
+                continue;
+            };
+            let row = rows.len() as u32;
+            for x in span.cx0..span.cx1 {
+                waiting.push(Waiting {
+                    pixel: (py - ty0) * tw + (x - tx0),
+                    key: l.q(x as f64 + 0.5, py as f64 + 0.5) - l.half_spread(),
+                    seq: waiting.len() as u32,
+                    row,
+                });
+            }
+            rows.push(BandRow {
+                start: arena.len() as u32,
+                len: band.len() as u32,
+                bb: bounds(band),
+                span,
+                local: r.local,
+                py,
+            });
+            arena.extend_from_slice(band);
+        }
+    }
+    waiting.sort_unstable_by(|a, b| {
+        (a.pixel.cmp(&b.pixel))
+            .then(b.key.total_cmp(&a.key))
+            .then(a.seq.cmp(&b.seq))
+    });
+    for w in waiting.iter() {
+        let row = &rows[w.row as usize];
+        let l = &locals[row.local as usize];
+        let (x, py) = (tx0 + w.pixel % tw, row.py);
+        if l.cullable && pixels.hides(w.pixel, l, x as f64 + 0.5, py as f64 + 0.5) {
+            continue;
+        }
+        frags.clear();
+        let known_bb = if !row.span.is_full(x) && pixels.is_open(w.pixel) {
+            frags.push(Frag {
+                pixel: w.pixel,
+                poly: row.local,
+                start: row.start,
+                len: row.len,
+                color: POLY_COLOR,
+            });
+            Some(row.bb)
+        } else {
+            let band = &arena[row.start as usize..(row.start + row.len) as usize];
+            let Some(verts) = pixel_cell(band, &row.span, x, tmp2, cell) else {
+                continue;
+            };
+            push_piece(frags, arena, w.pixel, row.local, verts, POLY_COLOR);
+            None
+        };
+        let shown = Shown {
+            polys,
+            locals,
+            arena,
+            colors: &tex.colors,
+        };
+        pixels.sweep(&frags[0], (x, py), known_bb, &shown, resolve);
+    }
+    colours(pixels, bg, tile)
 }
 
 #[cfg(test)]
@@ -1014,6 +1216,39 @@ mod sweep {
         .unwrap();
         let boxed: Vec<_> = super::super::boxed(std::slice::from_ref(&big), &[0]).collect();
         assert_eq!(sweep_side(&boxed, [0, 0, 32, 32]), 32);
+    }
+
+    /// The squares of the deep tiles above (the scenes of
+    /// `deep_random_scenes_match_the_reference` and
+    /// `a_deep_tile_swept_in_squares_is_the_whole_tile_swept_at_once`, whose
+    /// triangles are a few pixels across) are swept pixel by pixel, so those
+    /// tests check that sweep against the reference and against the
+    /// polygon sweep; triangles 20 pixels across are swept by polygon.
+    #[test]
+    fn squares_of_small_polygons_are_swept_pixel_by_pixel() {
+        let square = [8, 8, 16, 16];
+        let meeting = |polys: &[ScreenPoly]| -> Vec<(u32, [u32; 4])> {
+            let bin: Vec<u32> = (0..polys.len() as u32).collect();
+            super::super::boxed(polys, &bin)
+                .filter(|(_, b)| boxes_meet(b, &square))
+                .collect()
+        };
+        for (seed, tilted, n, (w, h)) in [(3, true, 400, (32, 24)), (6, true, 1000, (32, 32))] {
+            let (_, polys) = scene(seed, n, tilted, w, h);
+            assert!(by_pixel(&meeting(&polys)), "seed {seed}");
+        }
+        let v = View::ortho2(0.0, 32.0, 0.0, 32.0, 32, 32);
+        let mut r = Lcg(9);
+        let large: Vec<ScreenPoly> = (0..200)
+            .filter_map(|i| {
+                let (cx, cy) = (r.unit() * 32.0, r.unit() * 32.0);
+                let mut corner = || [cx + r.unit() * 40.0 - 20.0, cy + r.unit() * 40.0 - 20.0];
+                let tri = [corner(), corner(), corner()];
+                super::super::tests::poly2(&v, &tri, Rgb8::WHITE, i)
+            })
+            .collect();
+        assert!(!by_pixel(&meeting(&large)));
+        assert!(!by_pixel(&[]));
     }
 
     /// One pixel's fragments: random triangles clipped to the square, flat
