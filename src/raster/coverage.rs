@@ -15,7 +15,9 @@
 //!    polygons too (the tests' oracle, `raster::visible::subtract_pairwise`).
 //! 3. **Tile sweep.** The same areas, found front to back: the tile's
 //!    polygons come nearest first (a deep tile's square by square,
-//!    `DEEP_TILES`), and each fragment is cut out of its
+//!    `DEEP_TILES`; a square of small plain polygons pixel by pixel, each
+//!    pixel's fragments in its own order, `BY_PIXEL_MEAN_BOX`), and each
+//!    fragment is cut out of its
 //!    pixel's uncovered part as it is made, its visible area being what it
 //!    removed (`raster::visible::PixelStates`). That holds where no fragment is in front of
 //!    one that showed before it, which is checked; where the check fails the
@@ -456,6 +458,9 @@ struct TileScratch {
     /// pixels they meet ([`render_square_by_pixel`]).
     rows: Vec<BandRow>,
     waiting: Vec<Waiting>,
+    /// `waiting` in the sweep's order, and where each pixel's run starts.
+    queue: Vec<Waiting>,
+    starts: Vec<u32>,
 }
 
 thread_local! {
@@ -607,8 +612,9 @@ fn box_in(b: [u32; 4], tile: [u32; 4]) -> [u32; 4] {
     ]
 }
 
-/// Mean pixels of a polygon's box in a square of a deep tile at or below
-/// which the square is swept pixel by pixel ([`render_square_by_pixel`]).
+/// The mean area, in pixels, of the boxes of a deep square's polygons
+/// (whole, not cut to the square) at or below which the square is swept
+/// pixel by pixel ([`render_square_by_pixel`]).
 ///
 /// Each pixel's fragments then come in its own order, so fewer arrive out
 /// of order and overtake. It pays where polygons are a few pixels across,
@@ -616,15 +622,28 @@ fn box_in(b: [u32; 4], tile: [u32; 4]) -> [u32; 4] {
 /// pixel's own order; larger polygons lose by it, because every pixel of
 /// every polygon is listed and sorted, where the polygon sweep drops whole
 /// rows that lie behind a covered pixel row before it cuts them.
+///
 /// `valgrind --tool=callgrind`, one thread, the bottom-left 256x192 of
-/// `bench/aa_scaling.sh`'s triangles (whole process, reading included;
-/// mean box about 20, 80 and 150 pixels at 1,000,000, 200,000 and 100,000
-/// `auto` triangles, about 700 for the 20-pixel ones), polygon sweep
-/// against pixel sweep in every deep square: 1,000,000 `auto` 10.58 and
-/// 10.23 billion instructions (the render's own functions 3.6 and 3.1),
-/// 200,000 `auto` 2.441 and 2.435, 100,000 `auto` 1.396 and 1.431,
-/// 200,000 20-pixel 2.60 and 3.82.
-const BY_PIXEL_MEAN_BOX: f64 = 36.0;
+/// `bench/aa_scaling.sh`'s triangles (`auto`, and 200,000 with their
+/// vertices within 10, 14 and 20 pixels of their centres), billions of
+/// instructions of the whole process (reading included); the mean pixel
+/// box over the first 20,000 triangles in brackets:
+///
+/// | scene | polygon sweep (8eed60b) | pixel sweep in every deep square | this rule |
+/// |---|---:|---:|---:|
+/// | 1,000,000 `auto` (18) | 10.419 | | 9.881 |
+/// | 200,000 `auto` (68) | 2.386 | 2.281 | 2.281 |
+/// | 100,000 `auto` (127) | 1.363 | 1.320 | 1.361 |
+/// | 200,000, s = 10 (121) | 2.438 | 2.412 | 2.436 |
+/// | 200,000, s = 14 (226) | 2.451 | 2.653 | 2.458 |
+/// | 200,000, s = 20 (442) | 2.535 | 3.199 | 2.543 |
+///
+/// The images are the same bytes. The sweep's own functions
+/// (`raster::{coverage, visible, gather}`, `geom::polygon`, the sorts) on
+/// the first row: 3.24 against 3.73 billion. The rule is on the mean box of
+/// each square's polygons, which varies about the scene's, so near 128 some
+/// squares go each way.
+const BY_PIXEL_MEAN_BOX: f64 = 128.0;
 
 /// Whether a square of a deep tile, met by the polygons of `part` (with
 /// their pixel boxes, whole), is swept pixel by pixel
@@ -817,6 +836,7 @@ struct BandRow {
 }
 
 /// A pixel of a [`BandRow`], waiting for its turn in its pixel's order.
+#[derive(Clone, Copy)]
 struct Waiting {
     pixel: u32,
     /// The polygon's least nearness over the pixel: its pixel's order is
@@ -826,6 +846,43 @@ struct Waiting {
     /// Its place in the polygon sweep's order, which breaks ties.
     seq: u32,
     row: u32,
+}
+
+/// `waiting` (pixels of a square of `n`) into `queue` pixel by pixel, each
+/// pixel's nearest first by [`Waiting::key`], ties in the polygon sweep's
+/// order (`starts` scratch). A counting sort by pixel, then each pixel's
+/// few sorted on their own: one sort of the whole list by pixel and key
+/// took 6.6% of the sweep's instructions on the million `auto` triangles of
+/// [`BY_PIXEL_MEAN_BOX`]'s comment (callgrind), this one about 2%, and with
+/// it the pixel sweep gained on larger triangles too.
+fn by_pixel_order(waiting: &[Waiting], n: usize, queue: &mut Vec<Waiting>, starts: &mut Vec<u32>) {
+    starts.clear();
+    starts.resize(n + 1, 0);
+    for w in waiting {
+        starts[w.pixel as usize + 1] += 1;
+    }
+    for i in 0..n {
+        starts[i + 1] += starts[i];
+    }
+    queue.clear();
+    queue.resize_with(waiting.len(), || Waiting {
+        pixel: 0,
+        key: 0.0,
+        seq: 0,
+        row: 0,
+    });
+    // Each pixel's start, moved on as it fills: then its end.
+    for w in waiting {
+        let at = &mut starts[w.pixel as usize];
+        queue[*at as usize] = *w;
+        *at += 1;
+    }
+    let mut start = 0;
+    for &end in &starts[..n] {
+        queue[start..end as usize]
+            .sort_unstable_by(|a, b| b.key.total_cmp(&a.key).then(a.seq.cmp(&b.seq)));
+        start = end as usize;
+    }
 }
 
 /// Renders one square of a deep tile of plain polygons
@@ -861,6 +918,8 @@ fn render_square_by_pixel(
         resolve,
         rows,
         waiting,
+        queue,
+        starts,
         ..
     } = s;
     frags.clear();
@@ -899,12 +958,9 @@ fn render_square_by_pixel(
             arena.extend_from_slice(band);
         }
     }
-    waiting.sort_unstable_by(|a, b| {
-        (a.pixel.cmp(&b.pixel))
-            .then(b.key.total_cmp(&a.key))
-            .then(a.seq.cmp(&b.seq))
-    });
-    for w in waiting.iter() {
+    let n = (tw * (ty1 - ty0)) as usize;
+    by_pixel_order(waiting, n, queue, starts);
+    for w in queue.iter() {
         let row = &rows[w.row as usize];
         let l = &locals[row.local as usize];
         let (x, py) = (tx0 + w.pixel % tw, row.py);
