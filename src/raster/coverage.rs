@@ -638,7 +638,7 @@ fn box_in(b: [u32; 4], tile: [u32; 4]) -> [u32; 4] {
 /// | 200,000, s = 14 (226) | 2.451 | 2.653 | 2.458 |
 /// | 200,000, s = 20 (442) | 2.535 | 3.199 | 2.543 |
 ///
-/// The images are the same bytes. The sweep's own functions
+/// The PNGs are the same bytes. The sweep's own functions
 /// (`raster::{coverage, visible, gather}`, `geom::polygon`, the sorts) on
 /// the first row: 3.24 against 3.73 billion. The rule is on the mean box of
 /// each square's polygons, which varies about the scene's, so near 128 some
