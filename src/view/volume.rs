@@ -22,6 +22,14 @@ use glam::{DMat4, DVec3, DVec4};
 /// screen, so keeping it costs nothing.
 pub const EDGE_ON_SINE: f64 = 1.0 / (1u64 << 20) as f64;
 
+/// How near the eye, relative to the larger of the eye's and the point's
+/// distance from the origin, a point of a polygon lies for the line of
+/// sight to it to have no direction. The eye is the camera's view matrix
+/// inverted ([`Camera::eye_position`]), a few ulps off, so the sight line to
+/// a point within rounding of it points anywhere and its facing was a
+/// coin toss; such a polygon passes through the eye, edge-on, and is kept.
+const AT_THE_EYE: f64 = 1.0 / (1u64 << 30) as f64;
+
 /// A camera's view volume.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ViewVolume {
@@ -67,9 +75,14 @@ impl ViewVolume {
 
     /// The sine of the angle between the line of sight to `point` (for a
     /// parallel view, the direction of projection) and the polygon's plane,
-    /// positive when the polygon turns its back to the camera.
+    /// positive when the polygon turns its back to the camera; 0 (edge-on)
+    /// for a point at the eye ([`AT_THE_EYE`]), and NaN or 0 where the
+    /// normal's length overflows, which keep the polygon too.
     fn facing(&self, normal: DVec3, point: DVec3) -> f64 {
         let to = match self.eye {
+            Some(e) if (point - e).length() <= AT_THE_EYE * e.length().max(point.length()) => {
+                return 0.0;
+            }
             Some(e) => point - e,
             None => self.direction,
         };
@@ -211,5 +224,17 @@ mod tests {
         let tilt = EDGE_ON_SINE * 2.0;
         assert!(o.front_facing(DVec3::new(1.0, 0.0, tilt), DVec3::ZERO));
         assert!(o.back_facing(DVec3::new(1.0, 0.0, -tilt), DVec3::ZERO));
+        // A polygon through the eye (the eye given as the camera gave it,
+        // not as the inverted view matrix finds it), and one whose normal is
+        // too long for its length to be finite: kept, and the renderer
+        // decides.
+        let eye = DVec3::new(0.0, 100.0, -5.0);
+        let huge = DVec3::new(0.0, 1e300, -1e300);
+        for (n, at) in [(DVec3::Y, eye), (DVec3::NEG_Y, eye), (huge, p), (-huge, p)] {
+            assert!(
+                !v.back_facing(n, at) && !v.front_facing(n, at),
+                "{n} at {at}"
+            );
+        }
     }
 }
