@@ -442,12 +442,7 @@ struct TileScratch {
     frags: Vec<Frag>,
     arena: Vec<DVec2>,
     pixels: PixelStates,
-    band: Vec<DVec2>,
-    tmp: Vec<DVec2>,
-    cell: Vec<DVec2>,
-    tmp2: Vec<DVec2>,
-    /// A large piece clipped to the tile.
-    large: Vec<DVec2>,
+    cuts: Cuts,
     tex: TexScratch,
     resolve: Scratch,
     /// The tile's bin with each polygon's pixel box.
@@ -461,6 +456,28 @@ struct TileScratch {
     /// `waiting` in the sweep's order, and where each pixel's run starts.
     queue: Vec<Waiting>,
     starts: Vec<u32>,
+}
+
+/// The buffers a piece is cut into rows and pixels with.
+#[derive(Default)]
+struct Cuts {
+    band: Vec<DVec2>,
+    tmp: Vec<DVec2>,
+    cell: Vec<DVec2>,
+    tmp2: Vec<DVec2>,
+    /// A large piece clipped to the tile.
+    large: Vec<DVec2>,
+}
+
+impl TileScratch {
+    /// Empties the fragments and the pixels' states for a tile of `n`
+    /// pixels.
+    fn begin(&mut self, n: usize) {
+        self.frags.clear();
+        self.arena.clear();
+        self.tex.colors.clear();
+        self.pixels.reset(n, &mut self.resolve.pool);
+    }
 }
 
 thread_local! {
@@ -685,24 +702,16 @@ fn render_tile(
 ) -> Vec<[f32; 3]> {
     let [tx0, ty0, tx1, _] = tile;
     let tw = (tx1 - tx0) as usize;
-    let th = (tile[3] - ty0) as usize;
+    s.begin(tw * (tile[3] - ty0) as usize);
     let TileScratch {
         frags,
         arena,
         pixels,
-        band,
-        tmp,
-        cell,
-        tmp2,
-        large,
+        cuts: c,
         tex,
         resolve,
         ..
     } = s;
-    frags.clear();
-    arena.clear();
-    tex.colors.clear();
-    pixels.reset(tw * th, &mut resolve.pool);
     let locals = &geom.locals[..];
     let tile_box = [tx0 as f64, ty0 as f64, tx1 as f64, tile[3] as f64];
     let pixel_of = |x: u32, py: u32| ((py - ty0) as usize * tw + (x - tx0) as usize) as u32;
@@ -711,7 +720,7 @@ fn render_tile(
         let pi = r.local;
         let l = &locals[pi as usize];
         let p = (!l.plain).then(|| &polys[l.global as usize]);
-        let piece = piece_in_tile(polys, geom, r, &tile_box, tmp, large);
+        let piece = piece_in_tile(polys, geom, r, &tile_box, &mut c.tmp, &mut c.large);
         let [rx0, ry0, rx1, ry1] = pixel_range(&r.bb, tile);
         for py in ry0..ry1 {
             let cy = py as f64 + 0.5;
@@ -721,7 +730,7 @@ fn render_tile(
             if (rx0..rx1).all(|x| hidden(pixels, x)) {
                 continue; // Behind every pixel the row could touch.
             }
-            let Some(r) = row_band(piece, py, (tx0, tx1), tmp, band) else {
+            let Some(r) = row_band(piece, py, (tx0, tx1), &mut c.tmp, &mut c.band) else {
                 continue;
             };
             // The full pixels of the row, for the run fast path.
@@ -758,9 +767,9 @@ fn render_tile(
                         // stands for the fragment (the open part lies in
                         // the pixel), saving its clip to the pixel.
                         let (start, len, bb) = *band_at.get_or_insert_with(|| {
-                            arena.extend_from_slice(band);
-                            let start = (arena.len() - band.len()) as u32;
-                            (start, band.len() as u32, bounds(band))
+                            arena.extend_from_slice(&c.band);
+                            let start = (arena.len() - c.band.len()) as u32;
+                            (start, c.band.len() as u32, bounds(&c.band))
                         });
                         known_bb = Some(bb);
                         frags.push(Frag {
@@ -771,7 +780,8 @@ fn render_tile(
                             color: POLY_COLOR,
                         });
                     } else {
-                        let Some(verts) = pixel_cell(band, &r, x, tmp2, cell) else {
+                        let Some(verts) = pixel_cell(&c.band, &r, x, &mut c.tmp2, &mut c.cell)
+                        else {
                             continue;
                         };
                         match p {
@@ -905,15 +915,12 @@ fn render_square_by_pixel(
 ) -> Vec<[f32; 3]> {
     let [tx0, ty0, tx1, ty1] = tile;
     let tw = tx1 - tx0;
+    s.begin((tw * (ty1 - ty0)) as usize);
     let TileScratch {
         frags,
         arena,
         pixels,
-        band,
-        tmp,
-        cell,
-        tmp2,
-        large,
+        cuts: c,
         tex,
         resolve,
         rows,
@@ -922,20 +929,16 @@ fn render_square_by_pixel(
         starts,
         ..
     } = s;
-    frags.clear();
-    arena.clear();
-    tex.colors.clear();
     rows.clear();
     waiting.clear();
-    pixels.reset((tw * (ty1 - ty0)) as usize, &mut resolve.pool);
     let locals = &geom.locals[..];
     let tile_box = [tx0 as f64, ty0 as f64, tx1 as f64, ty1 as f64];
     for r in &geom.pieces {
         let l = &locals[r.local as usize];
-        let piece = piece_in_tile(polys, geom, r, &tile_box, tmp, large);
+        let piece = piece_in_tile(polys, geom, r, &tile_box, &mut c.tmp, &mut c.large);
         let [_, ry0, _, ry1] = pixel_range(&r.bb, tile);
         for py in ry0..ry1 {
-            let Some(span) = row_band(piece, py, (tx0, tx1), tmp, band) else {
+            let Some(span) = row_band(piece, py, (tx0, tx1), &mut c.tmp, &mut c.band) else {
                 continue;
             };
             let row = rows.len() as u32;
@@ -949,13 +952,13 @@ fn render_square_by_pixel(
             }
             rows.push(BandRow {
                 start: arena.len() as u32,
-                len: band.len() as u32,
-                bb: bounds(band),
+                len: c.band.len() as u32,
+                bb: bounds(&c.band),
                 span,
                 local: r.local,
                 py,
             });
-            arena.extend_from_slice(band);
+            arena.extend_from_slice(&c.band);
         }
     }
     let n = (tw * (ty1 - ty0)) as usize;
@@ -979,7 +982,7 @@ fn render_square_by_pixel(
             Some(row.bb)
         } else {
             let band = &arena[row.start as usize..(row.start + row.len) as usize];
-            let Some(verts) = pixel_cell(band, &row.span, x, tmp2, cell) else {
+            let Some(verts) = pixel_cell(band, &row.span, x, &mut c.tmp2, &mut c.cell) else {
                 continue;
             };
             push_piece(frags, arena, w.pixel, row.local, verts, POLY_COLOR);
