@@ -537,7 +537,7 @@ pub fn render_bin_counted(
                 part.clear();
                 part.extend(boxed.iter().filter(|(_, b)| boxes_meet(b, &square)));
                 g.gather(polys, &part, square, tie_floor);
-                let sub = if by_pixel(&part) && g.locals.iter().all(|l| l.plain) {
+                let sub = if by_pixel(&part, square) && g.locals.iter().all(|l| l.plain) {
                     render_square_by_pixel(polys, g, bg, square, s)
                 } else {
                     render_tile(polys, g, bg, square, s)
@@ -634,11 +634,18 @@ fn box_in(b: [u32; 4], tile: [u32; 4]) -> [u32; 4] {
 /// pixel by pixel ([`render_square_by_pixel`]).
 ///
 /// Each pixel's fragments then come in its own order, so fewer arrive out
-/// of order and overtake. It pays where polygons are a few pixels across,
-/// so that over a square of 8 the sweep's per-polygon key is far from each
-/// pixel's own order; larger polygons lose by it, because every pixel of
-/// every polygon is listed and sorted, where the polygon sweep drops whole
-/// rows that lie behind a covered pixel row before it cuts them.
+/// of order and overtake (200,000 `auto` triangles, builds that counted
+/// them: 0.88 million fragments took from a shower, against 1.55 million by
+/// polygon). It pays where polygons are a few pixels across and not piled
+/// deep ([`BY_PIXEL_MOST_LAYERS`]), so that over a square of 8 the sweep's
+/// per-polygon key is far from each pixel's own order; larger polygons
+/// lose by it, because every pixel of every polygon is listed and sorted,
+/// where the polygon sweep drops whole rows that lie behind a covered
+/// pixel row before it cuts them. The mean is over the polygons meeting
+/// the square, which counts a large polygon once for each square it
+/// meets: a scene's squares go by pixel less often than its own mean box
+/// suggests (at 100,000 `auto`, 4% of the squares of the whole frame, a
+/// review counted).
 ///
 /// `valgrind --tool=callgrind`, one thread, the bottom-left 256x192 of
 /// `bench/aa_scaling.sh`'s triangles (`auto`, and 200,000 with their
@@ -655,22 +662,47 @@ fn box_in(b: [u32; 4], tile: [u32; 4]) -> [u32; 4] {
 /// | 200,000, s = 14 (226) | 2.451 | 2.653 | 2.458 |
 /// | 200,000, s = 20 (442) | 2.535 | 3.199 | 2.543 |
 ///
-/// The PNGs are the same bytes. The sweep's own functions
+/// These PNGs are the same bytes; a PFM may differ in its last bit, and
+/// where the tie rule forms a cycle (three polygons within about a tie
+/// tolerance of each other, outside the exactness claim of
+/// `docs/rendering.md`) another order draws another picture (a review's
+/// case: 43 pixels, each build off `--reference`, the pixel sweep less).
+/// The sweep's own functions
 /// (`raster::{coverage, visible, gather}`, `geom::polygon`, the sorts) on
 /// the first row: 3.24 against 3.73 billion. The rule is on the mean box of
 /// each square's polygons, which varies about the scene's, so near 128 some
 /// squares go each way.
 const BY_PIXEL_MEAN_BOX: f64 = 128.0;
 
+/// How many times over, at most, the boxes of a square's polygons (cut to
+/// the square) may cover it for the square to be swept pixel by pixel.
+///
+/// The pixel sweep lists every pixel of every row band before it sweeps
+/// any, where the polygon sweep drops a row behind a covered pixel row
+/// without cutting it; under a pile of small flat polygons the listing is
+/// all cost. A review (2026-11-29) stacked 400,000 flat triangles of 10
+/// pixels on one spot: render 0.87 s and 149 MB by polygon, 3.57 s and
+/// 648 MB by pixel. Random small triangles (the million `auto` of
+/// [`BY_PIXEL_MEAN_BOX`]'s table) cover a square about 23 times over.
+/// On 256x192 of triangles of that size, one thread, render phase, one
+/// run each by polygon and by pixel: flat ones 0.31 and 0.32 s at 23 times
+/// over, 0.57 and 0.71 at 92; tilted ones 0.99 and 0.82 at 23, 2.33 and
+/// 1.50 at 46, 4.73 and 4.06 at 92. This bound keeps the pixel sweep
+/// where it was measured to gain and leaves deep piles to the polygon
+/// sweep, the tilted ones' gain with them.
+const BY_PIXEL_MOST_LAYERS: f64 = 32.0;
+
 /// Whether a square of a deep tile, met by the polygons of `part` (with
 /// their pixel boxes, whole), is swept pixel by pixel
-/// ([`BY_PIXEL_MEAN_BOX`]).
-fn by_pixel(part: &[(u32, [u32; 4])]) -> bool {
+/// ([`BY_PIXEL_MEAN_BOX`], [`BY_PIXEL_MOST_LAYERS`]).
+fn by_pixel(part: &[(u32, [u32; 4])], square: [u32; 4]) -> bool {
     let most = BY_PIXEL_MEAN_BOX * part.len() as f64;
-    let mut sum = 0.0;
+    let deepest = BY_PIXEL_MOST_LAYERS * box_area(square);
+    let (mut sum, mut layers) = (0.0, 0.0);
     for &(_, b) in part {
         sum += box_area(b);
-        if sum > most {
+        layers += box_area(box_in(b, square));
+        if sum > most || layers > deepest {
             return false;
         }
     }
@@ -863,8 +895,10 @@ struct Waiting {
 /// order (`starts` scratch). A counting sort by pixel, then each pixel's
 /// few sorted on their own: one sort of the whole list by pixel and key
 /// took 6.6% of the sweep's instructions on the million `auto` triangles of
-/// [`BY_PIXEL_MEAN_BOX`]'s comment (callgrind), this one about 2%, and with
-/// it the pixel sweep gained on larger triangles too.
+/// [`BY_PIXEL_MEAN_BOX`]'s comment (callgrind), this one about 2%. With one
+/// sort, the pixel sweep in every deep square of 200,000 `auto` triangles
+/// was 2.435 against 2.441 billion instructions (builds that counted their
+/// sweeps); with this one, 2.281 against 2.386.
 fn by_pixel_order(waiting: &[Waiting], n: usize, queue: &mut Vec<Waiting>, starts: &mut Vec<u32>) {
     starts.clear();
     starts.resize(n + 1, 0);
@@ -1294,7 +1328,7 @@ mod sweep {
         };
         for (seed, tilted, n, (w, h)) in [(3, true, 400, (32, 24)), (6, true, 1000, (32, 32))] {
             let (_, polys) = scene(seed, n, tilted, w, h);
-            assert!(by_pixel(&meeting(&polys)), "seed {seed}");
+            assert!(by_pixel(&meeting(&polys), square), "seed {seed}");
         }
         let v = View::ortho2(0.0, 32.0, 0.0, 32.0, 32, 32);
         let mut r = Lcg(9);
@@ -1306,8 +1340,22 @@ mod sweep {
                 super::super::tests::poly2(&v, &tri, Rgb8::WHITE, i)
             })
             .collect();
-        assert!(!by_pixel(&meeting(&large)));
-        assert!(!by_pixel(&[]));
+        assert!(!by_pixel(&meeting(&large), square));
+        assert!(!by_pixel(&[], square));
+        // Review find (2026-11-29): small flat triangles piled on one spot,
+        // which the pixel sweep listed pixel by pixel at 4x the time and
+        // memory: the polygon sweep's, by BY_PIXEL_MOST_LAYERS.
+        let pile: Vec<ScreenPoly> = (0..400)
+            .filter_map(|i| {
+                let mut corner = || [12.0 + r.unit() * 10.0 - 5.0, 12.0 + r.unit() * 10.0 - 5.0];
+                let tri = [corner(), corner(), corner()];
+                super::super::tests::poly2(&v, &tri, Rgb8::WHITE, i)
+            })
+            .collect();
+        let boxes = meeting(&pile);
+        let mean = boxes.iter().map(|&(_, b)| box_area(b)).sum::<f64>() / boxes.len() as f64;
+        assert!(mean <= BY_PIXEL_MEAN_BOX, "small: {mean}");
+        assert!(!by_pixel(&boxes, square));
     }
 
     /// One pixel's fragments: random triangles clipped to the square, flat
