@@ -935,7 +935,8 @@ fn by_pixel_order(waiting: &[Waiting], n: usize, queue: &mut Vec<Waiting>, start
 /// ([`BY_PIXEL_MEAN_BOX`]): every piece is cut into its row bands first,
 /// each pixel a band meets waits with the polygon's least nearness over
 /// that pixel, and then the pixels are swept one by one, each one's
-/// fragments nearest first by that key. Any order gives the same areas
+/// fragments nearest first by that key. Any order gives the same areas, to
+/// rounding and where the tie rule forms no cycle
 /// ([`super::visible::PixelStates`]); this one lets fewer fragments
 /// overtake. As in the polygon sweep, a fragment behind everything that
 /// covers its pixel is dropped before it is clipped, and in an open pixel
