@@ -908,13 +908,9 @@ fn by_pixel_order(waiting: &[Waiting], n: usize, queue: &mut Vec<Waiting>, start
     for i in 0..n {
         starts[i + 1] += starts[i];
     }
+    // Every place is written below; the copy only sizes the list.
     queue.clear();
-    queue.resize_with(waiting.len(), || Waiting {
-        pixel: 0,
-        key: 0.0,
-        seq: 0,
-        row: 0,
-    });
+    queue.extend_from_slice(waiting);
     // Each pixel's start, moved on as it fills: then its end.
     for w in waiting {
         let at = &mut starts[w.pixel as usize];
