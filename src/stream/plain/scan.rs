@@ -82,6 +82,17 @@ struct Scanner<'a> {
     i: usize,
 }
 
+/// What [`Scanner::short_decimal`] read.
+enum Short {
+    /// The number, read whole.
+    Value(f64),
+    /// The integer digits and eight fraction digits, as one integer: more
+    /// may follow.
+    LongFraction(u64),
+    /// Nothing read: another form, or one to refuse.
+    Other,
+}
+
 /// `10^k` for the exactly representable `k <= 22` (Clinger's fast path).
 const POW10: [f64; 23] = [
     1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
@@ -274,11 +285,94 @@ impl<'a> Scanner<'a> {
     /// fast path); anything else goes to the standard library's correctly
     /// rounded parser. An overflow to infinity, or non-zero digits that
     /// underflow to zero, are left to serde's route, which words them.
+    ///
+    /// Inlined into its callers for its commonest forms
+    /// ([`Scanner::short_decimal`]); the rest is [`Scanner::more_digits`]
+    /// and [`Scanner::any_number`].
+    #[inline(always)]
     fn number(&mut self) -> Option<f64> {
         self.skip_ws();
         let start = self.i;
         let negative = self.b.get(self.i) == Some(&b'-');
         self.i += usize::from(negative);
+        match self.short_decimal(negative) {
+            Short::Value(x) => Some(x),
+            Short::LongFraction(m) => self.more_digits(start, negative, m),
+            Short::Other => self.any_number(start, negative),
+        }
+    }
+
+    /// The digits of a number after its sign in the forms most streams
+    /// write: at most seven integer digits (no leading zero) and, after a
+    /// point, fraction digits, no exponent, with eight bytes to read after
+    /// each part's start. Each part's first eight bytes are one
+    /// [`leading_digits`], with no loop around it nor a call: reading and
+    /// projecting 100,000 random triangles (`-0.0091`, `139.297`) took
+    /// 564 M instructions against 619 M through [`Scanner::digits`]
+    /// (callgrind, one thread). Seven fraction digits or fewer are read
+    /// whole ([`Short::Value`]); eight or more (polyfill3's 17 significant
+    /// digits) are handed on after the first eight. The cursor moves only
+    /// past what it returns.
+    #[inline(always)]
+    fn short_decimal(&mut self, negative: bool) -> Short {
+        let Some(rest) = self.b.get(self.i..) else {
+            return Short::Other;
+        };
+        let Some(&int_bytes) = rest.first_chunk::<8>() else {
+            return Short::Other;
+        };
+        let (int_len, int) = leading_digits(int_bytes);
+        if !(1..8).contains(&int_len) || (int_len > 1 && rest[0] == b'0') {
+            return Short::Other;
+        }
+        let (m, frac_len) = if rest.get(int_len) == Some(&b'.') {
+            let Some(&frac_bytes) = rest.get(int_len + 1..).and_then(|r| r.first_chunk::<8>())
+            else {
+                return Short::Other;
+            };
+            let (frac_len, frac) = leading_digits(frac_bytes);
+            let m = int * POW10_U64[frac_len] + frac;
+            match frac_len {
+                0 => return Short::Other,
+                8 => {
+                    self.i += int_len + 1 + 8;
+                    return Short::LongFraction(m);
+                }
+                _ => (m, frac_len),
+            }
+        } else {
+            (int, 0)
+        };
+        let end = if frac_len == 0 {
+            int_len
+        } else {
+            int_len + 1 + frac_len
+        };
+        if let Some(b'e' | b'E') = rest.get(end) {
+            return Short::Other;
+        }
+        self.i += end;
+        // Below 2^53 with at most seven fraction digits: the quotient of
+        // exact operands, finite, zero only for zero digits.
+        let m = if negative { -(m as f64) } else { m as f64 };
+        Short::Value(m / POW10[frac_len])
+    }
+
+    /// The rest of a number [`Scanner::short_decimal`] began: `m` holds
+    /// its integer digits and the first eight of its fraction, the cursor
+    /// is after them.
+    #[inline(never)]
+    fn more_digits(&mut self, start: usize, negative: bool, mut m: u64) -> Option<f64> {
+        let frac_start = self.i - 8;
+        let mut inexact = false;
+        self.digits(&mut m, &mut inexact);
+        let exp10 = -((self.i - frac_start) as i64);
+        self.exponent_and_value(start, negative, m, inexact, exp10)
+    }
+
+    /// A number read from the start, the cursor after its sign.
+    #[inline(never)]
+    fn any_number(&mut self, start: usize, negative: bool) -> Option<f64> {
         let int_start = self.i;
         let mut m = 0u64;
         // Whether a digit was dropped from `m` to keep it in range.
@@ -298,6 +392,20 @@ impl<'a> Scanner<'a> {
             }
             exp10 = -((self.i - frac_start) as i64);
         }
+        self.exponent_and_value(start, negative, m, inexact, exp10)
+    }
+
+    /// A number's exponent, if it has one, and its value: its digits'
+    /// integer `m` (`inexact` if digits were dropped from it) times
+    /// 10^`exp10`, its text starting at `start`.
+    fn exponent_and_value(
+        &mut self,
+        start: usize,
+        negative: bool,
+        m: u64,
+        inexact: bool,
+        mut exp10: i64,
+    ) -> Option<f64> {
         if let Some(b'e' | b'E') = self.b.get(self.i) {
             self.i += 1;
             let sign = if self.b.get(self.i) == Some(&b'-') {
@@ -433,7 +541,7 @@ const POW10_U64: [u64; 9] = [
 /// How many of eight bytes, from the first, are ASCII decimal digits, and
 /// the value of those digits, by word arithmetic (SWAR): the bytes are read
 /// as a little-endian word, so the first is its lowest byte.
-#[inline]
+#[inline(always)]
 fn leading_digits(bytes: [u8; 8]) -> (usize, u64) {
     const LOW: u64 = 0x0101_0101_0101_0101;
     let w = u64::from_le_bytes(bytes);
@@ -521,6 +629,10 @@ mod tests {
             // polyfill3's cells, and fields serde's route keeps as text.
             r#"{"vertices":[[99.71238155194987,0.40899343312727865,99.5],[100.0,0.0,100.0],[100.0,0.0,99.5]],"color":[180,144,86],"texel":[5,0],"face":1}"#,
             r#"{"id":1,"vertices":[[0,0],[1,0],[0,1]],"s":"a\"]}\\","color":[1,2,3],"x":[1e400,{"records":[]}],"n":null,"id":true}"#,
+            // Each side of `short_decimal`'s seven digits, and numbers with
+            // fewer than eight bytes after them, which it leaves.
+            r#"{"vertices":[[1234567.1234567,-9999999.9999999,12345678.5],[0.12345678,-1.123456789,7],[1234567,-0,5.0e1]],"color":[1,2,3]}"#,
+            r#"{"color":[1,2,3],"vertices":[[1.5,2.25],[3.125,-4],[5,6.0625]]}"#,
         ] {
             assert!(scanned(line).is_some(), "{line}");
             agree(line).unwrap();
@@ -674,6 +786,8 @@ mod tests {
             (-1e4f64..1e4).prop_map(|x| format!("{x:.3}")),
             // Digits and exponents around the fast path's edges.
             ("-?[0-9]{1,25}(\\.[0-9]{1,25})?([eE][-+]?[0-9]{1,3})?").prop_map(|s| s),
+            // ... and around `short_decimal`'s seven digits either side.
+            ("-?[0-9]{1,9}(\\.[0-9]{0,10})?([eE][0-9])?").prop_map(|s| s),
             Just("-0".to_string()),
             Just("1e400".to_string()),
         ]
