@@ -402,17 +402,47 @@ impl Batch {
     /// stay in `buf`, after the last line: a value spread over lines before
     /// it reads them, as serde's stream reader would have, before the error
     /// (with its position; dropped, a whole last record went missing too).
+    ///
+    /// The reader's buffer is searched for newlines with `memchr` (vector
+    /// instructions) and copied a buffer at a time, not a line at a time as
+    /// `read_until` does with a call per line and a search a word at a
+    /// time: reading and projecting 100,000 random triangles took 544 M
+    /// instructions against 564 M (callgrind). The batch ends as it would
+    /// line by line: at the line that takes it to [`BATCH_BYTES`], or at
+    /// [`BATCH_LINES`] lines.
     fn fill(&mut self, reader: &mut impl BufRead) -> Option<std::io::Error> {
         self.clear();
-        while self.buf.len() < BATCH_BYTES && self.lines.len() < BATCH_LINES {
-            let start = self.buf.len();
-            match reader.read_until(b'\n', &mut self.buf) {
-                Ok(0) => break,
-                Ok(_) => self.lines.push((start, self.buf.len())),
+        // Where the line being read starts in `buf`.
+        let mut line_start = 0;
+        loop {
+            let available = match reader.fill_buf() {
+                Ok(a) => a,
+                // As `read_until`: an interrupted read is tried again.
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
                 Err(e) => return Some(e),
+            };
+            if available.is_empty() {
+                if line_start < self.buf.len() {
+                    self.lines.push((line_start, self.buf.len()));
+                }
+                return None;
+            }
+            let (mut used, mut full) = (available.len(), false);
+            for newline in memchr::memchr_iter(b'\n', available) {
+                let end = self.buf.len() + newline + 1;
+                self.lines.push((line_start, end));
+                line_start = end;
+                if end >= BATCH_BYTES || self.lines.len() >= BATCH_LINES {
+                    (used, full) = (newline + 1, true);
+                    break;
+                }
+            }
+            self.buf.extend_from_slice(&available[..used]);
+            reader.consume(used);
+            if full {
+                return None;
             }
         }
-        None
     }
 }
 
@@ -692,6 +722,72 @@ mod tests {
         })
         .unwrap_err();
         (n, e.to_string())
+    }
+
+    /// The lines of `text` as batches cut them, read through a buffer of
+    /// `capacity` bytes, each batch's count of lines after it.
+    fn batched(text: &[u8], capacity: usize) -> (Vec<&[u8]>, Vec<usize>) {
+        let mut reader = std::io::BufReader::with_capacity(capacity, text);
+        let (mut lines, mut counts, mut batch) = (Vec::new(), Vec::new(), Batch::default());
+        loop {
+            assert!(batch.fill(&mut reader).is_none());
+            if batch.lines.is_empty() {
+                return (lines, counts);
+            }
+            counts.push(batch.lines.len());
+            // The batch's bytes are its lines, in order, each whole.
+            let mut at = 0;
+            for &(start, end) in &batch.lines {
+                assert_eq!(start, at);
+                let offset = lines.iter().map(|l: &&[u8]| l.len()).sum::<usize>();
+                lines.push(&text[offset..offset + end - start]);
+                assert_eq!(&batch.buf[start..end], *lines.last().unwrap());
+                at = end;
+            }
+            assert_eq!(at, batch.buf.len());
+        }
+    }
+
+    #[test]
+    fn batches_cut_lines_as_read_until_would_whatever_the_buffer() {
+        // Lines of every length up to 40, blank ones, `\r\n`, no newline
+        // at the end.
+        let text: Vec<u8> = (0..200usize)
+            .flat_map(|k| {
+                let mut l = vec![b'x'; k % 41];
+                l.extend_from_slice(if k % 7 == 0 { b"\r\n" } else { b"\n" });
+                l
+            })
+            .chain(*b"last")
+            .collect();
+        let want: Vec<&[u8]> = text.split_inclusive(|&b| b == b'\n').collect();
+        for capacity in [1, 2, 3, 7, 40, 41, 64, 1 << 16] {
+            assert_eq!(batched(&text, capacity), (want.clone(), vec![want.len()]));
+        }
+        // An interrupted read is tried again, as `read_until` does.
+        struct Interrupted<'a>(&'a [u8], usize);
+        impl std::io::Read for Interrupted<'_> {
+            fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+                self.1 += 1;
+                if self.1 % 2 == 1 {
+                    return Err(std::io::ErrorKind::Interrupted.into());
+                }
+                self.0.read(out)
+            }
+        }
+        let mut reader = std::io::BufReader::with_capacity(16, Interrupted(&text, 0));
+        let mut batch = Batch::default();
+        assert!(batch.fill(&mut reader).is_none());
+        assert_eq!(batch.buf, text);
+        // A batch ends at BATCH_LINES lines...
+        let text = b"{}\n".repeat(2 * BATCH_LINES + 5);
+        assert_eq!(batched(&text, 1000).1, [BATCH_LINES, BATCH_LINES, 5]);
+        // ... or at the line that takes it to BATCH_BYTES: lines of 1 KiB
+        // reach it exactly at a line's end.
+        let line = [vec![b' '; 1023], vec![b'\n']].concat();
+        let text = line.repeat(3000);
+        let first = BATCH_BYTES / 1024;
+        assert_eq!(batched(&text, 4096).1, [first, 3000 - first]);
     }
 
     /// A reader that fails after its text: the error comes after every
