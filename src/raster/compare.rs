@@ -19,7 +19,7 @@
 //! # Ok::<(), patkit::raster::compare::SizeMismatch>(())
 //! ```
 
-use crate::color::{linear_to_srgb_f64, srgb_to_linear_f64};
+use crate::color::{linear_to_srgb_f64, srgb8_to_linear_f64};
 use crate::io::{AnyImage, Image};
 use crate::math;
 
@@ -198,10 +198,7 @@ impl AnyMetrics {
 fn channels(img: &AnyImage) -> Box<dyn Iterator<Item = [(f64, f64); 3]> + '_> {
     match img {
         AnyImage::Srgb8(i) => {
-            let table: Vec<f64> = (0..=255u32)
-                .map(|c| srgb_to_linear_f64(c as f64 / 255.0))
-                .collect();
-            Box::new(rgb(i).map(move |p| p.map(|c| (c as f64, table[c as usize]))))
+            Box::new(rgb(i).map(|p| p.map(|c| (c as f64, srgb8_to_linear_f64(c)))))
         }
         AnyImage::Srgb16(i) => {
             let c = i.channels as usize;

@@ -5,7 +5,7 @@
 //! [`Frame::to_image16`], kept linear by [`Frame::to_linear_image`]), or
 //! encoded the same way as each tile is done (`super::render_encoded`).
 
-use crate::color::{linear_to_srgb, linear_to_srgb16, srgb_to_linear_f64, Rgb8};
+use crate::color::{linear_to_srgb, linear_to_srgb16, Rgb8};
 use crate::io::{AnyImage, Encoding, Image, Image16, LinearImage};
 use crate::texture::Texels;
 
@@ -33,7 +33,7 @@ impl Background {
     /// it in screen mode.
     pub fn new(color: Rgb8, pattern: Option<Texels>) -> Background {
         Background {
-            color: color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0)),
+            color: color.to_linear_f64(),
             pattern,
             transparent: false,
         }
@@ -63,7 +63,7 @@ impl Background {
     /// transparent: one pass of a transparent frame.
     pub fn opaque(&self, color: Rgb8) -> Background {
         Background {
-            color: color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0)),
+            color: color.to_linear_f64(),
             pattern: self.pattern.clone(),
             transparent: false,
         }

@@ -6,7 +6,7 @@
 //! the screen fitted through every vertex (Newell), and concave outlines are
 //! cut into triangles (`geom::triangulate`, in the world polygon's plane).
 
-use crate::color::{srgb_to_linear_f64, Rgb8};
+use crate::color::Rgb8;
 use crate::geom::plane::flat_view;
 use crate::geom::polygon::{area2, is_convex, newell_plane, GRID_SNAP_PX};
 use crate::geom::triangulate::triangulate;
@@ -480,7 +480,7 @@ pub fn try_project(
         let whole = clipped == clip_space;
         concave_pieces(view, world, &clip_space, whole, a2 < 0.0).ok_or(Dropped::NoArea)?
     };
-    let c = color.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0));
+    let c = color.to_linear_f64();
     let mut p = ScreenPoly::new(verts, plane, c, order);
     if !pieces.is_empty() {
         // A convex polygon, most of them, is its own piece: nothing to set.

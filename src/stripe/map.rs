@@ -39,7 +39,7 @@
 //! reference (docs/rendering.md) implies; the fade is a deliberate departure from it, so
 //! benchmarks report both.
 
-use crate::color::{linear_to_srgb_f64, srgb_to_linear_f64};
+use crate::color::{linear_to_srgb_f64, srgb8_to_linear_f64};
 use crate::pat::ParseError;
 use crate::text::Words;
 use std::fmt;
@@ -239,7 +239,7 @@ impl ModulationMap {
     pub fn linear(&self) -> Vec<f64> {
         self.values
             .iter()
-            .map(|&v| srgb_to_linear_f64(v as f64 / 255.0))
+            .map(|&v| srgb8_to_linear_f64(v))
             .collect()
     }
 

@@ -46,7 +46,7 @@ pub use mapping::ScreenMapping;
 pub use tables::{ColourTable, Select, Translation};
 pub use vector::{Orientation, PatternVector, RefPlane};
 
-use crate::color::{srgb_to_linear_f64, Rgb8};
+use crate::color::{srgb8_to_linear_f64, Rgb8};
 use glam::DVec2;
 use std::fmt;
 use std::sync::Arc;
@@ -69,7 +69,7 @@ impl Modulation {
         let level0: Vec<f64> = map
             .values()
             .iter()
-            .map(|&v| srgb_to_linear_f64(translation.0[v as usize] as f64 / 255.0))
+            .map(|&v| srgb8_to_linear_f64(translation.0[v as usize]))
             .collect();
         let levels = map::pyramid(&level0, map.fade());
         let mut data = Vec::with_capacity(2 * map.len());

@@ -9,7 +9,7 @@ use super::filter::Filters;
 use super::map::{object_uv, ObjectUvError, TexMap};
 use super::skip::Skips;
 use super::PolyTexture;
-use crate::color::{srgb_to_linear_f64, Rgb8};
+use crate::color::Rgb8;
 use crate::error::OptionError;
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::geom::Placement;
@@ -111,7 +111,7 @@ impl std::fmt::Display for PlaceError {
 impl std::error::Error for PlaceError {}
 
 fn linear(c: Rgb8) -> [f64; 3] {
-    c.0.map(|ch| srgb_to_linear_f64(ch as f64 / 255.0))
+    c.to_linear_f64()
 }
 
 /// The texture of a record placed in `mode` (object or uv) over the world

@@ -38,8 +38,7 @@ enum Codes {
 
 /// The linear value of each 8-bit sRGB code.
 fn lut8() -> &'static [f64; 256] {
-    static LUT: OnceLock<[f64; 256]> = OnceLock::new();
-    LUT.get_or_init(|| std::array::from_fn(|c| srgb_to_linear_f64(c as f64 / 255.0)))
+    crate::color::decode_table_f64()
 }
 
 /// The linear value of each 16-bit sRGB code (built only when a 16-bit image
