@@ -80,13 +80,7 @@ impl Plane {
 /// clipping 100,000 of polyfill3's cells took 178 M instructions, against
 /// 83 M without, callgrind.)
 fn planes(view: &View) -> impl Iterator<Item = Plane> {
-    // With near > 0 the near plane already keeps w >= near > 0 (z_clip = w
-    // in perspective), and |x|, |y| <= w keeps the divide finite: a floor at
-    // a fraction of far would only hide near geometry when far is huge
-    // (near 0.1, far 5.1e9: a quad 5 units away vanished).
-    let floor = (view.perspective && view.near <= 0.0)
-        .then(|| Plane::WFloor(W_EPSILON_REL * view.far.abs().max(f64::MIN_POSITIVE)));
-    floor.into_iter().chain([
+    w_floor(view).map(Plane::WFloor).into_iter().chain([
         Plane::Near(view.near),
         Plane::Far(view.far),
         Plane::Left,
@@ -94,6 +88,62 @@ fn planes(view: &View) -> impl Iterator<Item = Plane> {
         Plane::Bottom,
         Plane::Top,
     ])
+}
+
+/// The `w` floor of a perspective view with near = 0 ([`Plane::WFloor`]).
+fn w_floor(view: &View) -> Option<f64> {
+    // With near > 0 the near plane already keeps w >= near > 0 (z_clip = w
+    // in perspective), and |x|, |y| <= w keeps the divide finite: a floor at
+    // a fraction of far would only hide near geometry when far is huge
+    // (near 0.1, far 5.1e9: a quad 5 units away vanished).
+    (view.perspective && view.near <= 0.0)
+        .then(|| W_EPSILON_REL * view.far.abs().max(f64::MIN_POSITIVE))
+}
+
+/// What the first plane that has a vertex outside does to a polygon.
+enum Cut {
+    /// No plane has: the polygon is inside the volume.
+    None,
+    /// It has every vertex outside: nothing is left.
+    Whole,
+    /// It has some: [`clip_by_planes`] clips.
+    Some,
+}
+
+/// [`clip_by_planes`]'s answer for the polygons it leaves unchanged or
+/// empty, most of a big stream's, from one pass over the vertices: each
+/// vertex's plane values, rounded, as a bit per plane it lies outside (in
+/// the order of [`planes`]), and the first plane with a bit set in any of
+/// them. The same rounded values and the same order as the plane loop, so
+/// the same answer, without a loop over planes around a loop over
+/// vertices (a `match` on the plane for each): dropping a triangle wholly
+/// outside a 16x12 view took 434 instructions in [`clip_polygon`], 205
+/// with this pass (callgrind, 100,000 random triangles).
+fn first_cut(vertices: impl Iterator<Item = DVec4>, view: &View) -> Cut {
+    let floor = w_floor(view);
+    // Outside is "not >= 0", as `clip_by_planes` tests it: NaN is outside.
+    let out = |value: f64, bit: u32| u32::from(value.is_nan() || value < 0.0) << bit;
+    let (mut any, mut all) = (0u32, u32::MAX);
+    for c in vertices {
+        let mask = floor.map_or(0, |eps| out(Plane::WFloor(eps).value(c).hi, 0))
+            | out(Plane::Near(view.near).value(c).hi, 1)
+            | out(Plane::Far(view.far).value(c).hi, 2)
+            | out(Plane::Left.value(c).hi, 3)
+            | out(Plane::Right.value(c).hi, 4)
+            | out(Plane::Bottom.value(c).hi, 5)
+            | out(Plane::Top.value(c).hi, 6);
+        any |= mask;
+        all &= mask;
+    }
+    if any == 0 {
+        return Cut::None;
+    }
+    let first = 1 << any.trailing_zeros();
+    if all & first != 0 {
+        Cut::Whole
+    } else {
+        Cut::Some
+    }
 }
 
 /// A plane's value at a vertex, for [`clip_against`]: its crossings carry
@@ -213,6 +263,11 @@ fn clip_by_planes<T: Copy>(
     at: impl Fn(T) -> DVec4,
     lerp: impl Fn(T, T, Ends) -> T,
 ) -> Vec<T> {
+    match first_cut(poly.iter().map(|&v| at(v)), view) {
+        Cut::None => return poly.to_vec(),
+        Cut::Whole => return Vec::new(),
+        Cut::Some => {}
+    }
     // `None` while no plane has cut `poly`.
     let (mut cur, mut spare): (Option<Vec<T>>, Vec<T>) = (None, Vec::new());
     for f in planes(view) {
@@ -239,4 +294,61 @@ fn clip_by_planes<T: Copy>(
         spare = cur.replace(next).unwrap_or_default();
     }
     cur.unwrap_or_else(|| poly.to_vec())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::view::tests::perspective;
+    use proptest::prelude::*;
+
+    /// [`first_cut`] as its definition reads: the planes in order, the
+    /// first with a vertex outside, whether it has them all.
+    fn first_cut_plane_by_plane(poly: &[DVec4], view: &View) -> Cut {
+        for f in planes(view) {
+            let inside = poly.iter().filter(|&&c| f.value(c).hi >= 0.0).count();
+            let outside = poly.len() - inside;
+            if outside == poly.len() && outside > 0 {
+                return Cut::Whole;
+            }
+            if outside > 0 {
+                return Cut::Some;
+            }
+        }
+        Cut::None
+    }
+
+    fn name(c: Cut) -> &'static str {
+        match c {
+            Cut::None => "none",
+            Cut::Whole => "whole",
+            Cut::Some => "some",
+        }
+    }
+
+    /// A coordinate near the planes of the views below, or not finite.
+    fn coordinate() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            6 => -3.0..3.0f64,
+            2 => prop::sample::select(vec![-1.0, 0.0, 1.0, -0.0, 1e-300, 2.0, 1000.0, 1001.0]),
+            1 => prop::sample::select(vec![f64::NAN, f64::INFINITY, f64::NEG_INFINITY]),
+        ]
+    }
+
+    proptest! {
+        #[test]
+        fn first_cut_is_the_first_plane_with_a_vertex_outside(
+            poly in prop::collection::vec(
+                (coordinate(), coordinate(), coordinate(), coordinate())
+                    .prop_map(|(x, y, z, w)| DVec4::new(x, y, z, w)),
+                0..6,
+            ),
+            kind in 0..3usize,
+        ) {
+            let mut view = perspective(90.0, 16, 12, [0.0, 0.5, 0.0][kind], 1000.0);
+            view.perspective = kind != 2;
+            let fast = name(first_cut(poly.iter().copied(), &view));
+            prop_assert_eq!(fast, name(first_cut_plane_by_plane(&poly, &view)));
+        }
+    }
 }
