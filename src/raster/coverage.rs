@@ -946,7 +946,8 @@ fn render_square_by_pixel(
 ) -> Vec<[f32; 3]> {
     let [tx0, ty0, tx1, ty1] = tile;
     let tw = tx1 - tx0;
-    s.begin((tw * (ty1 - ty0)) as usize);
+    let n = (tw * (ty1 - ty0)) as usize;
+    s.begin(n);
     let TileScratch {
         frags,
         arena,
@@ -992,7 +993,6 @@ fn render_square_by_pixel(
             arena.extend_from_slice(&c.band);
         }
     }
-    let n = (tw * (ty1 - ty0)) as usize;
     by_pixel_order(waiting, n, queue, starts);
     for w in queue.iter() {
         let row = &rows[w.row as usize];

@@ -80,10 +80,13 @@ impl ViewVolume {
     /// normal's length overflows, which keep the polygon too.
     fn facing(&self, normal: DVec3, point: DVec3) -> f64 {
         let to = match self.eye {
-            Some(e) if (point - e).length() <= AT_THE_EYE * e.length().max(point.length()) => {
-                return 0.0;
+            Some(e) => {
+                let to = point - e;
+                if to.length() <= AT_THE_EYE * e.length().max(point.length()) {
+                    return 0.0;
+                }
+                to
             }
-            Some(e) => point - e,
             None => self.direction,
         };
         normal.dot(to) / (normal.length() * to.length())
