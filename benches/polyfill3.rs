@@ -307,7 +307,7 @@ fn main() {
     let pattern = opaque(64);
     let (t_ser_run, written) = best(3, || {
         let mut w = CellWriter::new(std::io::sink());
-        w.begin(&rec, pattern.clone(), false, u64::MAX);
+        w.begin(&rec, pattern.clone(), None, u64::MAX);
         part.run(&bigp[0].0, &bigp[0].1, &mut w);
         w.finish().unwrap();
         w.into_inner().unwrap();
@@ -334,7 +334,7 @@ fn main() {
     part.run(&bigp[0].0, &bigp[0].1, &mut coll);
     let (t_ser_only, _) = best(3, || {
         let mut w = CellWriter::new(std::io::sink());
-        w.begin(&rec, pattern.clone(), false, u64::MAX);
+        w.begin(&rec, pattern.clone(), None, u64::MAX);
         let dummy = [DVec2::ZERO; 64];
         for &(k, j, at, n) in &coll.cells {
             let (at, n) = (at as usize, n as usize);

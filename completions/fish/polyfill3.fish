@@ -4,6 +4,8 @@ complete -c polyfill3 -l incr -d 'Side of one texel in world units, for records 
 complete -c polyfill3 -l rotate -d 'Degrees counter-clockwise of the pattern\'s x from the first edge, for records without "rotate"' -r
 complete -c polyfill3 -l horz -d 'Shift of the pattern right in texels, for records without "horz"' -r
 complete -c polyfill3 -l vert -d 'Shift of the pattern up in texels, for records without "vert"' -r
+complete -c polyfill3 -l merge -d 'Join same-coloured whole cells into one polygon (the record gets "cells": how many): runs along a row (HOW rows, the default), or rectangles of them, runs of consecutive rows over the same columns (HOW blocks: fewer vertices, the same region). Every grid corner on the polygon\'s sides is kept, so neighbours meet it vertex to vertex' -r -f -a "rows\t'Runs of cells along a row'
+blocks\t'Rectangles of cells: runs of consecutive rows over the same columns joined'"
 complete -c polyfill3 -l compat -d 'Reproduce another algorithm: `thesis` is the thesis\'s loop, degenerate polygons included (horz and vert must be integers)' -r -f -a "thesis\t'The thesis\'s loop (Fig. 4.7): accumulated grid, inclusive bounds, degenerate polygons along the far edges'"
 complete -c polyfill3 -l planarity-tol -d 'Largest distance of a vertex from the polygon\'s plane, relative to the polygon\'s size (bounding-box diagonal)' -r
 complete -c polyfill3 -l max-polygons -d 'Refuse a job that would write more polygons than this (estimated from each polygon\'s area / incr² before its cells are written)' -r
@@ -30,7 +32,6 @@ back\t'Drop polygons seen from behind (clockwise on screen)'
 front\t'Drop polygons seen from the front (counter-clockwise on screen)'"
 complete -c polyfill3 -l depfile -d 'Write the make rule of the output: every file the run read (the input, the patterns, --camera, --pattern), as `cc -MD` does. Needs -o' -r
 complete -c polyfill3 -l threads -d 'Worker threads (default: all cores). The output is identical for any N' -r
-complete -c polyfill3 -l merge -d 'Join runs of same-coloured whole cells of a row into one polygon (the record gets "cells": how many)'
 complete -c polyfill3 -l uv -d 'Do not partition: write each "object"-mode polygon whole (curves flattened) with its placement as per-vertex "uv" texel coordinates and "pattern": {"file": ABSOLUTE PATH, "mode": "uv"}, for renderers that take texture coordinates. --cull drops whole polygons'
 complete -c polyfill3 -l json -d 'Print a JSON summary to standard error: {"version": 1, "tool": "polyfill3", ...} (docs/json.md)'
 complete -c polyfill3 -l no-progress -d 'Show no progress bar. Bars are drawn on standard error only when it is a terminal (and TERM is not "dumb"), never into a pipe or a file, and cleared when the job ends'

@@ -2,6 +2,7 @@
 //! `polcolorf3`, ch. IV, with the "object" placement of docs/stream-format.md).
 
 use crate::cli::usage_bail;
+use crate::geom::merge::Merge;
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::io::{display_name, Output, STDIO};
 use crate::raster::Cull;
@@ -24,8 +25,9 @@ Examples:
       Cut every polygon of faces.json that has no pattern of its own with
       brick.pat, 2 units a texel, shifted 5 texels left (as the thesis's demo2
       places pyr.pat); the placement also fills in what a \"pattern\" leaves out.
-  polyfill3 --merge scene.json | scene-render --camera cam.json -o out.png -
-      Join runs of equal whole cells into fewer polygons. The camera is
+  polyfill3 --merge=blocks scene.json | scene-render --camera cam.json -o out.png -
+      Join equal whole cells into rectangles (--merge alone: runs along a
+      row): fewer polygons and vertices, the same picture. The camera is
       scene-render's: the cells are in world coordinates.
   polyfill3 --camera cam.json --cull=none scene.json | scene-render --camera cam.json -o seen.png -
       Leave out the cells this camera cannot see, both faces kept, as
@@ -109,10 +111,20 @@ pub struct Args {
     /// Shift of the pattern up in texels, for records without "vert".
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub vert: f64,
-    /// Join runs of same-coloured whole cells of a row into one polygon
-    /// (the record gets "cells": how many).
-    #[arg(long)]
-    pub merge: bool,
+    /// Join same-coloured whole cells into one polygon (the record gets
+    /// "cells": how many): runs along a row (HOW rows, the default), or
+    /// rectangles of them, runs of consecutive rows over the same columns
+    /// (HOW blocks: fewer vertices, the same region). Every grid corner on
+    /// the polygon's sides is kept, so neighbours meet it vertex to vertex.
+    #[arg(
+        long,
+        value_enum,
+        value_name = "HOW",
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "rows"
+    )]
+    pub merge: Option<Merge>,
     /// Reproduce another algorithm: `thesis` is the thesis's loop, degenerate
     /// polygons included (horz and vert must be integers).
     #[arg(long, value_enum)]
@@ -200,7 +212,7 @@ fn run_in_pool(args: Args) -> Result<()> {
     if !(args.tolerance > 0.0 && args.tolerance.is_finite()) {
         usage_bail!("--tolerance {}: expected a positive number", args.tolerance);
     }
-    if args.compat.is_some() && args.merge {
+    if args.compat.is_some() && args.merge.is_some() {
         usage_bail!("--merge and --compat thesis cannot be combined: the thesis does not merge");
     }
     super::stdin_read_once(&[

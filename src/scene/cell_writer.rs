@@ -3,7 +3,7 @@
 //! written in the order the partition gave them.
 
 use crate::error::OptionError;
-use crate::geom::merge::RunMerger;
+use crate::geom::merge::{BlockMerger, Merge, Run, RunMerger};
 use crate::geom::CellSink;
 use crate::pat::Pattern;
 use crate::stream::{self, Record};
@@ -345,6 +345,8 @@ pub struct CellWriter<W: Write> {
     /// batch (its recent floats are 10 KiB to set up).
     formatter: Formatter,
     merger: Option<RunMerger>,
+    /// With `--merge=blocks`: the runs joined into blocks.
+    blocks: Option<BlockMerger>,
     /// Polygons written for the current input polygon.
     pub(super) written: u64,
     /// Most polygons this input polygon may still write.
@@ -367,6 +369,7 @@ impl<W: Write> CellWriter<W> {
             texts: Vec::new(),
             formatter: Formatter::new(),
             merger: None,
+            blocks: None,
             written: 0,
             budget: 0,
             error: None,
@@ -416,7 +419,7 @@ impl<W: Write> CellWriter<W> {
     }
 
     /// Prepares for the cells of one input record.
-    pub fn begin(&mut self, rec: &Record, pattern: Rc<Pattern>, merge: bool, budget: u64) {
+    pub fn begin(&mut self, rec: &Record, pattern: Rc<Pattern>, merge: Option<Merge>, budget: u64) {
         let p = &mut self.pending;
         // The last record's fields go unless a cell of it waits in the batch
         // (a record with no cells must not leave them behind).
@@ -434,7 +437,9 @@ impl<W: Write> CellWriter<W> {
         }
         p.current_fields = start..text.len();
         self.pattern = Some(pattern);
-        self.merger = merge.then(|| self.merger.take().unwrap_or_default());
+        self.merger = merge.map(|_| self.merger.take().unwrap_or_default());
+        // A fresh block merger: an error may have left blocks open.
+        self.blocks = (merge == Some(Merge::Blocks)).then(BlockMerger::new);
         self.written = 0;
         self.budget = budget;
         self.error = None;
@@ -542,17 +547,36 @@ impl<W: Write> CellWriter<W> {
         self.drain_full()
     }
 
+    /// Ends the current run: written, or handed to the block merger (which
+    /// may close blocks to write).
     fn flush_run(&mut self) {
         let Some(mut m) = self.merger.take() else {
             return;
         };
         if let Some(run) = m.take() {
-            let (c, r, _) = self.texel(run.first, run.row);
-            let (key, cells) = (run.key as u16, run.cells);
-            let verts = run.vertices.to_vec();
-            self.write_record(c, r, key, &verts, cells);
+            match self.blocks.take() {
+                Some(mut blocks) => {
+                    blocks.add(&run);
+                    self.write_closed(&mut blocks);
+                    self.blocks = Some(blocks);
+                }
+                None => self.write_run(&run),
+            }
         }
         self.merger = Some(m);
+    }
+
+    /// Writes the blocks `blocks` has closed.
+    fn write_closed(&mut self, blocks: &mut BlockMerger) {
+        while let Some(block) = blocks.take_closed() {
+            self.write_run(&block);
+        }
+    }
+
+    /// Writes a run or a block: the texel of its first cell, its cell count.
+    fn write_run(&mut self, run: &Run) {
+        let (c, r, _) = self.texel(run.first, run.row);
+        self.write_record(c, r, run.key as u16, run.vertices, run.cells);
     }
 
     /// Hands the buffer to the output once it holds [`FLUSH_BYTES`].
@@ -583,6 +607,11 @@ impl<W: Write> CellWriter<W> {
     /// at 64 KiB before the batches.
     pub fn finish(&mut self) -> std::io::Result<()> {
         self.flush_run();
+        if let Some(mut blocks) = self.blocks.take() {
+            blocks.close_all();
+            self.write_closed(&mut blocks);
+            self.blocks = Some(blocks);
+        }
         if let Some(e) = self.error.take() {
             self.buf.clear();
             self.pending.clear();
@@ -776,7 +805,7 @@ mod tests {
                     if i == 3 {
                         w.pass_raw(passed.as_bytes()).unwrap();
                     }
-                    w.begin(&record(i, id), pattern.clone(), false, u64::MAX);
+                    w.begin(&record(i, id), pattern.clone(), None, u64::MAX);
                     for k in 0..*n {
                         w.cell(k, i as i64, &corners(k), &[], true);
                     }
@@ -823,7 +852,7 @@ mod tests {
         let mut w = CellWriter::new(Vec::new());
         let id = serde_json::Value::String("x".repeat(1000));
         for i in 0..1000 {
-            w.begin(&record(i, &id), pattern.clone(), false, u64::MAX);
+            w.begin(&record(i, &id), pattern.clone(), None, u64::MAX);
             w.finish().unwrap();
         }
         assert!(w.pending.fields_text.len() <= 1100);
@@ -836,12 +865,12 @@ mod tests {
     fn a_budget_passed_mid_batch_is_an_error() {
         let pattern = checker();
         let mut w = CellWriter::new(Vec::new());
-        w.begin(&record(0, &0.into()), pattern.clone(), false, u64::MAX);
+        w.begin(&record(0, &0.into()), pattern.clone(), None, u64::MAX);
         for k in 0..100 {
             w.cell(k, 0, &corners(k), &[], true);
         }
         w.finish().unwrap();
-        w.begin(&record(1, &1.into()), pattern.clone(), false, 10);
+        w.begin(&record(1, &1.into()), pattern.clone(), None, 10);
         for k in 0..100 {
             w.cell(k, 1, &corners(k), &[], true);
         }

@@ -9,6 +9,7 @@
 pub use super::cell_writer::CellWriter;
 use super::error::{CellsError, PartitionError};
 use crate::error::OptionError;
+use crate::geom::merge::Merge;
 use crate::geom::partition::{estimate_cells, thesis_partition};
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::geom::{map_to_plane, outline, Grid, Partitioner, Placement, Shape};
@@ -53,9 +54,10 @@ pub struct PartitionOptions {
     pub horz: f64,
     /// Shift of the pattern up, in texels. Default value: 0.
     pub vert: f64,
-    /// Join runs of same-coloured whole cells of a row into one polygon.
-    /// Default value: false.
-    pub merge: bool,
+    /// Join same-coloured whole cells into one polygon: runs along a row,
+    /// or rectangles of them ([`Merge`]). Default value: none (each cell its
+    /// own polygon).
+    pub merge: Option<Merge>,
     /// Reproduce another algorithm. Default value: none (the exact partition).
     pub compat: Option<Compat>,
     /// Largest distance of a vertex from the polygon's plane, relative to its
@@ -96,7 +98,7 @@ impl PartitionOptions {
         rotate: 0.0,
         horz: 0.0,
         vert: 0.0,
-        merge: false,
+        merge: None,
         compat: None,
         planarity_tol: DEFAULT_PLANARITY_TOL,
         max_polygons: DEFAULT_MAX_POLYGONS,

@@ -138,15 +138,117 @@ fn merge_covers_the_same_area_with_fewer_polygons() {
         lines(&plain.get_output().stdout),
         lines(&merged.get_output().stdout),
     );
+    let blocks = polyfill3()
+        .current_dir(dir.path())
+        .args(["--merge=blocks", "s.json"])
+        .assert()
+        .success();
+    let c = lines(&blocks.get_output().stdout);
     assert!(b.len() * 2 < a.len(), "{} vs {}", b.len(), a.len());
+    // The pattern's runs of three columns repeat from row to row: the
+    // blocks join them down the plane (80 runs, 20 blocks).
+    assert!(c.len() * 3 < b.len(), "{} vs {}", c.len(), b.len());
     let sa: f64 = a.iter().map(area).sum();
-    let sb: f64 = b.iter().map(area).sum();
-    assert!((sa - sb).abs() < 1e-9 * sa);
-    let cells: u64 = b
-        .iter()
-        .map(|r| r.get("cells").and_then(Value::as_u64).unwrap_or(1))
-        .sum();
-    assert_eq!(cells as usize, a.len());
+    for merged in [&b, &c] {
+        let sb: f64 = merged.iter().map(area).sum();
+        assert!((sa - sb).abs() < 1e-9 * sa);
+        let cells: u64 = merged
+            .iter()
+            .map(|r| r.get("cells").and_then(Value::as_u64).unwrap_or(1))
+            .sum();
+        assert_eq!(cells as usize, a.len());
+    }
+}
+
+/// A 64x64 pattern of two colours in bands 8 texels wide and 5 high, every
+/// fourth column transparent: runs of three cells, and blocks of them five
+/// rows high.
+fn write_banded_pat(path: &Path) {
+    let mut planes = [String::new(), String::new()];
+    for row in 0..64 {
+        for (colour, plane) in planes.iter_mut().enumerate() {
+            let words: Vec<String> = (0..4)
+                .map(|w| {
+                    let bits = (0..16)
+                        .filter(|b| {
+                            let c = w * 16 + b;
+                            c % 4 != 3 && (c / 8 + row / 5) % 2 == colour
+                        })
+                        .fold(0u16, |bits, b| bits | 0x8000 >> b);
+                    format!("{bits:04x}")
+                })
+                .collect();
+            *plane += &words.join(" ");
+            *plane += "\n";
+        }
+    }
+    let [a, b] = planes;
+    std::fs::write(path, format!("64 2\n200 100 50\n{a}30 60 200\n{b}")).unwrap();
+}
+
+/// Merged runs and blocks cover the cells' region through every grid corner
+/// on their sides: scene-render draws the same picture from the cells, the
+/// runs and the blocks, to the bit (PFM), with each anti-aliasing (the
+/// pyramid of demo 2 at incr 0.5, seen from above two of its faces).
+#[test]
+fn merged_runs_and_blocks_draw_the_picture_of_the_cells() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write_banded_pat(&d.join("p.pat"));
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/scenes");
+    let faces = std::fs::read_to_string(root.join("demo2-faces.json")).unwrap();
+    let faces = faces
+        .replace("../patterns/pyr.pat", "p.pat")
+        .replace("\"incr\":2", "\"incr\":0.5");
+    assert!(faces.contains("p.pat") && faces.contains("0.5"));
+    std::fs::write(d.join("faces.json"), faces).unwrap();
+    std::fs::write(
+        d.join("above.json"),
+        r#"{"lookat": {"eye": [250, 150, 300], "center": [0, 50, 0], "twist": 0},
+            "perspective": {"fovy": 40, "aspect": 1.0, "near": 1, "far": 1000}}"#,
+    )
+    .unwrap();
+    let kinds: [(&str, &[&str]); 3] = [
+        ("cells", &[]),
+        ("runs", &["--merge"]),
+        ("blocks", &["--merge=blocks"]),
+    ];
+    let mut sizes = Vec::new();
+    for (kind, args) in kinds {
+        let out = format!("{kind}.ndjson");
+        polyfill3()
+            .current_dir(d)
+            .args(args)
+            .args(["faces.json", "-o", &out])
+            .assert()
+            .success();
+        sizes.push(std::fs::metadata(d.join(&out)).unwrap().len());
+    }
+    assert!(sizes[2] * 2 < sizes[1] && sizes[1] < sizes[0], "{sizes:?}");
+    for aa in ["exact", "none", "ss4"] {
+        let pictures: Vec<Vec<u8>> = kinds
+            .iter()
+            .map(|(kind, _)| {
+                let out = format!("{kind}-{aa}.pfm");
+                Command::cargo_bin("scene-render")
+                    .unwrap()
+                    .current_dir(d)
+                    .args(["--camera", "above.json", "--size", "96x96", "--aa", aa])
+                    .args([&format!("{kind}.ndjson"), "-o", &out])
+                    .assert()
+                    .success();
+                std::fs::read(d.join(out)).unwrap()
+            })
+            .collect();
+        assert!(
+            pictures[1] == pictures[0],
+            "--aa {aa}: the runs' picture differs"
+        );
+        assert!(
+            pictures[2] == pictures[0],
+            "--aa {aa}: the blocks' picture differs"
+        );
+    }
 }
 
 /// The App. C scenes with patterns written in the tempdir: an opaque 64x64
