@@ -212,8 +212,9 @@ fn walk(p: &std::path::Path) -> Vec<std::path::PathBuf> {
 clitest!(
     demo2_makefile_pipeline_draws_the_full_partitions_picture,
     |dir| {
-        // The Makefile gives polyfill3 the camera (--cull) and --merge: fewer,
-        // larger polygons, and the picture of the whole partition.
+        // The Makefile gives polyfill3 the camera (--cull) and --merge=blocks:
+        // fewer, larger polygons (0.38 MB against 4.5), and the picture of the
+        // whole partition.
         let out = dir.path().join("out");
         let png = out.join("demo2.png");
         let built = make(&out, &[png.to_str().unwrap()]);
@@ -244,6 +245,6 @@ clitest!(
             size(&out.join("demo2.ndjson")),
             size(&dir.path().join("full.ndjson")),
         );
-        assert!(4 * cut < full, "{cut} bytes against {full}");
+        assert!(10 * cut < full, "{cut} bytes against {full}");
     }
 );
