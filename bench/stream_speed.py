@@ -11,7 +11,8 @@
   MB/s of NDJSON read. Median of 5 after a warm-up, the builds taking turns.
 - Writing: polyfill3 alone, output discarded (bench/timing.py); MB/s written.
 - The pipeline `polyfill3 | scene-render`, `polyfill3 --merge |
-  scene-render`, and `polyfill3 --merge VIEW --cull=none |
+  scene-render` (runs of a row), `polyfill3 --merge=blocks | scene-render`
+  (rectangles of runs), and `polyfill3 --merge VIEW --cull=none |
   scene-render` (only the cells in view written), against scene-render
   texturing the same faces directly (bench/timing.py, whole process, the
   commands taking turns), and the ratios; the images must be byte for byte
@@ -101,11 +102,11 @@ def main():
         (m0, t0), (m1, t1) = write_times[("0.5", b)], write_times[("0.25", b)]
         print(f"- {b}, writing time against output size: N^{math.log(t1 / t0) / math.log(m1 / m0):.2f}.")
     print()
-    cols = " | ".join(f"{b}: pipe s | --merge s | --merge --cull=none s | direct s | "
-                      "pipe/direct | --merge/direct | --merge --cull=none/direct"
+    cols = " | ".join(f"{b}: pipe s | --merge s | --merge=blocks s | --merge --cull=none s | direct s | "
+                      "pipe/direct | --merge/direct | --merge=blocks/direct | --merge --cull=none/direct"
                       for b, _ in builds)
     print(f"| pipeline, 1024x768 --aa exact | {cols} |")
-    print("|---|" + "---:|" * 7 * len(builds))
+    print("|---|" + "---:|" * 9 * len(builds))
     # polyfill3 takes scene-render's camera flags: the same view.
     cull = " ".join(["--merge"] + VIEW + ["--cull=none"])
     for incr, (scene, _) in scenes.items():
@@ -114,11 +115,13 @@ def main():
             p3, sr = os.path.join(d, "polyfill3"), os.path.join(d, "scene-render")
             # A build from before polyfill3's --cull=FACES cannot leave out only
             # what is off view: its row has no such column.
-            culls = "--cull[=" in subprocess.run([p3, "--help"], capture_output=True, text=True).stdout
-            names = ["pipe", "merge", "cull", "direct"] if culls else ["pipe", "merge", "direct"]
+            # Nor can one from before --merge=blocks join rows.
+            usage = subprocess.run([p3, "--help"], capture_output=True, text=True).stdout
+            names = ["pipe", "merge"] + (["blocks"] if "--merge[=" in usage else []) \
+                + (["cull"] if "--cull[=" in usage else []) + ["direct"]
             outs = {name: os.path.join(work, f"{name}.png") for name in names}
             render = f"'{sr}' --size 1024x768 {' '.join(VIEW)} -"
-            piped = {"pipe": "", "merge": "--merge", "cull": cull}
+            piped = {"pipe": "", "merge": "--merge", "blocks": "--merge=blocks", "cull": cull}
             cmds = [["sh", "-c", f"'{p3}' {piped[n]} '{scene}' | {render} -o '{outs[n]}'"]
                     if n != "direct" else [sr, "--size", "1024x768"] + VIEW + [scene, "-o", outs[n]]
                     for n in names]
@@ -127,8 +130,8 @@ def main():
             if any(images[n] != images["direct"] for n in names):
                 raise SystemExit(f"stream_speed.py: {b}, incr {incr}: the images differ")
             direct = times["direct"]
-            row = [f"{times[n]:.3f}" if n in times else "-" for n in ("pipe", "merge", "cull", "direct")]
-            row += [f"{times[n] / direct:.1f}" if n in times else "-" for n in ("pipe", "merge", "cull")]
+            row = [f"{times[n]:.3f}" if n in times else "-" for n in ("pipe", "merge", "blocks", "cull", "direct")]
+            row += [f"{times[n] / direct:.1f}" if n in times else "-" for n in ("pipe", "merge", "blocks", "cull")]
             cells.append(" | ".join(row))
         print(f"| demo 2 faces, incr {incr} | " + " | ".join(cells) + " |")
     print()
