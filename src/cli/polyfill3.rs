@@ -27,7 +27,7 @@ Examples:
       places pyr.pat); the placement also fills in what a \"pattern\" leaves out.
   polyfill3 --merge=blocks scene.json | scene-render --camera cam.json -o out.png -
       Join equal whole cells into rectangles (--merge alone: runs along a
-      row): fewer polygons and vertices, the same picture. The camera is
+      row): fewer polygons and vertices over the same region. The camera is
       scene-render's: the cells are in world coordinates.
   polyfill3 --camera cam.json --cull=none scene.json | scene-render --camera cam.json -o seen.png -
       Leave out the cells this camera cannot see, both faces kept, as

@@ -117,11 +117,11 @@ impl RunMerger {
 pub struct BlockMerger {
     /// Blocks ending on the row below the current one that no run has
     /// continued yet, columns ascending.
-    below: VecDeque<Block>,
+    below: VecDeque<OpenBlock>,
     /// Blocks the current row has continued or started, columns ascending.
-    current: VecDeque<Block>,
+    current: VecDeque<OpenBlock>,
     /// Closed blocks, oldest first.
-    closed: VecDeque<Block>,
+    closed: VecDeque<OpenBlock>,
     /// The row of the last run added.
     row: i64,
     /// Vertex lists of blocks taken, for the next ones.
@@ -130,10 +130,13 @@ pub struct BlockMerger {
 }
 
 /// A rectangle of cells being joined, by its four sides.
-struct Block {
+struct OpenBlock {
+    /// Column k of its cells' first (leftmost) column.
     first: i64,
+    /// Rows j of its first and last rows.
     first_row: i64,
     last_row: i64,
+    /// The colour key of its cells.
     key: u32,
     /// Cells per row.
     cols: usize,
@@ -162,7 +165,9 @@ impl BlockMerger {
             if run.row == self.row + 1 {
                 std::mem::swap(&mut self.below, &mut self.current);
             } else {
-                // Not the next row, or not columns ascending: start afresh.
+                // Not the next row, or (never from the partition) columns
+                // not ascending: start afresh, which keeps the queues in
+                // column order whatever the order of the runs.
                 self.closed.append(&mut self.current);
             }
             self.row = run.row;
@@ -171,7 +176,10 @@ impl BlockMerger {
             self.closed.extend(self.below.pop_front());
         }
         let (bottom, top) = run.vertices.split_at(run.cells + 1);
-        let continues = |b: &Block| {
+        // The side check alone decides (a block of other columns, or of a
+        // row that is not the one below, has other corners); the column
+        // and count tests settle most misses before it.
+        let continues = |b: &OpenBlock| {
             b.first == run.first
                 && b.cols == run.cells
                 && b.key == run.key
@@ -191,7 +199,7 @@ impl BlockMerger {
         let (mut b_side, mut t_side, right, left) = (list(), list(), list(), list());
         b_side.extend_from_slice(bottom);
         t_side.extend(top.iter().rev());
-        self.current.push_back(Block {
+        self.current.push_back(OpenBlock {
             first: run.first,
             first_row: run.row,
             last_row: run.row,
@@ -204,16 +212,15 @@ impl BlockMerger {
         });
     }
 
-    /// Closes every open block (the end of a polygon's cells).
+    /// Closes every open block (the end of a polygon's cells): the merger
+    /// is then ready for another polygon.
     pub fn close_all(&mut self) {
         self.closed.append(&mut self.below);
         self.closed.append(&mut self.current);
     }
 
-    /// The oldest closed block, counter-clockwise: the bottom side left to
-    /// right, the right side up, the top right to left, the left side down.
-    /// Its `row` is its first row, `cells` all its cells.
-    pub fn take_closed(&mut self) -> Option<Run<'_>> {
+    /// The oldest closed block.
+    pub fn take_closed(&mut self) -> Option<Block<'_>> {
         let b = self.closed.pop_front()?;
         self.out.clear();
         self.out.extend_from_slice(&b.bottom);
@@ -225,7 +232,7 @@ impl BlockMerger {
             v.clear();
             self.spare.push(v);
         }
-        Some(Run {
+        Some(Block {
             first: b.first,
             row: b.first_row,
             key: b.key,
@@ -233,6 +240,21 @@ impl BlockMerger {
             vertices: &self.out,
         })
     }
+}
+
+/// A finished block: one or more runs of consecutive rows.
+pub struct Block<'a> {
+    /// Column k of its first (leftmost) column.
+    pub first: i64,
+    /// Row j of its first (lowest) row.
+    pub row: i64,
+    /// The colour key of its cells.
+    pub key: u32,
+    /// Number of cells joined, all rows.
+    pub cells: usize,
+    /// Counter-clockwise: the bottom side left to right, the right side up,
+    /// the top right to left, the left side down.
+    pub vertices: &'a [DVec3],
 }
 
 #[cfg(test)]
@@ -355,6 +377,29 @@ mod tests {
             n += 1;
         }
         assert_eq!(n, 2);
+    }
+
+    /// Runs built from given cell squares, not a grid's: the row and column
+    /// tests must hold even where the corners alone would join them.
+    fn joined(cells: &[(i64, i64, [DVec3; 4])]) -> Vec<usize> {
+        let (mut runs, mut blocks) = (RunMerger::new(), BlockMerger::new());
+        for (k, j, square) in cells {
+            runs.push(*k, *j, 1, square);
+            blocks.add(&runs.take().unwrap());
+        }
+        blocks.close_all();
+        std::iter::from_fn(|| blocks.take_closed().map(|b| b.cells)).collect()
+    }
+
+    #[test]
+    fn corners_that_meet_join_no_rows_that_do_not_follow_nor_other_columns() {
+        let lower = cell(0, 0);
+        // Bottom side on `lower`'s top, as if one row up.
+        let upper = cell(0, 1);
+        assert_eq!(joined(&[(0, 0, lower), (0, 1, upper)]), [2]);
+        // Two rows up, or one column left, with the same corners.
+        assert_eq!(joined(&[(0, 0, lower), (0, 2, upper)]), [1, 1]);
+        assert_eq!(joined(&[(1, 0, lower), (0, 1, upper)]), [1, 1]);
     }
 
     /// The blocks the mergers should make, found another way: the grid's

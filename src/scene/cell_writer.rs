@@ -3,7 +3,7 @@
 //! written in the order the partition gave them.
 
 use crate::error::OptionError;
-use crate::geom::merge::{BlockMerger, Merge, Run, RunMerger};
+use crate::geom::merge::{BlockMerger, Merge, RunMerger};
 use crate::geom::CellSink;
 use crate::pat::Pattern;
 use crate::stream::{self, Record};
@@ -437,9 +437,11 @@ impl<W: Write> CellWriter<W> {
         }
         p.current_fields = start..text.len();
         self.pattern = Some(pattern);
+        // Both mergers are kept from record to record (`finish` leaves them
+        // empty), with the lists they have grown.
         self.merger = merge.map(|_| self.merger.take().unwrap_or_default());
-        // A fresh block merger: an error may have left blocks open.
-        self.blocks = (merge == Some(Merge::Blocks)).then(BlockMerger::new);
+        self.blocks =
+            (merge == Some(Merge::Blocks)).then(|| self.blocks.take().unwrap_or_default());
         self.written = 0;
         self.budget = budget;
         self.error = None;
@@ -547,36 +549,38 @@ impl<W: Write> CellWriter<W> {
         self.drain_full()
     }
 
-    /// Ends the current run: written, or handed to the block merger (which
-    /// may close blocks to write).
+    /// Ends the current run: written, or, with blocks, handed to the block
+    /// merger, and the blocks that closes written.
     fn flush_run(&mut self) {
         let Some(mut m) = self.merger.take() else {
             return;
         };
         if let Some(run) = m.take() {
-            match self.blocks.take() {
-                Some(mut blocks) => {
-                    blocks.add(&run);
-                    self.write_closed(&mut blocks);
-                    self.blocks = Some(blocks);
-                }
-                None => self.write_run(&run),
+            match self.blocks.as_mut() {
+                Some(blocks) => blocks.add(&run),
+                None => self.write_merged(run.first, run.row, run.key, run.cells, run.vertices),
             }
         }
         self.merger = Some(m);
+        self.write_closed_blocks();
     }
 
-    /// Writes the blocks `blocks` has closed.
-    fn write_closed(&mut self, blocks: &mut BlockMerger) {
-        while let Some(block) = blocks.take_closed() {
-            self.write_run(&block);
+    /// Writes the blocks the block merger has closed.
+    fn write_closed_blocks(&mut self) {
+        let Some(mut blocks) = self.blocks.take() else {
+            return;
+        };
+        while let Some(b) = blocks.take_closed() {
+            self.write_merged(b.first, b.row, b.key, b.cells, b.vertices);
         }
+        self.blocks = Some(blocks);
     }
 
-    /// Writes a run or a block: the texel of its first cell, its cell count.
-    fn write_run(&mut self, run: &Run) {
-        let (c, r, _) = self.texel(run.first, run.row);
-        self.write_record(c, r, run.key as u16, run.vertices, run.cells);
+    /// Writes a run or a block of `cells` cells of colour `key`: the texel of
+    /// its first cell (column `first`, row `row`), the cell count.
+    fn write_merged(&mut self, first: i64, row: i64, key: u32, cells: usize, verts: &[DVec3]) {
+        let (c, r, _) = self.texel(first, row);
+        self.write_record(c, r, key as u16, verts, cells);
     }
 
     /// Hands the buffer to the output once it holds [`FLUSH_BYTES`].
@@ -607,11 +611,10 @@ impl<W: Write> CellWriter<W> {
     /// at 64 KiB before the batches.
     pub fn finish(&mut self) -> std::io::Result<()> {
         self.flush_run();
-        if let Some(mut blocks) = self.blocks.take() {
+        if let Some(blocks) = self.blocks.as_mut() {
             blocks.close_all();
-            self.write_closed(&mut blocks);
-            self.blocks = Some(blocks);
         }
+        self.write_closed_blocks();
         if let Some(e) = self.error.take() {
             self.buf.clear();
             self.pending.clear();
