@@ -136,6 +136,19 @@ def main():
         print(f"| demo 2 faces, incr {incr} | " + " | ".join(cells) + " |")
     print()
     print("The images of each row are byte for byte the same (checked by this script).")
+    print()
+    # What each pipeline sends through the pipe, from this build.
+    p3 = os.path.join(bindir, "polyfill3")
+    print("| stream sent through the pipe (this build) | plain MB | records | --merge MB | records "
+          "| --merge=blocks MB | records | --merge --cull=none MB | records |")
+    print("|---|" + "---:|" * 8)
+    for incr, (scene, _) in scenes.items():
+        cells = []
+        for flags in ([], ["--merge"], ["--merge=blocks"], cull.split()):
+            out = subprocess.run([p3] + flags + [scene], capture_output=True, check=True).stdout
+            records = out.count(b"\n")
+            cells.append(f"{len(out) / 1e6:.1f} | {records:,}")
+        print(f"| demo 2 faces, incr {incr} | " + " | ".join(cells) + " |")
 
 
 if __name__ == "__main__":
