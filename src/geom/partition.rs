@@ -497,7 +497,11 @@ impl Partitioner {
                         && rebuild_kept_the_area(&self.cell_b, &self.rings, min_area)
                     {
                         if self.rings.len() > 1 {
-                            for ring in &self.rings {
+                            for ring in &mut self.rings {
+                                drop_spikes(ring);
+                                if ring.len() < 3 {
+                                    continue;
+                                }
                                 self.world.clear();
                                 self.world.extend(ring.iter().map(|&p| frame.to_world(p)));
                                 if !has_area(ring, &self.world, frame.normal, min_area) {
@@ -511,6 +515,7 @@ impl Partitioner {
                     } else {
                         self.pts.extend(self.cell_b.iter().map(|v| v.p));
                     }
+                    drop_spikes(&mut self.pts);
                     if self.pts.len() < 3 {
                         continue;
                     }
@@ -600,6 +605,59 @@ fn is_convex(p: &[DVec2]) -> bool {
         (Some(a), Some(b)) => a.perp_dot(b) >= 0.0,
         _ => true,
     }
+}
+
+/// Removes from a cell's ring the zero-width spikes clipping leaves where
+/// the input's boundary runs along a grid line and back (a notch whose
+/// floor lies within rounding of a row's edge): a vertex where the ring
+/// turns straight back ([`crate::geom::simple::folds_back`]), and a vertex
+/// the next repeats. They bound no area, so the cell covers the same
+/// region without them, and a polygon that runs along itself is refused by
+/// every reader (`simple::check`). A ring without them (nearly every cell)
+/// is left as it is, after one pass that allocates nothing; one with them
+/// is walked once as a stack (a removal can make a spike of the vertices
+/// either side, which the stack meets next), then at the join of its end
+/// and start, so linear in the ring either way.
+fn drop_spikes(ring: &mut Vec<DVec2>) {
+    use crate::geom::simple::folds_back;
+    let m = ring.len();
+    let spike = |k: usize| {
+        let (a, b, c) = (ring[(k + m - 1) % m], ring[k], ring[(k + 1) % m]);
+        b == c || folds_back(a, b, c)
+    };
+    if m < 3 || !(0..m).any(spike) {
+        return;
+    }
+    let mut kept: Vec<DVec2> = Vec::with_capacity(m);
+    for &p in ring.iter() {
+        if kept.last() == Some(&p) {
+            continue;
+        }
+        while let [.., a, b] = kept[..] {
+            if !folds_back(a, b, p) {
+                break;
+            }
+            kept.pop();
+            if kept.last() == Some(&p) {
+                kept.pop();
+            }
+        }
+        kept.push(p);
+    }
+    // The join: only the vertices either side of it can still be spikes.
+    let mut start = 0;
+    while kept.len() - start >= 3 {
+        let (n, s) = (kept.len(), start);
+        if kept[n - 1] == kept[s] || folds_back(kept[n - 2], kept[n - 1], kept[s]) {
+            kept.pop();
+        } else if folds_back(kept[n - 1], kept[s], kept[s + 1]) {
+            start += 1;
+        } else {
+            break;
+        }
+    }
+    ring.clear();
+    ring.extend_from_slice(&kept[start..]);
 }
 
 /// Whether a piece has more area than rounding noise ([`MIN_PIECE_AREA_REL`],
@@ -696,6 +754,81 @@ pub fn thesis_partition(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Twice the signed area, by the shoelace formula (the check's own,
+    /// not `polygon::area2`).
+    fn shoelace(r: &[DVec2]) -> f64 {
+        (0..r.len())
+            .map(|k| r[k].perp_dot(r[(k + 1) % r.len()]))
+            .sum()
+    }
+
+    #[test]
+    fn spikes_and_repeats_leave_a_cell_and_nothing_else_does() {
+        let v = |x: f64, y: f64| DVec2::new(x, y);
+        let square = vec![v(0.0, 0.0), v(1.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)];
+        // A square with a spike up its left side (the comb's notch of
+        // review 2026-11-29, where the spike's tip was the first vertex), a
+        // repeat, a spike at the join, and a spike on a spike.
+        let cases = [
+            vec![
+                v(0.0, 1.5),
+                v(0.0, 0.0),
+                v(1.0, 0.0),
+                v(1.0, 1.0),
+                v(0.0, 1.0),
+            ],
+            vec![
+                v(0.0, 0.0),
+                v(1.0, 0.0),
+                v(1.0, 0.0),
+                v(1.0, 1.0),
+                v(0.0, 1.0),
+            ],
+            vec![
+                v(0.0, 0.0),
+                v(1.0, 0.0),
+                v(1.0, 1.0),
+                v(0.0, 1.0),
+                v(0.0, 1.5),
+            ],
+            vec![
+                v(0.0, 0.0),
+                v(1.0, 0.0),
+                v(2.0, 0.0),
+                v(3.0, 0.0),
+                v(1.0, 0.0),
+            ]
+            .into_iter()
+            .chain([v(1.0, 1.0), v(0.0, 1.0)])
+            .collect(),
+            vec![v(0.0, 0.0), v(1.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)],
+        ];
+        for case in cases {
+            let mut ring = case.clone();
+            drop_spikes(&mut ring);
+            assert_eq!(shoelace(&ring), shoelace(&square), "{case:?}");
+            assert_eq!(ring.len(), 4, "{case:?} gave {ring:?}");
+            for p in &square {
+                assert!(ring.contains(p), "{case:?} gave {ring:?}");
+            }
+            assert!(
+                crate::geom::simple::find_contact(&ring).is_none(),
+                "{case:?} gave {ring:?}"
+            );
+        }
+        // Collinear vertices that go straight on are kept.
+        let mut run = vec![
+            v(0.0, 0.0),
+            v(1.0, 0.0),
+            v(2.0, 0.0),
+            v(2.0, 1.0),
+            v(0.0, 1.0),
+        ];
+        let before = run.clone();
+        drop_spikes(&mut run);
+        assert_eq!(run, before);
+    }
     use crate::geom::plane::map_to_plane;
 
     /// Collects every cell.

@@ -171,10 +171,14 @@ fn convex_without_repeats(p: &[DVec2]) -> bool {
 /// either side of it overlap (a zero-width spike).
 fn fold_back_at(q: &[DVec2]) -> Option<usize> {
     let m = q.len();
-    (0..m).find(|&k| {
-        let (a, b, c) = (q[(k + m - 1) % m], q[k], q[(k + 1) % m]);
-        orient2d(a, b, c) == 0.0 && (lex(a, b) == lex(c, b))
-    })
+    (0..m).find(|&k| folds_back(q[(k + m - 1) % m], q[k], q[(k + 1) % m]))
+}
+
+/// Whether a ring through `a`, `b`, `c` turns straight back at `b`: the
+/// three are collinear (exact orientation) and `a` and `c` lie on the same
+/// side of `b`, so the edges either side of `b` overlap.
+pub(crate) fn folds_back(a: DVec2, b: DVec2, c: DVec2) -> bool {
+    orient2d(a, b, c) == 0.0 && (lex(a, b) == lex(c, b))
 }
 
 /// Whether the polygon is convex and gone round once, which is simple: it

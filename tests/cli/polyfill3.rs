@@ -1145,3 +1145,49 @@ clitest!(
             .stderr(predicates::str::contains("polyfill3 draws no image"));
     }
 );
+
+/// Regression (review of 2026-11-29): a comb tilted 0.3 rad whose notches'
+/// floors lie within rounding of a grid row. A cell there was clipped with
+/// a zero-width spike up the tooth beside it (two vertices one ulp apart),
+/// and scene-render refused the stream: "the polygon runs along itself".
+#[test]
+fn cells_beside_a_notch_on_a_grid_line_have_no_spike() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write_pat(&d.join("solid.pat"), 16, |_, _| false);
+    let (lo, hi) = (
+        "3.821345956502424, 1.1820808266453582",
+        "19.10672978251212, 5.910404133226791",
+    );
+    let mut vertices = vec!["[0, 0.0, 0.0]".to_string(), "[23.0, 0.0, 0.0]".to_string()];
+    // Right to left: up a tooth's right side, across its top, down its
+    // left side, across the floor of the notch to the next tooth.
+    for (i, x) in [23.0, 20.0, 18.0, 15.0, 13.0, 10.0, 8.0, 5.0, 3.0]
+        .iter()
+        .enumerate()
+    {
+        let (first, second) = if i % 2 == 0 { (lo, hi) } else { (hi, lo) };
+        vertices.push(format!("[{x:?}, {first}]"));
+        vertices.push(format!("[{x:?}, {second}]"));
+    }
+    vertices.push(format!("[0.0, {hi}]"));
+    let comb = format!(
+        r#"{{"vertices": [{}], "color": [100, 100, 100], "pattern": {{"file": "solid.pat", "incr": 0.5}}}}"#,
+        vertices.join(", ")
+    );
+    std::fs::write(d.join("comb.json"), comb + "\n").unwrap();
+    for merge in [None, Some("--merge"), Some("--merge=blocks")] {
+        polyfill3()
+            .current_dir(d)
+            .args(merge)
+            .args(["comb.json", "-o", "cells.ndjson"])
+            .assert()
+            .success();
+        Command::cargo_bin("scene-render")
+            .unwrap()
+            .current_dir(d)
+            .args(["--size", "64x64", "cells.ndjson", "-o", "cells.png"])
+            .assert()
+            .success();
+    }
+}
