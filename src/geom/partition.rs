@@ -16,7 +16,8 @@
 //! 3. Every crossing of a grid line is computed from the input's own edge in a
 //!    canonical order (`clip::cross_x`/`cross_y`), and every world point as
 //!    `(origin + ey*y) + ex*x` (`Frame::to_world`), so cells on either side of
-//!    a grid line share their vertices bit for bit: no cracks.
+//!    a grid line share their vertices bit for bit: no cracks. (The rare
+//!    piece whose rounding made it touch itself loses a vertex: `tidy`.)
 //! 4. Cells are kept only when their piece has positive area: no degenerate
 //!    output. For a concave polygon, a boundary cell's piece is rebuilt from
 //!    its chains of input edges joined along the cell's border
@@ -31,9 +32,12 @@
 //! Self-intersecting polygons are outside the contract (docs/stream-format.md asks for
 //! planar polygons; the result is then the clip of the signed regions).
 
+mod tidy;
+
 use super::clip::{clip_closed, clip_tagged, split_on_border, Axis, TVertex, Tag};
 use super::plane::{newell_normal, signed_area, PlanePolygon};
 use glam::{DVec2, DVec3};
+use tidy::{drop_spikes, simple_in_world, WorldPiece};
 
 /// Pattern placement in a polygon's plane (docs/stream-format.md): texel side and shifts.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -504,6 +508,9 @@ impl Partitioner {
                                 }
                                 self.world.clear();
                                 self.world.extend(ring.iter().map(|&p| frame.to_world(p)));
+                                if simple_in_world(&mut self.world, ring) == WorldPiece::Noise {
+                                    continue;
+                                }
                                 if !has_area(ring, &self.world, frame.normal, min_area) {
                                     continue;
                                 }
@@ -537,6 +544,9 @@ impl Partitioner {
                     } else {
                         self.world
                             .extend(self.pts.iter().map(|&p| frame.to_world(p)));
+                        if simple_in_world(&mut self.world, &mut self.pts) == WorldPiece::Noise {
+                            continue;
+                        }
                         if !has_area(&self.pts, &self.world, frame.normal, min_area) {
                             continue;
                         }
@@ -605,59 +615,6 @@ fn is_convex(p: &[DVec2]) -> bool {
         (Some(a), Some(b)) => a.perp_dot(b) >= 0.0,
         _ => true,
     }
-}
-
-/// Removes from a cell's ring the zero-width spikes clipping leaves where
-/// the input's boundary runs along a grid line and back (a notch whose
-/// floor lies within rounding of a row's edge): a vertex where the ring
-/// turns straight back ([`crate::geom::simple::folds_back`]), and a vertex
-/// the next repeats. They bound no area, so the cell covers the same
-/// region without them, and a polygon that runs along itself is refused by
-/// every reader (`simple::check`). A ring without them (nearly every cell)
-/// is left as it is, after one pass that allocates nothing; one with them
-/// is walked once as a stack (a removal can make a spike of the vertices
-/// either side, which the stack meets next), then at the join of its end
-/// and start, so linear in the ring either way.
-fn drop_spikes(ring: &mut Vec<DVec2>) {
-    use crate::geom::simple::folds_back;
-    let m = ring.len();
-    let spike = |k: usize| {
-        let (a, b, c) = (ring[(k + m - 1) % m], ring[k], ring[(k + 1) % m]);
-        b == c || folds_back(a, b, c)
-    };
-    if m < 3 || !(0..m).any(spike) {
-        return;
-    }
-    let mut kept: Vec<DVec2> = Vec::with_capacity(m);
-    for &p in ring.iter() {
-        if kept.last() == Some(&p) {
-            continue;
-        }
-        while let [.., a, b] = kept[..] {
-            if !folds_back(a, b, p) {
-                break;
-            }
-            kept.pop();
-            if kept.last() == Some(&p) {
-                kept.pop();
-            }
-        }
-        kept.push(p);
-    }
-    // The join: only the vertices either side of it can still be spikes.
-    let mut start = 0;
-    while kept.len() - start >= 3 {
-        let (n, s) = (kept.len(), start);
-        if kept[n - 1] == kept[s] || folds_back(kept[n - 2], kept[n - 1], kept[s]) {
-            kept.pop();
-        } else if folds_back(kept[n - 1], kept[s], kept[s + 1]) {
-            start += 1;
-        } else {
-            break;
-        }
-    }
-    ring.clear();
-    ring.extend_from_slice(&kept[start..]);
 }
 
 /// Whether a piece has more area than rounding noise ([`MIN_PIECE_AREA_REL`],
@@ -754,63 +711,6 @@ pub fn thesis_partition(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Twice the signed area, by the shoelace formula (the check's own,
-    /// not `polygon::area2`).
-    fn shoelace(r: &[DVec2]) -> f64 {
-        (0..r.len())
-            .map(|k| r[k].perp_dot(r[(k + 1) % r.len()]))
-            .sum()
-    }
-
-    #[test]
-    fn spikes_and_repeats_leave_a_cell_and_nothing_else_does() {
-        let v = |x: f64, y: f64| DVec2::new(x, y);
-        let square = vec![v(0.0, 0.0), v(1.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)];
-        // A square with a spike up its left side (the comb's notch of
-        // review 2026-11-29, where the spike's tip was the first vertex), a
-        // repeat, a spike at the join, and a spike on a spike.
-        let cases: [&[(f64, f64)]; 5] = [
-            &[(0.0, 1.5), (0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)],
-            &[(0.0, 0.0), (1.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)],
-            &[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0), (0.0, 1.5)],
-            &[
-                (0.0, 0.0),
-                (1.0, 0.0),
-                (2.0, 0.0),
-                (3.0, 0.0),
-                (1.0, 0.0),
-                (1.0, 1.0),
-                (0.0, 1.0),
-            ],
-            &[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)],
-        ];
-        for case in cases {
-            let case: Vec<DVec2> = case.iter().map(|&(x, y)| v(x, y)).collect();
-            let mut ring = case.clone();
-            drop_spikes(&mut ring);
-            assert_eq!(shoelace(&ring), shoelace(&square), "{case:?}");
-            assert_eq!(ring.len(), 4, "{case:?} gave {ring:?}");
-            for p in &square {
-                assert!(ring.contains(p), "{case:?} gave {ring:?}");
-            }
-            assert!(
-                crate::geom::simple::find_contact(&ring).is_none(),
-                "{case:?} gave {ring:?}"
-            );
-        }
-        // Collinear vertices that go straight on are kept.
-        let mut run = vec![
-            v(0.0, 0.0),
-            v(1.0, 0.0),
-            v(2.0, 0.0),
-            v(2.0, 1.0),
-            v(0.0, 1.0),
-        ];
-        let before = run.clone();
-        drop_spikes(&mut run);
-        assert_eq!(run, before);
-    }
     use crate::geom::plane::map_to_plane;
 
     /// Collects every cell.

@@ -1191,3 +1191,58 @@ fn cells_beside_a_notch_on_a_grid_line_have_no_spike() {
             .success();
     }
 }
+
+/// Regression (review of 2026-11-29, after the spike fix): a comb tilted
+/// 0.3 rad, an ulp or two off the grid. The pieces beside its notches were
+/// simple in the plane, a staircase of ulp steps, but their world vertices
+/// rounded into a fold ("record 18: the polygon runs along itself") that
+/// scene-render refused. polyfill3 now writes each piece as simple as
+/// readers judge it (`geom::partition::tidy`).
+#[test]
+fn tilted_comb_pieces_that_rounding_folds_are_written_simple() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write_pat(&d.join("solid.pat"), 16, |_, _| false);
+    let (top, floor) = (
+        "8.987355423879242, -5.631358553370623",
+        "3.2553364891256056, -7.404479793338661",
+    );
+    let mut vertices = vec![
+        "[1.1, 2.3, -7.7]".to_string(),
+        "[27.1, 2.3, -7.7]".to_string(),
+        format!("[27.1, {top}]"),
+    ];
+    // Right to left: across a tooth's top, down into the notch, along its
+    // floor, up the next tooth.
+    let xs = ["25.1", "23.1", "21.1", "19.1", "17.1", "15.1", "13.1"];
+    let xs = xs.iter().chain(&["11.1", "9.1", "7.1", "5.1", "3.1"]);
+    for (i, x) in xs.enumerate() {
+        let (first, second) = if i % 2 == 0 {
+            (top, floor)
+        } else {
+            (floor, top)
+        };
+        vertices.push(format!("[{x}, {first}]"));
+        vertices.push(format!("[{x}, {second}]"));
+    }
+    vertices.push(format!("[1.1, {top}]"));
+    let comb = format!(
+        r#"{{"vertices": [{}], "color": [100, 100, 100], "pattern": {{"file": "solid.pat", "incr": 1.0}}}}"#,
+        vertices.join(", ")
+    );
+    std::fs::write(d.join("comb.json"), comb + "\n").unwrap();
+    for merge in [None, Some("--merge"), Some("--merge=blocks")] {
+        polyfill3()
+            .current_dir(d)
+            .args(merge)
+            .args(["comb.json", "-o", "cells.ndjson"])
+            .assert()
+            .success();
+        Command::cargo_bin("scene-render")
+            .unwrap()
+            .current_dir(d)
+            .args(["--size", "32x32", "cells.ndjson", "-o", "cells.png"])
+            .assert()
+            .success();
+    }
+}

@@ -1,0 +1,345 @@
+//! What rounding leaves in a piece's ring that readers refuse, taken out
+//! before the piece is written.
+//!
+//! Every reader takes only simple polygons, judged exactly on the world
+//! polygon's flat view ([`crate::geom::simple::check`]). A piece of a
+//! simple polygon is simple in exact arithmetic, but its vertices are
+//! rounded twice, and each rounding can make it touch itself:
+//!
+//! 1. **In the plane.** Each crossing of a grid line is rounded on its own.
+//!    Where the input's boundary runs along a grid line and back (a notch
+//!    whose floor lies within rounding of a row), the clipped ring has a
+//!    zero-width spike: [`drop_spikes`].
+//! 2. **Mapped to the world** (`Frame::to_world`). Each vertex moves by up to
+//!    about an ulp of the largest world coordinate. Features of the plane
+//!    ring smaller than that can then fold or cross: where an input wall lies
+//!    an ulp or two off a grid line, the plane ring has a staircase of
+//!    ulp-sized steps, which the world's flat view sees as a repeated vertex,
+//!    a fold, or two edges crossing: [`simple_in_world`].
+//!
+//! Both only remove vertices, never move one, and only vertices within
+//! rounding of the path through their neighbours, so the piece covers the
+//! same region to within that rounding. Nearly every piece has none to
+//! remove and is left as it was, bit for bit.
+
+use crate::geom::plane::{flat_view, newell_normal};
+use crate::geom::polygon::orient2d;
+use crate::geom::simple::{check, folds_back, Contact};
+use glam::{DVec2, DVec3};
+
+/// How far, in ulps of the piece's largest world coordinate, a vertex may
+/// lie from the chord of its two neighbours (in the world's flat view) for
+/// [`simple_in_world`] to remove it: 8. `Frame::to_world` rounds each
+/// coordinate in two additions and two products, under an ulp each. Over
+/// 600 adversarial concave polygons (combs and notches whose walls lie
+/// within ulps of grid lines, and stars; tilted, turned, up to 100 from the
+/// origin; a fuzzer of the review of 2026-11-29), every vertex removed lay
+/// within 0.78 ulps of its chord: a tenfold margin.
+pub const WORLD_ROUNDING_ULPS: f64 = 8.0;
+
+/// Removes from a piece's ring the zero-width spikes clipping leaves where
+/// the input's boundary runs along a grid line and back: a vertex where the
+/// ring turns straight back ([`folds_back`]), and a vertex the next repeats.
+/// They bound no area, so the piece covers the same region without them.
+/// A ring without them (nearly every piece) is left as it is, after one
+/// pass that allocates nothing.
+pub fn drop_spikes(ring: &mut Vec<DVec2>) {
+    if let Some(keep) = spike_free(ring) {
+        *ring = keep.iter().map(|&i| ring[i]).collect();
+    }
+}
+
+/// What [`simple_in_world`] made of a piece.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WorldPiece {
+    /// Simple as readers judge it: to be written.
+    Simple,
+    /// Not simple, and its world area is within the rounding of its
+    /// vertices: no piece at all at this distance from the origin. Not to
+    /// be written.
+    Noise,
+    /// Not simple by more than rounding (the plane ring was not simple,
+    /// which a simple input does not give): left as far as the repair went.
+    Tangled,
+}
+
+/// Makes a piece's world polygon simple as its readers judge it, removing
+/// the same vertices from its plane ring. A piece that is simple already
+/// (nearly every one) costs the check every reader makes and is left as it
+/// was.
+///
+/// A piece that is not simple and whose world area is within what rounding
+/// its vertices can change ([`WORLD_ROUNDING_ULPS`] of the largest world
+/// coordinate, times its perimeter) is [`WorldPiece::Noise`]: far from the
+/// origin a sliver the plane still resolves can come out of the mapping as
+/// a fold of no area, whose flat view (along whatever axis its noise
+/// normal picks) crosses itself. Dropping it loses less than that bound.
+///
+/// Otherwise the world ring's flat view is first rid of spikes and repeats
+/// as [`drop_spikes`] does in the plane. Then, while the check finds a
+/// contact, the one of its vertices (the ends of the edges that meet)
+/// nearest the chord of its neighbours is removed, if it lies within
+/// [`WORLD_ROUNDING_ULPS`] of it: a feature smaller than the mapping's
+/// rounding, which that rounding turned over. A vertex so removed can be
+/// one the neighbouring cell keeps on their shared grid line: the two then
+/// meet with a T-junction whose gap is within that rounding, instead of
+/// vertex to vertex.
+pub fn simple_in_world(world: &mut Vec<DVec3>, plane: &mut Vec<DVec2>) -> WorldPiece {
+    if check(world).is_ok() {
+        return WorldPiece::Simple;
+    }
+    let largest = world
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.abs().max_element()));
+    let slack = WORLD_ROUNDING_ULPS * f64::EPSILON * largest;
+    let n = world.len();
+    let perimeter: f64 = (0..n)
+        .map(|k| (world[(k + 1) % n] - world[k]).length())
+        .sum();
+    // Twice the area, and what moving each vertex by `slack` can change it by.
+    if newell_normal(world, world[0]).length() <= 2.0 * slack * perimeter {
+        return WorldPiece::Noise;
+    }
+    // Each pass removes a vertex or returns.
+    for _ in 0..n {
+        let Some(flat) = flat_view(world) else {
+            return WorldPiece::Simple;
+        };
+        if let Some(keep) = spike_free(&flat) {
+            *world = keep.iter().map(|&i| world[i]).collect();
+            *plane = keep.iter().map(|&i| plane[i]).collect();
+            continue;
+        }
+        let n = world.len();
+        let Err(contact) = check(world) else {
+            return WorldPiece::Simple;
+        };
+        let ends = match contact {
+            Contact::Cross { a, b, .. } | Contact::Overlap { a, b, .. } => {
+                [a, (a + 1) % n, b, (b + 1) % n]
+            }
+            Contact::VertexOnEdge { vertex, edge, .. } => [vertex, edge, (edge + 1) % n, vertex],
+            Contact::SamePoint { a, b } => [a, b, a, b],
+        };
+        let off_chord = |k: usize| {
+            let (a, b, c) = (flat[(k + n - 1) % n], flat[k], flat[(k + 1) % n]);
+            orient2d(a, b, c).abs() / (c - a).length()
+        };
+        let (k, d) = ends
+            .iter()
+            .map(|&k| (k, off_chord(k)))
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .expect("a contact has vertices");
+        // NaN (coincident neighbours) is a spike, removed above.
+        if d.is_nan() || d > slack {
+            return WorldPiece::Tangled;
+        }
+        world.remove(k);
+        plane.remove(k);
+    }
+    match check(world) {
+        Ok(()) => WorldPiece::Simple,
+        Err(_) => WorldPiece::Tangled,
+    }
+}
+
+/// The vertices to keep of a ring seen as `view` so that it has no spike
+/// nor repeated vertex ([`drop_spikes`]), or `None` when it has none. The
+/// ring is walked once as a stack (a removal can make a spike of the
+/// vertices either side, which the stack meets next), then at the join of
+/// its end and start: linear in the ring.
+fn spike_free(view: &[DVec2]) -> Option<Vec<usize>> {
+    let m = view.len();
+    let spike = |k: usize| {
+        let (a, b, c) = (view[(k + m - 1) % m], view[k], view[(k + 1) % m]);
+        b == c || folds_back(a, b, c)
+    };
+    if m < 3 || !(0..m).any(spike) {
+        return None;
+    }
+    let mut kept: Vec<usize> = Vec::with_capacity(m);
+    let last = |kept: &[usize]| kept.last().map(|&i| view[i]);
+    for (i, &p) in view.iter().enumerate() {
+        if last(&kept) == Some(p) {
+            continue;
+        }
+        while let [.., a, b] = kept[..] {
+            if !folds_back(view[a], view[b], p) {
+                break;
+            }
+            kept.pop();
+            if last(&kept) == Some(p) {
+                kept.pop();
+            }
+        }
+        kept.push(i);
+    }
+    // The join: only the vertices either side of it can still be spikes.
+    let at = |kept: &[usize], i: usize| view[kept[i]];
+    let mut start = 0;
+    while kept.len() - start >= 3 {
+        let (n, s) = (kept.len(), start);
+        if at(&kept, n - 1) == at(&kept, s)
+            || folds_back(at(&kept, n - 2), at(&kept, n - 1), at(&kept, s))
+        {
+            kept.pop();
+        } else if folds_back(at(&kept, n - 1), at(&kept, s), at(&kept, s + 1)) {
+            start += 1;
+        } else {
+            break;
+        }
+    }
+    kept.drain(..start);
+    Some(kept)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Twice the signed area, by the shoelace formula (the check's own,
+    /// not `polygon::area2`).
+    fn shoelace(r: &[DVec2]) -> f64 {
+        (0..r.len())
+            .map(|k| r[k].perp_dot(r[(k + 1) % r.len()]))
+            .sum()
+    }
+
+    #[test]
+    fn spikes_and_repeats_leave_a_cell_and_nothing_else_does() {
+        let v = |x: f64, y: f64| DVec2::new(x, y);
+        let square = vec![v(0.0, 0.0), v(1.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)];
+        // A square with a spike up its left side (the comb's notch of
+        // review 2026-11-29, where the spike's tip was the first vertex), a
+        // repeat, a spike at the join, and a spike on a spike.
+        let cases: [&[(f64, f64)]; 5] = [
+            &[(0.0, 1.5), (0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)],
+            &[(0.0, 0.0), (1.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)],
+            &[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0), (0.0, 1.5)],
+            &[
+                (0.0, 0.0),
+                (1.0, 0.0),
+                (2.0, 0.0),
+                (3.0, 0.0),
+                (1.0, 0.0),
+                (1.0, 1.0),
+                (0.0, 1.0),
+            ],
+            &[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)],
+        ];
+        for case in cases {
+            let case: Vec<DVec2> = case.iter().map(|&(x, y)| v(x, y)).collect();
+            let mut ring = case.clone();
+            drop_spikes(&mut ring);
+            assert_eq!(shoelace(&ring), shoelace(&square), "{case:?}");
+            assert_eq!(ring.len(), 4, "{case:?} gave {ring:?}");
+            for p in &square {
+                assert!(ring.contains(p), "{case:?} gave {ring:?}");
+            }
+            assert!(
+                crate::geom::simple::find_contact(&ring).is_none(),
+                "{case:?} gave {ring:?}"
+            );
+        }
+        // Collinear vertices that go straight on are kept.
+        let mut run = vec![
+            v(0.0, 0.0),
+            v(1.0, 0.0),
+            v(2.0, 0.0),
+            v(2.0, 1.0),
+            v(0.0, 1.0),
+        ];
+        let before = run.clone();
+        drop_spikes(&mut run);
+        assert_eq!(run, before);
+    }
+
+    fn p3(v: &[[f64; 3]]) -> Vec<DVec3> {
+        v.iter().map(|&a| DVec3::from(a)).collect()
+    }
+
+    /// Two pieces polyfill3 wrote before `simple_in_world` (a fuzzer's
+    /// combs, review of 2026-11-29), which every reader refused: a fold
+    /// of one ulp up a wall, with a repeated vertex ("runs along itself"),
+    /// and a staircase of a few ulps at a corner ("crosses itself"). Each
+    /// comes out simple with the vertices named removed and nothing else.
+    #[test]
+    fn world_rings_that_rounding_folded_or_crossed_come_out_simple() {
+        let y0 = 3.2553364891256056;
+        let y1 = 3.255336489125606;
+        let z = -7.40447979333866;
+        let folded = p3(&[
+            [19.1, 2.3, -7.699999999999999],
+            [20.1, 2.3, -7.699999999999999],
+            [20.1, y0, z],
+            [19.1, y0, z],
+            [19.1, y1, z],
+            [19.1, y1, z],
+        ]);
+        let crossed = p3(&[
+            [-0.01580958427500828, -0.22304720810862308, 0.0],
+            [-0.06674285960673623, -0.3091041744970707, 0.0],
+            [0.019314106781711353, -0.3600374498287986, 0.0],
+            [0.01931410678171136, -0.3600374498287986, 0.0],
+            [0.0193141067817105, -0.3600374498287981, 0.0],
+            [0.07024738211343844, -0.27398048344035053, 0.0],
+        ]);
+        for (world, kept) in [(folded, [0, 1, 2, 3]), (crossed, [0, 1, 4, 5])] {
+            assert!(check(&world).is_err());
+            // The plane ring goes along: here a copy of the flat view.
+            let mut plane: Vec<DVec2> = world.iter().map(|p| p.truncate()).collect();
+            let mut w = world.clone();
+            assert_eq!(simple_in_world(&mut w, &mut plane), WorldPiece::Simple);
+            assert_eq!(w, kept.map(|i| world[i]));
+            assert_eq!(plane, kept.map(|i| world[i].truncate()));
+            assert!(check(&w).is_ok());
+        }
+    }
+
+    /// A simple piece is left as it was, bit for bit. A crossing larger
+    /// than rounding (a square whose last edge is pulled through its
+    /// first) is not the repair's to hide, and a ring whose area is within
+    /// rounding is noise.
+    #[test]
+    fn simple_pieces_are_untouched_and_real_crossings_are_left() {
+        let square = p3(&[
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+            [0.5, 1.0, 1.0],
+            [0.0, 1.0, 1.0],
+        ]);
+        let pulled = p3(&[
+            [0.0, 0.0, 1.0],
+            [2.0, 0.0, 1.0],
+            [2.0, 2.0, 1.0],
+            [0.0, 2.0, 1.0],
+            [1.0, -1.0, 1.0],
+        ]);
+        let bow_tie = p3(&[
+            [0.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [0.0, 1.0, 1.0],
+        ]);
+        // 3e6 from the origin (a fuzzer's tilted comb): a sliver the plane
+        // resolved, mapped to a triangle and back along one of its sides.
+        let far_sliver = p3(&[
+            [3000003.057259763, 1000000.1185327356, -1999999.6881286777],
+            [3000002.998729748, 1000000.407270364, -1999999.8440643388],
+            [3000003.325418608, 1000000.4734934742, -1999999.8440643388],
+            [3000002.9987297487, 1000000.4072703641, -1999999.8440643388],
+        ]);
+        for (ring, made) in [
+            (square, WorldPiece::Simple),
+            (far_sliver, WorldPiece::Noise),
+            (pulled, WorldPiece::Tangled),
+            (bow_tie, WorldPiece::Noise),
+        ] {
+            let mut w = ring.clone();
+            let mut plane: Vec<DVec2> = w.iter().map(|p| p.truncate()).collect();
+            assert_eq!(simple_in_world(&mut w, &mut plane), made, "{ring:?}");
+            assert_eq!(w, ring);
+        }
+    }
+}
