@@ -544,6 +544,9 @@ impl Partitioner {
                     } else {
                         self.world
                             .extend(self.pts.iter().map(|&p| frame.to_world(p)));
+                        // A piece left tangled is written as it is: dropped,
+                        // its area would be lost without a word, where the
+                        // reader names the record it refuses.
                         if simple_in_world(&mut self.world, &mut self.pts) == WorldPiece::Noise {
                             continue;
                         }
