@@ -37,7 +37,7 @@ mod tidy;
 use super::clip::{clip_closed, clip_tagged, split_on_border, Axis, TVertex, Tag};
 use super::plane::{newell_normal, signed_area, PlanePolygon};
 use glam::{DVec2, DVec3};
-use tidy::{drop_spikes, simple_in_world, WorldPiece};
+use tidy::{drop_spikes, simple_in_world, Part, WorldPiece};
 
 /// Pattern placement in a polygon's plane (docs/stream-format.md): texel side and shifts.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -301,6 +301,8 @@ pub struct Partitioner {
     segs: Vec<(DVec2, DVec2)>,
     rings: Vec<Vec<DVec2>>,
     run: Vec<TVertex>,
+    /// Parts split off a piece that touched itself (`tidy`).
+    parts: Vec<Part>,
 }
 
 impl Partitioner {
@@ -508,10 +510,17 @@ impl Partitioner {
                                 }
                                 self.world.clear();
                                 self.world.extend(ring.iter().map(|&p| frame.to_world(p)));
-                                if simple_in_world(&mut self.world, ring) == WorldPiece::Noise {
-                                    continue;
-                                }
-                                if !has_area(ring, &self.world, frame.normal, min_area) {
+                                let first = simple_in_world(&mut self.world, ring, &mut self.parts);
+                                hand_on_parts(
+                                    &mut self.parts,
+                                    (k, j),
+                                    frame.normal,
+                                    min_area,
+                                    sink,
+                                );
+                                if first == WorldPiece::Noise
+                                    || !has_area(ring, &self.world, frame.normal, min_area)
+                                {
                                     continue;
                                 }
                                 sink.cell(k, j, &self.world, ring, false);
@@ -547,10 +556,12 @@ impl Partitioner {
                         // A piece left tangled is written as it is: dropped,
                         // its area would be lost without a word, where the
                         // reader names the record it refuses.
-                        if simple_in_world(&mut self.world, &mut self.pts) == WorldPiece::Noise {
-                            continue;
-                        }
-                        if !has_area(&self.pts, &self.world, frame.normal, min_area) {
+                        let first =
+                            simple_in_world(&mut self.world, &mut self.pts, &mut self.parts);
+                        hand_on_parts(&mut self.parts, (k, j), frame.normal, min_area, sink);
+                        if first == WorldPiece::Noise
+                            || !has_area(&self.pts, &self.world, frame.normal, min_area)
+                        {
                             continue;
                         }
                     }
@@ -617,6 +628,22 @@ fn is_convex(p: &[DVec2]) -> bool {
     match (prev, first) {
         (Some(a), Some(b)) => a.perp_dot(b) >= 0.0,
         _ => true,
+    }
+}
+
+/// Hands on to `sink` the parts [`simple_in_world`] split off cell `kj`'s
+/// piece, those with area ([`has_area`]), and empties `parts`.
+fn hand_on_parts(
+    parts: &mut Vec<Part>,
+    (k, j): (i64, i64),
+    normal: DVec3,
+    min_area: f64,
+    sink: &mut impl CellSink,
+) {
+    for (world, plane) in parts.drain(..) {
+        if has_area(&plane, &world, normal, min_area) {
+            sink.cell(k, j, &world, &plane, false);
+        }
     }
 }
 

@@ -1192,6 +1192,43 @@ fn cells_beside_a_notch_on_a_grid_line_have_no_spike() {
     }
 }
 
+/// Regression (second review of 2026-11-29): a square notched to a tip on
+/// a grid column, level, and 2 ulps off the column in a tilted plane. The
+/// cell beside the tip holds two parts touching there; polyfill3 wrote them
+/// as one ring, and scene-render refused it ("vertex 1 lies on edge 4").
+/// They are now written as two polygons (`geom::partition::tidy`).
+#[test]
+fn notch_tips_on_a_grid_column_are_written_as_two_parts() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write_pat(&d.join("solid.pat"), 16, |_, _| false);
+    let level = "[[0, 0, 0], [1, 0, 0], [0.5, 0.8, 0], [1, 1, 0], [0, 1, 0]]";
+    let tilted = "[[1.1, 2.3, -7.7], [2.1, 2.3, -7.7], \
+        [1.6, 2.825435069019083, -7.537463886336264], \
+        [2.1, 3.2553364891256056, -7.404479793338661], \
+        [1.1, 3.2553364891256056, -7.404479793338661]]";
+    for vertices in [level, tilted] {
+        let notch = format!(
+            r#"{{"vertices": {vertices}, "color": [100, 100, 100], "pattern": {{"file": "solid.pat", "incr": 0.25}}}}"#
+        );
+        std::fs::write(d.join("notch.json"), notch + "\n").unwrap();
+        for merge in [None, Some("--merge=blocks")] {
+            polyfill3()
+                .current_dir(d)
+                .args(merge)
+                .args(["notch.json", "-o", "cells.ndjson"])
+                .assert()
+                .success();
+            Command::cargo_bin("scene-render")
+                .unwrap()
+                .current_dir(d)
+                .args(["--size", "32x32", "cells.ndjson", "-o", "cells.png"])
+                .assert()
+                .success();
+        }
+    }
+}
+
 /// Regression (review of 2026-11-29, after the spike fix): a comb tilted
 /// 0.3 rad, an ulp or two off the grid. The pieces beside its notches were
 /// simple in the plane, a staircase of ulp steps, but their world vertices

@@ -351,12 +351,14 @@ proptest! {
 }
 
 /// A comb whose walls and notch floors lie on grid lines, or a few ulps off
-/// them, tilted and turned in space: the inputs whose pieces rounding folds
-/// or crosses (review of 2026-11-29; `tidy`). Found by a fuzzer of such
-/// combs, notches and stars, where about 1 in 12 combs gave a piece every
-/// reader refused.
+/// them, or a square with a notch whose tip does, tilted and turned in
+/// space: the inputs whose pieces rounding folds or crosses, or splits into
+/// parts touching at a point (reviews of 2026-11-29; `tidy`). Found by
+/// fuzzers of such combs, notches and stars, where about 1 in 12 combs gave
+/// a piece every reader refused.
 #[derive(Debug, Clone)]
 struct Comb {
+    shape: Shape,
     teeth: usize,
     /// Tooth width, notch floor and tooth top, in texels.
     width: f64,
@@ -374,6 +376,17 @@ struct Comb {
     rotate: f64,
 }
 
+/// What [`Comb::world`] draws.
+#[derive(Debug, Clone, Copy)]
+enum Shape {
+    /// The comb's teeth.
+    Teeth,
+    /// The comb's outline, but one notch cut from the whole right side to a
+    /// tip at this column (texels) moved by `ulps`, at the notch floor's
+    /// height: a reflex vertex on a grid column.
+    Notch { column: u32, ulps: i32 },
+}
+
 /// `x` moved by `n` ulps.
 fn ulps(x: f64, n: i32) -> f64 {
     (0..n.unsigned_abs()).fold(x, |x, _| if n > 0 { x.next_up() } else { x.next_down() })
@@ -388,8 +401,17 @@ impl Comb {
         let top = self.top * i;
         let right = (2 * self.teeth + 1) as f64 * w;
         let mut pts = vec![DVec2::ZERO, DVec2::new(right, 0.0)];
+        if let Shape::Notch { column, ulps: n } = self.shape {
+            let tip = ulps((column as f64 * i).min(right - i), n);
+            pts.extend([DVec2::new(tip, floor), DVec2::new(right, top)]);
+        }
         let mut x = right;
-        for _ in 0..self.teeth {
+        let teeth = if let Shape::Teeth = self.shape {
+            self.teeth
+        } else {
+            0
+        };
+        for _ in 0..teeth {
             let left_wall = ulps(x - 2.0 * w, self.wall_ulps);
             pts.extend([
                 DVec2::new(x, top),
@@ -399,7 +421,10 @@ impl Comb {
             ]);
             x -= 2.0 * w;
         }
-        pts.extend([DVec2::new(w, top), DVec2::new(0.0, top)]);
+        if let Shape::Teeth = self.shape {
+            pts.extend([DVec2::new(w, top)]);
+        }
+        pts.push(DVec2::new(0.0, top));
         pts.dedup();
         let (st, ct) = (math::sin(self.tilt), math::cos(self.tilt));
         let (sp, cp) = (math::sin(self.turn), math::cos(self.turn));
@@ -418,6 +443,10 @@ fn comb_strategy() -> impl Strategy<Value = Comb> {
         (
             2usize..7,
             prop::sample::select(vec![1.0, 1.5, 2.0, 3.0, 4.5]),
+            prop_oneof![
+                Just(Shape::Teeth),
+                (1u32..12, -3i32..=3).prop_map(|(column, ulps)| Shape::Notch { column, ulps })
+            ],
         ),
         (1u32..7, 1u32..7, any::<bool>(), any::<bool>()),
         (-2i32..=2, -2i32..=2),
@@ -446,7 +475,7 @@ fn comb_strategy() -> impl Strategy<Value = Comb> {
     )
         .prop_map(
             |(
-                (teeth, width),
+                (teeth, width, shape),
                 (floor, height, half, raised),
                 (floor_ulps, wall_ulps),
                 incr,
@@ -456,6 +485,7 @@ fn comb_strategy() -> impl Strategy<Value = Comb> {
             )| {
                 let floor = floor as f64 + if half { 0.5 } else { 0.0 };
                 Comb {
+                    shape,
                     teeth,
                     width,
                     floor,
@@ -478,9 +508,9 @@ proptest! {
         ..ProptestConfig::default()
     })]
 
-    /// Every piece of a comb on the grid lines is simple as readers judge
-    /// it, and the pieces keep the invariants of the stars above, but for
-    /// meeting vertex to vertex (`Junctions::Unchecked`).
+    /// Every piece of a comb or notch on the grid lines is simple as
+    /// readers judge it, and the pieces keep the invariants of the stars
+    /// above, but for meeting vertex to vertex (`Junctions::Unchecked`).
     #[test]
     fn combs_on_grid_lines_give_simple_pieces(c in comb_strategy()) {
         let v = c.world();
@@ -499,6 +529,7 @@ proptest! {
 #[test]
 fn regression_comb_turned_90_degrees_whose_piece_crossed_itself() {
     let c = Comb {
+        shape: Shape::Teeth,
         teeth: 2,
         width: 1.5,
         floor: 1.0,
@@ -510,6 +541,34 @@ fn regression_comb_turned_90_degrees_whose_piece_crossed_itself() {
         turn: 0.0,
         offset: DVec3::new(1.1, 2.3, -7.7),
         rotate: 90.0,
+    };
+    let place = Placement {
+        incr: c.incr,
+        horz: 0.0,
+        vert: 0.0,
+    };
+    check_partition(&c.world(), c.rotate, place, Junctions::Unchecked).unwrap();
+}
+
+/// Shrunk from `combs_on_grid_lines_give_simple_pieces` without the split
+/// of `tidy::simple_in_world`: a notch whose tip lies on a grid column, in
+/// a plane turned about z. The cell beside the tip held two parts touching
+/// there, written as one ring that touched itself.
+#[test]
+fn regression_notch_tip_on_a_column_gave_parts_touching_there() {
+    let c = Comb {
+        shape: Shape::Notch { column: 7, ulps: 0 },
+        teeth: 6,
+        width: 2.0,
+        floor: 4.5,
+        top: 9.5,
+        floor_ulps: 0,
+        wall_ulps: 0,
+        incr: 0.3,
+        tilt: 0.0,
+        turn: 1.263166816823379,
+        offset: DVec3::new(100.3, -50.1, 3.3),
+        rotate: 0.0,
     };
     let place = Placement {
         incr: c.incr,

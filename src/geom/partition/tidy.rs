@@ -16,11 +16,15 @@
 //!    an ulp or two off a grid line, the plane ring has a staircase of
 //!    ulp-sized steps, which the world's flat view sees as a repeated vertex,
 //!    a fold, or two edges crossing: [`simple_in_world`].
+//! 3. **Both.** Where a reflex vertex of the input lies on a grid line, or
+//!    within rounding of one, a cell's piece is two parts that touch at that
+//!    point, and the ring that walks both touches itself there: it is split
+//!    into the two parts ([`simple_in_world`]).
 //!
-//! Both only remove vertices, never move one, and only vertices within
-//! rounding of the path through their neighbours, so the piece covers the
-//! same region to within that rounding. Nearly every piece has none to
-//! remove and is left as it was, bit for bit.
+//! No vertex is moved: vertices are removed, only those within rounding of
+//! the path through their neighbours, or rings split at a vertex, so the
+//! pieces cover the same region to within that rounding. Nearly every piece
+//! needs neither and is left as it was, bit for bit.
 
 use crate::geom::plane::{flat_view, signed_area};
 use crate::geom::polygon::orient2d;
@@ -63,17 +67,21 @@ pub enum WorldPiece {
     /// its world vertices can change: no piece at all at this distance from
     /// the origin. Not to be written.
     Noise,
-    /// Not simple by more than rounding: left as far as the repair went.
-    /// Known to come from simple inputs where a reflex vertex lies on a
-    /// grid line, or within ulps of one: the piece is two parts that touch
-    /// at a point, which only splitting the ring would mend.
+    /// Not simple by more than rounding, nor two parts touching at a point:
+    /// left as far as the repair went. Seen only from inputs off their
+    /// plane (within the planarity tolerance), simple as given but not once
+    /// projected to it.
     Tangled,
 }
 
+/// A piece as [`simple_in_world`] hands on the parts it split off: its
+/// world ring and its plane ring, vertex for vertex.
+pub type Part = (Vec<DVec3>, Vec<DVec2>);
+
 /// Makes a piece's world polygon simple as its readers judge it, removing
-/// the same vertices from its plane ring. A piece that is simple already
-/// (nearly every one) costs the check every reader makes and is left as it
-/// was.
+/// the same vertices from its plane ring, or splitting both. A piece that
+/// is simple already (nearly every one) costs the check every reader makes
+/// and is left as it was.
 ///
 /// A piece that is not simple and whose area is within what rounding its
 /// world vertices can change ([`WORLD_ROUNDING_ULPS`] of the largest world
@@ -85,14 +93,29 @@ pub enum WorldPiece {
 ///
 /// Otherwise the world ring's flat view is first rid of spikes and repeats
 /// as [`drop_spikes`] does in the plane. Then, while the check finds a
-/// contact, the one of its vertices (the ends of the edges that meet)
-/// nearest the chord of its neighbours is removed, if it lies within
-/// [`WORLD_ROUNDING_ULPS`] of it: a feature smaller than the mapping's
-/// rounding, which that rounding turned over. A vertex so removed can be
-/// one the neighbouring cell keeps on their shared grid line: the two then
-/// meet with a T-junction whose gap is within that rounding, instead of
-/// vertex to vertex.
-pub fn simple_in_world(world: &mut Vec<DVec3>, plane: &mut Vec<DVec2>) -> WorldPiece {
+/// contact:
+///
+/// - the one of its vertices (the ends of the edges that meet) nearest the
+///   chord of its neighbours is removed, if it lies within
+///   [`WORLD_ROUNDING_ULPS`] of it: a feature smaller than the mapping's
+///   rounding, which that rounding turned over. A vertex so removed can be
+///   one the neighbouring cell keeps on their shared grid line: the two then
+///   meet with a T-junction whose gap is within that rounding, instead of
+///   vertex to vertex;
+/// - else, where a vertex lies on another edge or vertex, or within
+///   [`WORLD_ROUNDING_ULPS`] of an edge it crosses, the ring is split there
+///   into two rings: the piece is two parts that touch at a point (a reflex
+///   vertex of the input on a grid line, or within ulps of one), as the
+///   partition writes the parts of a piece that falls apart. The part that
+///   keeps the first vertex stays in `world` and `plane`; the other, made
+///   simple the same way, is pushed onto `parts` unless it is noise.
+///
+/// The verdict is the first part's.
+pub fn simple_in_world(
+    world: &mut Vec<DVec3>,
+    plane: &mut Vec<DVec2>,
+    parts: &mut Vec<Part>,
+) -> WorldPiece {
     debug_assert_eq!(world.len(), plane.len());
     if check(world).is_ok() {
         return WorldPiece::Simple;
@@ -109,7 +132,7 @@ pub fn simple_in_world(world: &mut Vec<DVec3>, plane: &mut Vec<DVec2>) -> WorldP
     if signed_area(plane).abs() <= slack * perimeter {
         return WorldPiece::Noise;
     }
-    // Each pass removes a vertex or returns.
+    // Each pass removes a vertex, splits off a part, or returns.
     for _ in 0..n {
         let Some(flat) = flat_view(world) else {
             return WorldPiece::Simple;
@@ -140,15 +163,86 @@ pub fn simple_in_world(world: &mut Vec<DVec3>, plane: &mut Vec<DVec2>) -> WorldP
             .min_by(|x, y| x.1.total_cmp(&y.1))
             .expect("a contact has vertices");
         // NaN (coincident neighbours) is a spike, removed above.
-        if d.is_nan() || d > slack {
-            return WorldPiece::Tangled;
+        if d <= slack {
+            world.remove(k);
+            plane.remove(k);
+            continue;
         }
-        world.remove(k);
-        plane.remove(k);
+        let Some(split) = touch(contact, &flat, slack) else {
+            return WorldPiece::Tangled;
+        };
+        let (mut w, mut p) = split.cut(world, plane);
+        if simple_in_world(&mut w, &mut p, parts) != WorldPiece::Noise {
+            parts.push((w, p));
+        }
     }
     match check(world) {
         Ok(()) => WorldPiece::Simple,
         Err(_) => WorldPiece::Tangled,
+    }
+}
+
+/// Where a ring touches itself, to be split there ([`simple_in_world`]).
+#[derive(Clone, Copy, Debug)]
+enum Touch {
+    /// Vertex `vertex` lies on edge `edge` (or within rounding of it).
+    OnEdge { vertex: usize, edge: usize },
+    /// Vertices `a < b` are the same point.
+    SamePoint { a: usize, b: usize },
+}
+
+/// The touch a contact is, if it is one: a vertex at another, a vertex on
+/// an edge, or an end of one of two crossing or overlapping edges within
+/// `slack` of the other (measured in the flat view `flat`).
+fn touch(contact: Contact, flat: &[DVec2], slack: f64) -> Option<Touch> {
+    let n = flat.len();
+    match contact {
+        Contact::SamePoint { a, b } => Some(Touch::SamePoint { a, b }),
+        Contact::VertexOnEdge { vertex, edge, .. } => Some(Touch::OnEdge { vertex, edge }),
+        Contact::Cross { a, b, .. } | Contact::Overlap { a, b, .. } => {
+            let off_edge = |v: usize, e: usize| {
+                let (p, q, x) = (flat[e], flat[(e + 1) % n], flat[v]);
+                let t = ((x - p).dot(q - p) / (q - p).length_squared()).clamp(0.0, 1.0);
+                (p + (q - p) * t - x).length()
+            };
+            [(a, b), ((a + 1) % n, b), (b, a), ((b + 1) % n, a)]
+                .into_iter()
+                .map(|(v, e)| (v, e, off_edge(v, e)))
+                .filter(|&(_, _, d)| d <= slack)
+                .min_by(|x, y| x.2.total_cmp(&y.2))
+                .map(|(vertex, edge, _)| Touch::OnEdge { vertex, edge })
+        }
+    }
+}
+
+impl Touch {
+    /// Splits the ring in two: one part stays in `world` and `plane`, the
+    /// other is returned. A vertex on an edge starts both parts (one runs
+    /// from it to the edge's start, the other from the edge's end back to
+    /// it); two vertices at one point split the ring between them. Both
+    /// parts keep the ring's order, so its winding.
+    fn cut(self, world: &mut Vec<DVec3>, plane: &mut Vec<DVec2>) -> Part {
+        let n = world.len();
+        // The part cut off, in ring order, and the vertex both parts keep.
+        let (off, shared): (Vec<usize>, Option<usize>) = match self {
+            Touch::SamePoint { a, b } => ((a..b).collect(), None),
+            Touch::OnEdge { vertex, edge } => {
+                let len = (edge + n - vertex) % n + 1;
+                ((0..len).map(|i| (vertex + i) % n).collect(), Some(vertex))
+            }
+        };
+        let mut stays = vec![true; n];
+        for &i in &off {
+            stays[i] = Some(i) == shared;
+        }
+        let cut_off: Part = (
+            off.iter().map(|&i| world[i]).collect(),
+            off.iter().map(|&i| plane[i]).collect(),
+        );
+        let stay: Vec<usize> = (0..n).filter(|&i| stays[i]).collect();
+        *world = stay.iter().map(|&i| world[i]).collect();
+        *plane = stay.iter().map(|&i| plane[i]).collect();
+        cut_off
     }
 }
 
@@ -298,10 +392,62 @@ mod tests {
             // The plane ring goes along: here a copy of the flat view.
             let mut plane: Vec<DVec2> = world.iter().map(|p| p.truncate()).collect();
             let mut w = world.clone();
-            assert_eq!(simple_in_world(&mut w, &mut plane), WorldPiece::Simple);
+            assert_eq!(
+                simple_in_world(&mut w, &mut plane, &mut Vec::new()),
+                WorldPiece::Simple
+            );
             assert_eq!(w, kept.map(|i| world[i]));
             assert_eq!(plane, kept.map(|i| world[i].truncate()));
             assert!(check(&w).is_ok());
+        }
+    }
+
+    /// Two pieces polyfill3 wrote before splitting (a review's pentagons,
+    /// 2026-11-29): a notch's tip on a grid column, exactly (level) and 2
+    /// ulps off it (tilted, where the mapping put it on the column). Each
+    /// cell's piece is two parts touching at the tip, and was written as
+    /// one ring ("vertex 1 lies on edge 4"); it comes out as the two parts,
+    /// each simple, which cover what the ring did.
+    #[test]
+    fn parts_that_touch_at_a_point_are_split_there() {
+        let level = p3(&[
+            [0.53125, 0.75, 0.0],
+            [0.5, 0.8, 0.0],
+            [0.75, 0.9, 0.0],
+            [0.75, 1.0, 0.0],
+            [0.5, 1.0, 0.0],
+            [0.5, 0.75, 0.0],
+        ]);
+        let tilted = p3(&[
+            [1.6, 3.0165023668442044, -7.478359845003995],
+            [1.6, 2.7776682445628027, -7.55223989666933],
+            [1.6454545454545455, 2.7776682445628027, -7.55223989666933],
+            [1.6, 2.825435069019083, -7.537463886336263],
+            [1.8222222222222226, 3.0165023668442044, -7.478359845003995],
+        ]);
+        // The parts' vertices, as indices into the ring: the one that stays,
+        // and the one split off.
+        for (ring, stays, off) in [
+            (level, vec![0, 1, 5], vec![1, 2, 3, 4]),
+            (tilted, vec![1, 2, 3], vec![3, 4, 0]),
+        ] {
+            assert!(check(&ring).is_err());
+            let flat = |w: &[DVec3]| w.iter().map(|p| p.truncate()).collect::<Vec<_>>();
+            let (mut w, mut plane, mut parts) = (ring.clone(), flat(&ring), Vec::new());
+            assert_eq!(
+                simple_in_world(&mut w, &mut plane, &mut parts),
+                WorldPiece::Simple
+            );
+            assert_eq!(w, stays.iter().map(|&i| ring[i]).collect::<Vec<_>>());
+            assert_eq!(plane, flat(&w));
+            let [(w2, p2)] = &parts[..] else {
+                panic!("{parts:?}");
+            };
+            assert_eq!(*w2, off.iter().map(|&i| ring[i]).collect::<Vec<_>>());
+            assert_eq!(*p2, flat(w2));
+            assert!(check(&w).is_ok() && check(w2).is_ok());
+            let (whole, split) = (shoelace(&flat(&ring)), shoelace(&plane) + shoelace(p2));
+            assert!((whole - split).abs() <= 1e-15 * whole, "{whole} {split}");
         }
     }
 
@@ -340,7 +486,11 @@ mod tests {
         ] {
             let mut w = ring.clone();
             let mut plane: Vec<DVec2> = w.iter().map(|p| p.truncate()).collect();
-            assert_eq!(simple_in_world(&mut w, &mut plane), made, "{ring:?}");
+            assert_eq!(
+                simple_in_world(&mut w, &mut plane, &mut Vec::new()),
+                made,
+                "{ring:?}"
+            );
             assert_eq!(w, ring);
         }
     }
