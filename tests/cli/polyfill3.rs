@@ -1146,6 +1146,23 @@ clitest!(
     }
 );
 
+/// Cuts `file` in `d` with polyfill3 (and `merge`, if given) and checks that
+/// scene-render reads back every polygon it wrote.
+fn pieces_are_read_back(d: &std::path::Path, file: &str, merge: Option<&str>) {
+    polyfill3()
+        .current_dir(d)
+        .args(merge)
+        .args([file, "-o", "cells.ndjson"])
+        .assert()
+        .success();
+    Command::cargo_bin("scene-render")
+        .unwrap()
+        .current_dir(d)
+        .args(["--size", "32x32", "cells.ndjson", "-o", "cells.png"])
+        .assert()
+        .success();
+}
+
 /// Regression (review of 2026-11-29): a comb tilted 0.3 rad whose notches'
 /// floors lie within rounding of a grid row. A cell there was clipped with
 /// a zero-width spike up the tooth beside it (two vertices one ulp apart),
@@ -1177,18 +1194,7 @@ fn cells_beside_a_notch_on_a_grid_line_have_no_spike() {
     );
     std::fs::write(d.join("comb.json"), comb + "\n").unwrap();
     for merge in [None, Some("--merge"), Some("--merge=blocks")] {
-        polyfill3()
-            .current_dir(d)
-            .args(merge)
-            .args(["comb.json", "-o", "cells.ndjson"])
-            .assert()
-            .success();
-        Command::cargo_bin("scene-render")
-            .unwrap()
-            .current_dir(d)
-            .args(["--size", "64x64", "cells.ndjson", "-o", "cells.png"])
-            .assert()
-            .success();
+        pieces_are_read_back(d, "comb.json", merge);
     }
 }
 
@@ -1213,18 +1219,7 @@ fn notch_tips_on_a_grid_column_are_written_as_two_parts() {
         );
         std::fs::write(d.join("notch.json"), notch + "\n").unwrap();
         for merge in [None, Some("--merge=blocks")] {
-            polyfill3()
-                .current_dir(d)
-                .args(merge)
-                .args(["notch.json", "-o", "cells.ndjson"])
-                .assert()
-                .success();
-            Command::cargo_bin("scene-render")
-                .unwrap()
-                .current_dir(d)
-                .args(["--size", "32x32", "cells.ndjson", "-o", "cells.png"])
-                .assert()
-                .success();
+            pieces_are_read_back(d, "notch.json", merge);
         }
     }
 }
@@ -1269,17 +1264,6 @@ fn tilted_comb_pieces_that_rounding_folds_are_written_simple() {
     );
     std::fs::write(d.join("comb.json"), comb + "\n").unwrap();
     for merge in [None, Some("--merge"), Some("--merge=blocks")] {
-        polyfill3()
-            .current_dir(d)
-            .args(merge)
-            .args(["comb.json", "-o", "cells.ndjson"])
-            .assert()
-            .success();
-        Command::cargo_bin("scene-render")
-            .unwrap()
-            .current_dir(d)
-            .args(["--size", "32x32", "cells.ndjson", "-o", "cells.png"])
-            .assert()
-            .success();
+        pieces_are_read_back(d, "comb.json", merge);
     }
 }

@@ -437,6 +437,19 @@ impl Comb {
     }
 }
 
+impl Comb {
+    /// Partitions the comb and checks the invariants of its pieces, but for
+    /// meeting vertex to vertex (`Junctions::Unchecked`).
+    fn check(&self) -> Result<(), String> {
+        let place = Placement {
+            incr: self.incr,
+            horz: 0.0,
+            vert: 0.0,
+        };
+        check_partition(&self.world(), self.rotate, place, Junctions::Unchecked)
+    }
+}
+
 fn comb_strategy() -> impl Strategy<Value = Comb> {
     let half_turn = std::f64::consts::PI;
     (
@@ -513,12 +526,10 @@ proptest! {
     /// above, but for meeting vertex to vertex (`Junctions::Unchecked`).
     #[test]
     fn combs_on_grid_lines_give_simple_pieces(c in comb_strategy()) {
-        let v = c.world();
         // Rounding in the tilt can make the comb itself touch itself:
         // outside the contract, and refused by every reader.
-        prop_assume!(crate::geom::simple::check(&v).is_ok());
-        let place = Placement { incr: c.incr, horz: 0.0, vert: 0.0 };
-        let r = check_partition(&v, c.rotate, place, Junctions::Unchecked);
+        prop_assume!(crate::geom::simple::check(&c.world()).is_ok());
+        let r = c.check();
         prop_assert!(r.is_ok(), "{:?}: {}", c, r.unwrap_err());
     }
 }
@@ -542,12 +553,7 @@ fn regression_comb_turned_90_degrees_whose_piece_crossed_itself() {
         offset: DVec3::new(1.1, 2.3, -7.7),
         rotate: 90.0,
     };
-    let place = Placement {
-        incr: c.incr,
-        horz: 0.0,
-        vert: 0.0,
-    };
-    check_partition(&c.world(), c.rotate, place, Junctions::Unchecked).unwrap();
+    c.check().unwrap();
 }
 
 /// Shrunk from `combs_on_grid_lines_give_simple_pieces` without the split
@@ -570,12 +576,7 @@ fn regression_notch_tip_on_a_column_gave_parts_touching_there() {
         offset: DVec3::new(100.3, -50.1, 3.3),
         rotate: 0.0,
     };
-    let place = Placement {
-        incr: c.incr,
-        horz: 0.0,
-        vert: 0.0,
-    };
-    check_partition(&c.world(), c.rotate, place, Junctions::Unchecked).unwrap();
+    c.check().unwrap();
 }
 
 /// The smallest incr of the range, once (too slow for every case).
