@@ -176,9 +176,12 @@ impl BlockMerger {
             self.closed.extend(self.below.pop_front());
         }
         let (bottom, top) = run.vertices.split_at(run.cells + 1);
-        // The side check alone decides (a block of other columns, or of a
-        // row that is not the one below, has other corners); the column
-        // and count tests settle most misses before it.
+        // For a partition's runs the side check alone decides (a block of
+        // other columns, or of a row that is not the one below, has other
+        // corners). The column test also keeps apart runs whose corners
+        // meet though their columns differ (squares given, not a grid's:
+        // `corners_that_meet_join_no_rows_that_do_not_follow_nor_other_columns`),
+        // and with the count test it settles most misses first.
         let continues = |b: &OpenBlock| {
             b.first == run.first
                 && b.cols == run.cells
