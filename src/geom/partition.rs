@@ -38,6 +38,7 @@ use super::clip::{clip_closed, clip_tagged, split_on_border, Axis, TVertex, Tag}
 use super::plane::{newell_normal, signed_area, PlanePolygon};
 use glam::{DVec2, DVec3};
 use tidy::{drop_spikes, simple_in_world, Part, WorldPiece};
+pub use tidy::{simple_on_plane, ProjectedContact, OFF_PLANE_SLACK};
 
 /// Pattern placement in a polygon's plane (docs/stream-format.md): texel side and shifts.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -313,7 +314,9 @@ impl Partitioner {
     }
 
     /// Partitions `poly` by `grid`, handing every non-transparent cell with
-    /// positive area to `sink`.
+    /// positive area to `sink`. `poly`'s ring should be simple: an input
+    /// off its plane that its projection made cross itself is mended (or
+    /// refused) by [`simple_on_plane`] first, as polyfill3 does.
     pub fn run(&mut self, poly: &PlanePolygon, grid: &Grid, sink: &mut impl CellSink) {
         let frame = &poly.frame;
         let orig = &poly.points;

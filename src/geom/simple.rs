@@ -78,6 +78,40 @@ pub enum Contact {
     },
 }
 
+impl Contact {
+    /// The vertices where the polygon meets itself: the ends of the two
+    /// edges that cross or overlap, the vertex and the ends of the edge it
+    /// lies on, or the two vertices at one point.
+    pub(crate) fn vertices(self) -> SmallVec<[usize; 4]> {
+        match self {
+            Contact::Cross { a, b, n } | Contact::Overlap { a, b, n } => {
+                SmallVec::from_buf([a, (a + 1) % n, b, (b + 1) % n])
+            }
+            Contact::VertexOnEdge { vertex, edge, n } => {
+                SmallVec::from_slice(&[vertex, edge, (edge + 1) % n])
+            }
+            Contact::SamePoint { a, b } => SmallVec::from_slice(&[a, b]),
+        }
+    }
+
+    /// Of [`Contact::vertices`], the one nearest the chord of its two
+    /// neighbours in the ring `p` (the polygon as the contact numbers it),
+    /// and that distance: the vertex whose removal changes the ring least.
+    /// The distance is NaN where the neighbours coincide (a spike).
+    pub(crate) fn nearest_to_chord(self, p: &[DVec2]) -> (usize, f64) {
+        let n = p.len();
+        let off_chord = |k: usize| {
+            let (a, b, c) = (p[(k + n - 1) % n], p[k], p[(k + 1) % n]);
+            orient2d(a, b, c).abs() / (c - a).length()
+        };
+        self.vertices()
+            .into_iter()
+            .map(|k| (k, off_chord(k)))
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .expect("a contact has vertices")
+    }
+}
+
 /// "edge 3 (vertex 3 to 0)".
 struct Edge(usize, usize);
 

@@ -10,6 +10,7 @@ pub use super::cell_writer::CellWriter;
 use super::error::{CellsError, PartitionError};
 use crate::error::OptionError;
 use crate::geom::merge::Merge;
+use crate::geom::partition::simple_on_plane;
 use crate::geom::partition::{estimate_cells, thesis_partition};
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::geom::{map_to_plane, outline, Grid, Partitioner, Placement, Shape};
@@ -557,7 +558,8 @@ impl<W: Write> Job<'_, W> {
             Shape::Polygon(v) => v.to_vec(),
             other => outline(other, a.tolerance),
         };
-        let poly = map_to_plane(&vertices, rotate, a.planarity_tol)?;
+        let mut poly = map_to_plane(&vertices, rotate, a.planarity_tol)?;
+        simple_on_plane(&mut poly)?;
         if !self.warned_coarse {
             if let Some(c) = super::CoarseTexture::check(rec.index, poly.area, place.incr) {
                 (self.warn)(c.to_string());

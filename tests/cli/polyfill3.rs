@@ -1224,6 +1224,24 @@ fn notch_tips_on_a_grid_column_are_written_as_two_parts() {
     }
 }
 
+/// Regression (review of 2026-11-29): a quadrilateral whose vertices 1 and 2
+/// are 3.5e-7 apart and lie off its plane (within `--planarity-tol`). It is
+/// simple as readers judge it, but projected onto its plane its edges 0 and
+/// 2 crossed, and scene-render refused a cell: "record 2: the polygon
+/// crosses itself". polyfill3 now drops the vertex within that distance of
+/// its neighbours' chord (`geom::partition::simple_on_plane`).
+#[test]
+fn an_input_that_crosses_itself_only_once_projected_is_mended() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write_pat(&d.join("solid.pat"), 16, |_, _| false);
+    let quad = r#"{"vertices": [[1.5, 0.3, 0.0], [0.90982636, 0.545175, 0.35355339], [0.90982636, 0.545175, 0.353553], [0.6, 2.0, 1.8]], "color": [100, 100, 100], "pattern": {"file": "solid.pat", "incr": 0.5, "rotate": 270}}"#;
+    std::fs::write(d.join("quad.json"), format!("{quad}\n")).unwrap();
+    for merge in [None, Some("--merge"), Some("--merge=blocks")] {
+        pieces_are_read_back(d, "quad.json", merge);
+    }
+}
+
 /// Regression (review of 2026-11-29, after the spike fix): a comb tilted
 /// 0.3 rad, an ulp or two off the grid. The pieces beside its notches were
 /// simple in the plane, a staircase of ulp steps, but their world vertices
