@@ -559,7 +559,6 @@ impl<W: Write> Job<'_, W> {
             other => outline(other, a.tolerance),
         };
         let mut poly = map_to_plane(&vertices, rotate, a.planarity_tol)?;
-        simple_on_plane(&mut poly)?;
         if !self.warned_coarse {
             if let Some(c) = super::CoarseTexture::check(rec.index, poly.area, place.incr) {
                 (self.warn)(c.to_string());
@@ -608,6 +607,9 @@ impl<W: Write> Job<'_, W> {
             ));
             self.warned_state = true;
         }
+        // Only the cut needs the projection simple: with --uv the record
+        // was written whole, as readers take it.
+        simple_on_plane(&mut poly)?;
         let grid = Grid::new(&poly.points, place)?;
         let estimate = (poly.area / (place.incr * place.incr)).min(estimate_cells(
             grid.xmax - grid.xmin,

@@ -546,13 +546,7 @@ mod tests {
             [0.5, 1.0, 1.0],
             [0.0, 1.0, 1.0],
         ]);
-        let pulled = p3(&[
-            [0.0, 0.0, 1.0],
-            [2.0, 0.0, 1.0],
-            [2.0, 2.0, 1.0],
-            [0.0, 2.0, 1.0],
-            [1.0, -1.0, 1.0],
-        ]);
+        let pulled = pulled_square();
         // 3e6 from the origin (a fuzzer's tilted comb): a sliver the plane
         // resolved, mapped to a triangle and back along one of its sides.
         let far_sliver = p3(&[
@@ -575,6 +569,18 @@ mod tests {
             );
             assert_eq!(w, ring);
         }
+    }
+
+    /// A square whose last edge is pulled through its first: a real
+    /// crossing, by far more than rounding.
+    fn pulled_square() -> Vec<DVec3> {
+        p3(&[
+            [0.0, 0.0, 1.0],
+            [2.0, 0.0, 1.0],
+            [2.0, 2.0, 1.0],
+            [0.0, 2.0, 1.0],
+            [1.0, -1.0, 1.0],
+        ])
     }
 
     /// An input simple as readers judge it whose projection onto its plane
@@ -612,13 +618,7 @@ mod tests {
         simple_on_plane(&mut poly).unwrap();
         assert_eq!(poly, given);
 
-        let pulled = p3(&[
-            [0.0, 0.0, 1.0],
-            [2.0, 0.0, 1.0],
-            [2.0, 2.0, 1.0],
-            [0.0, 2.0, 1.0],
-            [1.0, -1.0, 1.0],
-        ]);
+        let pulled = pulled_square();
         let mut poly = map_to_plane(&pulled, 0.0, 1e-6).unwrap();
         let e = simple_on_plane(&mut poly).unwrap_err();
         assert_eq!(e.contact, check(&pulled).unwrap_err());
