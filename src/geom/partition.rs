@@ -38,7 +38,7 @@ use super::clip::{clip_closed, clip_tagged, split_on_border, Axis, TVertex, Tag}
 use super::plane::{newell_normal, signed_area, PlanePolygon};
 use glam::{DVec2, DVec3};
 use tidy::{drop_spikes, simple_in_world, Part, WorldPiece};
-pub use tidy::{simple_on_plane, ProjectedContact, OFF_PLANE_SLACK};
+pub use tidy::{simple_on_plane, ProjectedContact};
 
 /// Pattern placement in a polygon's plane (docs/stream-format.md): texel side and shifts.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -263,6 +263,12 @@ pub type FlatView = SmallVec<[DVec2; 8]>;
 /// within [`ZERO_AREA_REL`] of the size² (the vertices are collinear or
 /// repeated, which [`map_to_plane`] words as no area) or a vertex is not finite.
 pub fn flat_view(v: &[DVec3]) -> Option<FlatView> {
+    flat_view_along(v).map(|(flat, _)| flat)
+}
+
+/// [`flat_view`], and the index (0, 1, 2 for x, y, z) of the coordinate
+/// axis it drops.
+pub(crate) fn flat_view_along(v: &[DVec3]) -> Option<(FlatView, usize)> {
     let &first = v.first()?;
     if v.iter().any(|p| !p.is_finite()) {
         return None;
@@ -298,18 +304,18 @@ pub fn flat_view(v: &[DVec3]) -> Option<FlatView> {
     if !has_area(normal) {
         return None;
     }
-    if level.is_some() {
-        return level;
+    if let Some(flat) = level {
+        return Some((flat, 2));
     }
     let a = normal.abs();
-    let pick: fn(&DVec3) -> DVec2 = if a.z >= a.x && a.z >= a.y {
-        |p| DVec2::new(p.x, p.y)
+    let (pick, axis): (fn(&DVec3) -> DVec2, usize) = if a.z >= a.x && a.z >= a.y {
+        (|p| DVec2::new(p.x, p.y), 2)
     } else if a.x >= a.y {
-        |p| DVec2::new(p.y, p.z)
+        (|p| DVec2::new(p.y, p.z), 0)
     } else {
-        |p| DVec2::new(p.z, p.x)
+        (|p| DVec2::new(p.z, p.x), 1)
     };
-    Some(v.iter().map(pick).collect())
+    Some((v.iter().map(pick).collect(), axis))
 }
 
 /// Signed area of a 2D polygon (positive when counter-clockwise): half the

@@ -1224,21 +1224,26 @@ fn notch_tips_on_a_grid_column_are_written_as_two_parts() {
     }
 }
 
-/// Regression (review of 2026-11-29): a quadrilateral whose vertices 1 and 2
-/// are 3.5e-7 apart and lie off its plane (within `--planarity-tol`). It is
-/// simple as readers judge it, but projected onto its plane its edges 0 and
-/// 2 crossed, and scene-render refused a cell: "record 2: the polygon
-/// crosses itself". polyfill3 now drops the vertex within that distance of
-/// its neighbours' chord (`geom::partition::simple_on_plane`).
+/// Regressions (reviews of 2026-11-29): inputs off their plane (within
+/// `--planarity-tol`), simple as readers judge them, whose projection onto
+/// the plane crosses itself. A quadrilateral whose vertices 1 and 2 are
+/// 3.5e-7 apart: scene-render refused a cell ("record 2: the polygon
+/// crosses itself"). A notch whose tip comes within its distance off the
+/// plane of another edge: a first fix, which removed vertices, refused it.
+/// polyfill3 now projects such an input along the axis readers drop
+/// (`geom::partition::simple_on_plane`), and cuts it.
 #[test]
-fn an_input_that_crosses_itself_only_once_projected_is_mended() {
+fn inputs_that_cross_themselves_only_once_projected_are_cut() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     write_pat(&d.join("solid.pat"), 16, |_, _| false);
     let quad = r#"{"vertices": [[1.5, 0.3, 0.0], [0.90982636, 0.545175, 0.35355339], [0.90982636, 0.545175, 0.353553], [0.6, 2.0, 1.8]], "color": [100, 100, 100], "pattern": {"file": "solid.pat", "incr": 0.5, "rotate": 270}}"#;
-    std::fs::write(d.join("quad.json"), format!("{quad}\n")).unwrap();
-    for merge in [None, Some("--merge"), Some("--merge=blocks")] {
-        pieces_are_read_back(d, "quad.json", merge);
+    let notch = r#"{"vertices": [[-1.9014292945093982, -5.67270629170941, -31260.54190259487], [-1.8849057000107814, -5.686284134770423, -31260.509178832246], [-1.8847218339996177, -5.722358576610978, -31260.52423979094], [-1.9013538296999375, -5.68750918211886, -31260.548082760488], [-1.8847665375279228, -5.713585406395296, -31260.520577027713]], "color": [100, 100, 100], "pattern": {"file": "solid.pat", "incr": 0.0017588730511829433}}"#;
+    for input in [quad, notch] {
+        std::fs::write(d.join("input.json"), format!("{input}\n")).unwrap();
+        for merge in [None, Some("--merge"), Some("--merge=blocks")] {
+            pieces_are_read_back(d, "input.json", merge);
+        }
     }
 }
 

@@ -21,17 +21,19 @@
 //!    point, and the ring that walks both touches itself there: it is split
 //!    into the two parts ([`simple_in_world`]).
 //!
+//! No vertex of a piece is moved: vertices are removed, only those within
+//! rounding of the path through their neighbours, or rings split at a
+//! vertex, so the pieces cover the same region to within that rounding.
+//!
 //! And before the cut, the input itself: one within the planarity
 //! tolerance of its plane, simple as given, can cross itself once
-//! projected onto the plane ([`simple_on_plane`]).
+//! projected onto the plane; it is projected along the readers' axis
+//! instead ([`simple_on_plane`]).
 //!
-//! No vertex is moved: vertices are removed, only those within rounding
-//! (or, in the input, within its distance off the plane) of the path
-//! through their neighbours, or rings split at a vertex, so the pieces
-//! cover the same region to within that. Nearly every piece and input
-//! needs none of it and is left as it was, bit for bit.
+//! Nearly every piece and input needs none of this and is left as it was,
+//! bit for bit.
 
-use crate::geom::plane::{flat_view, signed_area, PlanePolygon};
+use crate::geom::plane::{flat_view, flat_view_along, signed_area, PlanePolygon};
 use crate::geom::simple::{check, find_contact, folds_back, Contact};
 use crate::text::readable;
 use glam::{DVec2, DVec3};
@@ -173,30 +175,14 @@ pub fn simple_in_world(
     }
 }
 
-/// How far a vertex of an input's plane ring may lie from the chord of its
-/// neighbours for [`simple_on_plane`] to remove it, in units of the input's
-/// largest distance off its plane (`PlanePolygon::deviation`): 4.
-///
-/// Why that size: the readers judge an input on its flat view (two world
-/// coordinates of each vertex, [`flat_view`]); the partition cuts its
-/// orthogonal projection onto the best-fit plane. A vertex `d` off the
-/// plane sits at most `0.82 d` (`d` times `sqrt(2/3)`, the part of the
-/// normal the flat view keeps) from where the projection's point shows in
-/// the flat view, and the flat view shrinks plane distances by at most
-/// `sqrt(3)` (its axis is the normal's largest component, at least
-/// `1/sqrt(3)` of it): so the plane ring is the flat view's ring, mapped
-/// back to the plane, with each vertex moved by at most `sqrt(2) d`. A
-/// vertex that moved across the chord of its moved neighbours lies within
-/// about three of those units of it. Measured by the property test
-/// `inputs_off_their_plane_give_simple_pieces`: 2,371 vertices removed in
-/// 60,000 cases, each within 1.8 of these units of its chord.
-pub const OFF_PLANE_SLACK: f64 = 4.0;
-
 /// An input that still meets itself once projected onto its plane, after
-/// [`simple_on_plane`] removed what it may.
+/// [`simple_on_plane`] did what it may: readers take it as given, but it
+/// cannot be cut.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ProjectedContact {
-    /// The first contact of the projected ring, numbered as the input's vertices.
+    /// Where the projected ring meets itself, numbered as the input's
+    /// vertices (an edge by the input edge it starts with, where vertices
+    /// within rounding of it were removed).
     pub contact: Contact,
     /// The input's largest distance off its plane, in world units.
     pub deviation: f64,
@@ -206,8 +192,8 @@ impl fmt::Display for ProjectedContact {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "once its vertices are projected onto its plane (they lie up to {} off it, \
-             within --planarity-tol), {}",
+            "its vertices lie up to {} off its plane (within --planarity-tol), and \
+             projected onto the plane to be cut, {}: give its vertices on one plane, or split it",
             readable(self.deviation),
             self.contact
         )
@@ -217,51 +203,84 @@ impl fmt::Display for ProjectedContact {
 impl std::error::Error for ProjectedContact {}
 
 /// Makes an input's ring in its plane simple where projecting its vertices
-/// onto the plane made it meet itself: an input within the planarity
-/// tolerance of its plane, simple as the readers judge it (on its flat
-/// view), can cross itself once projected, where it has features as small
-/// as its distance off the plane (two vertices 3.5e-7 apart, say).
+/// (`world`) onto the plane made it meet itself.
+///
+/// Readers judge an input on its flat view ([`flat_view`]: two of each
+/// vertex's world coordinates, as written); the partition cuts the
+/// orthogonal projection onto the best-fit plane, [`PlanePolygon::points`].
+/// An input off its plane (within the planarity tolerance) can be simple on
+/// the first and cross itself on the second, where it has features as
+/// small as its distance off the plane: two vertices 3.5e-7 apart, a
+/// notch's tip that close to an edge.
 ///
 /// A ring that is simple (nearly every one) costs one check
-/// ([`find_contact`]) and is left as it was. Otherwise, as for the
-/// partition's pieces (`simple_in_world`), spikes and repeats are dropped,
-/// then, while the ring meets itself, the vertex of the contact nearest the
-/// chord of its neighbours is removed if it lies within [`OFF_PLANE_SLACK`]
-/// times the input's distance off its plane, plus 16 `EPSILON`s of its
-/// largest world coordinate (what mapping to the plane rounds): the piece
-/// of the input so lost is a sliver no wider than the tolerance the input
-/// was let through with. An input that still meets itself is refused with
-/// its first contact, numbered as the input's vertices, and its ring left
-/// as far as the repair went.
-pub fn simple_on_plane(poly: &mut PlanePolygon) -> Result<(), ProjectedContact> {
+/// ([`find_contact`]) and is left as it was, bit for bit. Otherwise each
+/// vertex is projected onto the plane along the axis the flat view drops,
+/// not along the normal: the two coordinates readers look at stay as
+/// written, and the third is the plane's at that point, so the ring in the
+/// plane is an affine image of the flat view readers took as simple, and is
+/// simple but for rounding. (A vertex `d` off the plane then moves by up to
+/// `sqrt(3) d`, not `d`: the flat view drops the normal's largest
+/// component, at least `1/sqrt(3)` of it.) What rounding leaves is mended
+/// as for the partition's pieces (`simple_in_world`): spikes and repeats
+/// are dropped, and, while the ring meets itself, the vertex of the contact
+/// nearest the chord of its neighbours is removed if it lies within 16
+/// `EPSILON`s of the largest world coordinate of it. An input that still
+/// meets itself is refused: [`ProjectedContact`].
+pub fn simple_on_plane(poly: &mut PlanePolygon, world: &[DVec3]) -> Result<(), ProjectedContact> {
     let Some(first) = find_contact(&poly.points) else {
         return Ok(());
     };
-    let refused = ProjectedContact {
-        contact: first,
+    debug_assert_eq!(world.len(), poly.points.len());
+    let frame = poly.frame;
+    let refuse = |contact| ProjectedContact {
+        contact,
         deviation: poly.deviation,
     };
-    let largest = poly.frame.origin.abs().max_element() + poly.size;
-    let slack = OFF_PLANE_SLACK * poly.deviation + WORLD_ROUNDING_ULPS * f64::EPSILON * largest;
+    // No flat view: readers let it through as collinear, which the plane
+    // fit would have refused as without area. And the axis is the largest
+    // component of the readers' normal, at least 0.577 of it; far less of
+    // the plane's means the two normals disagree (a ring crossing itself
+    // as given, whose loops cancel): no projection along it is sound.
+    let axis = match flat_view_along(world) {
+        Some((_, axis)) if frame.normal[axis].abs() >= 0.5 => axis,
+        _ => return Err(refuse(first)),
+    };
+    // Along the axis: (p - origin) . normal = 0 solved for p[axis].
+    poly.points = world
+        .iter()
+        .map(|&p| {
+            let mut q = p;
+            q[axis] -= (p - frame.origin).dot(frame.normal) / frame.normal[axis];
+            frame.to_plane(q)
+        })
+        .collect();
+    let largest = frame.origin.abs().max_element() + poly.size;
+    let slack = WORLD_ROUNDING_ULPS * f64::EPSILON * largest;
+    // The input's number of each vertex left.
+    let mut given: Vec<usize> = (0..world.len()).collect();
     let ring = &mut poly.points;
-    for _ in 0..ring.len() {
-        drop_spikes(ring);
+    loop {
+        if let Some(keep) = spike_free(ring) {
+            *ring = keep.iter().map(|&i| ring[i]).collect();
+            given = keep.iter().map(|&i| given[i]).collect();
+        }
         let Some(contact) = find_contact(ring) else {
             // Fewer than 3 vertices left: the input was spikes only.
             return if ring.len() >= 3 {
                 Ok(())
             } else {
-                Err(refused)
+                Err(refuse(first))
             };
         };
         let (k, d) = contact.nearest_to_chord(ring);
         // NaN (coincident neighbours) is a spike, dropped above.
         if d.is_nan() || d > slack {
-            break;
+            return Err(refuse(contact.renumbered(&given, world.len())));
         }
         ring.remove(k);
+        given.remove(k);
     }
-    Err(refused)
 }
 
 /// Where a ring touches itself, to be split there ([`simple_in_world`]).
@@ -583,29 +602,53 @@ mod tests {
         ])
     }
 
-    /// An input simple as readers judge it whose projection onto its plane
-    /// crosses itself (the review's quadrilateral, vertices 1 and 2 3.5e-7
-    /// apart) loses the vertex nearest its neighbours' chord; a simple one
-    /// is left bit for bit; one that crosses itself by more than its
-    /// distance off the plane is refused with its contact, numbered as given.
+    /// Inputs simple as readers judge them whose projection onto their
+    /// plane meets itself: the review's quadrilateral (vertices 1 and 2
+    /// 3.5e-7 apart: edges 0 and 2 crossed) and notch (its tip within its
+    /// distance off the plane of another edge: edges 1 and 3 crossed). Each
+    /// comes out simple, projected along the axis the flat view drops. A simple one is left bit for bit; one that crosses
+    /// itself as given is refused with its contact, numbered as given.
     #[test]
-    fn inputs_that_projection_made_cross_lose_a_vertex_and_others_are_refused() {
+    fn inputs_that_projection_made_cross_are_projected_along_the_readers_axis() {
         use crate::geom::plane::map_to_plane;
-        use crate::geom::simple::find_contact;
         let quad = p3(&[
             [1.5, 0.3, 0.0],
             [0.90982636, 0.545175, 0.35355339],
             [0.90982636, 0.545175, 0.353553],
             [0.6, 2.0, 1.8],
         ]);
-        assert!(check(&quad).is_ok());
-        let mut poly = map_to_plane(&quad, 270.0, 1e-6).unwrap();
-        assert!(find_contact(&poly.points).is_some());
-        let given = poly.points.clone();
-        simple_on_plane(&mut poly).unwrap();
-        assert_eq!(poly.points.len(), 3);
-        assert!(given.contains(&poly.points[0]) && given.contains(&poly.points[2]));
-        assert!(find_contact(&poly.points).is_none());
+        let notch = p3(&[
+            [-1.9014292945093982, -5.67270629170941, -31260.54190259487],
+            [-1.8849057000107814, -5.686284134770423, -31260.509178832246],
+            [-1.8847218339996177, -5.722358576610978, -31260.52423979094],
+            [-1.9013538296999375, -5.68750918211886, -31260.548082760488],
+            [-1.8847665375279228, -5.713585406395296, -31260.520577027713],
+        ]);
+        let mut kept = Vec::new();
+        for (given, rotate) in [(quad, 270.0), (notch, 0.0)] {
+            assert!(check(&given).is_ok());
+            let mut poly = map_to_plane(&given, rotate, 1e-6).unwrap();
+            assert!(find_contact(&poly.points).is_some(), "{given:?}");
+            let orthogonal = poly.points.clone();
+            simple_on_plane(&mut poly, &given).unwrap();
+            assert!(find_contact(&poly.points).is_none(), "{given:?}");
+            // Each vertex moved by at most sqrt(3) times the distance off
+            // the plane (and rounding).
+            let moved = |p: &DVec2| {
+                orthogonal
+                    .iter()
+                    .map(|q| (*p - *q).length())
+                    .fold(f64::INFINITY, f64::min)
+            };
+            assert!(poly
+                .points
+                .iter()
+                .all(|p| moved(p) <= 3f64.sqrt() * poly.deviation * (1.0 + 1e-6)));
+            kept.push(poly.points.len());
+        }
+        // The quadrilateral's vertices 1 and 2 differ only along the axis
+        // the flat view drops: readers see one vertex, and so does the cut.
+        assert_eq!(kept, [3, 5]);
 
         let square = p3(&[
             [0.0, 0.0, 1.0],
@@ -615,18 +658,18 @@ mod tests {
         ]);
         let mut poly = map_to_plane(&square, 30.0, 1e-6).unwrap();
         let given = poly.clone();
-        simple_on_plane(&mut poly).unwrap();
+        simple_on_plane(&mut poly, &square).unwrap();
         assert_eq!(poly, given);
 
         let pulled = pulled_square();
         let mut poly = map_to_plane(&pulled, 0.0, 1e-6).unwrap();
-        let e = simple_on_plane(&mut poly).unwrap_err();
+        let e = simple_on_plane(&mut poly, &pulled).unwrap_err();
         assert_eq!(e.contact, check(&pulled).unwrap_err());
         assert_eq!(
             e.to_string(),
             format!(
-                "once its vertices are projected onto its plane (they lie up to 0 off it, \
-                 within --planarity-tol), {}",
+                "its vertices lie up to 0 off its plane (within --planarity-tol), and projected \
+                 onto the plane to be cut, {}: give its vertices on one plane, or split it",
                 e.contact
             )
         );
