@@ -38,7 +38,7 @@ use super::clip::{clip_closed, clip_tagged, split_on_border, Axis, TVertex, Tag}
 use super::plane::{newell_normal, signed_area, PlanePolygon};
 use glam::{DVec2, DVec3};
 use tidy::{drop_spikes, simple_in_world, Part, WorldPiece};
-pub use tidy::{simple_on_plane, ProjectedContact};
+pub use tidy::{simple_on_plane, OnPlane};
 
 /// Pattern placement in a polygon's plane (docs/stream-format.md): texel side and shifts.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -315,8 +315,8 @@ impl Partitioner {
 
     /// Partitions `poly` by `grid`, handing every non-transparent cell with
     /// positive area to `sink`. `poly`'s ring should be simple: an input
-    /// off its plane that its projection made cross itself is mended (or
-    /// refused) by [`simple_on_plane`] first, as polyfill3 does.
+    /// off its plane that its projection made cross itself is mended by
+    /// [`simple_on_plane`] first, as polyfill3 does.
     pub fn run(&mut self, poly: &PlanePolygon, grid: &Grid, sink: &mut impl CellSink) {
         let frame = &poly.frame;
         let orig = &poly.points;

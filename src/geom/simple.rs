@@ -94,34 +94,6 @@ impl Contact {
         }
     }
 
-    /// The contact of a ring made of some of a polygon's `n` vertices,
-    /// numbered as the polygon's: `given[k]` is the number of the ring's
-    /// vertex `k` (in increasing order), and the ring's edge `k` is named
-    /// by the polygon's edge that starts at `given[k]`.
-    pub(crate) fn renumbered(self, given: &[usize], n: usize) -> Contact {
-        match self {
-            Contact::Cross { a, b, .. } => Contact::Cross {
-                a: given[a],
-                b: given[b],
-                n,
-            },
-            Contact::Overlap { a, b, .. } => Contact::Overlap {
-                a: given[a],
-                b: given[b],
-                n,
-            },
-            Contact::VertexOnEdge { vertex, edge, .. } => Contact::VertexOnEdge {
-                vertex: given[vertex],
-                edge: given[edge],
-                n,
-            },
-            Contact::SamePoint { a, b } => Contact::SamePoint {
-                a: given[a],
-                b: given[b],
-            },
-        }
-    }
-
     /// Of [`Contact::vertices`], the one nearest the chord of its two
     /// neighbours in the ring `p` (the polygon as the contact numbers it),
     /// and that distance: the vertex whose removal changes the ring least.

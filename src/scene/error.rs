@@ -309,8 +309,6 @@ pub enum CellsError {
     Quadric(QuadricError),
     /// The polygon has no plane.
     Plane(crate::geom::plane::PlaneError),
-    /// The polygon meets itself once projected onto its plane.
-    Projected(crate::geom::partition::ProjectedContact),
     /// The texel grid over the polygon cannot be made.
     Grid(crate::geom::partition::GridError),
     /// The texture coordinates of a `uv` record cannot be made.
@@ -330,7 +328,6 @@ impl CellsError {
             CellsError::Option(e) => e,
             CellsError::Quadric(e) => e,
             CellsError::Plane(e) => e,
-            CellsError::Projected(e) => e,
             CellsError::Grid(e) => e,
             CellsError::Uv(e) => e,
             CellsError::Write(e) => e,
@@ -411,7 +408,6 @@ wraps!(
     Option(OptionError),
     Quadric(QuadricError),
     Plane(crate::geom::plane::PlaneError),
-    Projected(crate::geom::partition::ProjectedContact),
     Grid(crate::geom::partition::GridError),
     Uv(crate::texture::map::ObjectUvError),
     Write(std::io::Error)

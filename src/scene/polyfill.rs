@@ -609,7 +609,7 @@ impl<W: Write> Job<'_, W> {
         }
         // Only the cut needs the projection simple: with --uv the record
         // was written whole, as readers take it.
-        simple_on_plane(&mut poly, &vertices)?;
+        simple_on_plane(&mut poly, &vertices);
         let grid = Grid::new(&poly.points, place)?;
         let estimate = (poly.area / (place.incr * place.incr)).min(estimate_cells(
             grid.xmax - grid.xmin,

@@ -1231,7 +1231,8 @@ fn notch_tips_on_a_grid_column_are_written_as_two_parts() {
 /// crosses itself"). A notch whose tip comes within its distance off the
 /// plane of another edge: a first fix, which removed vertices, refused it.
 /// polyfill3 now projects such an input along the axis readers drop
-/// (`geom::partition::simple_on_plane`), and cuts it.
+/// (`geom::partition::simple_on_plane`), and cuts it; an input it cannot
+/// make simple so is cut as before.
 #[test]
 fn inputs_that_cross_themselves_only_once_projected_are_cut() {
     let dir = tempfile::tempdir().unwrap();
@@ -1239,7 +1240,11 @@ fn inputs_that_cross_themselves_only_once_projected_are_cut() {
     write_pat(&d.join("solid.pat"), 16, |_, _| false);
     let quad = r#"{"vertices": [[1.5, 0.3, 0.0], [0.90982636, 0.545175, 0.35355339], [0.90982636, 0.545175, 0.353553], [0.6, 2.0, 1.8]], "color": [100, 100, 100], "pattern": {"file": "solid.pat", "incr": 0.5, "rotate": 270}}"#;
     let notch = r#"{"vertices": [[-1.9014292945093982, -5.67270629170941, -31260.54190259487], [-1.8849057000107814, -5.686284134770423, -31260.509178832246], [-1.8847218339996177, -5.722358576610978, -31260.52423979094], [-1.9013538296999375, -5.68750918211886, -31260.548082760488], [-1.8847665375279228, -5.713585406395296, -31260.520577027713]], "color": [100, 100, 100], "pattern": {"file": "solid.pat", "incr": 0.0017588730511829433}}"#;
-    for input in [quad, notch] {
+    // Planar to within an ulp, 1e7 from the origin: projected along the
+    // axis in world units, not relative to the plane's origin, it was
+    // rounded into a crossing and refused (a second review).
+    let far = r#"{"vertices": [[1229687.649887417, -377967.6252913975, -9322549.504618298], [1229687.3080317217, -377968.15223280236, -9322548.993084528], [1229687.9812379135, -377966.1656427618, -9322548.889268614], [1229687.2387476182, -377967.89497433446, -9322548.463103639], [1229687.3579517286, -377968.33759053645, -9322549.374941954]], "color": [100, 100, 100], "pattern": {"file": "solid.pat", "incr": 0.07744923178250626, "rotate": 90}}"#;
+    for input in [quad, notch, far] {
         std::fs::write(d.join("input.json"), format!("{input}\n")).unwrap();
         for merge in [None, Some("--merge"), Some("--merge=blocks")] {
             pieces_are_read_back(d, "input.json", merge);

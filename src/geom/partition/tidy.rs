@@ -35,9 +35,7 @@
 
 use crate::geom::plane::{flat_view, flat_view_along, signed_area, PlanePolygon};
 use crate::geom::simple::{check, find_contact, folds_back, Contact};
-use crate::text::readable;
 use glam::{DVec2, DVec3};
-use std::fmt;
 
 /// How far, in units of `f64::EPSILON` times the piece's largest world
 /// coordinate (one to two ulps of it), a vertex may lie from the chord of
@@ -175,32 +173,18 @@ pub fn simple_in_world(
     }
 }
 
-/// An input that still meets itself once projected onto its plane, after
-/// [`simple_on_plane`] did what it may: readers take it as given, but it
-/// cannot be cut.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ProjectedContact {
-    /// Where the projected ring meets itself, numbered as the input's
-    /// vertices (an edge by the input edge it starts with, where vertices
-    /// within rounding of it were removed).
-    pub contact: Contact,
-    /// The input's largest distance off its plane, in world units.
-    pub deviation: f64,
+/// What [`simple_on_plane`] made of an input's ring in its plane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OnPlane {
+    /// Simple as projected: left as it was, bit for bit (nearly every input).
+    Simple,
+    /// Projected along the axis readers drop, and simple so.
+    AlongAxis,
+    /// Still meets itself there, within rounding (a vertex within an ulp
+    /// of another edge, say): left as projected orthogonally, bit for bit,
+    /// and cut so, the pieces mended as they are written (`simple_in_world`).
+    MeetsItself(Contact),
 }
-
-impl fmt::Display for ProjectedContact {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "its vertices lie up to {} off its plane (within --planarity-tol), and \
-             projected onto the plane to be cut, {}: give its vertices on one plane, or split it",
-            readable(self.deviation),
-            self.contact
-        )
-    }
-}
-
-impl std::error::Error for ProjectedContact {}
 
 /// Makes an input's ring in its plane simple where projecting its vertices
 /// (`world`) onto the plane made it meet itself.
@@ -211,32 +195,37 @@ impl std::error::Error for ProjectedContact {}
 /// An input off its plane (within the planarity tolerance) can be simple on
 /// the first and cross itself on the second, where it has features as
 /// small as its distance off the plane: two vertices 3.5e-7 apart, a
-/// notch's tip that close to an edge.
+/// notch's tip that close to another edge.
 ///
 /// A ring that is simple (nearly every one) costs one check
 /// ([`find_contact`]) and is left as it was, bit for bit. Otherwise each
 /// vertex is projected onto the plane along the axis the flat view drops,
-/// not along the normal: the two coordinates readers look at stay as
-/// written, and the third is the plane's at that point, so the ring in the
-/// plane is an affine image of the flat view readers took as simple, and is
-/// simple but for rounding. (A vertex `d` off the plane then moves by up to
-/// `sqrt(3) d`, not `d`: the flat view drops the normal's largest
-/// component, at least `1/sqrt(3)` of it.) What rounding leaves is mended
-/// as for the partition's pieces (`simple_in_world`): spikes and repeats
-/// are dropped, and, while the ring meets itself, the vertex of the contact
-/// nearest the chord of its neighbours is removed if it lies within 16
-/// `EPSILON`s of the largest world coordinate of it. An input that still
-/// meets itself is refused: [`ProjectedContact`].
-pub fn simple_on_plane(poly: &mut PlanePolygon, world: &[DVec3]) -> Result<(), ProjectedContact> {
+/// not along the normal: the two coordinates readers look at are kept, and
+/// the third is the plane's there, so the ring in the plane is an affine
+/// image of the flat view readers took as simple (with the same winding and
+/// area), simple but for rounding. A vertex `d` off the plane then moves by
+/// up to `sqrt(3) d` in space and `sqrt(2) d` in the plane, where the
+/// orthogonal projection moves it by `d`: the flat view drops the normal's
+/// largest component, at least `1/sqrt(3)` of it. The arithmetic is
+/// relative to the frame's origin, as `Frame::to_plane`'s: far from the
+/// world's origin, a coordinate solved for in world units would be rounded
+/// to an ulp of the offset (2e-9 at 1e7), more than many inputs are off
+/// their plane. What rounding leaves is mended as for the partition's
+/// pieces (`simple_in_world`): spikes and repeats are dropped, and, while
+/// the ring meets itself, the vertex of the contact nearest the chord of
+/// its neighbours is removed if it lies within 16 `EPSILON`s of the largest
+/// world coordinate of it.
+///
+/// An input that still meets itself (a contact within an ulp, which
+/// neither projection resolves) gets its orthogonal projection back and is
+/// cut as before this repair, [`OnPlane::MeetsItself`]: its pieces are
+/// mended as they are written, which kept such inputs readable.
+pub fn simple_on_plane(poly: &mut PlanePolygon, world: &[DVec3]) -> OnPlane {
     let Some(first) = find_contact(&poly.points) else {
-        return Ok(());
+        return OnPlane::Simple;
     };
     debug_assert_eq!(world.len(), poly.points.len());
     let frame = poly.frame;
-    let refuse = |contact| ProjectedContact {
-        contact,
-        deviation: poly.deviation,
-    };
     // No flat view: readers let it through as collinear, which the plane
     // fit would have refused as without area. And the axis is the largest
     // component of the readers' normal, at least 0.577 of it; far less of
@@ -244,42 +233,35 @@ pub fn simple_on_plane(poly: &mut PlanePolygon, world: &[DVec3]) -> Result<(), P
     // as given, whose loops cancel): no projection along it is sound.
     let axis = match flat_view_along(world) {
         Some((_, axis)) if frame.normal[axis].abs() >= 0.5 => axis,
-        _ => return Err(refuse(first)),
+        _ => return OnPlane::MeetsItself(first),
     };
-    // Along the axis: (p - origin) . normal = 0 solved for p[axis].
-    poly.points = world
+    // Along the axis: d . normal = 0 solved for d[axis], d = p - origin.
+    let mut ring: Vec<DVec2> = world
         .iter()
         .map(|&p| {
-            let mut q = p;
-            q[axis] -= (p - frame.origin).dot(frame.normal) / frame.normal[axis];
-            frame.to_plane(q)
+            let mut d = p - frame.origin;
+            d[axis] -= d.dot(frame.normal) / frame.normal[axis];
+            DVec2::new(d.dot(frame.ex), d.dot(frame.ey))
         })
         .collect();
     let largest = frame.origin.abs().max_element() + poly.size;
     let slack = WORLD_ROUNDING_ULPS * f64::EPSILON * largest;
-    // The input's number of each vertex left.
-    let mut given: Vec<usize> = (0..world.len()).collect();
-    let ring = &mut poly.points;
     loop {
-        if let Some(keep) = spike_free(ring) {
-            *ring = keep.iter().map(|&i| ring[i]).collect();
-            given = keep.iter().map(|&i| given[i]).collect();
-        }
-        let Some(contact) = find_contact(ring) else {
+        drop_spikes(&mut ring);
+        let Some(contact) = find_contact(&ring) else {
             // Fewer than 3 vertices left: the input was spikes only.
-            return if ring.len() >= 3 {
-                Ok(())
-            } else {
-                Err(refuse(first))
-            };
+            if ring.len() < 3 {
+                return OnPlane::MeetsItself(first);
+            }
+            poly.points = ring;
+            return OnPlane::AlongAxis;
         };
-        let (k, d) = contact.nearest_to_chord(ring);
+        let (k, d) = contact.nearest_to_chord(&ring);
         // NaN (coincident neighbours) is a spike, dropped above.
         if d.is_nan() || d > slack {
-            return Err(refuse(contact.renumbered(&given, world.len())));
+            return OnPlane::MeetsItself(first);
         }
         ring.remove(k);
-        given.remove(k);
     }
 }
 
@@ -606,8 +588,10 @@ mod tests {
     /// plane meets itself: the review's quadrilateral (vertices 1 and 2
     /// 3.5e-7 apart: edges 0 and 2 crossed) and notch (its tip within its
     /// distance off the plane of another edge: edges 1 and 3 crossed). Each
-    /// comes out simple, projected along the axis the flat view drops. A simple one is left bit for bit; one that crosses
-    /// itself as given is refused with its contact, numbered as given.
+    /// comes out simple, projected along the axis the flat view drops, each
+    /// vertex within `sqrt(2)` times the distance off the plane of where
+    /// the orthogonal projection put it, with the same area. A simple ring
+    /// is left bit for bit, and so is one that meets itself as given.
     #[test]
     fn inputs_that_projection_made_cross_are_projected_along_the_readers_axis() {
         use crate::geom::plane::map_to_plane;
@@ -624,31 +608,29 @@ mod tests {
             [-1.9013538296999375, -5.68750918211886, -31260.548082760488],
             [-1.8847665375279228, -5.713585406395296, -31260.520577027713],
         ]);
-        let mut kept = Vec::new();
-        for (given, rotate) in [(quad, 270.0), (notch, 0.0)] {
+        // The quadrilateral's vertices 1 and 2 differ only along the axis
+        // the flat view drops: readers see one vertex, and so does the cut.
+        for (given, rotate, kept) in [
+            (quad, 270.0, [0, 1, 3].as_slice()),
+            (notch, 0.0, &[0, 1, 2, 3, 4]),
+        ] {
             assert!(check(&given).is_ok());
             let mut poly = map_to_plane(&given, rotate, 1e-6).unwrap();
             assert!(find_contact(&poly.points).is_some(), "{given:?}");
             let orthogonal = poly.points.clone();
-            simple_on_plane(&mut poly, &given).unwrap();
+            assert_eq!(simple_on_plane(&mut poly, &given), OnPlane::AlongAxis);
             assert!(find_contact(&poly.points).is_none(), "{given:?}");
-            // Each vertex moved by at most sqrt(3) times the distance off
-            // the plane (and rounding).
-            let moved = |p: &DVec2| {
-                orthogonal
-                    .iter()
-                    .map(|q| (*p - *q).length())
-                    .fold(f64::INFINITY, f64::min)
-            };
-            assert!(poly
-                .points
-                .iter()
-                .all(|p| moved(p) <= 3f64.sqrt() * poly.deviation * (1.0 + 1e-6)));
-            kept.push(poly.points.len());
+            assert_eq!(poly.points.len(), kept.len());
+            for (p, &i) in poly.points.iter().zip(kept) {
+                let moved = (*p - orthogonal[i]).length();
+                assert!(
+                    moved <= 2f64.sqrt() * poly.deviation * (1.0 + 1e-6),
+                    "{moved:e}"
+                );
+            }
+            let area = |r: &[DVec2]| shoelace(r) / 2.0;
+            assert!((area(&poly.points) - area(&orthogonal)).abs() <= 1e-12 * area(&orthogonal));
         }
-        // The quadrilateral's vertices 1 and 2 differ only along the axis
-        // the flat view drops: readers see one vertex, and so does the cut.
-        assert_eq!(kept, [3, 5]);
 
         let square = p3(&[
             [0.0, 0.0, 1.0],
@@ -656,22 +638,16 @@ mod tests {
             [1.0, 1.0, 1.0],
             [0.0, 1.0, 1.0],
         ]);
-        let mut poly = map_to_plane(&square, 30.0, 1e-6).unwrap();
-        let given = poly.clone();
-        simple_on_plane(&mut poly, &square).unwrap();
-        assert_eq!(poly, given);
-
         let pulled = pulled_square();
-        let mut poly = map_to_plane(&pulled, 0.0, 1e-6).unwrap();
-        let e = simple_on_plane(&mut poly, &pulled).unwrap_err();
-        assert_eq!(e.contact, check(&pulled).unwrap_err());
-        assert_eq!(
-            e.to_string(),
-            format!(
-                "its vertices lie up to 0 off its plane (within --planarity-tol), and projected \
-                 onto the plane to be cut, {}: give its vertices on one plane, or split it",
-                e.contact
-            )
-        );
+        for ring in [square, pulled] {
+            let mut poly = map_to_plane(&ring, 30.0, 1e-6).unwrap();
+            let given = poly.clone();
+            let made = simple_on_plane(&mut poly, &ring);
+            assert_eq!(poly, given);
+            match check(&ring) {
+                Ok(()) => assert_eq!(made, OnPlane::Simple),
+                Err(_) => assert!(matches!(made, OnPlane::MeetsItself(_))),
+            }
+        }
     }
 }
