@@ -660,7 +660,9 @@ fn off_plane_strategy() -> impl Strategy<Value = OffPlane> {
 
 proptest! {
     #![proptest_config(ProptestConfig {
-        cases: std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(96),
+        // 1,000 cases by default (half a second): about one in fifty is
+        // projected along the axis, the path under test.
+        cases: std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(1000),
         // About one input in six touches itself and is skipped.
         max_global_rejects: 1_000_000,
         ..ProptestConfig::default()
