@@ -513,20 +513,17 @@ impl Partitioner {
                                 }
                                 self.world.clear();
                                 self.world.extend(ring.iter().map(|&p| frame.to_world(p)));
-                                let first = simple_in_world(&mut self.world, ring, &mut self.parts);
-                                hand_on_parts(
+                                let piece = (&mut self.world, &mut *ring);
+                                if tidied_has_area(
+                                    piece,
                                     &mut self.parts,
                                     (k, j),
                                     frame.normal,
                                     min_area,
                                     sink,
-                                );
-                                if first == WorldPiece::Noise
-                                    || !has_area(ring, &self.world, frame.normal, min_area)
-                                {
-                                    continue;
+                                ) {
+                                    sink.cell(k, j, &self.world, ring, false);
                                 }
-                                sink.cell(k, j, &self.world, ring, false);
                             }
                             continue;
                         }
@@ -556,15 +553,15 @@ impl Partitioner {
                     } else {
                         self.world
                             .extend(self.pts.iter().map(|&p| frame.to_world(p)));
-                        // A piece left tangled is written as it is: dropped,
-                        // its area would be lost without a word, where the
-                        // reader names the record it refuses.
-                        let first =
-                            simple_in_world(&mut self.world, &mut self.pts, &mut self.parts);
-                        hand_on_parts(&mut self.parts, (k, j), frame.normal, min_area, sink);
-                        if first == WorldPiece::Noise
-                            || !has_area(&self.pts, &self.world, frame.normal, min_area)
-                        {
+                        let piece = (&mut self.world, &mut self.pts);
+                        if !tidied_has_area(
+                            piece,
+                            &mut self.parts,
+                            (k, j),
+                            frame.normal,
+                            min_area,
+                            sink,
+                        ) {
                             continue;
                         }
                     }
@@ -634,20 +631,27 @@ fn is_convex(p: &[DVec2]) -> bool {
     }
 }
 
-/// Hands on to `sink` the parts [`simple_in_world`] split off cell `kj`'s
-/// piece, those with area ([`has_area`]), and empties `parts`.
-fn hand_on_parts(
+/// Makes a partly covered piece of cell `kj` simple as readers judge it
+/// ([`simple_in_world`]), hands on to `sink` the parts split off it that
+/// have area ([`has_area`]), and says whether the piece itself is to be
+/// written: not noise, and with area. A piece left tangled is written as it
+/// is: dropped, its area would be lost without a word, where the reader
+/// names the record it refuses.
+fn tidied_has_area(
+    (world, plane): (&mut Vec<DVec3>, &mut Vec<DVec2>),
     parts: &mut Vec<Part>,
     (k, j): (i64, i64),
     normal: DVec3,
     min_area: f64,
     sink: &mut impl CellSink,
-) {
+) -> bool {
+    let made = simple_in_world(world, plane, parts);
     for (world, plane) in parts.drain(..) {
         if has_area(&plane, &world, normal, min_area) {
             sink.cell(k, j, &world, &plane, false);
         }
     }
+    made != WorldPiece::Noise && has_area(plane, world, normal, min_area)
 }
 
 /// Whether a piece has more area than rounding noise ([`MIN_PIECE_AREA_REL`],
