@@ -83,10 +83,6 @@ pub struct PlanePolygon {
     pub size: f64,
     /// Area (world units², positive).
     pub area: f64,
-    /// The largest distance of a vertex from the plane, in world units: how
-    /// far projecting onto the plane moved a vertex (at most the planarity
-    /// tolerance times `size`).
-    pub deviation: f64,
 }
 
 /// Why a polygon has no plane frame.
@@ -240,7 +236,6 @@ pub fn map_to_plane(
         points,
         size,
         area,
-        deviation,
     })
 }
 

@@ -333,10 +333,8 @@ fn case_strategy() -> impl Strategy<Value = DiffCase> {
 }
 
 proptest! {
-    // 96 cases by default, as `props` (the CI budget); PROPTEST_CASES=N for a
-    // longer hunt.
     #![proptest_config(ProptestConfig {
-        cases: std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(96),
+        cases: super::props::cases_or(96),
         ..ProptestConfig::default()
     })]
 

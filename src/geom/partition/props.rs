@@ -15,6 +15,15 @@ use crate::math;
 use proptest::prelude::*;
 use std::collections::{BTreeMap, BTreeSet};
 
+/// How many cases a property test draws: `PROPTEST_CASES` if set (for a
+/// longer hunt), else `default` (the CI budget). Shared with `differential`.
+pub(super) fn cases_or(default: u32) -> u32 {
+    std::env::var("PROPTEST_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
 /// Relative tolerance of every invariant (the 1e-9).
 const REL: f64 = 1e-9;
 /// Rounding of a world coordinate of magnitude m is about m * 2^-53; a few of
@@ -237,7 +246,7 @@ fn check_partition(
     // the mapping's rounding along a cell's perimeter. Far from the origin
     // such a piece maps to a fold of no area and is not written
     // (`tidy::WorldPiece::Noise`), so cells of less area may be missing.
-    let world_noise = tidy::WORLD_ROUNDING_ULPS * f64::EPSILON * maxabs * 4.0 * incr;
+    let world_noise = tidy::world_rounding(maxabs) * 4.0 * incr;
     for (k, j, w, p) in &out.cells {
         if signed_area(p) <= 0.0 {
             return Err(format!("cell ({k},{j}) has no positive area"));
@@ -347,9 +356,8 @@ fn check_partition(
 }
 
 proptest! {
-    // 96 cases by default (the CI budget); PROPTEST_CASES=N for a longer hunt.
     #![proptest_config(ProptestConfig {
-        cases: std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(96),
+        cases: cases_or(96),
         ..ProptestConfig::default()
     })]
 
@@ -527,7 +535,7 @@ fn comb_strategy() -> impl Strategy<Value = Comb> {
 
 proptest! {
     #![proptest_config(ProptestConfig {
-        cases: std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(96),
+        cases: cases_or(96),
         ..ProptestConfig::default()
     })]
 
@@ -662,8 +670,9 @@ proptest! {
     #![proptest_config(ProptestConfig {
         // 1,000 cases by default (half a second): about one in fifty is
         // projected along the axis, the path under test.
-        cases: std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(1000),
-        // About one input in six touches itself and is skipped.
+        cases: cases_or(1000),
+        // Inputs with no star, or that touch themselves, are skipped: many
+        // of them.
         max_global_rejects: 1_000_000,
         ..ProptestConfig::default()
     })]
@@ -674,7 +683,9 @@ proptest! {
     #[test]
     fn inputs_off_their_plane_give_simple_pieces(c in off_plane_strategy()) {
         // No star (an angular gap of half a turn): nothing to test.
-        let Some(v) = c.world() else { return Ok(()) };
+        let v = c.world();
+        prop_assume!(v.is_some());
+        let v = v.unwrap();
         // The step can make the input itself touch itself: refused by
         // every reader.
         prop_assume!(crate::geom::simple::check(&v).is_ok());
