@@ -1146,21 +1146,50 @@ clitest!(
     }
 );
 
-/// Cuts `file` in `d` with polyfill3 (and `merge`, if given) and checks that
-/// scene-render reads back every polygon it wrote.
-fn pieces_are_read_back(d: &std::path::Path, file: &str, merge: Option<&str>) {
-    polyfill3()
-        .current_dir(d)
-        .args(merge)
-        .args([file, "-o", "cells.ndjson"])
-        .assert()
-        .success();
-    Command::cargo_bin("scene-render")
-        .unwrap()
-        .current_dir(d)
-        .args(["--size", "32x32", "cells.ndjson", "-o", "cells.png"])
-        .assert()
-        .success();
+/// Writes `input` (NDJSON records naming `solid.pat`, a one-colour
+/// pattern) to a temporary directory, cuts it with polyfill3 plain, with
+/// `--merge` and with `--merge=blocks`, and checks that scene-render reads
+/// back every polygon each wrote.
+fn every_mode_is_read_back(input: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write_pat(&d.join("solid.pat"), 16, |_, _| false);
+    std::fs::write(d.join("input.json"), format!("{input}\n")).unwrap();
+    for merge in [None, Some("--merge"), Some("--merge=blocks")] {
+        polyfill3()
+            .current_dir(d)
+            .args(merge)
+            .args(["input.json", "-o", "cells.ndjson"])
+            .assert()
+            .success();
+        Command::cargo_bin("scene-render")
+            .unwrap()
+            .current_dir(d)
+            .args(["--size", "32x32", "cells.ndjson", "-o", "cells.png"])
+            .assert()
+            .success();
+    }
+}
+
+/// A polygon record of `vertices` (JSON arrays) in `solid.pat` at `incr`.
+fn solid_record(vertices: &[String], incr: f64) -> String {
+    format!(
+        r#"{{"vertices": [{}], "color": [100, 100, 100], "pattern": {{"file": "solid.pat", "incr": {incr:?}}}}}"#,
+        vertices.join(", ")
+    )
+}
+
+/// A comb's walls, right to left: at each x, a vertex at `a` then one at
+/// `b` (each "y, z"), the two swapping at every wall, so that the outline
+/// runs up one wall and down the next.
+fn comb_walls(xs: &[&str], (a, b): (&str, &str)) -> Vec<String> {
+    let mut walls = Vec::new();
+    for (i, x) in xs.iter().enumerate() {
+        let (first, second) = if i % 2 == 0 { (a, b) } else { (b, a) };
+        walls.push(format!("[{x}, {first}]"));
+        walls.push(format!("[{x}, {second}]"));
+    }
+    walls
 }
 
 /// Regression (review of 2026-11-29): a comb tilted 0.3 rad whose notches'
@@ -1169,33 +1198,19 @@ fn pieces_are_read_back(d: &std::path::Path, file: &str, merge: Option<&str>) {
 /// and scene-render refused the stream: "the polygon runs along itself".
 #[test]
 fn cells_beside_a_notch_on_a_grid_line_have_no_spike() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    write_pat(&d.join("solid.pat"), 16, |_, _| false);
     let (lo, hi) = (
         "3.821345956502424, 1.1820808266453582",
         "19.10672978251212, 5.910404133226791",
     );
-    let mut vertices = vec!["[0, 0.0, 0.0]".to_string(), "[23.0, 0.0, 0.0]".to_string()];
     // Right to left: up a tooth's right side, across its top, down its
     // left side, across the floor of the notch to the next tooth.
-    for (i, x) in [23.0, 20.0, 18.0, 15.0, 13.0, 10.0, 8.0, 5.0, 3.0]
-        .iter()
-        .enumerate()
-    {
-        let (first, second) = if i % 2 == 0 { (lo, hi) } else { (hi, lo) };
-        vertices.push(format!("[{x:?}, {first}]"));
-        vertices.push(format!("[{x:?}, {second}]"));
-    }
+    let xs = [
+        "23.0", "20.0", "18.0", "15.0", "13.0", "10.0", "8.0", "5.0", "3.0",
+    ];
+    let mut vertices = vec!["[0, 0.0, 0.0]".to_string(), "[23.0, 0.0, 0.0]".to_string()];
+    vertices.extend(comb_walls(&xs, (lo, hi)));
     vertices.push(format!("[0.0, {hi}]"));
-    let comb = format!(
-        r#"{{"vertices": [{}], "color": [100, 100, 100], "pattern": {{"file": "solid.pat", "incr": 0.5}}}}"#,
-        vertices.join(", ")
-    );
-    std::fs::write(d.join("comb.json"), comb + "\n").unwrap();
-    for merge in [None, Some("--merge"), Some("--merge=blocks")] {
-        pieces_are_read_back(d, "comb.json", merge);
-    }
+    every_mode_is_read_back(&solid_record(&vertices, 0.5));
 }
 
 /// Regression (second review of 2026-11-29): a square notched to a tip on
@@ -1205,22 +1220,23 @@ fn cells_beside_a_notch_on_a_grid_line_have_no_spike() {
 /// They are now written as two polygons (`geom::partition::tidy`).
 #[test]
 fn notch_tips_on_a_grid_column_are_written_as_two_parts() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    write_pat(&d.join("solid.pat"), 16, |_, _| false);
-    let level = "[[0, 0, 0], [1, 0, 0], [0.5, 0.8, 0], [1, 1, 0], [0, 1, 0]]";
-    let tilted = "[[1.1, 2.3, -7.7], [2.1, 2.3, -7.7], \
-        [1.6, 2.825435069019083, -7.537463886336264], \
-        [2.1, 3.2553364891256056, -7.404479793338661], \
-        [1.1, 3.2553364891256056, -7.404479793338661]]";
+    let level = [
+        "[0, 0, 0]",
+        "[1, 0, 0]",
+        "[0.5, 0.8, 0]",
+        "[1, 1, 0]",
+        "[0, 1, 0]",
+    ];
+    let tilted = [
+        "[1.1, 2.3, -7.7]",
+        "[2.1, 2.3, -7.7]",
+        "[1.6, 2.825435069019083, -7.537463886336264]",
+        "[2.1, 3.2553364891256056, -7.404479793338661]",
+        "[1.1, 3.2553364891256056, -7.404479793338661]",
+    ];
     for vertices in [level, tilted] {
-        let notch = format!(
-            r#"{{"vertices": {vertices}, "color": [100, 100, 100], "pattern": {{"file": "solid.pat", "incr": 0.25}}}}"#
-        );
-        std::fs::write(d.join("notch.json"), notch + "\n").unwrap();
-        for merge in [None, Some("--merge=blocks")] {
-            pieces_are_read_back(d, "notch.json", merge);
-        }
+        let vertices: Vec<String> = vertices.iter().map(|v| v.to_string()).collect();
+        every_mode_is_read_back(&solid_record(&vertices, 0.25));
     }
 }
 
@@ -1235,9 +1251,6 @@ fn notch_tips_on_a_grid_column_are_written_as_two_parts() {
 /// make simple so is cut as before.
 #[test]
 fn inputs_that_cross_themselves_only_once_projected_are_cut() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    write_pat(&d.join("solid.pat"), 16, |_, _| false);
     let quad = r#"{"vertices": [[1.5, 0.3, 0.0], [0.90982636, 0.545175, 0.35355339], [0.90982636, 0.545175, 0.353553], [0.6, 2.0, 1.8]], "color": [100, 100, 100], "pattern": {"file": "solid.pat", "incr": 0.5, "rotate": 270}}"#;
     let notch = r#"{"vertices": [[-1.9014292945093982, -5.67270629170941, -31260.54190259487], [-1.8849057000107814, -5.686284134770423, -31260.509178832246], [-1.8847218339996177, -5.722358576610978, -31260.52423979094], [-1.9013538296999375, -5.68750918211886, -31260.548082760488], [-1.8847665375279228, -5.713585406395296, -31260.520577027713]], "color": [100, 100, 100], "pattern": {"file": "solid.pat", "incr": 0.0017588730511829433}}"#;
     // Planar to within an ulp, 1e7 from the origin: projected along the
@@ -1245,10 +1258,7 @@ fn inputs_that_cross_themselves_only_once_projected_are_cut() {
     // rounded into a crossing and refused (a second review).
     let far = r#"{"vertices": [[1229687.649887417, -377967.6252913975, -9322549.504618298], [1229687.3080317217, -377968.15223280236, -9322548.993084528], [1229687.9812379135, -377966.1656427618, -9322548.889268614], [1229687.2387476182, -377967.89497433446, -9322548.463103639], [1229687.3579517286, -377968.33759053645, -9322549.374941954]], "color": [100, 100, 100], "pattern": {"file": "solid.pat", "incr": 0.07744923178250626, "rotate": 90}}"#;
     for input in [quad, notch, far] {
-        std::fs::write(d.join("input.json"), format!("{input}\n")).unwrap();
-        for merge in [None, Some("--merge"), Some("--merge=blocks")] {
-            pieces_are_read_back(d, "input.json", merge);
-        }
+        every_mode_is_read_back(input);
     }
 }
 
@@ -1260,9 +1270,6 @@ fn inputs_that_cross_themselves_only_once_projected_are_cut() {
 /// readers judge it (`geom::partition::tidy`).
 #[test]
 fn tilted_comb_pieces_that_rounding_folds_are_written_simple() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    write_pat(&d.join("solid.pat"), 16, |_, _| false);
     let (top, floor) = (
         "8.987355423879242, -5.631358553370623",
         "3.2553364891256056, -7.404479793338661",
@@ -1274,24 +1281,10 @@ fn tilted_comb_pieces_that_rounding_folds_are_written_simple() {
     ];
     // Right to left: across a tooth's top, down into the notch, along its
     // floor, up the next tooth.
-    let xs = ["25.1", "23.1", "21.1", "19.1", "17.1", "15.1", "13.1"];
-    let xs = xs.iter().chain(&["11.1", "9.1", "7.1", "5.1", "3.1"]);
-    for (i, x) in xs.enumerate() {
-        let (first, second) = if i % 2 == 0 {
-            (top, floor)
-        } else {
-            (floor, top)
-        };
-        vertices.push(format!("[{x}, {first}]"));
-        vertices.push(format!("[{x}, {second}]"));
-    }
+    let xs = [
+        "25.1", "23.1", "21.1", "19.1", "17.1", "15.1", "13.1", "11.1", "9.1", "7.1", "5.1", "3.1",
+    ];
+    vertices.extend(comb_walls(&xs, (top, floor)));
     vertices.push(format!("[1.1, {top}]"));
-    let comb = format!(
-        r#"{{"vertices": [{}], "color": [100, 100, 100], "pattern": {{"file": "solid.pat", "incr": 1.0}}}}"#,
-        vertices.join(", ")
-    );
-    std::fs::write(d.join("comb.json"), comb + "\n").unwrap();
-    for merge in [None, Some("--merge"), Some("--merge=blocks")] {
-        pieces_are_read_back(d, "comb.json", merge);
-    }
+    every_mode_is_read_back(&solid_record(&vertices, 1.0));
 }
