@@ -495,3 +495,59 @@ clitest!(polyfill3_writes_a_large_quadric_in_bounded_memory, |dir| {
     );
     assert!(!dir.path().join("huge-cells.json").exists());
 });
+
+#[cfg(target_os = "linux")]
+clitest!(pipes_on_standard_input_and_output_are_widened, |dir| {
+    // A stream through `polyfill3 | scene-render` moves in pipe-fulls: each
+    // tool widens a pipe on its standard input or output from 64 KiB to
+    // 1 MiB. Both ends of a pipe see its size, so it is read here from the
+    // test's end, after the tool is done (for standard input, from a
+    // duplicate of the tool's read end: the write end is closed to end the
+    // input).
+    use std::io::Write as _;
+    use std::os::fd::AsRawFd as _;
+    use std::process::{Command, Stdio};
+    let pipe_size = |fd| unsafe { libc::fcntl(fd, libc::F_GETPIPE_SZ) };
+    // A few kB of cells: the tool ends whatever the pipe's size.
+    let face = dir.write(
+        "face.json",
+        format!(
+            r#"{{"vertices":[[100,0,100],[100,0,-100],[0,142.2,0]],"color":[1,2,3],"pattern":{{"file":"{}","incr":25}}}}"#,
+            repo("fixtures/patterns/pyr.pat").display()
+        ),
+    );
+    let mut p3 = Command::new(env!("CARGO_BIN_EXE_polyfill3"))
+        .arg(&face)
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let cells = p3.stdout.take().unwrap();
+    assert!(p3.wait().unwrap().success());
+    assert_eq!(pipe_size(cells.as_raw_fd()), 1 << 20);
+
+    let mut fds = [0; 2];
+    // Close-on-exec, or the tool would hold its own input open.
+    assert_eq!(unsafe { libc::pipe2(fds.as_mut_ptr(), libc::O_CLOEXEC) }, 0);
+    // SAFETY: both descriptors are new and owned here alone.
+    let (read_end, write_end) = unsafe {
+        use std::os::fd::FromRawFd as _;
+        (
+            std::os::fd::OwnedFd::from_raw_fd(fds[0]),
+            std::fs::File::from_raw_fd(fds[1]),
+        )
+    };
+    let kept = read_end.try_clone().unwrap();
+    let mut sr = Command::new(env!("CARGO_BIN_EXE_scene-render"))
+        .args(["--size", "8x8", "-", "-o"])
+        .arg(dir.path().join("out.png"))
+        .stdin(Stdio::from(read_end))
+        .spawn()
+        .unwrap();
+    let mut input = write_end;
+    input
+        .write_all(br#"{"vertices":[[0,0,0],[8,0,0],[0,8,0]],"color":[9,9,9]}"#)
+        .unwrap();
+    drop(input);
+    assert!(sr.wait().unwrap().success());
+    assert_eq!(pipe_size(kept.as_raw_fd()), 1 << 20);
+});
