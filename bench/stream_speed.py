@@ -9,6 +9,9 @@
   1M) and on polyfill3's streams of demo 2's faces at incr 0.5 and 0.25, at a
   16x12 frame for the triangles (nothing to render) and 1024x768 for demo 2;
   MB/s of NDJSON read. Median of 5 after a warm-up, the builds taking turns.
+  The peer: `jq empty` (jq parsing every value and printing nothing), whole
+  process, median of 3 after a warm-up, and the ratio of each build's read
+  phase to it.
 - Writing: polyfill3 alone, output discarded (bench/timing.py); MB/s written.
 - The pipeline `polyfill3 | scene-render`, `polyfill3 --merge |
   scene-render` (runs of a row), `polyfill3 --merge=blocks | scene-render`
@@ -20,6 +23,7 @@
 """
 import math
 import os
+import shutil
 import subprocess
 import sys
 
@@ -62,9 +66,11 @@ def main():
             subprocess.run([os.path.join(bindir, "polyfill3"), scene], stdout=fh, check=True)
         scenes[incr] = (scene, stream)
         inputs.append((f"polyfill3 stream, demo 2 faces, incr {incr}", stream, ["--size", "1024x768"] + VIEW))
+    jq = shutil.which("jq")
     cols = " | ".join(f"{b} s | {b} MB/s" for b, _ in builds)
-    print(f"| reading (scene-render read phase) | MB | {cols} |")
-    print("|---|---:|" + "---:|---:|" * len(builds))
+    peer = " | jq empty s | jq MB/s | " + " | ".join(f"{b}/jq" for b, _ in builds) if jq else ""
+    print(f"| reading (scene-render read phase) | MB | {cols}{peer} |")
+    print("|---|---:|" + "---:|---:|" * len(builds) + ("---:|---:|" + "---:|" * len(builds) if jq else ""))
     read_times = {}
     for name, path, args in inputs:
         mb = os.path.getsize(path) / 1e6
@@ -74,6 +80,10 @@ def main():
         for (b, _), t in zip(builds, ts):
             read_times[(name, b)] = (mb, t)
             cells.append(f"{t:.3f} | {mb / t:.0f}")
+        if jq:
+            tj, _ = measure([jq, "empty", path], runs=3)
+            cells.append(f"{tj:.3f} | {mb / tj:.0f}")
+            cells += [f"{t / tj:.2f}" for t in ts]
         print(f"| {name} | {mb:.0f} | " + " | ".join(cells) + " |")
     print()
     for b, _ in builds:

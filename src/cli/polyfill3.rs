@@ -256,8 +256,8 @@ fn run_in_pool(args: Args) -> Result<()> {
     let source = display_name(&args.input).to_string();
     let base = stream::base_dir(&args.input);
     let bar = args.progress.bar("polyfill3");
-    let reader: Box<dyn BufRead> = if args.input == STDIO {
-        let stdin = Box::new(BufReader::with_capacity(1 << 16, std::io::stdin().lock()));
+    let reader: Box<dyn BufRead + Send> = if args.input == STDIO {
+        let stdin = Box::new(BufReader::with_capacity(1 << 16, std::io::stdin()));
         bar.reading(&source, 0, stdin)
     } else {
         let f = std::fs::File::open(&args.input).with_context(|| args.input.clone())?;

@@ -49,7 +49,12 @@ pub struct Bar(Option<ProgressBar>);
 impl Bar {
     /// Counts bytes of an input of `total` bytes (0: not known) as `reader`
     /// gives them.
-    pub fn reading(&self, name: &str, total: u64, reader: Box<dyn BufRead>) -> Box<dyn BufRead> {
+    pub fn reading(
+        &self,
+        name: &str,
+        total: u64,
+        reader: Box<dyn BufRead + Send>,
+    ) -> Box<dyn BufRead + Send> {
         let Some(bar) = &self.0 else {
             return reader;
         };
@@ -115,7 +120,7 @@ impl Drop for Bar {
 
 /// A reader that reports the bytes consumed from it.
 struct Counting {
-    inner: Box<dyn BufRead>,
+    inner: Box<dyn BufRead + Send>,
     bar: ProgressBar,
 }
 

@@ -338,10 +338,12 @@ impl Scene {
 
     /// [`Scene::load`] within `limits`.
     pub fn load_with(input: &str, limits: &LoadOptions) -> Result<Scene, SceneError> {
-        // 64 KiB, a pipe's whole buffer: standard input's own 8 KiB took
-        // eight reads for each of a full pipe's.
-        let reader: Box<dyn BufRead> = if input == crate::io::STDIO {
-            Box::new(BufReader::with_capacity(1 << 16, std::io::stdin().lock()))
+        // 64 KiB, a default pipe's whole buffer: standard input's own 8 KiB
+        // took eight reads for each of a full pipe's. `stdin()`, not its
+        // lock, which cannot move to the thread that reads ahead
+        // (`for_each_item`).
+        let reader: Box<dyn BufRead + Send> = if input == crate::io::STDIO {
+            Box::new(BufReader::with_capacity(1 << 16, std::io::stdin()))
         } else {
             Box::new(BufReader::with_capacity(
                 1 << 16,
@@ -359,13 +361,17 @@ impl Scene {
     /// their screen → texel map, computed when each record is projected (in
     /// the object's own coordinates for an instance, so the pattern stays
     /// fixed to the object as in the thesis's Fig. 5.1).
-    pub fn read(reader: Box<dyn BufRead>, name: &str, base: &Path) -> Result<Scene, SceneError> {
+    pub fn read(
+        reader: Box<dyn BufRead + Send>,
+        name: &str,
+        base: &Path,
+    ) -> Result<Scene, SceneError> {
         Scene::read_with(reader, name, base, &LoadOptions::DEFAULT)
     }
 
     /// [`Scene::read`] within `limits`.
     pub fn read_with(
-        reader: Box<dyn BufRead>,
+        reader: Box<dyn BufRead + Send>,
         name: &str,
         base: &Path,
         limits: &LoadOptions,
@@ -608,7 +614,7 @@ impl Projected {
 /// `makeobj`/`callobj`, Fig. 5.1): every record, inside an object or not, goes
 /// through `each` once; an instance refers to its object's parts.
 fn read_items(
-    reader: Box<dyn BufRead>,
+    reader: Box<dyn BufRead + Send>,
     name: &str,
     base: &Path,
     limits: &LoadOptions,

@@ -152,7 +152,7 @@ pub struct Summary {
 /// [`super::keys`]). Returns the
 /// output, flushed, and the counts.
 pub fn partition_stream<W: Write>(
-    reader: Box<dyn BufRead>,
+    reader: Box<dyn BufRead + Send>,
     source: &str,
     base: &Path,
     out: W,
