@@ -17,9 +17,9 @@
   scene-render` (runs of a row), `polyfill3 --merge=blocks | scene-render`
   (rectangles of runs), and `polyfill3 --merge VIEW --cull=none |
   scene-render` (only the cells in view written), against scene-render
-  texturing the same faces directly (bench/timing.py, whole process, the
-  commands taking turns), and the ratios; the images must be byte for byte
-  the same.
+  texturing the same faces directly (bench/timing.py, whole process, every
+  build's commands taking turns, median of 5), and the ratios; the images
+  must be byte for byte the same.
 """
 import math
 import os
@@ -120,8 +120,10 @@ def main():
     # polyfill3 takes scene-render's camera flags: the same view.
     cull = " ".join(["--merge"] + VIEW + ["--cull=none"])
     for incr, (scene, _) in scenes.items():
-        cells = []
-        for b, d in builds:
+        # Every build's commands take turns in one measurement, so that a
+        # slow spell of the machine falls on all of them alike.
+        plan, cmds = [], []
+        for k, (b, d) in enumerate(builds):
             p3, sr = os.path.join(d, "polyfill3"), os.path.join(d, "scene-render")
             # A build from before polyfill3's --cull=FACES cannot leave out only
             # what is off view: its row has no such column.
@@ -129,13 +131,17 @@ def main():
             usage = subprocess.run([p3, "--help"], capture_output=True, text=True).stdout
             names = ["pipe", "merge"] + (["blocks"] if "--merge[=" in usage else []) \
                 + (["cull"] if "--cull[=" in usage else []) + ["direct"]
-            outs = {name: os.path.join(work, f"{name}.png") for name in names}
+            outs = {name: os.path.join(work, f"{name}-{k}.png") for name in names}
             render = f"'{sr}' --size 1024x768 {' '.join(VIEW)} -"
             piped = {"pipe": "", "merge": "--merge", "blocks": "--merge=blocks", "cull": cull}
-            cmds = [["sh", "-c", f"'{p3}' {piped[n]} '{scene}' | {render} -o '{outs[n]}'"]
-                    if n != "direct" else [sr, "--size", "1024x768"] + VIEW + [scene, "-o", outs[n]]
-                    for n in names]
-            times = dict(zip(names, (t for t, _ in measure_in_turns(cmds, runs=3))))
+            cmds += [["sh", "-c", f"'{p3}' {piped[n]} '{scene}' | {render} -o '{outs[n]}'"]
+                     if n != "direct" else [sr, "--size", "1024x768"] + VIEW + [scene, "-o", outs[n]]
+                     for n in names]
+            plan.append((b, names, outs))
+        measured = iter(t for t, _ in measure_in_turns(cmds, runs=5))
+        cells = []
+        for b, names, outs in plan:
+            times = {n: next(measured) for n in names}
             images = {n: open(o, "rb").read() for n, o in outs.items()}
             if any(images[n] != images["direct"] for n in names):
                 raise SystemExit(f"stream_speed.py: {b}, incr {incr}: the images differ")
