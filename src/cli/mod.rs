@@ -173,18 +173,22 @@ fn clean_up_on_signals() {
 /// How many bytes a pipe on standard input or output is widened to hold:
 /// Linux's default, 64 KiB, is 16 pages, and a stream of cells through
 /// `polyfill3 | scene-render` then makes the writer and the reader take
-/// turns sixteen pages at a time. 1 MiB is the most an unprivileged process
-/// may ask for by default (`/proc/sys/fs/pipe-max-size`). Measured on demo
-/// 2's faces at incr 0.25, `polyfill3 | scene-render`, median of 7 taking
-/// turns: 0.809 s against 0.658 for the cells, 0.313 against 0.274 with
-/// `--merge=blocks` (bench/stream_speed.sh prints the pipeline's times).
+/// turns sixteen pages at a time. Demo 2's faces at incr 0.25, `polyfill3 |
+/// scene-render`, median of 7 taking turns: the cells 1.041 s with 64 KiB,
+/// 0.808 with 256 KiB, 0.800 with 1 MiB; `--merge=blocks` 0.452, 0.409,
+/// 0.393 (a slow period of the machine; bench/stream_speed.sh prints the
+/// pipeline's times). 256 KiB takes nearly all of the gain for a quarter of
+/// the pages, which count against a user's pipe budget
+/// (`/proc/sys/fs/pipe-user-pages-soft`, 16,384 pages: past it, the user's
+/// new pipes get two pages), so 256 such pipes open at once reach it.
 #[cfg(target_os = "linux")]
-const PIPE_BYTES: libc::c_int = 1 << 20;
+const PIPE_BYTES: libc::c_int = 1 << 18;
 
 /// Widens standard input and standard output to [`PIPE_BYTES`] where they
-/// are pipes (or FIFOs). The pipe's pages are taken as data fills it, not
-/// at once; where the request is refused (a user's pipe-pages limit, an
-/// older kernel) the pipe keeps its size, with nothing else changed.
+/// are pipes (or FIFOs) narrower than that. The pipe's pages are taken as
+/// data fills it, not at once; where the request is refused (past the
+/// user's pipe budget, an older kernel) the pipe keeps its size, with
+/// nothing else changed.
 fn widen_pipes() {
     #[cfg(target_os = "linux")]
     for fd in [0, 1] {
@@ -192,7 +196,10 @@ fn widen_pipes() {
         // capacity of a pipe this process already holds, never its data.
         unsafe {
             let mut st: libc::stat = std::mem::zeroed();
-            if libc::fstat(fd, &mut st) == 0 && st.st_mode & libc::S_IFMT == libc::S_IFIFO {
+            if libc::fstat(fd, &mut st) == 0
+                && st.st_mode & libc::S_IFMT == libc::S_IFIFO
+                && libc::fcntl(fd, libc::F_GETPIPE_SZ) < PIPE_BYTES
+            {
                 libc::fcntl(fd, libc::F_SETPIPE_SZ, PIPE_BYTES);
             }
         }

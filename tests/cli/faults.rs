@@ -500,8 +500,8 @@ clitest!(polyfill3_writes_a_large_quadric_in_bounded_memory, |dir| {
 clitest!(pipes_on_standard_input_and_output_are_widened, |dir| {
     // A stream through `polyfill3 | scene-render` moves in pipe-fulls: each
     // tool widens a pipe on its standard input or output from 64 KiB to
-    // 1 MiB. Both ends of a pipe see its size, so it is read here from the
-    // test's end, after the tool is done (for standard input, from a
+    // 256 KiB, and leaves a wider one alone. Both ends of a pipe see its
+    // size, so it is read here from the test's end, after the tool is done (for standard input, from a
     // duplicate of the tool's read end: the write end is closed to end the
     // input).
     use std::io::Write as _;
@@ -523,31 +523,40 @@ clitest!(pipes_on_standard_input_and_output_are_widened, |dir| {
         .unwrap();
     let cells = p3.stdout.take().unwrap();
     assert!(p3.wait().unwrap().success());
-    assert_eq!(pipe_size(cells.as_raw_fd()), 1 << 20);
+    assert_eq!(pipe_size(cells.as_raw_fd()), 1 << 18);
 
-    let mut fds = [0; 2];
-    // Close-on-exec, or the tool would hold its own input open.
-    assert_eq!(unsafe { libc::pipe2(fds.as_mut_ptr(), libc::O_CLOEXEC) }, 0);
-    // SAFETY: both descriptors are new and owned here alone.
-    let (read_end, write_end) = unsafe {
-        use std::os::fd::FromRawFd as _;
-        (
-            std::os::fd::OwnedFd::from_raw_fd(fds[0]),
-            std::fs::File::from_raw_fd(fds[1]),
-        )
+    // scene-render reading a pipe of `size` bytes: its size after the run.
+    let read_through_pipe = |size: i32| {
+        let mut fds = [0; 2];
+        // Close-on-exec, or the tool would hold its own input open.
+        assert_eq!(unsafe { libc::pipe2(fds.as_mut_ptr(), libc::O_CLOEXEC) }, 0);
+        // SAFETY: both descriptors are new and owned here alone.
+        let (read_end, mut input) = unsafe {
+            use std::os::fd::FromRawFd as _;
+            (
+                std::os::fd::OwnedFd::from_raw_fd(fds[0]),
+                std::fs::File::from_raw_fd(fds[1]),
+            )
+        };
+        assert_eq!(
+            unsafe { libc::fcntl(fds[0], libc::F_SETPIPE_SZ, size) },
+            size
+        );
+        let kept = read_end.try_clone().unwrap();
+        let mut sr = Command::new(env!("CARGO_BIN_EXE_scene-render"))
+            .args(["--size", "8x8", "-", "-o"])
+            .arg(dir.path().join("out.png"))
+            .stdin(Stdio::from(read_end))
+            .spawn()
+            .unwrap();
+        input
+            .write_all(br#"{"vertices":[[0,0,0],[8,0,0],[0,8,0]],"color":[9,9,9]}"#)
+            .unwrap();
+        drop(input);
+        assert!(sr.wait().unwrap().success());
+        pipe_size(kept.as_raw_fd())
     };
-    let kept = read_end.try_clone().unwrap();
-    let mut sr = Command::new(env!("CARGO_BIN_EXE_scene-render"))
-        .args(["--size", "8x8", "-", "-o"])
-        .arg(dir.path().join("out.png"))
-        .stdin(Stdio::from(read_end))
-        .spawn()
-        .unwrap();
-    let mut input = write_end;
-    input
-        .write_all(br#"{"vertices":[[0,0,0],[8,0,0],[0,8,0]],"color":[9,9,9]}"#)
-        .unwrap();
-    drop(input);
-    assert!(sr.wait().unwrap().success());
-    assert_eq!(pipe_size(kept.as_raw_fd()), 1 << 20);
+    assert_eq!(read_through_pipe(1 << 16), 1 << 18);
+    // A pipe already wider is left as it is.
+    assert_eq!(read_through_pipe(1 << 20), 1 << 20);
 });
