@@ -184,21 +184,25 @@ fn clean_up_on_signals() {
 #[cfg(target_os = "linux")]
 const PIPE_BYTES: libc::c_int = 1 << 18;
 
-/// Widens standard input and standard output to [`PIPE_BYTES`] where they
-/// are pipes (or FIFOs) narrower than that. The pipe's pages are taken as
-/// data fills it, not at once; where the request is refused (past the
-/// user's pipe budget, an older kernel) the pipe keeps its size, with
-/// nothing else changed.
+/// Widens standard input and standard output to `PIPE_BYTES` where they
+/// are pipes (or FIFOs) of the kernel's default size, 16 pages, when that is
+/// less: a pipe someone sized, narrower or wider, is left as it is. The
+/// pipe's pages are taken as data fills it, not at once; where the request
+/// is refused (past the user's pipe budget, an older kernel) the pipe keeps
+/// its size, with nothing else changed.
 fn widen_pipes() {
     #[cfg(target_os = "linux")]
     for fd in [0, 1] {
-        // SAFETY: fstat writes only into `st`; F_SETPIPE_SZ changes only the
-        // capacity of a pipe this process already holds, never its data.
+        // SAFETY: sysconf and F_GETPIPE_SZ only read; fstat writes only into
+        // `st`; F_SETPIPE_SZ changes only the capacity of a pipe this process
+        // already holds, never its data.
         unsafe {
+            let default = 16 * libc::sysconf(libc::_SC_PAGESIZE);
             let mut st: libc::stat = std::mem::zeroed();
             if libc::fstat(fd, &mut st) == 0
                 && st.st_mode & libc::S_IFMT == libc::S_IFIFO
-                && libc::fcntl(fd, libc::F_GETPIPE_SZ) < PIPE_BYTES
+                && libc::fcntl(fd, libc::F_GETPIPE_SZ) as libc::c_long == default
+                && default < PIPE_BYTES as libc::c_long
             {
                 libc::fcntl(fd, libc::F_SETPIPE_SZ, PIPE_BYTES);
             }

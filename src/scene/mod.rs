@@ -360,7 +360,9 @@ impl Scene {
     /// of the thesis's demo 1) per pixel, object and uv placement through
     /// their screen → texel map, computed when each record is projected (in
     /// the object's own coordinates for an instance, so the pattern stays
-    /// fixed to the object as in the thesis's Fig. 5.1).
+    /// fixed to the object as in the thesis's Fig. 5.1). The reader is
+    /// `Send`: an NDJSON stream's next lines are read on another thread
+    /// ([`crate::stream::for_each_item`]).
     pub fn read(
         reader: Box<dyn BufRead + Send>,
         name: &str,

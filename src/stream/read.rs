@@ -302,14 +302,18 @@ pub fn for_each_item_in<R: BufRead + Send, E: From<StreamError>>(
                         // The rest of the input from that line: the batch's
                         // bytes from there, the next batch's, then the read
                         // error either met (one at most: nothing is read
-                        // after one), then the reader.
+                        // after one), then the reader, unless there was one:
+                        // serde_json reads on after an error inside an array
+                        // (`end_seq`), and the reader must not be asked again.
                         use std::io::Read as _;
+                        let failure = failed.or(next_failed);
+                        let unread = if failure.is_some() { 0 } else { u64::MAX };
                         let rest = std::io::repeat(b'\n')
                             .take(newlines)
                             .chain(&batch.buf[start..])
                             .chain(&next.buf[..])
-                            .chain(FailedRead(failed.or(next_failed)))
-                            .chain(reader);
+                            .chain(FailedRead(failure))
+                            .chain(reader.take(unread));
                         let de = serde_json::Deserializer::from_reader(rest).into_iter::<Element>();
                         for e in de {
                             let e = e.map_err(|e| stream_err(Some(index), json_message(&e)))?;
@@ -724,11 +728,25 @@ mod tests {
         }
     }
 
+    /// A reader that must not be read again once it has failed: the stream
+    /// ends at a read error (serde_json's own stream reader asks again).
+    struct NotAfterError<R>(R, bool);
+
+    impl<R: std::io::Read> std::io::Read for NotAfterError<R> {
+        fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+            assert!(!self.1, "read again after its error");
+            let r = self.0.read(out);
+            self.1 = r.is_err();
+            r
+        }
+    }
+
     /// How many records the reader hands on from `bytes` read through
-    /// [`FailsAfter`], and the error it ends with.
+    /// [`FailsAfter`], and the error it ends with; nothing is read after
+    /// the error.
     fn records_then_error(bytes: &[u8]) -> (usize, String) {
         let mut n = 0;
-        let reader = std::io::BufReader::new(FailsAfter(bytes, false));
+        let reader = std::io::BufReader::new(NotAfterError(FailsAfter(bytes, false), false));
         let e = for_each_record(reader, "s.json", |_| {
             n += 1;
             Ok::<(), StreamError>(())
