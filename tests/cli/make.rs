@@ -248,3 +248,52 @@ clitest!(
         assert!(10 * cut < full, "{cut} bytes against {full}");
     }
 );
+
+clitest!(every_target_of_the_examples_makefile_builds, |dir| {
+    // What `make -C examples` and `make -C examples -j spin` (README) build,
+    // with `turn` and `check-demos`: every target the Makefile names, in one
+    // parallel run, each output non-empty and the demos within one code of
+    // their golden images.
+    let out = dir.path().join("out");
+    let built = make(&out, &["-j2", "all", "spin", "turn", "check-demos"]);
+    assert!(built.status.success(), "{built:?}");
+    for file in [
+        "marble.pat",
+        "marble-info.txt",
+        "marble-wall.png",
+        "brick-wall.png",
+        "demo1.png",
+        "demo2.png",
+        "demo2-fig51.png",
+        "two-spheres.png",
+        "earth-photo.png",
+        "earth-lit.png",
+        "house.png",
+        "turn.png",
+    ] {
+        let len = std::fs::metadata(out.join(file)).map_or(0, |m| m.len());
+        assert!(len > 0, "{file}: {len} bytes");
+    }
+    let frames = std::fs::read_dir(out.join("spin"))
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .ends_with(".png")
+        })
+        .count();
+    assert_eq!(frames, 36, "spin's frames");
+    // An animated PNG's acTL chunk: its frame count, big-endian.
+    let turn = std::fs::read(out.join("turn.png")).unwrap();
+    let at = turn
+        .windows(4)
+        .position(|w| w == b"acTL")
+        .expect("an animated PNG");
+    assert_eq!(turn[at + 4..at + 8], 36u32.to_be_bytes(), "turn's frames");
+    let report = String::from_utf8_lossy(&built.stdout);
+    for demo in ["demo1", "demo2", "two-spheres", "demo2-fig51"] {
+        assert!(report.contains(&format!("{demo}: rmse ")), "{report}");
+    }
+});
