@@ -53,6 +53,12 @@ const EXPECT: &[(&str, &str)] = &[
     ("--compat thesis", "1353"),
     ("&& echo valid", "valid"),
     ("&& echo all valid", "all valid"),
+    // README's "error below one 8-bit code", and the report docs/rendering.md
+    // shows for it (*--compare*).
+    (
+        "--image exact16.png --compare exact.pfm",
+        "rmse      0.000153\npsnr      124.43 dB\nmax       0.001945\n",
+    ),
 ];
 
 /// Images that must match a golden image: (output name in the text, golden).
