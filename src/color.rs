@@ -139,14 +139,27 @@ pub fn decode_table_f64() -> &'static [f64; 256] {
 static DECODE: std::sync::LazyLock<[f32; 256]> =
     std::sync::LazyLock::new(|| DECODE_F64.map(|v| v as f32));
 
-/// Encoding thresholds: `ENCODE_EDGES[k]` is the linear value at which the rounded
-/// sRGB code steps from `k` to `k + 1` (the linear image of `(k + 0.5) / 255`).
-/// Encoding is then a binary search: exact round-to-nearest of the true transfer
-/// function, with no `powf` on the hot path.
+/// Encoding thresholds: `ENCODE_EDGES[k]` is the least f32 whose rounded sRGB
+/// code is `k + 1`, the first f32 at or above the linear image of
+/// `(k + 0.5) / 255`. Encoding is then a count of the edges at or below a
+/// value: exact round-to-nearest of the true transfer function, with no
+/// `powf` on the hot path. The f32 *nearest* each image lay below it at 127
+/// of the 255 boundaries, and the f32 on such an edge took the code above
+/// (test `encode_is_correctly_rounded_at_every_code_boundary`, which also
+/// checks that the f64 formula deciding it has the margin to).
 static ENCODE_EDGES: std::sync::LazyLock<[f32; 255]> = std::sync::LazyLock::new(|| {
     let mut t = [0f32; 255];
     for (k, v) in t.iter_mut().enumerate() {
-        *v = srgb_to_linear_f64((k as f64 + 0.5) / 255.0) as f32;
+        let boundary = k as f64 + 0.5;
+        let rounds_up = |l: f32| linear_to_srgb_f64(l as f64) * 255.0 >= boundary;
+        let mut edge = srgb_to_linear_f64(boundary / 255.0) as f32;
+        while !rounds_up(edge) {
+            edge = edge.next_up();
+        }
+        while rounds_up(edge.next_down()) {
+            edge = edge.next_down();
+        }
+        *v = edge;
     }
     t
 });
@@ -329,6 +342,33 @@ mod tests {
                 "l={l} want {want} got {got}"
             );
         }
+    }
+
+    /// The 8-bit encoder is the correctly rounded code of every f32, not
+    /// only within a code: at each of the 255 rounding boundaries the f32
+    /// values around its linear preimage encode as the f64 formula rounds
+    /// them, and that formula rounds as the exact value would (no such f32
+    /// lies within the evaluation error of a boundary, as for 16 bits).
+    /// The edges were the f32 nearest each preimage: 127 of them lay below
+    /// it, and the f32 on such an edge took the code above.
+    #[test]
+    fn encode_is_correctly_rounded_at_every_code_boundary() {
+        let mut closest = f64::INFINITY;
+        for k in 0..255u32 {
+            let boundary = k as f64 + 0.5;
+            let pre = srgb_to_linear_f64(boundary / 255.0) as f32;
+            for step in -3i32..=3 {
+                let l = f32::from_bits((pre.to_bits() as i32 + step) as u32);
+                let code = linear_to_srgb_f64(l as f64) * 255.0;
+                closest = closest.min((code - boundary).abs());
+                assert_eq!(
+                    linear_to_srgb(l),
+                    code.round() as u8,
+                    "l = {l:e}, code {code}"
+                );
+            }
+        }
+        assert!(closest > 10.0 * SRGB16_EVAL_ERROR / 257.0, "{closest:e}");
     }
 
     /// The f64 evaluation of [`linear_to_srgb16`] rounds as the exact value
