@@ -55,6 +55,26 @@ macro_rules! usage_bail {
 }
 pub(crate) use usage_bail;
 
+/// `eprintln!` that drops what standard error cannot take (closed, a full
+/// device) instead of panicking: the exit status still tells what happened
+/// (docs/conventions.md). `eprintln!` panicked, exit 101, with `2>/dev/full`.
+macro_rules! eprintln_or_drop {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+pub(crate) use eprintln_or_drop;
+
+/// `eprint!` as [`eprintln_or_drop!`] does it.
+macro_rules! eprint_or_drop {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stderr(), $($arg)*);
+    }};
+}
+pub(crate) use eprint_or_drop;
+
 /// Exit statuses (each man page's EXIT STATUS).
 pub const EXIT_OK: i32 = 0;
 pub const EXIT_FAILURE: i32 = 1;
@@ -221,7 +241,7 @@ fn exit_usage(tool: &str, e: clap::Error) -> ! {
         _ => {
             let text = e.render().to_string();
             let text = text.strip_prefix("error: ").unwrap_or(&text);
-            eprint!("{tool}: error: {text}");
+            eprint_or_drop!("{tool}: error: {text}");
             std::process::exit(EXIT_USAGE)
         }
     }
@@ -234,7 +254,7 @@ pub fn report(tool: &str, result: anyhow::Result<()>) -> i32 {
         Err(e) if is_broken_pipe(&e) => EXIT_OK,
         Err(e) if e.downcast_ref::<AlreadyReported>().is_some() => EXIT_FAILURE,
         Err(e) => {
-            eprintln!(
+            eprintln_or_drop!(
                 "{tool}: error: {}",
                 crate::text::shorten_long_numbers(&in_flag_words(&e))
             );
@@ -358,7 +378,7 @@ impl ColorWhen {
 /// Prints a warning as `TOOL: warning: ...`, the form every tool uses.
 pub fn warn(tool: &str, message: impl fmt::Display) {
     let message = message.to_string();
-    eprintln!(
+    eprintln_or_drop!(
         "{tool}: warning: {}",
         crate::text::shorten_long_numbers(&message)
     );

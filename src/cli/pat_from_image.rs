@@ -2,7 +2,7 @@
 //! resampling (or cropping) it to SIZE x SIZE and quantizing it to K colours
 //! (see [`crate::quantize`] for how and why).
 
-use crate::cli::usage_bail;
+use crate::cli::{eprintln_or_drop, usage_bail};
 use crate::color::Rgb8;
 use crate::io::{self, display_name, Output};
 use crate::pat::{self, Pattern};
@@ -191,7 +191,7 @@ fn run_in_pool(args: Args) -> Result<()> {
             Some(p) => format!("{p:.2} dB"),
             None => "n/a (no coloured texels)".to_string(),
         };
-        eprintln!(
+        eprintln_or_drop!(
             "pat-from-image: {name}: {size}x{size}, {} colours, {transparent} transparent texels, PSNR {psnr}",
             pattern.palette().len()
         );

@@ -4,7 +4,7 @@
 //! examine commands).
 
 use super::{AlreadyReported, IntPair};
-use crate::cli::usage_bail;
+use crate::cli::{eprintln_or_drop, usage_bail};
 use crate::io::{display_name, read_input};
 use crate::pat::{Pattern, Seam};
 use crate::stream::{Item, Record};
@@ -112,7 +112,7 @@ pub fn run(args: Args) -> Result<()> {
                     });
                 match result {
                     Err(e) => {
-                        eprintln!("pat-info: error: {e:#}");
+                        eprintln_or_drop!("pat-info: error: {e:#}");
                         failures += 1;
                     }
                     Ok(_) if args.check => {}
@@ -134,7 +134,7 @@ pub fn run(args: Args) -> Result<()> {
         let (pattern, at) = match result {
             Ok(ok) => ok,
             Err(e) => {
-                eprintln!("pat-info: error: {e:#}");
+                eprintln_or_drop!("pat-info: error: {e:#}");
                 failures += 1;
                 continue;
             }

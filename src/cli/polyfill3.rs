@@ -1,7 +1,7 @@
 //! `polyfill3`: partition 3D polygons into texture point polygons (the thesis's
 //! `polcolorf3`, ch. IV, with the "object" placement of docs/stream-format.md).
 
-use crate::cli::usage_bail;
+use crate::cli::{eprintln_or_drop, usage_bail};
 use crate::geom::merge::Merge;
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::io::{display_name, Output, STDIO};
@@ -297,7 +297,7 @@ fn run_in_pool(args: Args) -> Result<()> {
         super::write_depfile(depfile, std::slice::from_ref(&args.output), &deps)?;
     }
     if args.json {
-        eprintln!(
+        eprintln_or_drop!(
             "{}",
             serde_json::json!({
                 "version": super::JSON_VERSION,

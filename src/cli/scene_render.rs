@@ -4,7 +4,7 @@
 use super::camera::CameraArgs;
 use super::Size;
 use crate::camera::Camera;
-use crate::cli::usage_bail;
+use crate::cli::{eprint_or_drop, eprintln_or_drop, usage_bail};
 use crate::color::Rgb8;
 use crate::io::{decode_any, display_name, read_input, AnyImage, Depth, ImageFormat, PngOptions};
 use crate::progress::Progress;
@@ -484,7 +484,7 @@ fn run_in_pool(args: Args) -> Result<()> {
     finish(&args, output.zip(format), img, reference_img, reports)?;
     write_depfile(&args, Some(&files))?;
     if args.timings {
-        eprintln!(
+        eprintln_or_drop!(
             "{TOOL}: timings: read {:.4} s, render {:.4} s, write {:.4} s ({} polygons)",
             (t_render - t_read).as_secs_f64(),
             (t_write - t_render).as_secs_f64(),
@@ -583,7 +583,7 @@ impl Estimated {
 
     /// The warning, `at` naming the frame of an animation.
     fn warn(&self, at: &str) {
-        eprintln!(
+        eprintln_or_drop!(
             "{TOOL}: warning: {at}{} pixel fragment(s) too fine to integrate exactly (more than {} texel cells, {} for a pattern with transparent texels, or stripes reaching a plane's horizon): their colour is an estimate (EWA, or the stripes' level-of-detail filter), not the exact box integral, within {} code(s) of it (the textures' contrast)",
             self.fragments,
             crate::texture::cells::MAX_EXACT_CELLS,
@@ -671,7 +671,7 @@ fn finish(
         }
         if let Some(r) = &residual {
             // Without --json the reference note is diagnostic: standard error.
-            eprintln!(
+            eprintln_or_drop!(
                 "{TOOL}: reference: error estimate at most {:.3e} linear, {} code(s) in 8 bits, {} pixel(s) not certain ({} strips/pixel over the events)",
                 r.max_linear, r.max_codes, r.uncertain_pixels, r.lines
             );
@@ -868,7 +868,7 @@ fn render_frames(
             img.save_with(&name, format, PngOptions::GENERAL)?;
         }
         if args.timings {
-            eprintln!(
+            eprintln_or_drop!(
                 "{TOOL}: timings: frame {k}: project {:.4} s, render {:.4} s, write {:.4} s ({} polygons)",
                 (t1 - t0).as_secs_f64(),
                 (t2 - t1).as_secs_f64(),
@@ -898,7 +898,7 @@ fn render_frames(
 /// itself goes to standard output.
 fn print_report(text: &str, image_on_stdout: bool) -> Result<()> {
     if image_on_stdout {
-        eprint!("{text}");
+        eprint_or_drop!("{text}");
         return Ok(());
     }
     super::check_stdout()?;

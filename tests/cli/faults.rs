@@ -52,6 +52,54 @@ clitest!(a_closed_pipe_ends_every_output_quietly, |dir| {
     }
 });
 
+clitest!(an_unwritable_standard_error_changes_no_status, |dir| {
+    // Errors, warnings, reports and timings to a full device or a closed
+    // pipe are dropped: each tool ends with the status it would have given
+    // (they panicked, status 101, at the first message).
+    let brick = repo("fixtures/patterns/brick.pat");
+    let faces = repo("fixtures/scenes/demo2-faces.json");
+    let photo = repo("fixtures/images/earth-nasa.jpg");
+    for (cmd, status) in [
+        ("pat-info missing.pat".to_string(), 1),
+        (format!("pat-info --json {}", brick.display()), 0),
+        ("polyfill3 missing.json".to_string(), 1),
+        (
+            format!("polyfill3 --json {} -o cells.ndjson", faces.display()),
+            0,
+        ),
+        (
+            format!("pat-tile --size 8x8 {} -o t.png", brick.display()),
+            0,
+        ),
+        ("pat-tile --size 0x8 missing.pat".to_string(), 2),
+        (
+            format!(
+                "pat-from-image --report --size 16 {} -o p.pat",
+                photo.display()
+            ),
+            0,
+        ),
+        (
+            format!(
+                "scene-render --timings --size 8x8 {} -o s.png",
+                faces.display()
+            ),
+            0,
+        ),
+        ("scene-render missing.json -o s.png".to_string(), 1),
+    ] {
+        for script in [
+            format!("{cmd} 2>/dev/full; echo $? > status"),
+            // Standard error into a pipe that `true` closes.
+            format!("( {cmd}; echo $? > status ) 2>&1 >/dev/null | true"),
+        ] {
+            sh(dir.path(), &script);
+            let got = std::fs::read_to_string(dir.path().join("status")).unwrap();
+            assert_eq!(got.trim(), status.to_string(), "{script}");
+        }
+    }
+});
+
 clitest!(a_closed_standard_output_is_an_error, |dir| {
     // `tool >&-`: writes would vanish (Rust puts /dev/null in its place),
     // so a tool that writes there fails; `> /dev/null` stays fine.
