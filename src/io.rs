@@ -69,6 +69,15 @@ pub enum IoError {
         #[source]
         error: image::ImageError,
     },
+    /// An input picture larger than any tool makes one ([`Image::check_size`]),
+    /// refused from its header, before its pixels are decoded.
+    #[error("{input}: {error}")]
+    PictureTooLarge {
+        /// The input's name, as errors show it.
+        input: String,
+        /// Which limit it is over.
+        error: SizeError,
+    },
     /// An input that starts as a PFM but is not a valid one.
     #[error("{input}: not a valid PFM image")]
     BadPfm {
@@ -1221,13 +1230,28 @@ fn open_decoder<'a>(bytes: &'a [u8], name: &str) -> Result<impl image::ImageDeco
         .map_err(not_an_image(name))
 }
 
+/// [`open_decoder`] for a picture to decode whole: refused, from its header,
+/// when it is larger than any tool makes one ([`MAX_IMAGE_SIDE`],
+/// [`MAX_IMAGE_PIXELS`]), so that a small file declaring a huge picture (a
+/// 389 KB PNG of 20000x20000 took 2 GB) costs nothing.
+fn open_picture<'a>(bytes: &'a [u8], name: &str) -> Result<impl image::ImageDecoder + 'a, IoError> {
+    use image::ImageDecoder as _;
+    let decoder = open_decoder(bytes, name)?;
+    let (width, height) = decoder.dimensions();
+    Image::check_size(width, height).map_err(|error| IoError::PictureTooLarge {
+        input: name.to_string(),
+        error,
+    })?;
+    Ok(decoder)
+}
+
 /// [`decode_image`] for pictures from cameras and phones: the EXIF
 /// orientation (JPEG, PNG's `eXIf`, TIFF, WebP) is applied, and an ICC
 /// profile is reported so the caller can warn that it is not.
 pub fn decode_photo(bytes: &[u8], name: &str) -> Result<Photo, IoError> {
     use image::ImageDecoder as _;
     let not_an_image = not_an_image(name);
-    let mut decoder = open_decoder(bytes, name)?;
+    let mut decoder = open_picture(bytes, name)?;
     let orientation = decoder
         .orientation()
         .unwrap_or(image::metadata::Orientation::NoTransforms);
@@ -1488,7 +1512,8 @@ pub fn decode_any(bytes: &[u8], name: &str) -> Result<AnyImage, IoError> {
                 error,
             });
     }
-    let img = image::load_from_memory(bytes).map_err(not_an_image(name))?;
+    let img = image::DynamicImage::from_decoder(open_picture(bytes, name)?)
+        .map_err(not_an_image(name))?;
     let (width, height) = (img.width(), img.height());
     let deep = img.color().bytes_per_pixel() / img.color().channel_count() > 1;
     Ok(if deep {
@@ -1511,10 +1536,8 @@ pub fn decode_any(bytes: &[u8], name: &str) -> Result<AnyImage, IoError> {
 /// Decodes any image the `image` crate reads (PNG, JPEG, GIF, BMP, TIFF, WebP,
 /// PNM/PAM) into RGBA8, as stored (no EXIF orientation: see [`decode_photo`]).
 pub fn decode_image(bytes: &[u8], name: &str) -> Result<image::RgbaImage, IoError> {
-    let img = image::load_from_memory(bytes).map_err(|error| IoError::NotAnImage {
-        input: name.to_string(),
-        error,
-    })?;
+    let img = image::DynamicImage::from_decoder(open_picture(bytes, name)?)
+        .map_err(not_an_image(name))?;
     Ok(img.into_rgba8())
 }
 
@@ -1540,6 +1563,34 @@ fn write_pam_header(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A picture's header that declares more than any tool makes is refused
+    /// before a pixel is decoded: these headers have no pixels at all.
+    #[test]
+    fn pictures_over_the_size_limits_are_refused_from_their_header() {
+        for (header, want) in [
+            (
+                &b"P5\n20000 20000\n255\n"[..],
+                "20000x20000 is too large: at most 268435456 pixels",
+            ),
+            (
+                &b"P6\n70000 16\n255\n"[..],
+                "70000x16 is too large: each side at most 65535",
+            ),
+        ] {
+            let text = |e: IoError| e.to_string();
+            for got in [
+                decode_image(header, "bomb.pnm").map(|_| ()).map_err(text),
+                decode_photo(header, "bomb.pnm").map(|_| ()).map_err(text),
+                decode_any(header, "bomb.pnm").map(|_| ()).map_err(text),
+            ] {
+                assert_eq!(got, Err(format!("bomb.pnm: image size {want}")));
+            }
+        }
+        // At the limit, the header passes and the missing pixels are the error.
+        let at_limit = decode_image(b"P5\n16384 16384\n255\n", "short.pgm").unwrap_err();
+        assert!(matches!(at_limit, IoError::NotAnImage { .. }), "{at_limit}");
+    }
 
     #[test]
     fn failed_output_leaves_no_file_behind() {
