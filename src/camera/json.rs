@@ -45,13 +45,23 @@ impl Camera {
             path: path.to_string(),
             error,
         };
-        let text = if path == "-" {
-            let mut s = String::new();
-            std::io::stdin().read_to_string(&mut s).map_err(read)?;
-            s
+        let source: Box<dyn Read> = if path == "-" {
+            Box::new(std::io::stdin())
         } else {
-            std::fs::read_to_string(path).map_err(read)?
+            Box::new(std::fs::File::open(path).map_err(read)?)
         };
+        // Bounded: `--camera /dev/zero` read until memory ran out.
+        let mut text = String::new();
+        source
+            .take(MAX_CAMERA_BYTES + 1)
+            .read_to_string(&mut text)
+            .map_err(read)?;
+        if text.len() as u64 > MAX_CAMERA_BYTES {
+            return Err(read(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!("is larger than the {MAX_CAMERA_BYTES} bytes a camera file may have"),
+            )));
+        }
         let name = if path == "-" { "<stdin>" } else { path };
         let value: Value = serde_json::from_str(&text).map_err(|error| CameraError::Json {
             origin: name.to_string(),
@@ -60,6 +70,11 @@ impl Camera {
         Camera::from_json(&value, name)
     }
 }
+
+/// The largest camera file read: 1 MiB, thousands of times a camera's few
+/// numbers with any amount of spacing, and a bound on what `--camera` reads
+/// from a device or a pipe that never ends.
+pub const MAX_CAMERA_BYTES: u64 = 1 << 20;
 
 /// The specification a camera JSON value gives. Fails on wrong types and keys,
 /// and (to keep the first error the same as it has always been, module docs) on
