@@ -303,6 +303,9 @@ fn run_in_pool(args: Args) -> Result<()> {
             None => usage_bail!("--frames: give -o, a pattern such as frame-%04d.png"),
             // Standard output: the frames one after another (a stream).
             Some(o) if o == crate::io::STDIO => {}
+            Some(o) if frame_width(o).is_some_and(|w| w > MAX_FRAME_WIDTH) => {
+                usage_bail!("-o {o}: a frame number that wide makes no file name: at most %0{MAX_FRAME_WIDTH}d")
+            }
             Some(o) if frame_name(o, 0).is_none() && (args.frame.is_none() && args.frames > 1) => {
                 usage_bail!("-o {o}: with --frames {} expected a pattern with %d or %0Nd, such as frame-%04d.png", args.frames)
             }
@@ -690,20 +693,32 @@ fn load_image(name: &str) -> Result<AnyImage> {
     Ok(decode_any(&bytes, display_name(name))?)
 }
 
-/// `%d` or `%0Nd` in an output name replaced by the frame number; `None`
-/// when the name has no such pattern.
-pub fn frame_name(pattern: &str, k: u64) -> Option<String> {
-    let start = pattern.find('%')?;
-    let rest = &pattern[start + 1..];
+/// The widest frame number a pattern may ask for: 255, the longest file
+/// name (`NAME_MAX`). Wider made no name, and over 65,535 `format!` panicked.
+const MAX_FRAME_WIDTH: usize = 255;
+
+/// The width `N` of the `%d` or `%0Nd` in an output name (0 for `%d`,
+/// saturated for a huge N); `None` when the name has no such pattern.
+fn frame_width(pattern: &str) -> Option<usize> {
+    let rest = &pattern[pattern.find('%')? + 1..];
     let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
     if rest.as_bytes().get(digits) != Some(&b'd') {
         return None;
     }
-    let width: usize = if digits == 0 {
-        0
-    } else {
-        rest[..digits].parse().ok()?
-    };
+    Some(
+        rest[..digits]
+            .parse()
+            .unwrap_or(if digits == 0 { 0 } else { usize::MAX }),
+    )
+}
+
+/// `%d` or `%0Nd` in an output name replaced by the frame number; `None`
+/// when the name has no such pattern, or one wider than [`MAX_FRAME_WIDTH`].
+pub fn frame_name(pattern: &str, k: u64) -> Option<String> {
+    let width = frame_width(pattern).filter(|&w| w <= MAX_FRAME_WIDTH)?;
+    let start = pattern.find('%')?;
+    let rest = &pattern[start + 1..];
+    let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
     let zero = rest.starts_with('0');
     let num = if zero {
         format!("{k:0width$}")

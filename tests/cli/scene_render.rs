@@ -635,6 +635,15 @@ clitest!(frame_options_are_checked_before_anything_is_drawn, |dir| {
             vec!["--frames", "3", "--frame", "3", "-o", "f%d.png"],
             "--frame 3: expected a frame below --frames 3",
         ),
+        // Over 65,535 `format!` panicked; over 255 makes no file name.
+        (
+            vec!["--frames", "3", "-o", "f%099999d.png"],
+            "a frame number that wide makes no file name: at most %0255d",
+        ),
+        (
+            vec!["--frames", "3", "-o", "f%0256d.png"],
+            "a frame number that wide makes no file name",
+        ),
     ] {
         dir.cmd("scene-render")
             .args(&args)
