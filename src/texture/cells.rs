@@ -507,7 +507,8 @@ fn sub_squares(
             }
             let c = crate::geom::polygon::vertex_mean(&s.cell);
             let t = tex.map.uv(c.x, c.y);
-            let Some(color) = tex.texel(t.x.floor() as i64, t.y.floor() as i64) else {
+            let (u, v) = tex.near_period(0, t.x, t.y, 1.0);
+            let Some(color) = tex.texel(u.floor() as i64, v.floor() as i64) else {
                 continue;
             };
             out.take(&s.cell, a2, color);

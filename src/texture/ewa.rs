@@ -47,10 +47,11 @@ pub fn sample(t: &PolyTexture, fp: &Footprint) -> [f64; 4] {
     // LOD bias scaling the footprint by 2^bias per axis (like a change of
     // level): s2 = (PIXEL_SIGMA 2^bias)².
     let s2 = (PIXEL_SIGMA * math::exp2(t.filters.lod_bias)).powi(2);
+    let (dx, dy) = tamed(fp.dx, fp.dy);
     let (mut a, b, mut c) = (
-        s2 * (fp.dx.x * fp.dx.x + fp.dy.x * fp.dy.x),
-        s2 * (fp.dx.x * fp.dx.y + fp.dy.x * fp.dy.y),
-        s2 * (fp.dx.y * fp.dx.y + fp.dy.y * fp.dy.y),
+        s2 * (dx.x * dx.x + dy.x * dy.x),
+        s2 * (dx.x * dx.y + dy.x * dy.y),
+        s2 * (dx.y * dx.y + dy.y * dy.y),
     );
     // Eigenvalues; widen the minor axis to the anisotropy limit by adding
     // d I, which raises both so that (l1 + d) / (l2 + d) = MAX_ANISOTROPY².
@@ -98,8 +99,10 @@ pub fn sample(t: &PolyTexture, fp: &Footprint) -> [f64; 4] {
     let det = a * c - b * b;
     // Inverse covariance for the Mahalanobis distance.
     let (ia, ib, ic) = (c / det, -b / det, a / det);
-    let (u, v) = (fp.uv.x / sx, fp.uv.y / sy);
     let (ru, rv) = (CUTOFF * a.sqrt(), CUTOFF * c.sqrt());
+    // Far out (a coordinate of 1e30), moved by whole periods so that the
+    // texel indices below are exact.
+    let (u, v) = t.near_period(k, fp.uv.x / sx, fp.uv.y / sy, ru.max(rv) + 1.0);
     let mut acc = [0.0f64; 4];
     let mut wsum = 0.0;
     for j in (v - rv - 0.5).floor() as i64..=(v + rv - 0.5).ceil() as i64 {
@@ -119,8 +122,33 @@ pub fn sample(t: &PolyTexture, fp: &Footprint) -> [f64; 4] {
         }
     }
     // The centre texel always lies within the cutoff (q <= 0.5 / TEXEL_SIGMA² = 2 < 9 at
-    // half a texel), so wsum > 0.
-    acc.map(|x| x / wsum)
+    // half a texel), so wsum > 0. Should rounding ever leave no weight, the
+    // texel under the centre stands in: a defined colour, never 0 / 0.
+    if wsum > 0.0 && wsum.is_finite() {
+        acc.map(|x| x / wsum)
+    } else {
+        t.fetch(k, u.floor() as i64, v.floor() as i64)
+    }
+}
+
+/// Jacobian columns above this magnitude (2^300) are scaled down by a power
+/// of two before their squares are taken, which would otherwise overflow to
+/// infinity (a quadric's `"repeat"` of 1e308).
+const TAME_ABOVE: f64 = f64::from_bits((1023 + 300) << 52);
+
+/// `(dx, dy)` scaled by one power of two so that their largest component is
+/// at most [`TAME_ABOVE`], or as given. Such a footprint is far past the
+/// coarsest level, where [`sample`] shrinks the ellipse to [`MAX_RADIUS`]:
+/// only its shape counts, which an exact power-of-two scale keeps.
+fn tamed(dx: glam::DVec2, dy: glam::DVec2) -> (glam::DVec2, glam::DVec2) {
+    let m = dx.abs().max_element().max(dy.abs().max_element());
+    if m <= TAME_ABOVE || !m.is_finite() {
+        return (dx, dy);
+    }
+    let e = (math::log2(m / TAME_ABOVE)).ceil() as i32 + 1;
+    // 2^-e, exactly.
+    let f = f64::from_bits(((1023 - e) as u64) << 52);
+    (dx * f, dy * f)
 }
 
 #[cfg(test)]
@@ -193,6 +221,53 @@ mod tests {
             panic!()
         };
         assert!((grey[0] - 0.5).abs() < 0.1, "{grey:?}");
+    }
+
+    /// Texture coordinates of 1e30 (a triangle's uv, a quadric's
+    /// `"repeat"`): the EWA used to read one saturated texel index, outside
+    /// its own ellipse, and divide by a zero weight, and the renderers
+    /// panicked on the transparent colour. A position whole periods away
+    /// from another gives the very same colour, under every condition that
+    /// wraps, and the conditions that leave the pattern still do.
+    #[test]
+    fn ewa_far_from_the_origin_is_the_colour_a_whole_period_away() {
+        use crate::texture::map::Footprint;
+        use glam::DVec2;
+        let p = pattern(16, &[Rgb8::BLACK, Rgb8::WHITE], |c, r| {
+            ((c * 7 + r * 3) % 5 < 2) as u16
+        });
+        let mut t = placed(p, 1.0, Filter::Ewa, 0.0);
+        let fp = |x: f64, y: f64, scale: f64| Footprint {
+            uv: DVec2::new(x, y),
+            dx: DVec2::new(scale, 0.3 * scale),
+            dy: DVec2::new(-0.2 * scale, scale),
+        };
+        for bounds in [Boundary::Repeat, Boundary::Mirror] {
+            t.bounds = Bounds::both(bounds);
+            for scale in [0.7, 3.0, 40.0] {
+                let near = sample(&t, &fp(0.0, 5.0, scale));
+                // Multiples of 32: whole periods of both conditions.
+                for far in [2f64.powi(62), 2f64.powi(70), 1e30, -1e30, 1e300] {
+                    let got = sample(&t, &fp(far, 5.0, scale));
+                    assert_eq!(got, near, "{bounds:?} at {far} scale {scale}");
+                }
+            }
+        }
+        // Far out under clamp: the constant colour.
+        t.bounds = Bounds::both(Boundary::Clamp);
+        t.constant = [1.0, 0.0, 0.0];
+        let c = sample(&t, &fp(1e30, 5.0, 2.0));
+        assert!(
+            (c[0] - 1.0).abs() < 1e-12 && c[1] == 0.0 && c[3] == 1.0,
+            "{c:?}"
+        );
+        // A Jacobian whose squares overflow (1e300 texels a pixel): the
+        // pattern's mean, a defined colour.
+        t.bounds = Bounds::both(Boundary::Repeat);
+        let c = sample(&t, &fp(1e30, 1e30, 1e300));
+        assert!(c.iter().all(|x| x.is_finite()) && c[3] == 1.0, "{c:?}");
+        let mean = sample(&t, &fp(0.5, 0.5, 1e12));
+        assert!((c[0] - mean[0]).abs() < 1e-6, "{c:?} vs {mean:?}");
     }
 
     #[test]

@@ -264,6 +264,21 @@ impl PolyTexture {
         )
     }
 
+    /// A position `(u, v)` in texels of level `k`, moved by whole periods
+    /// of the boundary conditions where it lies so far out that its texel
+    /// indices would not fit an `i64` or its half-texel offsets a float
+    /// (beyond [`FAR_TEXELS`]): what a neighbourhood of `reach` texels
+    /// around it fetches is unchanged. Each coordinate keeps its residue
+    /// modulo twice the level's side (so modulo the side too: repeat and
+    /// mirror fetch the same texels) and stays beyond the same edge by more
+    /// than `reach` (so the conditions that leave the pattern, edge's
+    /// clamping and XGL's precedence, all see it out on that side). Nearer
+    /// positions are returned as given.
+    pub(crate) fn near_period(&self, k: usize, u: f64, v: f64, reach: f64) -> (f64, f64) {
+        let (w, h) = self.level_dims(k);
+        (near(u, w, reach), near(v, h, reach))
+    }
+
     /// The longer side of the base level: the side whose halvings number the
     /// levels ([`level_position`]).
     pub(crate) fn base_side(&self) -> u32 {
@@ -273,13 +288,15 @@ impl PolyTexture {
     /// The texel of level `k` whose cell holds `uv` (base texel units).
     fn point(&self, k: usize, uv: DVec2) -> [f64; 4] {
         let (sx, sy) = self.level_scale(k);
-        self.fetch(k, (uv.x / sx).floor() as i64, (uv.y / sy).floor() as i64)
+        let (u, v) = self.near_period(k, uv.x / sx, uv.y / sy, 1.0);
+        self.fetch(k, u.floor() as i64, v.floor() as i64)
     }
 
     /// The four texel centres of level `k` around `uv`, weighted linearly.
     fn bilinear(&self, k: usize, uv: DVec2) -> [f64; 4] {
         let (sx, sy) = self.level_scale(k);
-        let (a, b) = (uv.x / sx - 0.5, uv.y / sy - 0.5);
+        let (u, v) = self.near_period(k, uv.x / sx, uv.y / sy, 2.0);
+        let (a, b) = (u - 0.5, v - 0.5);
         let (i, j) = (a.floor(), b.floor());
         let (fx, fy) = (a - i, b - j);
         let (i, j) = (i as i64, j as i64);
@@ -352,6 +369,31 @@ impl PolyTexture {
             None => Eval::Box,
             Some((f, fp)) => Eval::Color(unpremultiply(self.sample(f, &fp))),
         }
+    }
+}
+
+/// Texel coordinates beyond this magnitude (2^50) are moved by whole
+/// periods before sampling ([`PolyTexture::near_period`]): past it a float
+/// no longer resolves a texel's centre to better than a quarter texel, and
+/// past 2^63 its index no longer fits an `i64` (a coordinate of 1e30 made
+/// the EWA read one saturated index, outside its ellipse, and divide by a
+/// zero weight).
+pub const FAR_TEXELS: f64 = (1u64 << 50) as f64;
+
+/// One coordinate of [`PolyTexture::near_period`] on an axis of `n` texels.
+fn near(x: f64, n: u32, reach: f64) -> f64 {
+    if x.abs() <= FAR_TEXELS || !x.is_finite() {
+        return x;
+    }
+    let p = 2.0 * n as f64;
+    // Exact: the remainder of a float is representable, and so is its sum
+    // with a small multiple of the period.
+    let r = x.rem_euclid(p);
+    let m = ((n as f64 + reach.max(0.0) + 2.0) / p).ceil() + 1.0;
+    if x > 0.0 {
+        r + p * m
+    } else {
+        r - p * m
     }
 }
 

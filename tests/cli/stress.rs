@@ -666,3 +666,33 @@ fn polyfill3_closed_output_pipe_ends_quietly() {
         .unwrap();
     assert_eq!(String::from_utf8_lossy(&out.stderr), "status=0\n");
 }
+
+clitest!(
+    texture_coordinates_of_1e30_render_under_every_filter_and_aa,
+    |dir| {
+        brick(&dir);
+        // uv of 1e30 (beyond what an i64 texel index holds): EWA read one
+        // saturated texel outside its ellipse, gave a transparent colour, and
+        // every antialiasing mode panicked on it.
+        let far = r#"{"vertices":[[0,0],[32,0],[0,32]],"color":[100,150,200],"uv":[[1e30,0],[0,0],[1e30,16]],"pattern":{"file":"brick.pat","filter":"ewa"}}"#;
+        dir.write("far.json", far);
+        dir.write("far-box.json", far.replace(r#","filter":"ewa""#, ""));
+        for (file, filter) in [
+            ("far.json", None),
+            ("far-box.json", Some("ewa")),
+            ("far-box.json", None),
+        ] {
+            for aa in ["exact", "none", "ss4"] {
+                let mut cmd = dir.cmd("scene-render");
+                cmd.args(["--size", "32x32", "--aa", aa, "--format", "pam", file]);
+                if let Some(f) = filter {
+                    cmd.args(["--filter", f]);
+                }
+                let (w, h, d, px) = pam(&cmd.ok_stdout());
+                assert_eq!((w, h, d), (32, 32, 3));
+                // The triangle's lower-left half shows the pattern, not black.
+                assert!(px.iter().any(|&c| c != 0), "{file} {filter:?} {aa}");
+            }
+        }
+    }
+);
