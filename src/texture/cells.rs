@@ -231,7 +231,7 @@ fn split_with(
     };
     // The magnification fast path: inside one cell the fragment is the
     // piece (`--no-skip magnify` cuts it anyway, for the benchmark).
-    if b.k0 == b.k1 && b.j0 == b.j1 && tex.skips.magnify {
+    if b.k0 == b.k1 && b.j0 == b.j1 && !b.far && tex.skips.magnify {
         return Split::Whole(tex.texel(b.k0, b.j0));
     }
     if defer && b.cells_met() >= DEFER_MIN_CELLS {
@@ -314,6 +314,10 @@ struct CellBox {
     j1: i64,
     /// Area of the fragment's image in texel space (texel squares).
     area: f64,
+    /// Whether the image reaches beyond [`super::filter::FAR_TEXELS`]
+    /// texels: its cell indices (saturated casts) and their differences
+    /// mean nothing there, and it is not cut.
+    far: bool,
 }
 
 impl CellBox {
@@ -324,7 +328,14 @@ impl CellBox {
     /// two sides cross). Not the box: a thin diagonal footprint towards the
     /// horizon meets 6 to 160 times fewer cells than its box holds (issue
     /// 15), and [`cut`] visits only the cells each strip meets.
+    ///
+    /// Infinite for a [`CellBox::far`] image, which therefore takes the
+    /// EWA estimate: counted in `i64`, `k1 - k0` of an image reaching 1e20
+    /// wrapped to a small count and the cut ran through its 1e20 columns.
     fn cells_met(&self) -> f64 {
+        if self.far {
+            return f64::INFINITY;
+        }
         let (du, dv) = (
             (self.k1 - self.k0 + 1) as f64,
             (self.j1 - self.j0 + 1) as f64,
@@ -364,6 +375,7 @@ fn cell_box(frag: &[DVec2], tex: &PolyTexture) -> Option<CellBox> {
         j0,
         j1: (hi.y.ceil() as i64 - 1).max(j0),
         area: 0.5 * twice_area.abs(),
+        far: lo.min(-hi).min_element() < -super::filter::FAR_TEXELS,
     })
 }
 
@@ -380,7 +392,7 @@ pub fn single_cell(tex: &PolyTexture, xa: u32, xb: u32, py: u32) -> Option<(i64,
         DVec2::new(x0, y1),
     ];
     let b = cell_box(&corners, tex)?;
-    (b.k0 == b.k1 && b.j0 == b.j1).then_some((b.k0, b.j0))
+    (b.k0 == b.k1 && b.j0 == b.j1 && !b.far).then_some((b.k0, b.j0))
 }
 
 /// Whether the transparent-run skip applies to `tex`: a transparent texel
@@ -693,6 +705,32 @@ mod tests {
         );
         assert!(matches!(split_kept, Split::Whole(Some(_))) && pieces.is_empty());
         assert_eq!(s.estimated, 1);
+    }
+
+    /// A pixel whose image reaches u = -1e20 (one vertex's uv of `-1e20`):
+    /// its cell count, taken in `i64` from saturated indices, wrapped to a
+    /// negative number, so the fragment was cut, through 1e20 columns, and
+    /// never finished. It is past [`MAX_EXACT_CELLS`] and takes the EWA
+    /// estimate.
+    #[test]
+    fn a_fragment_reaching_past_far_texels_is_estimated_not_cut() {
+        let (a, b) = (Rgb8([230, 230, 230]), Rgb8([20, 20, 120]));
+        let texels = pattern(16, &[a, b], |c, r| ((c + r) % 2) as u16);
+        let mut tex = placed(texels, 1.0, Filter::Box, 0.0);
+        tex.map.u = [-1e20, 0.0, 8.0];
+        let square = pixel_square(0, 0);
+        let b = cell_box(&square, &tex).unwrap();
+        assert!(b.cells_met() > MAX_EXACT_CELLS as f64, "{}", b.cells_met());
+        let mut s = Scratch::default();
+        let mut sum = Summed::default();
+        let got = split(&square, 0, 0, &tex, &mut Sink::Sum(&mut sum), &mut s);
+        assert!(matches!(got, Split::Whole(Some(_))), "{got:?}");
+        assert_eq!(s.estimated, 1);
+        // Magnified but far out (u about 1e30): not one cell of saturated
+        // indices, the estimate too.
+        tex.map.u = [1.0, 0.0, 1e30];
+        assert!(cell_box(&square, &tex).unwrap().cells_met().is_infinite());
+        assert_eq!(single_cell(&tex, 0, 4, 0), None);
     }
 
     #[test]

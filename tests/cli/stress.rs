@@ -696,3 +696,31 @@ clitest!(
         }
     }
 );
+
+clitest!(
+    a_box_filtered_fragment_over_1e20_texels_ends_as_an_estimate,
+    |dir| {
+        brick(&dir);
+        // One vertex's u of -1e20 over a 4x4 image: the box filter's cell
+        // count wrapped in i64 and the exact cut ran through 1e20 columns
+        // (no end after 240 s); now the EWA estimate, and reported.
+        dir.write(
+            "hang.json",
+            r#"{"vertices":[[0,0],[32,0],[0,32]],"color":[100,150,200],"uv":[[0,0],[8,0],[-1e20,16]],"pattern":{"file":"brick.pat"}}"#,
+        );
+        dir.cmd("scene-render")
+            .args([
+                "--size",
+                "4x4",
+                "--aa",
+                "exact",
+                "-o",
+                "hang.png",
+                "hang.json",
+            ])
+            .timeout(std::time::Duration::from_secs(60))
+            .assert()
+            .success()
+            .stderr(predicate::str::contains("too fine to integrate exactly"));
+    }
+);
