@@ -34,6 +34,14 @@ pub const MIN_SPHERE_STACKS: u32 = 2;
 /// chord error already below 1e-8 of its radius.
 pub const MAX_SEGMENTS: u32 = 1 << 14;
 
+/// Most copies of the pattern along s or t (`"repeat"`): 1e100, far past
+/// any texel a float can place on a surface, yet small enough that the
+/// texture coordinates, `s * side * repeat`, and the arithmetic of their
+/// screen map stay finite. A repeat of 1e308 made them infinite: polyfill3
+/// wrote `"uv": [[null, null], ...]` and scene-render dropped the quadric
+/// as edge-on.
+pub const MAX_REPEAT: f64 = 1e100;
+
 /// Default chord tolerance, in pixels, of a quadric drawn without explicit
 /// slices and stacks (`scene-render --quadric-tolerance`). The faceted
 /// silhouette then lies within a quarter pixel of the true outline, so an

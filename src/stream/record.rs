@@ -442,7 +442,7 @@ fn parse_quadric(
     transform: Option<&Value>,
 ) -> Result<crate::geom::quadric::QuadricShape, String> {
     use crate::geom::quadric::{
-        Quadric, QuadricShape, MAX_SEGMENTS, MIN_SLICES, MIN_SPHERE_STACKS,
+        Quadric, QuadricShape, MAX_REPEAT, MAX_SEGMENTS, MIN_SLICES, MIN_SPHERE_STACKS,
     };
     let obj = v
         .as_object()
@@ -504,6 +504,13 @@ fn parse_quadric(
             if !(a > 0.0 && b > 0.0) {
                 return Err(format!(
                     "{kind}.repeat [{a}, {b}]: expected two positive numbers"
+                ));
+            }
+            if a.max(b) > MAX_REPEAT {
+                return Err(format!(
+                    "{kind}.repeat {}: expected at most {MAX_REPEAT:e} copies of the pattern \
+                     (texture coordinates would overflow)",
+                    short(r)
                 ));
             }
             [a, b]
@@ -580,6 +587,22 @@ fn number_array<const N: usize>(v: &Value, what: &str) -> Result<[f64; N], Strin
 mod tests {
     use super::super::testing::{err, read_all};
     use super::*;
+
+    #[test]
+    fn a_quadric_repeat_whose_texture_coordinates_would_overflow_is_refused() {
+        assert_eq!(
+            err(r#"{"sphere": {"radius": 10, "repeat": [1e308, 1e308]}, "color": [0,0,0]}"#),
+            "s.json: record 0: sphere.repeat [1e+308,1e+308]: expected at most 1e100 copies \
+             of the pattern (texture coordinates would overflow)"
+        );
+        assert!(
+            err(r#"{"disk": {"outer": 1, "repeat": [1, 2e100]}, "color": [0,0,0]}"#)
+                .contains("disk.repeat [1,2e+100]: expected at most 1e100")
+        );
+        let ok =
+            read_all(r#"{"sphere": {"radius": 1, "repeat": [1e100, 1e30]}, "color": [0,0,0]}"#);
+        assert!(ok.is_ok(), "{ok:?}");
+    }
 
     #[test]
     fn a_stripe_texture_colours_a_record_by_itself() {
