@@ -637,6 +637,18 @@ mod tests {
     }
 
     #[test]
+    fn a_subnormal_stripe_spacing_is_refused() {
+        let spacing = |w: f64| spec(json!({"map": "m", "spacing": w, "yaw": 0}));
+        assert_eq!(
+            spacing(1e-320).unwrap_err(),
+            "stripe.spacing: 1e-320 is too small: expected at least 2.2250738585072014e-308, \
+             the least normal number, for the stripes' gradient 1 / (N w) to be finite"
+        );
+        assert!(spacing(1e-310).is_err());
+        assert!(spacing(f64::MIN_POSITIVE).is_ok());
+    }
+
+    #[test]
     fn bad_values_are_named_by_field() {
         let base = json!({"map": "m", "spacing": 1, "yaw": 0});
         let with = |k: &str, v: Value| {

@@ -200,6 +200,16 @@ impl PatternVector {
                 "spacing: {spacing} is not positive: the spacing w is the world distance between map samples"
             )));
         }
+        // `K_p = 1 / (N w)` is finite for every map size N >= 1 exactly when
+        // w is a normal number: a spacing of 1e-320 made it infinite and the
+        // polygon was dropped as edge-on.
+        if spacing < f64::MIN_POSITIVE {
+            return Err(VectorError(format!(
+                "spacing: {spacing:e} is too small: expected at least {:e}, the least normal number, \
+                 for the stripes' gradient 1 / (N w) to be finite",
+                f64::MIN_POSITIVE
+            )));
+        }
         if !phase.is_finite() {
             return Err(VectorError(format!(
                 "phase: {phase} is not a finite number"
