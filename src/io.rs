@@ -508,6 +508,17 @@ impl Output {
             .map_err(without_temp_name)
             .map_err(write_error(name, WriteStep::CreateIn(dir.clone())))?;
         unfinished(tmp.path(), true);
+        // A file replaced keeps its permission bits: a private (0600) output
+        // became readable by others (0644) when the rename put a new file in
+        // its place. Set with fchmod, which the umask does not touch.
+        #[cfg(unix)]
+        if let Ok(old) = std::fs::metadata(&path) {
+            use std::os::unix::fs::PermissionsExt;
+            let mode = old.permissions().mode() & 0o777;
+            tmp.as_file()
+                .set_permissions(std::fs::Permissions::from_mode(mode))
+                .map_err(write_error(name, WriteStep::CreateIn(dir.clone())))?;
+        }
         Ok(Output {
             inner: OutputInner::File {
                 tmp: BufWriter::with_capacity(1 << 16, tmp),
@@ -1615,6 +1626,24 @@ mod tests {
                 0,
                 "output is readable by others as usual: {mode:o}"
             );
+        }
+    }
+
+    #[test]
+    #[cfg(unix)]
+    fn a_replaced_output_keeps_its_permission_bits() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("private.png");
+        for mode in [0o600, 0o640, 0o755] {
+            std::fs::write(&path, b"old").unwrap();
+            std::fs::set_permissions(&path, std::fs::Permissions::from_mode(mode)).unwrap();
+            let mut out = Output::create(path.to_str().unwrap(), true).unwrap();
+            out.write_all(b"new").unwrap();
+            out.commit().unwrap();
+            assert_eq!(std::fs::read(&path).unwrap(), b"new");
+            let now = std::fs::metadata(&path).unwrap().permissions().mode() & 0o777;
+            assert_eq!(now, mode, "{now:o} against {mode:o}");
         }
     }
 
