@@ -227,15 +227,33 @@ impl Item {
 /// hundredth of a pixel for any circle under 100 pixels across.
 pub const INSTANCE_CURVE_TOLERANCE: f64 = 1e-4;
 
+/// The deepest an object may nest instances: an object of records alone is
+/// 1 deep, one placing it 2, and so on. Every tool walks a placement by
+/// recursion (`scene-render` projects an instance's parts inside the
+/// projection of its parent, on a rayon worker thread of rayon's default 2
+/// MiB stack; the readers expand nested instances the same way), so a chain
+/// of definitions each placing the one before overflowed the stack, an
+/// abort: `scene-render` at about 1,080 levels (measured 2026-11-29 on a
+/// release build, about 1.9 KB of stack a level), `pat-info --record` at
+/// about 20,000 on the main thread. 64 levels take about 125 KB of a worker's
+/// 2 MiB there: room for a debug build's larger frames and for what runs
+/// below the deepest level (clipping, drawing); far beyond the few levels a
+/// model's hierarchy needs. Checked by [`Objects::define`], which every tool
+/// uses, so each refuses the same stream with the same words.
+pub const MAX_OBJECT_DEPTH: usize = 64;
+
 /// The object definitions seen so far, and the expansion of instances.
 #[derive(Default)]
 pub struct Objects {
     defs: std::collections::HashMap<String, std::rc::Rc<ObjectDef>>,
+    /// Each object's nesting depth ([`MAX_OBJECT_DEPTH`]).
+    depths: std::collections::HashMap<String, usize>,
 }
 
 impl Objects {
-    /// Records a definition after checking its name is new and every instance
-    /// inside it names an object defined before it.
+    /// Records a definition after checking its name is new, every instance
+    /// inside it names an object defined before it, and it nests instances
+    /// at most [`MAX_OBJECT_DEPTH`] deep.
     pub fn define(&mut self, def: ObjectDef) -> Result<(), StreamError> {
         let err = |m: String| StreamError::in_record(def.index, m);
         if self.defs.contains_key(&def.name) {
@@ -272,6 +290,22 @@ impl Objects {
             Ok(())
         }
         check(self, &def.name, &def.items).map_err(err)?;
+        let depth = 1 + def
+            .items
+            .iter()
+            .filter_map(|it| match it {
+                Item::Instance(i) => self.depths.get(&i.object).copied(),
+                _ => None,
+            })
+            .max()
+            .unwrap_or(0);
+        if depth > MAX_OBJECT_DEPTH {
+            return Err(err(format!(
+                "object `{}` nests instances {depth} deep, over the limit of {MAX_OBJECT_DEPTH}",
+                def.name
+            )));
+        }
+        self.depths.insert(def.name.clone(), depth);
         self.defs.insert(def.name.clone(), std::rc::Rc::new(def));
         Ok(())
     }
@@ -503,6 +537,42 @@ mod tests {
         )
         .contains("record 1: instance of `a`: transform step 0: scale: singular"));
         assert!(err(r#"{"object": "a"}"#).contains("expected \"records\""));
+    }
+
+    #[test]
+    fn nesting_deeper_than_the_limit_is_refused_naming_the_object() {
+        // A chain of definitions, each placing the one before: `o{k}` is
+        // k + 1 deep.
+        let chain = |n: usize| {
+            let mut s = String::from(
+                "{\"object\": \"o0\", \"records\": [{\"vertices\": [[0,0],[1,0],[0,1]], \"color\": [1,2,3]}]}\n",
+            );
+            for k in 1..n {
+                s += &format!("{{\"object\": \"o{k}\", \"records\": [{{\"rect\": [0,0,1,1], \"color\": [1,2,3]}}, {{\"instance\": \"o{}\"}}]}}\n", k - 1);
+            }
+            s + &format!("{{\"instance\": \"o{}\"}}\n", n - 1)
+        };
+        let recs = read_all(&chain(MAX_OBJECT_DEPTH)).unwrap();
+        assert_eq!(recs.len(), MAX_OBJECT_DEPTH);
+        let e = err(&chain(MAX_OBJECT_DEPTH + 1));
+        assert!(
+            e.contains(&format!(
+                "record {MAX_OBJECT_DEPTH}: object `o{MAX_OBJECT_DEPTH}` nests instances {} deep, over the limit of {MAX_OBJECT_DEPTH}",
+                MAX_OBJECT_DEPTH + 1
+            )),
+            "{e}"
+        );
+        // The depth is that of the deepest instance, not the first.
+        let mut s = chain(MAX_OBJECT_DEPTH);
+        s += &format!("{{\"object\": \"w\", \"records\": [{{\"instance\": \"o0\"}}, {{\"instance\": \"o{}\"}}]}}\n", MAX_OBJECT_DEPTH - 1);
+        assert!(
+            err(&s).contains(&format!(
+                "object `w` nests instances {} deep",
+                MAX_OBJECT_DEPTH + 1
+            )),
+            "{}",
+            err(&s)
+        );
     }
 
     #[test]

@@ -272,6 +272,65 @@ clitest!(
     }
 );
 
+clitest!(deep_nesting_is_refused_alike_by_every_tool, |dir| {
+    // A chain of objects, each placing the one before: 2,000 of them
+    // overflowed scene-render's stack (an abort, status 134), 20,000
+    // pat-info's. Every tool now refuses a chain deeper than the limit,
+    // 64, with the same words, and draws one of 64.
+    let chain = |n: usize| {
+        let mut s = String::from(
+            r#"{"object": "o0", "records": [{"vertices": [[0,0],[1,0],[0,1]], "color": [255,0,0]}]}"#,
+        );
+        for k in 1..n {
+            s.push_str(&format!(
+                "\n{{\"object\": \"o{k}\", \"records\": [{{\"instance\": \"o{}\"}}]}}",
+                k - 1
+            ));
+        }
+        s + &format!("\n{{\"instance\": \"o{}\"}}\n", n - 1)
+    };
+    dir.write("ok.json", chain(64));
+    dir.write("deep.json", chain(65));
+    dir.write("deeper.json", chain(2000));
+    let run = |tool: &str, args: &[&str]| {
+        let mut c = dir.cmd(tool);
+        c.args(args).timeout(std::time::Duration::from_secs(60));
+        c
+    };
+    run(
+        "scene-render",
+        &["--size", "8x8", "ok.json", "-o", "ok.png"],
+    )
+    .assert()
+    .success();
+    run("polyfill3", &["ok.json", "-o", "ok.ndjson"])
+        .assert()
+        .success();
+    run("pat-info", &["--record", "64", "ok.json"])
+        .assert()
+        .code(1)
+        .stderr(predicates::str::contains(
+            "draws no polygon with a \"stripe\"",
+        ));
+    for (file, depth) in [("deep.json", 65), ("deeper.json", 65)] {
+        let said = format!(
+            "{file}: record 64: object `o64` nests instances {depth} deep, over the limit of 64\n"
+        );
+        for (tool, args) in [
+            ("scene-render", vec!["--size", "8x8", file, "-o", "out.png"]),
+            ("polyfill3", vec![file, "-o", "out.ndjson"]),
+            ("pat-info", vec!["--record", "1999", file]),
+        ] {
+            run(tool, &args)
+                .assert()
+                .code(1)
+                .stderr(format!("{tool}: error: {said}"));
+        }
+        assert!(!dir.path().join("out.png").exists());
+        assert!(!dir.path().join("out.ndjson").exists());
+    }
+});
+
 clitest!(
     nested_instances_and_huge_quadrics_are_refused_before_any_work,
     |dir| {
