@@ -384,11 +384,22 @@ pub fn warn(tool: &str, message: impl fmt::Display) {
     );
 }
 
+/// Whether `e` is a write to a closed pipe, which is no error
+/// (docs/conventions.md): an I/O error of kind `BrokenPipe` anywhere in the
+/// chain, or inside the wrappers that show an I/O error as their own text
+/// rather than as their source. `polyfill3`'s
+/// [`PartitionError::Write`](crate::scene::PartitionError::Write) is one:
+/// a pipe closed while the end of the output (under its last batch) was
+/// written failed with status 1 and "Broken pipe (os error 32)"
+/// (`polyfill3_into_a_closed_pipe_exits_0_quietly_at_every_size`).
 fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    use crate::scene::PartitionError;
     use std::io::ErrorKind::BrokenPipe;
     e.chain().any(|c| {
         c.downcast_ref::<std::io::Error>()
             .is_some_and(|io| io.kind() == BrokenPipe)
+            || c.downcast_ref::<PartitionError>()
+                .is_some_and(|p| matches!(p, PartitionError::Write(io) if io.kind() == BrokenPipe))
             || c.downcast_ref::<serde_json::Error>()
                 .is_some_and(|j| j.io_error_kind() == Some(BrokenPipe))
             || c.downcast_ref::<image::ImageError>().is_some_and(

@@ -100,6 +100,40 @@ clitest!(an_unwritable_standard_error_changes_no_status, |dir| {
     }
 });
 
+clitest!(
+    polyfill3_into_a_closed_pipe_exits_0_quietly_at_every_size,
+    |dir| {
+        // A closed pipe met while the end of polyfill3's output was written
+        // (outputs of about 90 KB to 3 MB of cells) failed with status 1 and
+        // "Broken pipe (os error 32)": the I/O error came back as the
+        // stream's own write error, which the check for a closed pipe did not
+        // look inside. Smaller outputs fit in the pipe; larger ones met it
+        // inside a record. The output goes to `head` through the shell's
+        // pipe, so no output is too large for the test to take.
+        let chex = repo("fixtures/patterns/chex.pat");
+        dir.write(
+            "tri.json",
+            r#"{"vertices":[[0,0],[10,0],[0,10]],"color":[1,2,3]}"#,
+        );
+        // About 22 KB, 93 KB, 206 KB, 825 KB and 3.3 MB of cells.
+        for incr in ["0.5", "0.3", "0.2", "0.1", "0.05"] {
+            let first = format!(
+                "polyfill3 --pattern {} --incr {incr} tri.json",
+                chex.display()
+            );
+            let out = sh(
+                dir.path(),
+                &format!("( {first}; echo $? > status ) | head -c 10 > /dev/null"),
+            );
+            assert!(out.status.success());
+            let status = std::fs::read_to_string(dir.path().join("status")).unwrap();
+            let said = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(status.trim(), "0", "incr {incr}: {said}");
+            assert!(out.stderr.is_empty(), "incr {incr}: {said}");
+        }
+    }
+);
+
 clitest!(a_closed_standard_output_is_an_error, |dir| {
     // `tool >&-`: writes would vanish (Rust puts /dev/null in its place),
     // so a tool that writes there fails; `> /dev/null` stays fine.
