@@ -184,11 +184,25 @@ pub fn map_to_plane(
     let size = (hi - lo).length();
     let centroid = v.iter().fold(DVec3::ZERO, |s, &p| s + (p - v[0])) / v.len() as f64 + v[0];
     let nn = newell_normal(v, centroid);
-    let area = nn.length() / 2.0;
+    // Newell's normal grows as the size², its squared length as the size⁴:
+    // that overflowed to infinity for sides beyond about 1e77, giving a
+    // zero normal and a frame with no +y, and the polygon was partitioned
+    // into nothing, silently. Then the normal is scaled by its largest
+    // component first, and the length overflows only with the area itself
+    // (sides beyond about 1e154, where the size overflows too and the
+    // polygon is refused). Below, the length is taken as it always was, so
+    // that every other polygon keeps its frame to the bit.
+    let length = nn.length();
+    let (area, normal) = if length.is_finite() {
+        (length / 2.0, nn / length)
+    } else {
+        let largest = nn.abs().max_element();
+        let scaled = nn / largest;
+        (largest * (scaled.length() / 2.0), scaled.normalize())
+    };
     if area.is_nan() || area <= ZERO_AREA_REL * size * size {
         return Err(PlaneError::ZeroArea { area, size });
     }
-    let normal = nn / (2.0 * area);
     // Planarity: the distance of every vertex from the plane through the centroid.
     let (vertex, deviation) = v
         .iter()
@@ -358,6 +372,30 @@ mod tests {
         let p = map_to_plane(&v, 90.0, 1e-9).unwrap();
         assert!((p.frame.ex - DVec3::Y).length() < 1e-15);
         assert!((p.frame.ey + DVec3::X).length() < 1e-15);
+    }
+
+    #[test]
+    fn a_polygon_of_huge_sides_keeps_its_area_and_frame() {
+        // Sides of 1e78 to 1e153 made the normal's squared length overflow:
+        // a zero normal and +y, and no cells.
+        for side in [1e77, 1e78, 1e100, 1e150] {
+            let v = [
+                DVec3::ZERO,
+                DVec3::new(side, 0.0, 0.0),
+                DVec3::new(0.0, side, 0.0),
+            ];
+            let p = map_to_plane(&v, 0.0, DEFAULT_PLANARITY_TOL).unwrap();
+            let f = p.frame;
+            let near = |a: DVec3, b: DVec3| (a - b).length() < 1e-15;
+            assert!(near(f.normal, DVec3::Z), "{side}: {f:?}");
+            assert!(near(f.ex, DVec3::X), "{side}: {f:?}");
+            assert!(near(f.ey, DVec3::Y), "{side}: {f:?}");
+            assert!((p.area / (side * side / 2.0) - 1.0).abs() < 1e-12, "{side}");
+            assert!(
+                (signed_area(&p.points) / p.area - 1.0).abs() < 1e-12,
+                "{side}"
+            );
+        }
     }
 
     #[test]

@@ -479,6 +479,46 @@ clitest!(
     }
 );
 
+clitest!(
+    huge_polygons_partition_as_the_unit_one_does_never_into_nothing,
+    |dir| {
+        // Sides of 1e78 and beyond made the squared length of the polygon's
+        // normal overflow (a side to the 4th power): a frame with no +y, 0
+        // cells with exit status 0 and no word, and `--uv` giving the third
+        // vertex uv [0, 0]. Each size now partitions as the unit triangle at
+        // incr 0.01 does, into 5050 cells, and its uv spans 100 texels.
+        dir.write(
+            "chex.pat",
+            std::fs::read(crate::util::repo("fixtures/patterns/chex.pat")).unwrap(),
+        );
+        let run = |side: &str, uv: bool| {
+            dir.write(
+                "s.json",
+                format!(r#"{{"vertices":[[0,0],[{side},0],[0,{side}]],"color":[1,2,3]}}"#),
+            );
+            let incr = format!("{}", side.parse::<f64>().unwrap() / 100.0);
+            let mut c = dir.cmd("polyfill3");
+            c.args(["--pattern", "chex.pat", "--incr", &incr, "s.json"]);
+            if uv {
+                c.arg("--uv");
+            }
+            String::from_utf8(c.assert().success().stderr("").get_output().stdout.clone()).unwrap()
+        };
+        for side in ["1", "1e77", "1e78", "1e100", "1e150"] {
+            assert_eq!(run(side, false).lines().count(), 5050, "side {side}");
+            let line = run(side, true);
+            let rec: serde_json::Value = serde_json::from_str(line.trim()).unwrap();
+            let uv: Vec<[f64; 2]> = serde_json::from_value(rec["uv"].clone()).unwrap();
+            for (got, want) in uv.iter().zip([[0.0, 0.0], [100.0, 0.0], [0.0, 100.0]]) {
+                assert!(
+                    (got[0] - want[0]).abs() < 1e-9 && (got[1] - want[1]).abs() < 1e-9,
+                    "side {side}: uv {uv:?}"
+                );
+            }
+        }
+    }
+);
+
 /// The outline of a star with `n` points alternating between radii 7 and 5
 /// around (8, 8), as one polygon record.
 fn star(n: usize, radii: [f64; 2]) -> String {
