@@ -23,6 +23,19 @@ fn sh(dir: &std::path::Path, script: &str) -> std::process::Output {
         .unwrap()
 }
 
+/// The status of `first` (a shell command) writing into a pipe that
+/// `head -c 10` closes early, and what the pipeline said on standard error.
+fn through_closed_pipe(dir: &std::path::Path, first: &str) -> (String, String) {
+    let out = sh(
+        dir,
+        &format!("( {first}; echo $? > status ) | head -c 10 > /dev/null"),
+    );
+    assert!(out.status.success());
+    let status = std::fs::read_to_string(dir.join("status")).unwrap();
+    let said = String::from_utf8_lossy(&out.stderr).into_owned();
+    (status.trim().to_string(), said)
+}
+
 clitest!(a_closed_pipe_ends_every_output_quietly, |dir| {
     // `| head` closes the pipe early: the tool stops with status 0 and says
     // nothing, whatever encoder met the closed pipe (PNG's words its own
@@ -39,16 +52,9 @@ clitest!(a_closed_pipe_ends_every_output_quietly, |dir| {
         format!("pat-info --json {many}"),
         format!("pat-info {many}"),
     ] {
-        // The first stage's own status, through a pipe that head closes.
-        let out = sh(
-            dir.path(),
-            &format!("( {first}; echo $? > status ) | head -c 10 > /dev/null"),
-        );
-        assert!(out.status.success());
-        let status = std::fs::read_to_string(dir.path().join("status")).unwrap();
-        let said = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(status.trim(), "0", "{first}: {said}");
-        assert!(out.stderr.is_empty(), "{first}: {said}");
+        let (status, said) = through_closed_pipe(dir.path(), &first);
+        assert_eq!(status, "0", "{first}: {said}");
+        assert!(said.is_empty(), "{first}: {said}");
     }
 });
 
@@ -121,15 +127,9 @@ clitest!(
                 "polyfill3 --pattern {} --incr {incr} tri.json",
                 chex.display()
             );
-            let out = sh(
-                dir.path(),
-                &format!("( {first}; echo $? > status ) | head -c 10 > /dev/null"),
-            );
-            assert!(out.status.success());
-            let status = std::fs::read_to_string(dir.path().join("status")).unwrap();
-            let said = String::from_utf8_lossy(&out.stderr);
-            assert_eq!(status.trim(), "0", "incr {incr}: {said}");
-            assert!(out.stderr.is_empty(), "incr {incr}: {said}");
+            let (status, said) = through_closed_pipe(dir.path(), &first);
+            assert_eq!(status, "0", "incr {incr}: {said}");
+            assert!(said.is_empty(), "incr {incr}: {said}");
         }
     }
 );
