@@ -190,7 +190,7 @@ impl Pattern {
     /// 1024x1024 pattern of 256 colours no longer compares every texel with
     /// every colour (268 million tests).
     ///
-    /// A text of [`FORMAT_AHEAD_BYTES`] or more, in a rayon pool of more than
+    /// A text of `FORMAT_AHEAD_BYTES` or more, in a rayon pool of more than
     /// one thread, is formatted a colour block ahead on a second thread while
     /// this one writes: the 84 MB of a 1024x1024 pattern of 256 colours spend
     /// as long in the kernel's copy as in the formatting. The bytes are the

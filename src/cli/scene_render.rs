@@ -713,7 +713,7 @@ fn frame_width(pattern: &str) -> Option<usize> {
 }
 
 /// `%d` or `%0Nd` in an output name replaced by the frame number; `None`
-/// when the name has no such pattern, or one wider than [`MAX_FRAME_WIDTH`].
+/// when the name has no such pattern, or one wider than `MAX_FRAME_WIDTH`.
 pub fn frame_name(pattern: &str, k: u64) -> Option<String> {
     let width = frame_width(pattern).filter(|&w| w <= MAX_FRAME_WIDTH)?;
     let start = pattern.find('%')?;

@@ -125,7 +125,7 @@ pub const INLINE_VERTS: usize = 3;
 /// screen (back faces are reversed when not culled).
 ///
 /// What most polygons lack (a shader, smooth lighting, concave pieces, more
-/// than [`INLINE_VERTS`] vertices) is held out of line, and what the frame or
+/// than `INLINE_VERTS` vertices) is held out of line, and what the frame or
 /// the vertices decide (the tie floor, [`super::tie_floor`]; the pixel box,
 /// [`ScreenPoly::bbox`]) is not kept: a flat triangle is 112 bytes with no
 /// heap block (it was 152 and a block of 64, then 120 with a `SmallVec`,

@@ -373,7 +373,7 @@ impl PolyTexture {
 }
 
 /// Texel coordinates beyond this magnitude (2^50) are moved by whole
-/// periods before sampling ([`PolyTexture::near_period`]): past it a float
+/// periods before sampling (`PolyTexture::near_period`): past it a float
 /// no longer resolves a texel's centre to better than a quarter texel, and
 /// past 2^63 its index no longer fits an `i64` (a coordinate of 1e30 made
 /// the EWA read one saturated index, outside its ellipse, and divide by a
