@@ -69,6 +69,13 @@ pub enum IoError {
         #[source]
         error: image::ImageError,
     },
+    /// A JPEG whose data stops before its end-of-image marker: the decoder
+    /// would fill the rest with grey and say nothing.
+    #[error("{input}: truncated JPEG: the data ends before its end-of-image marker")]
+    TruncatedJpeg {
+        /// The input's name, as errors show it.
+        input: String,
+    },
     /// An input picture larger than any tool makes one ([`Image::check_size`]),
     /// refused from its header, before its pixels are decoded.
     #[error("{input}: {error}")]
@@ -1231,9 +1238,39 @@ fn not_an_image(name: &str) -> impl Fn(image::ImageError) -> IoError + '_ {
     }
 }
 
+/// Whether a JPEG's data reaches an end-of-image marker (`FF D9`) after its
+/// first scan. The header segments are walked by their lengths (an EXIF
+/// thumbnail inside one has markers of its own); within scan data a `FF` is
+/// always followed by a stuffed `00` or a restart marker, so the first
+/// `FF D9` after the first start-of-scan is the image's end. The `image`
+/// crate's decoder fills a truncated scan with grey without a word (the
+/// first 1,000 bytes of a photo made a grey pattern, "PSNR inf").
+fn jpeg_is_complete(bytes: &[u8]) -> bool {
+    let mut at = 2; // after SOI
+    while at + 4 <= bytes.len() {
+        if bytes[at] != 0xFF {
+            return false;
+        }
+        match bytes[at + 1] {
+            0xFF => at += 1, // fill byte
+            0xDA => return memchr::memmem::find(&bytes[at..], &[0xFF, 0xD9]).is_some(),
+            0x01 | 0xD0..=0xD7 => at += 2, // markers without a length
+            _ => at += 2 + u16::from_be_bytes([bytes[at + 2], bytes[at + 3]]) as usize,
+        }
+    }
+    false
+}
+
 /// A decoder for `bytes`, its format guessed from the content, before any
-/// pixel is decoded (so sizes can be checked first).
+/// pixel is decoded (so sizes can be checked first). A JPEG cut short is
+/// refused here ([`jpeg_is_complete`]).
 fn open_decoder<'a>(bytes: &'a [u8], name: &str) -> Result<impl image::ImageDecoder + 'a, IoError> {
+    if image::guess_format(bytes).ok() == Some(image::ImageFormat::Jpeg) && !jpeg_is_complete(bytes)
+    {
+        return Err(IoError::TruncatedJpeg {
+            input: name.to_string(),
+        });
+    }
     image::ImageReader::new(io::Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| not_an_image(name)(image::ImageError::IoError(e)))?
@@ -1574,6 +1611,40 @@ fn write_pam_header(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A JPEG cut anywhere after its first scan starts is refused, by name,
+    /// even with an end-of-image marker inside a header segment (an EXIF
+    /// thumbnail's); whole, it decodes.
+    #[test]
+    fn a_truncated_jpeg_is_refused() {
+        let fixture = |name: &str| {
+            std::fs::read(
+                Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("fixtures/images")
+                    .join(name),
+            )
+            .unwrap()
+        };
+        let earth = fixture("earth-nasa.jpg");
+        // An APP1 segment holding a thumbnail's SOS and EOI markers.
+        let thumb: &[u8] = b"Exif\0\0\xff\xd8\xff\xda\x00\x02\xff\xd9";
+        let mut exif = earth[..2].to_vec();
+        exif.extend_from_slice(&[0xFF, 0xE1, 0, 2 + thumb.len() as u8]);
+        exif.extend_from_slice(thumb);
+        exif.extend_from_slice(&earth[2..]);
+        for whole in [&earth, &exif] {
+            assert!(decode_image(whole, "earth.jpg").is_ok());
+            for cut in [1_000, whole.len() / 2, whole.len() - 2] {
+                let err = decode_image(&whole[..cut], "earth.jpg").unwrap_err();
+                assert_eq!(
+                    err.to_string(),
+                    "earth.jpg: truncated JPEG: the data ends before its end-of-image marker",
+                    "cut at {cut}"
+                );
+            }
+        }
+        assert!(jpeg_is_complete(&fixture("moon-usgs.jpg")));
+    }
 
     /// A picture's header that declares more than any tool makes is refused
     /// before a pixel is decoded: these headers have no pixels at all.
