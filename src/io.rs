@@ -43,6 +43,9 @@ pub enum IoError {
     /// Binary output (an image, a pattern) was about to go to a terminal.
     #[error("refusing to write binary output to a terminal: use -o FILE or a pipe")]
     BinaryToTerminal,
+    /// The output name is empty (`-o ''`).
+    #[error("an empty output name: expected a file name, or - for standard output")]
+    EmptyOutputName,
     /// The output name is a directory.
     #[error("{output}: is a directory, expected an output file name")]
     OutputIsDirectory {
@@ -465,6 +468,10 @@ impl Output {
                 inner: OutputInner::Stdout(BufWriter::with_capacity(1 << 16, stdout)),
                 failed: None,
             });
+        }
+        if name.is_empty() {
+            // Refused before any work: `-o ''` failed only at the rename.
+            return Err(IoError::EmptyOutputName);
         }
         let mut path = PathBuf::from(name);
         if path.is_dir() {
@@ -1698,6 +1705,15 @@ mod tests {
                 "output is readable by others as usual: {mode:o}"
             );
         }
+    }
+
+    #[test]
+    fn an_empty_output_name_is_refused_before_anything_is_written() {
+        let err = Output::create("", true).map(drop).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "an empty output name: expected a file name, or - for standard output"
+        );
     }
 
     #[test]
