@@ -236,6 +236,12 @@ fn run_in_pool(args: Args) -> Result<()> {
     if args.depfile.is_some() && args.output == STDIO {
         usage_bail!("--depfile needs -o FILE: the make rule names the output as its target");
     }
+    if args.depfile.as_deref() == Some(args.output.as_str()) {
+        usage_bail!(
+            "--depfile {}: the same file as -o: the make rule would replace the output",
+            args.output
+        );
+    }
     let volume = match camera {
         Some(cam) => {
             if cam.aspect_from_image {

@@ -254,7 +254,13 @@ pub const DEFAULT_FPS: u16 = 10;
 
 fn run_in_pool(args: Args) -> Result<()> {
     super::stdin_read_once(&[
-        ("the stream", Some(&args.input)),
+        // With --image no stream is read (its default `-` included).
+        (
+            "the stream",
+            Some(args.input.as_str()).filter(|_| args.image.is_none()),
+        ),
+        ("--image", args.image.as_deref()),
+        ("--compare", args.compare.as_deref()),
         ("--camera", args.camera.camera.as_deref()),
         ("--background-pattern", args.background_pattern.as_deref()),
     ])?;
@@ -276,6 +282,24 @@ fn run_in_pool(args: Args) -> Result<()> {
     let named_output = args.output.as_deref().filter(|o| *o != crate::io::STDIO);
     if args.depfile.is_some() && named_output.is_none() {
         usage_bail!("--depfile needs -o FILE: the make rule names the output as its target");
+    }
+    // Two outputs of one name: the one written last would replace the other
+    // (`--depfile x -o x` left the make rule where the image was).
+    let outputs = [
+        ("-o", named_output),
+        ("--diff", args.diff.as_deref()),
+        ("--depfile", args.depfile.as_deref()),
+    ];
+    for (k, (flag, name)) in outputs.iter().enumerate() {
+        for (earlier, other) in &outputs[..k] {
+            if let (Some(name), Some(other)) = (name, other) {
+                if name == other {
+                    usage_bail!(
+                        "{flag} {name}: the same file as {earlier}: each output needs its own name"
+                    );
+                }
+            }
+        }
     }
     if args.animate {
         match &args.output {

@@ -85,6 +85,35 @@ clitest!(depfiles_name_every_file_read_and_every_frame, |dir| {
         .assert()
         .code(2)
         .stderr(predicates::str::contains("--depfile needs -o FILE"));
+    // One name for two outputs: the rule would have replaced the image.
+    for (tool, args, said) in [
+        (
+            "scene-render",
+            ["--depfile", "x.png", "-o", "x.png"],
+            "--depfile x.png: the same file as -o",
+        ),
+        (
+            "scene-render",
+            ["--compare", "x.png", "--diff", "x.png"],
+            "--diff x.png: the same file as -o",
+        ),
+        (
+            "polyfill3",
+            ["--depfile", "x.nd", "-o", "x.nd"],
+            "--depfile x.nd: the same file as -o",
+        ),
+    ] {
+        let mut cmd = dir.cmd(tool);
+        if args[0] == "--compare" {
+            cmd.args(["-o", "x.png"]);
+        }
+        cmd.args(args)
+            .arg("s.json")
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains(said));
+    }
+    assert!(!dir.path().join("x.png").exists() && !dir.path().join("x.nd").exists());
     // polyfill3: the input, the patterns and --pattern.
     dir.cmd("polyfill3")
         .args([
