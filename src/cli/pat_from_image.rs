@@ -141,6 +141,10 @@ fn run_in_pool(args: Args) -> Result<()> {
     }
     // Before the work (quantizing a large photo takes a while).
     io::check_output(&args.output, false)?;
+    super::stdin_read_once(&[
+        ("the picture", Some(&args.input)),
+        ("--palette", args.palette.as_deref()),
+    ])?;
     if args.stripe {
         return run_stripe(&args);
     }

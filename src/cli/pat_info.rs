@@ -87,6 +87,15 @@ pub struct Args {
 /// Runs `pat-info`.
 pub fn run(args: Args) -> Result<()> {
     super::check_stdout()?;
+    let places: Vec<String> = (1..=args.files.len())
+        .map(|k| format!("file {k}"))
+        .collect();
+    let named: Vec<(&str, Option<&str>)> = places
+        .iter()
+        .zip(&args.files)
+        .map(|(place, f)| (place.as_str(), Some(f.as_str())))
+        .collect();
+    super::stdin_read_once(&named)?;
     if let Some(n) = args.record {
         if args.files.len() != 1 {
             usage_bail!("--record takes exactly one polygon stream file");

@@ -458,6 +458,40 @@ clitest!(two_inputs_on_standard_input_are_a_usage_error, |dir| {
             "the stream and --camera both name `-`",
         ));
     assert!(!dir.path().join("x.png").exists());
+    // The second reader got an empty input and a misleading error.
+    for (tool, args, said) in [
+        (
+            "scene-render",
+            &["--image", "-", "--compare", "-"][..],
+            "--image and --compare",
+        ),
+        (
+            "scene-render",
+            &["--compare", "-"][..],
+            "the stream and --compare",
+        ),
+        ("pat-info", &["cam.json", "-", "-"][..], "file 2 and file 3"),
+        (
+            "pat-from-image",
+            &["--palette", "-", "-"][..],
+            "the picture and --palette",
+        ),
+    ] {
+        dir.cmd(tool)
+            .args(args)
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains(format!(
+                "{said} both name `-`: standard input can be read only once"
+            )));
+    }
+    // With --image the stream is not read: its default `-` is no second reader.
+    dir.write("one.ppm", b"P6\n1 1\n255\n\x01\x02\x03");
+    dir.cmd("scene-render")
+        .args(["--image", "-", "--compare", "one.ppm"])
+        .write_stdin(dir.read("one.ppm"))
+        .assert()
+        .success();
 });
 
 clitest!(pat_from_image_takes_its_size_as_n_or_nxn, |dir| {
