@@ -86,7 +86,7 @@ complete -c scene-render -l aa -d 'Anti-aliasing: none (pixel centres), ss<N> (N
 complete -c scene-render -l max-error -d 'Removed: kept only to say so to the scripts that pass it' -r
 complete -c scene-render -l reference-samples -d 'Uniform strips per pixel added to the reference\'s events (a multiple of 3; more only tightens the error estimate)' -r
 complete -c scene-render -l compare -d 'Compare the image with this reference image and print RMSE, PSNR, the largest error and the share of pixels off by more than 4 (8-bit sRGB, over RGB). A 16-bit PNG, PPM or PAM, or a PFM, on either side is measured in fractional 8-bit codes and in linear light too' -r
-complete -c scene-render -l image -d 'With --compare: measure this existing image instead of rendering a scene' -r
+complete -c scene-render -l image -d 'With --compare: measure this existing image instead of rendering a scene. The flags that shape a render or its output are refused with it' -r
 complete -c scene-render -l diff -d 'With --compare: write the difference, amplified 16x per channel, here (an 8-bit PNG, PPM or PAM, whatever the inputs\' depth)' -r
 complete -c scene-render -l frames -d 'Render an animation of N frames (docs/objects.md): numbers of instance transforms written `{"start": a, "step": s}` are `a + s*k` in frame k (0-based), and so are those of quadric records\' "transform". -o must then be a pattern such as frame-%04d.png, or a plain name with --animate' -r
 complete -c scene-render -l fps -d 'With --animate: frames per second (each frame shows for 1/FPS s)' -r

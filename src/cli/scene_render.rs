@@ -146,7 +146,13 @@ pub struct Args {
     pub compare: Option<String>,
 
     /// With --compare: measure this existing image instead of rendering a scene.
-    #[arg(long, value_name = "IMAGE", requires = "compare")]
+    /// The flags that shape a render or its output are refused with it.
+    #[arg(long, value_name = "IMAGE", requires = "compare", conflicts_with_all = [
+        "input", "output", "format", "depth", "size", "background", "background_pattern",
+        "CameraArgs", "TextureArgs", "StripeArgs", "cull", "aa", "max_error", "reference",
+        "reference_samples", "frames", "animate", "fps", "quadric_tolerance", "frame",
+        "max_polygons",
+    ])]
     pub image: Option<String>,
 
     /// With --compare: write the difference, amplified 16x per channel, here

@@ -1195,3 +1195,38 @@ clitest!(huge_coordinates_and_a_tiny_fovy_render_right, |dir| {
         }
     }
 });
+
+clitest!(flags_that_shape_a_render_are_refused_with_image, |dir| {
+    // `--image` measures an image that exists: a flag for the render it
+    // replaces was silently ignored (no file for -o, no effect of --size).
+    dir.write("one.ppm", b"P6\n1 1\n255\n\x01\x02\x03");
+    let measure = ["--image", "one.ppm", "--compare", "one.ppm"];
+    for extra in [
+        &["--size", "8x8"][..],
+        &["-o", "x.png"][..],
+        &["--aa", "none"][..],
+        &["--perspective", "55,1,0,1000"][..],
+        &["--filter", "ewa"][..],
+        &["--background", "1,2,3"][..],
+        &["scene.json"][..],
+    ] {
+        dir.cmd("scene-render")
+            .args(measure)
+            .args(extra)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains("cannot be used with"));
+    }
+    assert!(!dir.path().join("x.png").exists());
+    for extra in [
+        &["--json"][..],
+        &["--diff", "d.png"][..],
+        &["--threads", "1"][..],
+    ] {
+        dir.cmd("scene-render")
+            .args(measure)
+            .args(extra)
+            .assert()
+            .success();
+    }
+});
