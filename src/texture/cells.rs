@@ -369,11 +369,14 @@ fn cell_box(frag: &[DVec2], tex: &PolyTexture) -> Option<CellBox> {
         return None;
     }
     let (k0, j0) = (lo.x.floor() as i64, lo.y.floor() as i64);
+    // The casts saturate far out (a far box's indices mean nothing), so
+    // `- 1` must too: at i64::MIN it overflowed, a panic where overflow is
+    // checked (the test profile).
     Some(CellBox {
         k0,
-        k1: (hi.x.ceil() as i64 - 1).max(k0),
+        k1: (hi.x.ceil() as i64).saturating_sub(1).max(k0),
         j0,
-        j1: (hi.y.ceil() as i64 - 1).max(j0),
+        j1: (hi.y.ceil() as i64).saturating_sub(1).max(j0),
         area: 0.5 * twice_area.abs(),
         far: lo.min(-hi).min_element() < -super::filter::FAR_TEXELS,
     })
