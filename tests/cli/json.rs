@@ -178,11 +178,14 @@ fn scene_render(dir: &Dir) {
 {"circle": {"center": [24,12], "radius": 6}, "color": [30,200,30]}
 "#,
     );
+    // --size shapes a render: with --image (which measures) it is refused.
     let run = |args: &[&str]| {
-        dir.cmd("scene-render")
-            .args(["--size", "32x24"])
-            .args(args)
-            .ok_stdout()
+        let size: &[&str] = if args.contains(&"--image") {
+            &[]
+        } else {
+            &["--size", "32x24"]
+        };
+        dir.cmd("scene-render").args(size).args(args).ok_stdout()
     };
     let reference = run(&["--reference", "--json", "r.json", "-o", "ref.png"]);
     run(&["r.json", "-o", "me.png"]);
