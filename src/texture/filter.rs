@@ -275,6 +275,11 @@ impl PolyTexture {
     /// clamping and XGL's precedence, all see it out on that side). Nearer
     /// positions are returned as given.
     pub(crate) fn near_period(&self, k: usize, u: f64, v: f64, reach: f64) -> (f64, f64) {
+        // Every sample of every filter passes here: the common case costs
+        // two compares, not the level's dimensions.
+        if u.abs() <= FAR_TEXELS && v.abs() <= FAR_TEXELS {
+            return (u, v);
+        }
         let (w, h) = self.level_dims(k);
         (near(u, w, reach), near(v, h, reach))
     }
