@@ -231,6 +231,12 @@ fn wrapped_io_error<E: std::error::Error + Send + Sync + 'static>(e: E) -> io::E
 /// read.
 pub const MAX_NAMED_FILE_BYTES: u64 = 1 << 28;
 
+/// The largest camera file read: 1 MiB, thousands of times a camera's few
+/// numbers with any amount of spacing, and a bound on what `--camera` reads
+/// from a device or a pipe that never ends (`--camera /dev/zero` read until
+/// memory ran out).
+pub const MAX_CAMERA_BYTES: u64 = 1 << 20;
+
 /// Reads a file that an input names (a stream's pattern, stripe map or
 /// table): only a regular file (a scene naming `/dev/zero` or a FIFO is
 /// refused, not read forever) of at most [`MAX_NAMED_FILE_BYTES`].
@@ -307,6 +313,8 @@ pub enum InputKind {
     Text,
     /// A polygon stream: text, of any size.
     Stream,
+    /// A camera file (`--camera`): text, at most [`MAX_CAMERA_BYTES`].
+    Camera,
     /// An image file the `image` crate recognises from its first bytes, at
     /// most [`MAX_PICTURE_FILE_BYTES`].
     Image,
@@ -331,6 +339,7 @@ impl InputKind {
         match self {
             InputKind::Text => text().map(|()| MAX_NAMED_FILE_BYTES),
             InputKind::Stream => text().map(|()| u64::MAX),
+            InputKind::Camera => text().map(|()| MAX_CAMERA_BYTES),
             InputKind::Image if image() => Ok(MAX_PICTURE_FILE_BYTES),
             InputKind::Image => Err(io::Error::new(
                 io::ErrorKind::InvalidData,

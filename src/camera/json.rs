@@ -14,8 +14,6 @@
 //! runs them again on the finished spec (they are cheap and give the same
 //! verdict).
 
-use std::io::Read;
-
 use glam::DVec3;
 use serde_json::{Map, Value};
 
@@ -45,23 +43,19 @@ impl Camera {
             path: path.to_string(),
             error,
         };
-        let source: Box<dyn Read> = if path == "-" {
-            Box::new(std::io::stdin())
-        } else {
-            Box::new(std::fs::File::open(path).map_err(read)?)
-        };
-        // Bounded: `--camera /dev/zero` read until memory ran out.
-        let mut text = String::new();
-        source
-            .take(MAX_CAMERA_BYTES + 1)
-            .read_to_string(&mut text)
-            .map_err(read)?;
-        if text.len() as u64 > MAX_CAMERA_BYTES {
-            return Err(read(std::io::Error::new(
+        // Bounded, and refused at once where it is not text (`/dev/zero`).
+        let bytes = crate::io::read_input(path, crate::io::InputKind::Camera).map_err(|e| {
+            read(match e {
+                crate::io::IoError::Read { error, .. } => error,
+                other => std::io::Error::other(other.to_string()),
+            })
+        })?;
+        let text = String::from_utf8(bytes).map_err(|_| {
+            read(std::io::Error::new(
                 std::io::ErrorKind::InvalidData,
-                format!("is larger than the {MAX_CAMERA_BYTES} bytes a camera file may have"),
-            )));
-        }
+                "stream did not contain valid UTF-8",
+            ))
+        })?;
         let name = if path == "-" { "<stdin>" } else { path };
         let value: Value = serde_json::from_str(&text).map_err(|error| CameraError::Json {
             origin: name.to_string(),
@@ -70,11 +64,6 @@ impl Camera {
         Camera::from_json(&value, name)
     }
 }
-
-/// The largest camera file read: 1 MiB, thousands of times a camera's few
-/// numbers with any amount of spacing, and a bound on what `--camera` reads
-/// from a device or a pipe that never ends.
-pub const MAX_CAMERA_BYTES: u64 = 1 << 20;
 
 /// The specification a camera JSON value gives. Fails on wrong types and keys,
 /// and (to keep the first error the same as it has always been, module docs) on

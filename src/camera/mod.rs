@@ -119,7 +119,6 @@ use std::fmt;
 use glam::{DMat3, DMat4, DVec3};
 
 mod json;
-pub use json::MAX_CAMERA_BYTES;
 mod spec;
 
 pub use spec::{

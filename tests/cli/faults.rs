@@ -745,20 +745,23 @@ clitest!(pipes_on_standard_input_and_output_are_widened, |dir| {
 });
 
 clitest!(a_camera_file_is_read_only_to_its_limit, |dir| {
-    // `--camera /dev/zero` or an endless pipe stops at 1 MiB with an error,
-    // instead of reading until memory runs out.
+    // `--camera /dev/zero` (not text) is refused at once, and an endless
+    // pipe of text stops at 1 MiB, instead of reading until memory runs out.
     let tri = r#"{"vertices":[[0,0],[4,0],[0,4]],"color":[200,100,50]}"#;
     dir.write("tri.json", tri);
-    for cmd in [
-        "scene-render --camera /dev/zero --size 8x8 tri.json -o t.png",
-        "yes | polyfill3 --camera - --cull tri.json -o t.ndjson",
+    for (cmd, want) in [
+        (
+            "scene-render --camera /dev/zero --size 8x8 tri.json -o t.png",
+            "/dev/zero: cannot read camera: byte 0x00 at offset 0 is not text",
+        ),
+        (
+            "yes | polyfill3 --camera - --cull tri.json -o t.ndjson",
+            "is larger than the 1048576 bytes this input may have",
+        ),
     ] {
         let out = sh(dir.path(), cmd);
         let said = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{cmd}: {said}");
-        assert!(
-            said.contains("is larger than the 1048576 bytes a camera file may have"),
-            "{cmd}: {said}"
-        );
+        assert!(said.contains(want), "{cmd}: {said}");
     }
 });
