@@ -49,7 +49,7 @@ impl Local {
         Local {
             plane: p.plane,
             tie_floor,
-            order: p.order,
+            order: p.order(),
             global,
             color: p.screen().is_none().then_some(p.color),
             plain: matches!(p.shader(), Shader::Flat | Shader::Screen(_)) && p.shade().is_none(),
@@ -197,7 +197,7 @@ impl TileGeom {
         keyed.clear();
         keyed.extend(boxed.iter().map(|&(pi, bbox)| {
             let p = &polys[pi as usize];
-            (farthest_in(&p.plane, bbox, tile), p.order, pi)
+            (farthest_in(&p.plane, bbox, tile), p.order(), pi)
         }));
         keyed.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(b.1.cmp(&a.1)).then(a.2.cmp(&b.2)));
         for &(_, _, pi) in &keyed {

@@ -42,6 +42,7 @@ pub mod compare;
 pub mod coverage;
 mod frame;
 pub mod gather;
+mod outline;
 mod project;
 pub mod reference;
 pub mod scan;

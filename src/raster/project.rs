@@ -6,6 +6,7 @@
 //! the screen fitted through every vertex (Newell), and concave outlines are
 //! cut into triangles (`geom::triangulate`, in the world polygon's plane).
 
+use super::outline::Outline;
 use crate::color::Rgb8;
 use crate::geom::plane::flat_view;
 use crate::geom::polygon::{area2, is_convex, newell_plane, GRID_SNAP_PX};
@@ -111,34 +112,23 @@ impl ShadeField {
     }
 }
 
-/// A polygon's screen vertices: up to [`INLINE_VERTS`] held in the polygon
-/// itself, more on the heap.
-pub type ScreenVerts = SmallVec<[DVec2; INLINE_VERTS]>;
-
-/// How many screen vertices a [`ScreenPoly`] holds without a heap block: a
-/// triangle's. A million triangles made a million 48-byte blocks (64 with
-/// `malloc`'s header), kept until the frame was drawn (bench/memory.sh). Four
-/// would keep a quad inline too, at 16 bytes more for every polygon.
-pub const INLINE_VERTS: usize = 3;
-
 /// A polygon ready for a resolver: clipped, projected, counter-clockwise on
 /// screen (back faces are reversed when not culled).
 ///
 /// What most polygons lack (a shader, smooth lighting, concave pieces) is
 /// held out of line, and what the frame or the vertices decide (the tie
 /// floor, [`super::tie_floor`]; the pixel box, [`ScreenPoly::bbox`]) is not
-/// kept: a flat triangle is 120 bytes with no heap block (it was 152 and a
-/// block of 64; `raster::project::tests::a_flat_triangle_is_120_bytes`).
+/// kept: a flat triangle is 112 bytes with no heap block (it was 152 and a
+/// block of 64; `raster::project::tests::a_flat_triangle_is_112_bytes`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScreenPoly {
-    /// Screen positions in pixels, y up, counter-clockwise, no repeated neighbours.
-    pub verts: ScreenVerts,
+    /// The vertices ([`ScreenPoly::verts`]) and the stream position
+    /// ([`ScreenPoly::order`]), packed together ([`Outline`]).
+    outline: Outline,
     /// Nearness `q = a*x + b*y + c` over the screen (bigger is nearer).
     pub plane: [f64; 3],
     /// Linear-light colour.
     pub color: [f64; 3],
-    /// Position in the stream: draw order, for visibility ties.
-    pub order: u32,
     /// The shader, the smooth lighting and the concave pieces, when any of
     /// them is not the default.
     rare: Option<Box<Rare>>,
@@ -158,14 +148,26 @@ static FLAT: Shader = Shader::Flat;
 impl ScreenPoly {
     /// A flat, convex polygon (the shader [`Shader::Flat`], no smooth
     /// lighting); the setters below add the rest.
-    pub fn new(verts: ScreenVerts, plane: [f64; 3], color: [f64; 3], order: u32) -> ScreenPoly {
+    pub fn new(verts: &[DVec2], plane: [f64; 3], color: [f64; 3], order: u32) -> ScreenPoly {
         ScreenPoly {
-            verts,
+            outline: Outline::new(verts, order),
             plane,
             color,
-            order,
             rare: None,
         }
+    }
+
+    /// Screen positions in pixels, y up, counter-clockwise, no repeated
+    /// neighbours.
+    #[inline]
+    pub fn verts(&self) -> &[DVec2] {
+        self.outline.verts()
+    }
+
+    /// Position in the stream: draw order, for visibility ties.
+    #[inline]
+    pub fn order(&self) -> u32 {
+        self.outline.order()
     }
 
     /// The pixels the polygon can touch, inclusive-exclusive: `x0..x1`,
@@ -177,7 +179,7 @@ impl ScreenPoly {
     /// polygon were 16 of its bytes, and a frame holds every polygon at once
     /// (bench/memory.sh); a triangle's box is a few compares.
     pub fn bbox(&self) -> [u32; 4] {
-        let [x0, y0, x1, y1] = super::visible::bounds(&self.verts);
+        let [x0, y0, x1, y1] = super::visible::bounds(self.verts());
         // `as` saturates: a vertex beyond u32 pixels is cut by the tile.
         [x0.floor(), y0.floor(), x1.ceil(), y1.ceil()].map(|c| c.max(0.0) as u32)
     }
@@ -245,7 +247,7 @@ impl ScreenPoly {
     pub fn piece(&self, k: usize) -> &[DVec2] {
         let pieces = self.pieces();
         if pieces.is_empty() {
-            &self.verts
+            self.verts()
         } else {
             &pieces[k]
         }
@@ -398,7 +400,7 @@ impl Tally {
         match fate {
             Ok(p) => {
                 self.drawn += 1;
-                self.drawn_area += area2(&p.verts).abs() / 2.0;
+                self.drawn_area += area2(p.verts()).abs() / 2.0;
             }
             Err(Dropped::NotFinite) => self.not_finite += 1,
             Err(Dropped::Outside) => self.outside += 1,
@@ -445,7 +447,9 @@ pub fn try_project(
     if clipped.len() < 3 {
         return Err(Dropped::Outside);
     }
-    let mut verts = ScreenVerts::with_capacity(clipped.len());
+    // On the stack up to an octagon (a clipped quad has at most eight
+    // vertices); the polygon keeps its own copy (`Outline`).
+    let mut verts: SmallVec<[DVec2; 8]> = SmallVec::with_capacity(clipped.len());
     let mut qs: Vec<f64> = Vec::with_capacity(clipped.len());
     for &c in &clipped {
         let s = view.to_screen(c).map(snap_grid);
@@ -483,7 +487,7 @@ pub fn try_project(
         concave_pieces(view, world, &clip_space, whole, a2 < 0.0).ok_or(Dropped::NoArea)?
     };
     let c = color.to_linear_f64();
-    let mut p = ScreenPoly::new(verts, plane, c, order);
+    let mut p = ScreenPoly::new(&verts, plane, c, order);
     if !pieces.is_empty() {
         // A convex polygon, most of them, is its own piece: nothing to set.
         p.set_pieces(pieces);
@@ -569,16 +573,16 @@ mod tests {
     /// A million triangles keep a million screen polygons until the frame
     /// is drawn: a flat triangle's must need no heap block of its own.
     #[test]
-    fn a_flat_triangle_is_120_bytes() {
-        assert!(std::mem::size_of::<ScreenPoly>() <= 120);
+    fn a_flat_triangle_is_112_bytes() {
+        assert!(std::mem::size_of::<ScreenPoly>() <= 112);
         let p = right_triangle();
-        assert!(!p.verts.spilled());
+        assert!(p.outline.is_inline());
         assert!(p.rare.is_none());
         assert_eq!(p.shader(), &Shader::Flat);
         assert_eq!(p.piece_count(), 1);
         // Set and reset, it is the polygon it was, block and all.
         let mut q = p.clone();
-        q.set_pieces(vec![p.verts.to_vec()]);
+        q.set_pieces(vec![p.verts().to_vec()]);
         q.set_shader(Shader::Flat);
         assert!(q.rare.is_some() && q != p);
         q.set_pieces(Vec::new());
@@ -589,7 +593,7 @@ mod tests {
     #[test]
     fn ortho2_maps_world_units_to_pixels() {
         let p = right_triangle();
-        assert_eq!(p.verts[0], DVec2::new(10.0, 5.0));
+        assert_eq!(p.verts()[0], DVec2::new(10.0, 5.0));
         assert_eq!(p.bbox(), [10, 5, 20, 15]);
     }
 
@@ -611,7 +615,7 @@ mod tests {
             Some(Dropped::Culled)
         );
         let p = project(&v, &cw, Rgb8::WHITE, 0, Cull::None).unwrap();
-        assert!(area2(&p.verts) > 0.0);
+        assert!(area2(p.verts()) > 0.0);
     }
 
     #[test]
@@ -644,9 +648,10 @@ mod tests {
         assert!(!p.pieces().is_empty());
         assert!(p.pieces().iter().all(|t| area2(t) > 0.0));
         let sum = sum_compensated(p.pieces().iter().map(|t| area2(t)));
-        let (o, n) = (p.verts[0], p.verts.len());
-        let a =
-            sum_compensated((0..n).map(|i| (p.verts[i] - o).perp_dot(p.verts[(i + 1) % n] - o)));
+        let (o, n) = (p.verts()[0], p.verts().len());
+        let a = sum_compensated(
+            (0..n).map(|i| (p.verts()[i] - o).perp_dot(p.verts()[(i + 1) % n] - o)),
+        );
         assert!((sum - a).abs() <= 1e-12 * a, "{sum} vs {a}");
     }
 
@@ -672,13 +677,13 @@ mod tests {
         let whole = View::ortho2(-1.0, 4.0, -1.0, 4.0, 50, 50);
         let p = project(&whole, &arch, Rgb8::WHITE, 0, Cull::None).unwrap();
         assert_tiled(&p);
-        assert!((area2(&p.verts) - 2.0 * 7.0 * 100.0).abs() < 1e-9);
+        assert!((area2(p.verts()) - 2.0 * 7.0 * 100.0).abs() < 1e-9);
         // Cut below the arch's top: two legs, which the clipped outline joins
         // by a zero-width bridge along the image's top edge.
         let legs = View::ortho2(-1.0, 4.0, -1.0, 1.5, 50, 25);
         let p = project(&legs, &arch, Rgb8::WHITE, 0, Cull::None).unwrap();
         assert_tiled(&p);
-        assert!((area2(&p.verts) - 2.0 * 3.0 * 100.0).abs() < 1e-9);
+        assert!((area2(p.verts()) - 2.0 * 3.0 * 100.0).abs() < 1e-9);
         assert!(p.pieces().iter().flatten().all(|v| v.y <= 25.0));
         // Seen from behind, and through a perspective camera that clips it
         // at the near plane.
@@ -723,7 +728,7 @@ mod tests {
             DVec3::new(0.0, 1.0, -3.0),
         ];
         let p = project(&v, &tri, Rgb8::WHITE, 0, Cull::None).unwrap();
-        for (s, w) in p.verts.iter().zip([2.0, 4.0, 3.0]) {
+        for (s, w) in p.verts().iter().zip([2.0, 4.0, 3.0]) {
             assert!((p.q(s.x, s.y) - 1.0 / w).abs() < 1e-12);
         }
         let o = View::ortho2(0.0, 10.0, 0.0, 10.0, 10, 10);
@@ -787,7 +792,7 @@ mod clip_tests {
             DVec3::new(-1.0, -1.0, 5.0),
         ];
         let p = project(&v, &straddle, Rgb8::WHITE, 0, Cull::None).unwrap();
-        assert!(p.verts.iter().all(|s| s.y <= 50.0 && s.x.is_finite()));
+        assert!(p.verts().iter().all(|s| s.y <= 50.0 && s.x.is_finite()));
     }
 
     #[test]
@@ -808,7 +813,7 @@ mod clip_tests {
         let p = project(&v, &floor, Rgb8::WHITE, 0, Cull::None).unwrap();
         assert!(p.plane.iter().all(|c| c.is_finite()));
         // The floor reaches the bottom edge of the screen.
-        assert!(p.verts.iter().any(|s| s.y == 0.0));
+        assert!(p.verts().iter().any(|s| s.y == 0.0));
     }
 
     #[test]

@@ -320,7 +320,7 @@ impl Projected<'_> {
     fn in_front(&self, g: &ScreenPoly, f: &ScreenPoly, x: f64, y: f64) -> bool {
         let (qg, qf) = (g.q(x, y), f.q(x, y));
         let tie = tie_tolerance(qg, qf, self.tie_floor);
-        if g.order > f.order {
+        if g.order() > f.order() {
             qg - qf > -tie
         } else {
             qg - qf > tie
@@ -383,7 +383,7 @@ impl Projected<'_> {
             .all(|&(cx, cy)| {
                 let (qf, qg) = (f.q(cx, cy), g.q(cx, cy));
                 let lead = qf - qg;
-                if g.order > f.order {
+                if g.order() > f.order() {
                     lead >= tie_tolerance(qf, qg, self.tie_floor)
                 } else {
                     lead >= -self.tie_floor
@@ -484,7 +484,7 @@ fn pixel(
         // A textured polygon's colour varies over the square (and may be
         // transparent): always integrated. A stripe's is integrated exactly
         // over the square below.
-        if f.texture().is_some() || f.shade().is_some() || !covers_square(&f.verts, x, y) {
+        if f.texture().is_some() || f.shade().is_some() || !covers_square(f.verts(), x, y) {
             continue;
         }
         let hides_all = cands
@@ -643,7 +643,7 @@ fn events(
         family: 0,
     });
     for &ci in cands {
-        let v = &polys[ci as usize].verts;
+        let v = polys[ci as usize].verts();
         let n = v.len();
         for i in 0..n {
             let (a, b) = (v[i], v[(i + 1) % n]);
@@ -704,7 +704,7 @@ fn events(
         if let Some(t) = polys[ci as usize].texture() {
             if !texel_lines(
                 &t.map,
-                &polys[ci as usize].verts,
+                polys[ci as usize].verts(),
                 (x, y),
                 centre,
                 family,
@@ -716,7 +716,7 @@ fn events(
         if let Some(st) = polys[ci as usize].stripe() {
             if !stripe_lines(
                 st,
-                &polys[ci as usize].verts,
+                polys[ci as usize].verts(),
                 (x, y),
                 centre,
                 family + 2,
@@ -945,7 +945,7 @@ fn line_colour(
     let (xl, xr) = (x, x + 1.0);
     s.spans.clear();
     for (ci, &pi) in cands.iter().enumerate() {
-        let v = &polys[pi as usize].verts;
+        let v = polys[pi as usize].verts();
         s.crossings.clear();
         let n = v.len();
         for i in 0..n {
@@ -1326,7 +1326,7 @@ mod tests {
                 let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
                 let inside = corners
                     .iter()
-                    .filter(|&&(cx, cy)| covers_point(&p.verts, cx, cy))
+                    .filter(|&&(cx, cy)| covers_point(p.verts(), cx, cy))
                     .count();
                 if inside == 0 || inside == 4 {
                     continue; // outside, or (nearly all) interior: tested in crate::stripe
@@ -1341,7 +1341,7 @@ mod tests {
                 for j in 0..64 {
                     for i in 0..64 {
                         let (sx, sy) = (x + (i as f64 + 0.5) / 64.0, y + (j as f64 + 0.5) / 64.0);
-                        let c = if covers_point(&p.verts, sx, sy) {
+                        let c = if covers_point(p.verts(), sx, sy) {
                             st.crisp_linear(sx, sy)
                         } else {
                             bgl

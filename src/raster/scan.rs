@@ -59,7 +59,7 @@ impl FixedPoly {
         let scale = 2 * k as i64;
         let snap = |v: f64| (v * SUBPIXEL as f64).round() as i64 * scale;
         let pts: SmallVec<[(i64, i64); 4]> =
-            p.verts.iter().map(|v| (snap(v.x), snap(v.y))).collect();
+            p.verts().iter().map(|v| (snap(v.x), snap(v.y))).collect();
         let n = pts.len();
         let mut edges = SmallVec::with_capacity(n);
         let (mut ymin, mut ymax) = (i64::MAX, i64::MIN);

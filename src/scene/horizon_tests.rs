@@ -233,7 +233,7 @@ fn brute_force(
     n: u32,
 ) -> [f64; 3] {
     let tex = ground.texture().unwrap();
-    let v = &ground.verts;
+    let v = ground.verts();
     let inside = |p: glam::DVec2| {
         (0..v.len()).all(|i| (v[(i + 1) % v.len()] - v[i]).perp_dot(p - v[i]) >= 0.0)
     };

@@ -1338,7 +1338,7 @@ mod project_tests {
         let (polys, tally) = two
             .install(|| scene.project_tallied(&view, &how, 0))
             .unwrap();
-        let orders: Vec<u32> = polys.iter().map(|p| p.order).collect();
+        let orders: Vec<u32> = polys.iter().map(|p| p.order()).collect();
         let want: Vec<u32> = (0..n as u32).filter(|i| i % 5 != 4).collect();
         assert_eq!(orders, want);
         assert_eq!(tally.drawn as usize, want.len());
