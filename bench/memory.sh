@@ -9,7 +9,9 @@
 # the seeded random triangles of bench/random_triangles.py (200,000 and
 # 1,000,000, about four layers a pixel) at 1024x768, and one triangle at
 # 1024x1024, 4096x4096 and 16384x16384; bytes per triangle above the
-# baseline, and bytes per pixel between the first two image sizes.
+# baseline, and bytes per pixel between the first two image sizes. And
+# pat-tile's peak filling 1024x1024 and 16384x16384 with a pattern that has
+# transparent texels (RGBA out), written a row at a time.
 set -eu
 cd "$(dirname "$0")/.."
 BENCH=memory
@@ -41,3 +43,8 @@ echo
 echo "One triangle: 1024x1024 $((small / 1024)) MiB, 4096x4096 $((large / 1024)) MiB:" \
     "$(awk "BEGIN { printf \"%.1f\", ($large - $small) * 1024 / (4096 * 4096 - 1024 * 1024) }")" \
     "bytes per pixel; 16384x16384 $((huge / 1024)) MiB."
+PT="$TARGET/release/pat-tile"
+tile_peak() { python3 bench/timing.py --runs 1 --warmup 0 -- "$PT" --size "$1" fixtures/patterns/bkgrnd.pat -o "$WORK/tiled.png" | cut -d' ' -f2; }
+echo
+echo "pat-tile, fixtures/patterns/bkgrnd.pat (RGBA): 1024x1024 $(( $(tile_peak 1024x1024) / 1024 )) MiB," \
+    "16384x16384 $(( $(tile_peak 16384x16384) / 1024 )) MiB."

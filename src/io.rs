@@ -983,6 +983,110 @@ fn wrong_encoding(encoding: Encoding, format: ImageFormat) -> io::Error {
     )
 }
 
+/// An 8-bit image made a row at a time, top row first, so that it need never
+/// be held whole: [`save_rows`] encodes each row as it comes. A tiled
+/// pattern at 16384x16384 was a gigabyte of RGBA held only to be encoded
+/// (`texture::TileRows`, `bench/memory.sh`).
+pub trait RowSource {
+    /// Width and height in pixels, and channels per pixel (3 or 4, RGB or
+    /// RGBA with straight alpha), as an [`Image`]'s.
+    fn shape(&self) -> (u32, u32, u8);
+    /// Row `y` (0 at the top): `width * channels` sRGB codes, laid out as a
+    /// row of [`Image::data`]. Asked for once each, in order.
+    fn row(&mut self, y: u32) -> &[u8];
+}
+
+impl RowSource for &Image {
+    fn shape(&self) -> (u32, u32, u8) {
+        (self.width, self.height, self.channels)
+    }
+    fn row(&mut self, y: u32) -> &[u8] {
+        let n = self.width as usize * self.channels as usize;
+        &self.data[y as usize * n..(y as usize + 1) * n]
+    }
+}
+
+/// The largest IDAT chunk [`encode_rows`] writes, and so the most
+/// compressed bytes it holds. Its PNG has the same pixels as the whole
+/// image's ([`Image::encode_with`], one IDAT chunk), not the same bytes: the
+/// `png` crate's row writer flushes its deflate stream before ending it
+/// (test `rows_give_the_pixels_and_netpbm_bytes_of_the_whole_image`).
+pub const PNG_STREAM_CHUNK_BYTES: usize = 8 << 20;
+
+/// Encodes the rows of `rows` in `format` (8-bit PNG, PPM or PAM; PPM drops
+/// alpha) as they are made, holding one row and, for PNG, at most
+/// [`PNG_STREAM_CHUNK_BYTES`] of compressed data at a time.
+pub fn encode_rows<W: Write>(
+    rows: &mut dyn RowSource,
+    format: ImageFormat,
+    png: PngOptions,
+    w: &mut W,
+) -> io::Result<()> {
+    encode_rows_in_chunks(rows, format, png, w, PNG_STREAM_CHUNK_BYTES)
+}
+
+/// [`encode_rows`] with IDAT chunks of at most `chunk` bytes.
+fn encode_rows_in_chunks<W: Write>(
+    rows: &mut dyn RowSource,
+    format: ImageFormat,
+    png: PngOptions,
+    w: &mut W,
+    chunk: usize,
+) -> io::Result<()> {
+    let (wd, ht, channels) = rows.shape();
+    match format {
+        ImageFormat::Ppm => {
+            write!(w, "P6\n{wd} {ht}\n255\n")?;
+            let mut rgb = Vec::new();
+            for y in 0..ht {
+                let row = rows.row(y);
+                if channels == 3 {
+                    w.write_all(row)?;
+                } else {
+                    rgb.clear();
+                    rgb.extend(row.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]));
+                    w.write_all(&rgb)?;
+                }
+            }
+        }
+        ImageFormat::Pam => {
+            write_pam_header(w, (wd, ht), channels, 255)?;
+            for y in 0..ht {
+                w.write_all(rows.row(y))?;
+            }
+        }
+        ImageFormat::Png => {
+            let mut writer = png_encoder(&mut *w, (wd, ht, channels), png::BitDepth::Eight, png)
+                .write_header()
+                .map_err(png_io_error)?;
+            let mut stream = writer
+                .stream_writer_with_size(chunk)
+                .map_err(png_io_error)?;
+            for y in 0..ht {
+                stream.write_all(rows.row(y))?;
+            }
+            stream.finish().map_err(png_io_error)?;
+            writer.finish().map_err(png_io_error)?;
+        }
+        ImageFormat::Pfm => return Err(wrong_encoding(Encoding::Srgb8, format)),
+    }
+    Ok(())
+}
+
+/// Writes the rows of `rows` to `name` (`-` = standard output) atomically,
+/// as [`encode_rows`] makes them.
+pub fn save_rows(
+    rows: &mut dyn RowSource,
+    name: &str,
+    format: ImageFormat,
+    png: PngOptions,
+) -> Result<(), IoError> {
+    let mut out = Output::create(name, true)?;
+    encode_rows(rows, format, png, &mut out)
+        .map_err(|e| write_error(name, WriteStep::Write)(out.cause(e)))?;
+    out.commit()
+}
+
 /// A 16-bit sRGB image, row 0 at the top, 3 or 4 channels interleaved: what
 /// `--depth 16` writes, each code the nearest to the exact sRGB value
 /// ([`crate::color::linear_to_srgb16`]).
@@ -1627,6 +1731,75 @@ fn write_pam_header(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two routes to one file: the rows of an image, encoded as they come,
+    /// give the whole image's PPM and PAM bytes and its PNG pixels (the PNG
+    /// decoded by the `image` crate, not by the encoder's own crate), with
+    /// one IDAT chunk or, cut small, many.
+    #[test]
+    fn rows_give_the_pixels_and_netpbm_bytes_of_the_whole_image() {
+        let mut seed = 7u32;
+        let mut byte = || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 24) as u8
+        };
+        for channels in [3u8, 4] {
+            let (width, height) = (37, 23);
+            let data = (0..width * height * channels as u32)
+                .map(|_| byte())
+                .collect();
+            let img = Image {
+                width,
+                height,
+                channels,
+                data,
+            };
+            for format in [ImageFormat::Ppm, ImageFormat::Pam] {
+                let (mut whole, mut rows) = (Vec::new(), Vec::new());
+                img.encode(format, &mut whole).unwrap();
+                encode_rows(&mut &img, format, PngOptions::GENERAL, &mut rows).unwrap();
+                assert_eq!(rows, whole, "{format:?} {channels}");
+            }
+            for (options, chunk) in [
+                (PngOptions::GENERAL, PNG_STREAM_CHUNK_BYTES),
+                (PngOptions::FLAT_REPEATING, 100),
+            ] {
+                let mut png = Vec::new();
+                encode_rows_in_chunks(&mut &img, ImageFormat::Png, options, &mut png, chunk)
+                    .unwrap();
+                // The chunks' lengths and types, after the 8-byte signature.
+                let (mut at, mut idat_chunks) = (8, 0);
+                while at < png.len() {
+                    let len = u32::from_be_bytes(png[at..at + 4].try_into().unwrap()) as usize;
+                    idat_chunks += usize::from(&png[at + 4..at + 8] == b"IDAT");
+                    assert!(chunk == PNG_STREAM_CHUNK_BYTES || len <= chunk);
+                    at += 12 + len;
+                }
+                assert!(
+                    idat_chunks > 4 || chunk == PNG_STREAM_CHUNK_BYTES,
+                    "{idat_chunks}"
+                );
+                let back = decode_image(&png, "rows.png").unwrap();
+                let rgba: Vec<u8> = if channels == 4 {
+                    img.data.clone()
+                } else {
+                    img.data
+                        .chunks(3)
+                        .flat_map(|p| [p[0], p[1], p[2], 255])
+                        .collect()
+                };
+                assert_eq!(back.dimensions(), (width, height));
+                assert_eq!(back.into_raw(), rgba, "{channels} {chunk}");
+            }
+            let pfm = encode_rows(
+                &mut &img,
+                ImageFormat::Pfm,
+                PngOptions::GENERAL,
+                &mut Vec::new(),
+            );
+            assert_eq!(pfm.unwrap_err().kind(), io::ErrorKind::InvalidInput);
+        }
+    }
 
     /// A JPEG cut anywhere after its first scan starts is refused, by name,
     /// even with an end-of-image marker inside a header segment (an EXIF

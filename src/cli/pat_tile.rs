@@ -4,9 +4,9 @@
 use super::{warn, IntPair, Size};
 use crate::cli::usage_bail;
 use crate::color::Rgb8;
-use crate::io::{display_name, read_input, ImageFormat, Output, PngOptions};
+use crate::io::{display_name, read_input, save_rows, ImageFormat, Output, PngOptions};
 use crate::pat::Pattern;
-use crate::texture::{tile_image, ScreenTiling};
+use crate::texture::{ScreenTiling, TileRows};
 use anyhow::{Context, Result};
 use clap::Parser;
 
@@ -116,14 +116,20 @@ pub fn run(args: Args) -> Result<()> {
         );
         background = Some(Rgb8::BLACK);
     }
-    let image = tile_image(
+    // Made and written a row at a time: the image is never held whole.
+    let mut rows = TileRows::new(
         &pattern,
         args.size.width,
         args.size.height,
         tiling,
         background,
     );
-    Ok(image.save_with(&args.output, format, PngOptions::FLAT_REPEATING)?)
+    Ok(save_rows(
+        &mut rows,
+        &args.output,
+        format,
+        PngOptions::FLAT_REPEATING,
+    )?)
 }
 
 /// `--format`'s values: the 8-bit formats, not PFM (scene-render's).

@@ -180,13 +180,12 @@ impl Default for ScreenTiling {
     }
 }
 
-/// Fills a `width` x `height` image with the repeated pattern.
+/// Fills a `width` x `height` image with the repeated pattern: the rows of
+/// [`TileRows`], held together.
 ///
 /// Transparent texels take `background`; with no background the image gets an
 /// alpha channel (only if the pattern has transparent texels) and they stay
-/// transparent. The cost is one pass over the output: each distinct texel row
-/// is built once as a full image row (one period, then doubled by copying), and
-/// image rows that show the same texel row are copies of it.
+/// transparent.
 pub fn tile_image(
     pattern: &Pattern,
     width: u32,
@@ -194,61 +193,119 @@ pub fn tile_image(
     tiling: ScreenTiling,
     background: Option<Rgb8>,
 ) -> Image {
-    let size = pattern.size();
-    let has_transparency = pattern.histogram().1 > 0;
-    let channels: usize = if has_transparency && background.is_none() {
-        4
-    } else {
-        3
-    };
-    let pixel = |t: u16| -> [u8; 4] {
-        match pattern.palette().get(t as usize) {
-            Some(c) => [c.0[0], c.0[1], c.0[2], 255],
-            None => match background {
-                Some(b) => [b.0[0], b.0[1], b.0[2], 255],
-                None => [0, 0, 0, 0],
-            },
-        }
-    };
-    let (w, h) = (width as usize, height as usize);
-    let row_bytes = w * channels;
-    let mut data = vec![0u8; row_bytes * h];
-    let mut previous: Option<(u32, usize)> = None; // (texel row, image row holding it)
-    for y in 0..h {
-        let from_bottom = (h - 1 - y) as u32;
-        let trow = tiling.texel(from_bottom, tiling.offset.1, size);
-        let start = y * row_bytes;
-        if let Some((prev_trow, prev_y)) = previous {
-            if prev_trow == trow {
-                data.copy_within(prev_y * row_bytes..(prev_y + 1) * row_bytes, start);
-                continue;
-            }
-        }
-        let texels = &pattern.texels()[(trow * size) as usize..((trow + 1) * size) as usize];
-        let row = &mut data[start..start + row_bytes];
-        // One period: SIZE * scale pixels (or the whole row if shorter).
-        let period = (size as usize * tiling.scale.max(1) as usize).min(w);
-        for (x, px) in row[..period * channels]
-            .chunks_exact_mut(channels)
-            .enumerate()
-        {
-            let t = texels[tiling.texel(x as u32, tiling.offset.0, size) as usize];
-            px.copy_from_slice(&pixel(t)[..channels]);
-        }
-        // Double the filled prefix until the row is full.
-        let mut filled = period * channels;
-        while filled < row_bytes {
-            let n = filled.min(row_bytes - filled);
-            row.copy_within(0..n, filled);
-            filled += n;
-        }
-        previous = Some((trow, y));
+    use crate::io::RowSource;
+    let mut rows = TileRows::new(pattern, width, height, tiling, background);
+    let channels = rows.shape().2;
+    let mut data = Vec::with_capacity(width as usize * height as usize * channels as usize);
+    for y in 0..height {
+        data.extend_from_slice(rows.row(y));
     }
     Image {
         width,
         height,
-        channels: channels as u8,
+        channels,
         data,
+    }
+}
+
+/// The rows of a `width` x `height` image filled with the repeated pattern,
+/// made one at a time ([`crate::io::RowSource`]), so that `pat-tile` writes
+/// any size in the memory of one row: 16384x16384 of a pattern with
+/// transparent texels peaked at 1.06 GB held whole (`bench/memory.sh`).
+///
+/// Each row costs one pass over its bytes: a texel row is built as a full
+/// image row once (one period, then doubled by copying), and the image rows
+/// that show the same texel row, one after another, reuse it.
+pub struct TileRows<'a> {
+    pattern: &'a Pattern,
+    tiling: ScreenTiling,
+    /// The colour of each texel index, and of [`crate::pat::TRANSPARENT`]
+    /// (last): `background`, or no colour and no coverage.
+    colours: Vec<[u8; 4]>,
+    channels: u8,
+    width: u32,
+    height: u32,
+    /// The image row last built and the texel row it shows.
+    row: Vec<u8>,
+    texel_row: Option<u32>,
+}
+
+impl<'a> TileRows<'a> {
+    /// The rows of the image [`tile_image`] makes with these arguments.
+    pub fn new(
+        pattern: &'a Pattern,
+        width: u32,
+        height: u32,
+        tiling: ScreenTiling,
+        background: Option<Rgb8>,
+    ) -> TileRows<'a> {
+        let has_transparency = pattern.histogram().1 > 0;
+        let channels = if has_transparency && background.is_none() {
+            4
+        } else {
+            3
+        };
+        let clear = match background {
+            Some(b) => [b.0[0], b.0[1], b.0[2], 255],
+            None => [0, 0, 0, 0],
+        };
+        let colours = pattern
+            .palette()
+            .iter()
+            .map(|c| [c.0[0], c.0[1], c.0[2], 255])
+            .chain([clear])
+            .collect();
+        TileRows {
+            pattern,
+            tiling,
+            colours,
+            channels,
+            width,
+            height,
+            row: vec![0; width as usize * channels as usize],
+            texel_row: None,
+        }
+    }
+}
+
+impl crate::io::RowSource for TileRows<'_> {
+    fn shape(&self) -> (u32, u32, u8) {
+        (self.width, self.height, self.channels)
+    }
+
+    fn row(&mut self, y: u32) -> &[u8] {
+        let size = self.pattern.size();
+        let from_bottom = self.height - 1 - y;
+        let trow = self.tiling.texel(from_bottom, self.tiling.offset.1, size);
+        if self.texel_row == Some(trow) {
+            return &self.row;
+        }
+        let texels = &self.pattern.texels()[(trow * size) as usize..((trow + 1) * size) as usize];
+        let channels = self.channels as usize;
+        let transparent = self.colours.len() - 1;
+        // One period: SIZE * scale pixels (or the whole row if shorter).
+        let period = (size as usize * self.tiling.scale.max(1) as usize).min(self.width as usize);
+        for (x, px) in self.row[..period * channels]
+            .chunks_exact_mut(channels)
+            .enumerate()
+        {
+            let t = texels[self.tiling.texel(x as u32, self.tiling.offset.0, size) as usize];
+            let colour = self
+                .colours
+                .get(t as usize)
+                .unwrap_or(&self.colours[transparent]);
+            px.copy_from_slice(&colour[..channels]);
+        }
+        // Double the filled prefix until the row is full.
+        let row_bytes = self.row.len();
+        let mut filled = period * channels;
+        while filled < row_bytes {
+            let n = filled.min(row_bytes - filled);
+            self.row.copy_within(0..n, filled);
+            filled += n;
+        }
+        self.texel_row = Some(trow);
+        &self.row
     }
 }
 
