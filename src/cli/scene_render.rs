@@ -333,6 +333,9 @@ fn run_in_pool(args: Args) -> Result<()> {
             None => usage_bail!("--frames: give -o, a pattern such as frame-%04d.png"),
             // Standard output: the frames one after another (a stream).
             Some(o) if o == crate::io::STDIO => {}
+            Some(o) if frame_slots(o).len() > 1 => {
+                usage_bail!("-o {o}: more than one frame number in the name: give one %d or %0Nd (%% is a literal %)")
+            }
             Some(o) if frame_width(o).is_some_and(|w| w > MAX_FRAME_WIDTH) => {
                 usage_bail!("-o {o}: a frame number that wide makes no file name: at most %0{MAX_FRAME_WIDTH}d")
             }
@@ -727,35 +730,82 @@ fn load_image(name: &str) -> Result<AnyImage> {
 /// name (`NAME_MAX`). Wider made no name, and over 65,535 `format!` panicked.
 const MAX_FRAME_WIDTH: usize = 255;
 
-/// The width `N` of the `%d` or `%0Nd` in an output name (0 for `%d`,
-/// saturated for a huge N); `None` when the name has no such pattern.
-fn frame_width(pattern: &str) -> Option<usize> {
-    let rest = &pattern[pattern.find('%')? + 1..];
-    let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
-    if rest.as_bytes().get(digits) != Some(&b'd') {
-        return None;
-    }
-    Some(
-        rest[..digits]
-            .parse()
-            .unwrap_or(if digits == 0 { 0 } else { usize::MAX }),
-    )
+/// A frame-number conversion in an output name, as printf reads it: `%d`,
+/// `%Nd` (padded with spaces) or `%0Nd` (with zeros), `%%` being a literal
+/// `%`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct FrameSlot {
+    /// The bytes of the name it takes, `%` to `d`: `start..end`.
+    start: usize,
+    end: usize,
+    /// `N` (0 for `%d`), saturated for a huge N.
+    width: usize,
+    zero: bool,
 }
 
-/// `%d` or `%0Nd` in an output name replaced by the frame number; `None`
-/// when the name has no such pattern, or one wider than `MAX_FRAME_WIDTH`.
+/// The frame-number conversions of an output name, in order (a name that is
+/// not a pattern has none; `-o f%d%d.png` two, which is refused).
+fn frame_slots(pattern: &str) -> Vec<FrameSlot> {
+    let bytes = pattern.as_bytes();
+    let (mut slots, mut i) = (Vec::new(), 0);
+    while i < bytes.len() {
+        if bytes[i] != b'%' {
+            i += 1;
+            continue;
+        }
+        if bytes.get(i + 1) == Some(&b'%') {
+            i += 2;
+            continue;
+        }
+        let digits = bytes[i + 1..]
+            .iter()
+            .take_while(|b| b.is_ascii_digit())
+            .count();
+        let end = i + 1 + digits;
+        if bytes.get(end) == Some(&b'd') {
+            let n = &pattern[i + 1..end];
+            slots.push(FrameSlot {
+                start: i,
+                end: end + 1,
+                width: n
+                    .parse()
+                    .unwrap_or(if digits == 0 { 0 } else { usize::MAX }),
+                zero: n.starts_with('0'),
+            });
+        }
+        i = end.max(i + 1);
+    }
+    slots
+}
+
+/// The width `N` of the one `%d` or `%0Nd` in an output name; `None` when
+/// the name has no such pattern, or more than one.
+fn frame_width(pattern: &str) -> Option<usize> {
+    match frame_slots(pattern)[..] {
+        [FrameSlot { width, .. }] => Some(width),
+        _ => None,
+    }
+}
+
+/// The output name's one `%d` or `%0Nd` replaced by the frame number and
+/// each `%%` by `%`; `None` when the name has no such pattern, more than one,
+/// or one wider than `MAX_FRAME_WIDTH`.
 pub fn frame_name(pattern: &str, k: u64) -> Option<String> {
-    let width = frame_width(pattern).filter(|&w| w <= MAX_FRAME_WIDTH)?;
-    let start = pattern.find('%')?;
-    let rest = &pattern[start + 1..];
-    let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
-    let zero = rest.starts_with('0');
-    let num = if zero {
+    let [slot] = frame_slots(pattern)[..] else {
+        return None;
+    };
+    let width = Some(slot.width).filter(|&w| w <= MAX_FRAME_WIDTH)?;
+    let num = if slot.zero {
         format!("{k:0width$}")
     } else {
         format!("{k:width$}")
     };
-    Some(format!("{}{num}{}", &pattern[..start], &rest[digits + 1..]))
+    let literal = |s: &str| s.replace("%%", "%");
+    Some(format!(
+        "{}{num}{}",
+        literal(&pattern[..slot.start]),
+        literal(&pattern[slot.end..])
+    ))
 }
 
 /// Below this many pixels of summed polygon area, a frame of a non-empty
@@ -951,4 +1001,30 @@ fn print_report(text: &str, image_on_stdout: bool) -> Result<()> {
     out.write_all(text.as_bytes())
         .and_then(|()| out.flush())
         .context("writing standard output")
+}
+
+#[cfg(test)]
+mod frame_name_tests {
+    use super::frame_name;
+
+    /// printf's reading: one conversion, `%%` a literal `%`, any other `%`
+    /// kept as it is; two conversions or none make no pattern.
+    #[test]
+    fn a_frame_name_replaces_its_one_conversion_and_unescapes_percents() {
+        for (pattern, name) in [
+            ("f%d.png", Some("f7.png")),
+            ("f%04d.png", Some("f0007.png")),
+            ("f%3d.png", Some("f  7.png")),
+            ("100%%-%d.png", Some("100%-7.png")),
+            ("%d%%", Some("7%")),
+            ("a%sb%02d", Some("a%sb07")),
+            ("f%%d.png", None),
+            ("f%d%d.png", None),
+            ("plain.png", None),
+            ("trailing%", None),
+            ("f%0256d.png", None),
+        ] {
+            assert_eq!(frame_name(pattern, 7).as_deref(), name, "{pattern}");
+        }
+    }
 }

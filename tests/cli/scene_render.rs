@@ -644,6 +644,16 @@ clitest!(frame_options_are_checked_before_anything_is_drawn, |dir| {
             vec!["--frames", "3", "-o", "f%0256d.png"],
             "a frame number that wide makes no file name",
         ),
+        // Only the first was replaced, the second kept as it was.
+        (
+            vec!["--frames", "3", "-o", "f%d-%03d.png"],
+            "-o f%d-%03d.png: more than one frame number in the name",
+        ),
+        // printf's literal %: no frame number.
+        (
+            vec!["--frames", "3", "-o", "f%%d.png"],
+            "expected a pattern with %d or %0Nd",
+        ),
     ] {
         dir.cmd("scene-render")
             .args(&args)
