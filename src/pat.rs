@@ -341,37 +341,57 @@ impl<'a> Planes<'a> {
 
     /// Appends colour `k`'s block of the canonical text to `out`: its
     /// `R G B` line and one line of words per row.
+    ///
+    /// Each row starts as a copy of an all-zero line and only the words
+    /// holding one of the colour's texels are written over: of a 1024x1024
+    /// pattern of 256 colours' 16.8 million words, at most one in 16 is not
+    /// `0000` (a texel has one colour). Formatting every word took 30% of
+    /// the samples of the 1024x1024 gradient of
+    /// `bench/pat_from_image_large.sh` (K = 256).
     fn format(&self, k: usize, out: &mut Vec<u8>) {
         let size = self.pattern.size as usize;
         let words_per_row = size / WORD_BITS as usize;
         let [r, g, b] = self.pattern.palette[k].0;
         // Writing to a Vec cannot fail.
         let _ = writeln!(out, "{r} {g} {b}");
-        out.reserve(size * words_per_row * 5);
-        let mut words = vec![0u16; words_per_row];
+        // "0000 " per word; the last space is the newline.
+        let mut zero_line = b"0000 ".repeat(words_per_row);
+        *zero_line.last_mut().expect("a row has at least one word") = b'\n';
+        out.reserve(size * zero_line.len());
         let mut mine = self.at[self.start[k]..self.start[k + 1]].iter().peekable();
         for row in 0..size {
-            words.fill(0);
+            let line_at = out.len();
+            out.extend_from_slice(&zero_line);
+            let line = &mut out[line_at..];
             let end = ((row + 1) * size) as u32;
+            // The word being gathered: its place in the row and its bits.
+            let mut word: Option<(usize, u16)> = None;
+            let put = |line: &mut [u8], (at, bits): (usize, u16)| {
+                let [hi, lo] = bits.to_be_bytes();
+                line[at * 5..at * 5 + 2].copy_from_slice(&HEX_BYTE[hi as usize]);
+                line[at * 5 + 2..at * 5 + 4].copy_from_slice(&HEX_BYTE[lo as usize]);
+            };
             while let Some(&&i) = mine.peek() {
                 if i >= end {
                     break;
                 }
                 let x = i as usize - row * size;
+                let at = x / WORD_BITS as usize;
                 // The first texel of a word is its most significant bit.
-                words[x / WORD_BITS as usize] |= 0x8000 >> (x % WORD_BITS as usize);
+                let bit = 0x8000 >> (x % WORD_BITS as usize);
+                word = match word {
+                    Some((w, bits)) if w == at => Some((w, bits | bit)),
+                    Some(done) => {
+                        put(line, done);
+                        Some((at, bit))
+                    }
+                    None => Some((at, bit)),
+                };
                 mine.next();
             }
-            // "xxxx " per word; the last space becomes the newline.
-            let line_at = out.len();
-            out.resize(line_at + words_per_row * 5, b' ');
-            let line = &mut out[line_at..];
-            for (word, text) in words.iter().zip(line.chunks_exact_mut(5)) {
-                let [hi, lo] = word.to_be_bytes();
-                text[..2].copy_from_slice(&HEX_BYTE[hi as usize]);
-                text[2..4].copy_from_slice(&HEX_BYTE[lo as usize]);
+            if let Some(done) = word {
+                put(line, done);
             }
-            *line.last_mut().expect("a row has at least one word") = b'\n';
         }
     }
 }
