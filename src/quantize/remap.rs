@@ -1,5 +1,8 @@
 //! Step 3: each pixel takes a palette index, with no dithering, Floyd–Steinberg
-//! error diffusion or an 8x8 Bayer ordered dither.
+//! error diffusion or an 8x8 Bayer ordered dither. Without dithering, a
+//! palette chosen from the image's histogram is applied through a table of
+//! each distinct colour's nearest entry ([`NearestTable`]), looked up per
+//! pixel.
 //!
 //! Nearest colours are found in the clustering space (8-bit sRGB codes, the
 //! metric's space), but the error that Floyd–Steinberg diffuses is light, so it
@@ -174,6 +177,101 @@ pub fn remap_with(
     out
 }
 
+/// Each distinct colour of an image and the index of its nearest palette
+/// colour, in an open-addressing hash table: the undithered remap of an
+/// image of few colours looks each pixel up instead of scanning the palette.
+/// Built from the histogram, whose colours are those of the opaque pixels.
+pub(super) struct NearestTable {
+    /// Packed colours (`r << 16 | g << 8 | b`), [`NearestTable::EMPTY`] in
+    /// free slots; a power of two long.
+    keys: Vec<u32>,
+    index: Vec<u16>,
+}
+
+impl NearestTable {
+    /// Not a packed 24-bit colour.
+    const EMPTY: u32 = u32::MAX;
+
+    /// The table of `colours` (a [`super::histogram`]'s: distinct, their
+    /// counts unused) and their nearest `palette` colour
+    /// (ties to the lower index, as the scan gives). At most half full, so
+    /// that a probe rarely goes past its first slot.
+    pub(super) fn new(colours: &[([u8; 3], u64)], palette: &[Rgb8]) -> NearestTable {
+        use rayon::prelude::*;
+        let centres: Vec<Point> = palette.iter().map(|c| point(c.0)).collect();
+        let channels = Channels::new(&centres);
+        let nearest: Vec<u16> = colours
+            .par_iter()
+            .map(|&(c, _)| channels.nearest(point(c)).0 as u16)
+            .collect();
+        let len = (2 * colours.len()).next_power_of_two().max(2);
+        let mut table = NearestTable {
+            keys: vec![Self::EMPTY; len],
+            index: vec![0; len],
+        };
+        for (&(c, _), &i) in colours.iter().zip(&nearest) {
+            let slot = table.slot(pack(c));
+            table.keys[slot] = pack(c);
+            table.index[slot] = i;
+        }
+        table
+    }
+
+    /// The slot of `key`: where it is, or the free one where it would go.
+    #[inline]
+    fn slot(&self, key: u32) -> usize {
+        let mask = self.keys.len() - 1;
+        // Fibonacci hashing: the top bits of the product, then linear probing.
+        let mut s = (key.wrapping_mul(0x9e37_79b1) >> (32 - self.keys.len().trailing_zeros()))
+            as usize
+            & mask;
+        while self.keys[s] != key && self.keys[s] != Self::EMPTY {
+            s = (s + 1) & mask;
+        }
+        s
+    }
+
+    /// The nearest palette index of `c`, one of the table's colours.
+    #[inline]
+    fn get(&self, c: [u8; 3]) -> u16 {
+        let s = self.slot(pack(c));
+        debug_assert_eq!(self.keys[s], pack(c), "a colour not in the histogram");
+        self.index[s]
+    }
+}
+
+fn pack([r, g, b]: [u8; 3]) -> u32 {
+    (r as u32) << 16 | (g as u32) << 8 | b as u32
+}
+
+/// The undithered [`remap`] through a [`NearestTable`] of every opaque
+/// pixel's colour: the same indices, in parallel bands, reporting each row
+/// to `progress` (phase "remap").
+pub(super) fn remap_by_table(
+    colors: &[[u8; 3]],
+    opaque: &[bool],
+    size: u32,
+    table: &NearestTable,
+    progress: &dyn Progress,
+) -> Vec<u16> {
+    use rayon::prelude::*;
+    let n = size as usize;
+    progress.phase("remap", n as u64);
+    let mut out = vec![TRANSPARENT; colors.len()];
+    let band = REMAP_BAND_ROWS * n.max(1);
+    out.par_chunks_mut(band)
+        .zip(colors.par_chunks(band).zip(opaque.par_chunks(band)))
+        .for_each(|(out, (colors, opaque))| {
+            for ((o, &c), &op) in out.iter_mut().zip(colors).zip(opaque) {
+                if op {
+                    *o = table.get(c);
+                }
+            }
+            progress.advance((out.len() / n.max(1)) as u64);
+        });
+    out
+}
+
 /// The amplitude of the ordered dither: the mean distance from each palette
 /// colour to its nearest neighbour, the step between adjacent levels.
 fn ordered_spread(centres: &[Point]) -> f32 {
@@ -212,6 +310,34 @@ mod tests {
         let pat = quantize(img, &opts).unwrap();
         let (counts, _) = pat.histogram();
         counts[1] as f64 / (img.size * img.size) as f64
+    }
+
+    #[test]
+    fn the_table_remap_is_the_scan_remap() {
+        use crate::quantize::palette::{choose_palette, histogram};
+        use crate::quantize::test_data::lcg;
+        let mut seed = 17;
+        // Few colours, repeated in noise, with a transparent hole.
+        let colours: Vec<[u8; 3]> = (0..64 * 64)
+            .map(|_| [0; 3].map(|_: u8| lcg(&mut seed) / 32 * 32))
+            .collect();
+        let opaque: Vec<bool> = (0..64 * 64).map(|i| i % 97 != 0).collect();
+        let hist = histogram(
+            colours
+                .iter()
+                .zip(&opaque)
+                .filter(|(_, &o)| o)
+                .map(|(c, _)| *c),
+        );
+        for k in [1, 5, 16, 200] {
+            let palette = choose_palette(&hist, k);
+            let table = NearestTable::new(&hist, &palette);
+            assert_eq!(
+                remap_by_table(&colours, &opaque, 64, &table, &Silent),
+                remap(&colours, &opaque, 64, &palette, Dither::None),
+                "{k}"
+            );
+        }
     }
 
     #[test]
