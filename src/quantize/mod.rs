@@ -18,7 +18,8 @@
 //!    small problems, a search of its one-code neighbours. A histogram of
 //!    more than 32,768 colours is searched through its coreset
 //!    (`coreset.rs`: colours grouped into small boxes of the lattice, each
-//!    its weighted mean). Nothing is random (the parallel sums use fixed
+//!    its weighted mean); one of fewer colours but more than 2^20 colours x K
+//!    gets the coreset's shorter search. Nothing is random (the parallel sums use fixed
 //!    chunks), so the same image always gives the same palette.
 //! 3. `remap.rs`: [`remap()`] assigns each pixel a palette index, with no
 //!    dithering, Floyd–Steinberg error diffusion (serpentine, in linear light)

@@ -1,6 +1,7 @@
 //! Step 2: the palette. The opaque pixels become a histogram of distinct
 //! colours weighted by their pixel counts, and everything after runs on it
-//! (on its [`super::coreset`] when it has more than 32,768 colours): median
+//! (on its [`super::coreset`] when it has more than 32,768 colours, and
+//! with fewer k-means steps when colours x K exceed 2^20): median
 //! cut gives K starting colours ([`super::median_cut`]), k-means and its
 //! refinements improve them ([`super::kmeans`]). The histogram is sorted by
 //! colour and nothing is random, so the same image always gives the same
@@ -50,6 +51,8 @@ pub fn choose_palette_with(
     let all: Vec<(Point, f64)> = hist.iter().map(|(c, n)| (point(*c), *n as f64)).collect();
     let palette = if all.len() > CORESET_POINTS {
         search(&coreset(&all), k, Histogram::Coreset, progress)
+    } else if all.len() * k > LIGHT_SEARCH_WORK {
+        search(&all, k, Histogram::Large, progress)
     } else {
         search(&all, k, Histogram::Whole, progress)
     };
@@ -59,12 +62,28 @@ pub fn choose_palette_with(
     palette
 }
 
+/// Histograms of at most [`CORESET_POINTS`] colours whose colours x palette
+/// size exceed this are searched as a coreset is ([`Histogram::Large`]):
+/// fewer Lloyd steps and no split/merge trials. On the 1024x1024 images of
+/// `bench/pat_from_image_large.sh` at K = 256 (`choose_palette` alone,
+/// median of 3) this took the logo's search (28,252 colours) from 93 to 67
+/// ms, the drawing's (10,150) from 55 to 28 and netscape's (16,823) from 32
+/// to 19, for 0.015, 0.076 and 0 dB, all three still 0.3-2.0 dB above
+/// pngquant; at K = 64 the logo's from 90 to 40 ms for 0.057 dB. 2^20 is
+/// the most a histogram of the small benchmark (`bench/pat_from_image.sh`:
+/// at most 32,768 colours at K <= 32) can reach, so those keep the whole
+/// search.
+const LIGHT_SEARCH_WORK: usize = 1 << 20;
+
 /// What the palette search runs on.
 #[derive(Clone, Copy)]
 enum Histogram {
     /// The whole histogram: k-means to convergence (within its work
     /// budget), then split/merge trials.
     Whole,
+    /// The whole histogram, but large for its palette size (colours x K
+    /// over [`LIGHT_SEARCH_WORK`]): searched as a coreset is.
+    Large,
     /// A coreset ([`coreset`]): fewer Lloyd steps
     /// ([`CORESET_KMEANS_ITERATIONS`]) and no split/merge trials (each a
     /// whole k-means run), which on the 1024x1024 photos added 30-45 ms to
@@ -85,7 +104,9 @@ fn search(
     progress.phase("k-means", 0);
     let clustering = match histogram {
         Histogram::Whole => split_merge(points, kmeans(points, centres), progress),
-        Histogram::Coreset => kmeans_at_most(points, centres, CORESET_KMEANS_ITERATIONS),
+        Histogram::Large | Histogram::Coreset => {
+            kmeans_at_most(points, centres, CORESET_KMEANS_ITERATIONS)
+        }
     };
     progress.phase("refine", 0);
     neighbour_search(points, integer_lloyd(points, clustering))
@@ -143,6 +164,38 @@ mod tests {
         let (e_core, e_whole, e_start) = (error(&chosen), error(&whole), error(&start));
         assert!(e_core <= 1.01 * e_whole, "{e_core} {e_whole}");
         assert!(e_core < e_start, "{e_core} {e_start}");
+    }
+
+    #[test]
+    fn a_histogram_large_for_its_palette_is_searched_lightly_and_nearly_as_well() {
+        use crate::quantize::test_data::weighted_error;
+        // Three blobs again, fewer pixels: under CORESET_POINTS colours,
+        // but over LIGHT_SEARCH_WORK with 64 of them.
+        let mut seed = 19;
+        let colours: Vec<[u8; 3]> = (0..24_000)
+            .map(|i| {
+                let base = [[40, 90, 200], [220, 60, 30], [120, 200, 90]][i % 3];
+                base.map(|b: u8| {
+                    let spread = lcg(&mut seed) as i32 / 4 + lcg(&mut seed) as i32 / 4 - 64;
+                    (b as i32 + spread).clamp(0, 255) as u8
+                })
+            })
+            .collect();
+        let hist = histogram(colours.into_iter());
+        let k = 64;
+        assert!(hist.len() <= CORESET_POINTS && hist.len() * k > LIGHT_SEARCH_WORK);
+        let points: Vec<(Point, f64)> = hist.iter().map(|(c, n)| (point(*c), *n as f64)).collect();
+        let error = |pal: &[Point]| weighted_error(&points, pal);
+        let chosen: Vec<Point> = one_and_three_threads(|| choose_palette(&hist, k))
+            .iter()
+            .map(|c| point(c.0))
+            .collect();
+        let mut light = search(&points, k, Histogram::Large, &Silent);
+        light.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        assert_eq!(chosen, light, "the light search is the one taken");
+        let whole = search(&points, k, Histogram::Whole, &Silent);
+        let (e_light, e_whole) = (error(&chosen), error(&whole));
+        assert!(e_light <= 1.02 * e_whole, "{e_light} {e_whole}");
     }
 
     /// `f`'s result, the same under one thread and three.
