@@ -262,9 +262,18 @@ pub(super) fn remap_by_table(
     out.par_chunks_mut(band)
         .zip(colors.par_chunks(band).zip(opaque.par_chunks(band)))
         .for_each(|(out, (colors, opaque))| {
+            // As in the scan: neighbouring pixels often repeat a colour, and
+            // comparing it is cheaper than hashing it (the 1024x1024 gradient's
+            // rows are one colour each).
+            let mut last: Option<([u8; 3], u16)> = None;
             for ((o, &c), &op) in out.iter_mut().zip(colors).zip(opaque) {
                 if op {
-                    *o = table.get(c);
+                    let index = match last {
+                        Some((lc, index)) if lc == c => index,
+                        _ => table.get(c),
+                    };
+                    last = Some((c, index));
+                    *o = index;
                 }
             }
             progress.advance((out.len() / n.max(1)) as u64);
