@@ -161,15 +161,17 @@ pub fn quantize_with(
             (palette, table)
         }
     };
-    // Made only now, so that it never lives beside the histogram's buffers
-    // (a 4096x4096 image has 50 MB of colours).
-    let colors: Vec<[u8; 3]> = img.pixels.iter().map(rgb).collect();
     let mut texels = match &table {
-        Some(table) => remap_by_table(&colors, &opaque, img.size, table, progress),
-        None => remap_with(&colors, &opaque, img.size, &palette, opts.dither, progress),
+        // The table reads the pixels as they are: no copy of their colours.
+        Some(table) => remap_by_table(&img.pixels, &opaque, img.size, table, progress),
+        None => {
+            // Made only now, so that it never lives beside the histogram's
+            // buffers (a 4096x4096 image has 50 MB of colours).
+            let colors: Vec<[u8; 3]> = img.pixels.iter().map(rgb).collect();
+            remap_with(&colors, &opaque, img.size, &palette, opts.dither, progress)
+        }
     };
     drop(table);
-    drop(colors);
     // Row 0 of the pattern is the image's bottom row.
     let n = img.size as usize;
     for y in 0..n / 2 {

@@ -244,11 +244,11 @@ fn pack([r, g, b]: [u8; 3]) -> u32 {
     (r as u32) << 16 | (g as u32) << 8 | b as u32
 }
 
-/// The undithered [`remap`] through a [`NearestTable`] of every opaque
-/// pixel's colour: the same indices, in parallel bands, reporting each row
-/// to `progress` (phase "remap").
+/// The undithered [`remap`] of RGBA `pixels` through a [`NearestTable`] of
+/// every opaque pixel's colour: the same indices, in parallel bands,
+/// reporting each row to `progress` (phase "remap").
 pub(super) fn remap_by_table(
-    colors: &[[u8; 3]],
+    pixels: &[[u8; 4]],
     opaque: &[bool],
     size: u32,
     table: &NearestTable,
@@ -257,17 +257,18 @@ pub(super) fn remap_by_table(
     use rayon::prelude::*;
     let n = size as usize;
     progress.phase("remap", n as u64);
-    let mut out = vec![TRANSPARENT; colors.len()];
+    let mut out = vec![TRANSPARENT; pixels.len()];
     let band = REMAP_BAND_ROWS * n.max(1);
     out.par_chunks_mut(band)
-        .zip(colors.par_chunks(band).zip(opaque.par_chunks(band)))
-        .for_each(|(out, (colors, opaque))| {
+        .zip(pixels.par_chunks(band).zip(opaque.par_chunks(band)))
+        .for_each(|(out, (pixels, opaque))| {
             // As in the scan: neighbouring pixels often repeat a colour, and
             // comparing it is cheaper than hashing it (the 1024x1024 gradient's
             // rows are one colour each).
             let mut last: Option<([u8; 3], u16)> = None;
-            for ((o, &c), &op) in out.iter_mut().zip(colors).zip(opaque) {
+            for ((o, &[r, g, b, _]), &op) in out.iter_mut().zip(pixels).zip(opaque) {
                 if op {
+                    let c = [r, g, b];
                     let index = match last {
                         Some((lc, index)) if lc == c => index,
                         _ => table.get(c),
@@ -341,8 +342,9 @@ mod tests {
         for k in [1, 5, 16, 200] {
             let palette = choose_palette(&hist, k);
             let table = NearestTable::new(&hist, &palette);
+            let rgba: Vec<[u8; 4]> = colours.iter().map(|&[r, g, b]| [r, g, b, 9]).collect();
             assert_eq!(
-                remap_by_table(&colours, &opaque, 64, &table, &Silent),
+                remap_by_table(&rgba, &opaque, 64, &table, &Silent),
                 remap(&colours, &opaque, 64, &palette, Dither::None),
                 "{k}"
             );
