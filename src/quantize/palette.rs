@@ -48,7 +48,10 @@ const FEW_COLOURS: usize = 1 << 15;
 /// [`FEW_COLOURS`] distinct colours.
 fn count_few(packed: &[u32]) -> Option<Vec<([u8; 3], u64)>> {
     const EMPTY: u32 = u32::MAX;
-    let slots = 2 * FEW_COLOURS;
+    // No more slots than twice the pixels: a 64x64 image's table is 8,192
+    // slots, not the 65,536 of a large one (768 KiB to clear for 4,096
+    // pixels).
+    let slots = (2 * packed.len()).next_power_of_two().clamp(2, 2 * FEW_COLOURS);
     let mut keys = vec![EMPTY; slots];
     let mut counts = vec![0u64; slots];
     let mut distinct = 0;
