@@ -137,19 +137,19 @@ pub(super) fn kmeans_at_most(
         points.len()
     ];
     for _ in 0..iterations {
+        // Half the distance from each centre to its nearest other centre.
+        let half_gap: Vec<f32> = (0..k)
+            .map(|i| {
+                (0..k)
+                    .filter(|&j| j != i)
+                    .map(|j| dist2(centres[i], centres[j]))
+                    .fold(f32::INFINITY, f32::min)
+                    .sqrt()
+                    / 2.0
+            })
+            .collect();
         let centres_ref = &centres;
         let channels = Channels::new(centres_ref);
-        // Half the distance from each centre to its nearest other centre:
-        // the second least distance of a scan from the centre itself (the
-        // least being its own 0, or a twin's, which is as near). The SIMD
-        // scan's distances are `dist2`'s to the bit, so this is the
-        // pairwise minimum it replaced, at an eighth of the instructions:
-        // at K = 256 those K^2 distances a step were most of the search
-        // on the 1024x1024 gradient and radial (494 and 370 colours).
-        let half_gap: Vec<f32> = centres
-            .iter()
-            .map(|&c| channels.two_nearest(c).2.sqrt() / 2.0)
-            .collect();
         let parts: Vec<(Vec<Moments>, usize, (f64, usize))> = points
             .par_chunks(KMEANS_CHUNK)
             .zip(bounds.par_chunks_mut(KMEANS_CHUNK))
