@@ -51,7 +51,9 @@ fn count_few(packed: &[u32]) -> Option<Vec<([u8; 3], u64)>> {
     // No more slots than twice the pixels: a 64x64 image's table is 8,192
     // slots, not the 65,536 of a large one (768 KiB to clear for 4,096
     // pixels).
-    let slots = (2 * packed.len()).next_power_of_two().clamp(2, 2 * FEW_COLOURS);
+    let slots = (2 * packed.len())
+        .next_power_of_two()
+        .clamp(2, 2 * FEW_COLOURS);
     let mut keys = vec![EMPTY; slots];
     let mut counts = vec![0u64; slots];
     let mut distinct = 0;
