@@ -221,22 +221,23 @@ mod tests {
         one_and_three_threads(|| choose_palette(&hist, 16));
     }
 
+    /// `pixels` colours of three blobs, denser at their centres (seeded).
+    fn three_blobs(pixels: usize, mut seed: u64) -> impl Iterator<Item = [u8; 3]> {
+        (0..pixels).map(move |i| {
+            let base = [[40, 90, 200], [220, 60, 30], [120, 200, 90]][i % 3];
+            base.map(|b: u8| {
+                let spread = lcg(&mut seed) as i32 / 4 + lcg(&mut seed) as i32 / 4 - 64;
+                (b as i32 + spread).clamp(0, 255) as u8
+            })
+        })
+    }
+
     #[test]
     fn a_large_histogram_searched_through_its_coreset_is_nearly_as_good_as_searched_whole() {
         use crate::quantize::test_data::weighted_error;
         // 60,000 pixels of three blobs, denser at their centres: more
         // distinct colours than CORESET_POINTS.
-        let mut seed = 13;
-        let colours: Vec<[u8; 3]> = (0..60_000)
-            .map(|i| {
-                let base = [[40, 90, 200], [220, 60, 30], [120, 200, 90]][i % 3];
-                base.map(|b: u8| {
-                    let spread = lcg(&mut seed) as i32 / 4 + lcg(&mut seed) as i32 / 4 - 64;
-                    (b as i32 + spread).clamp(0, 255) as u8
-                })
-            })
-            .collect();
-        let hist = histogram(colours.into_iter());
+        let hist = histogram(three_blobs(60_000, 13));
         assert!(hist.len() > CORESET_POINTS, "{}", hist.len());
         let points: Vec<(Point, f64)> = hist.iter().map(|(c, n)| (point(*c), *n as f64)).collect();
         let error = |pal: &[Point]| weighted_error(&points, pal);
@@ -257,17 +258,7 @@ mod tests {
         use crate::quantize::test_data::weighted_error;
         // Three blobs again, fewer pixels: under CORESET_POINTS colours,
         // but over LIGHT_SEARCH_WORK with 64 of them.
-        let mut seed = 19;
-        let colours: Vec<[u8; 3]> = (0..24_000)
-            .map(|i| {
-                let base = [[40, 90, 200], [220, 60, 30], [120, 200, 90]][i % 3];
-                base.map(|b: u8| {
-                    let spread = lcg(&mut seed) as i32 / 4 + lcg(&mut seed) as i32 / 4 - 64;
-                    (b as i32 + spread).clamp(0, 255) as u8
-                })
-            })
-            .collect();
-        let hist = histogram(colours.into_iter());
+        let hist = histogram(three_blobs(24_000, 19));
         let k = 64;
         assert!(hist.len() <= CORESET_POINTS && hist.len() * k > LIGHT_SEARCH_WORK);
         let points: Vec<(Point, f64)> = hist.iter().map(|(c, n)| (point(*c), *n as f64)).collect();
