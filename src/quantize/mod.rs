@@ -149,15 +149,19 @@ pub fn quantize_with(
                     .map(|(p, _)| rgb(p)),
             );
             let palette = choose_palette_with(&hist, opts.colors, progress);
-            // Every undithered remap of a chosen palette goes through the
-            // table: on all ten 1024x1024 images of
+            // An undithered remap of a chosen palette goes through the table
+            // unless the table would be both large and nearly one entry a
+            // pixel: on all ten 1024x1024 images of
             // `bench/pat_from_image_large.sh` (370 to 688,717 colours, K =
             // 256) it took less CPU than scanning the palette for each pixel
             // (granite 134 ms against 250 for the whole process, plasma 354
             // against 425; perf stat, 5 runs), and the 4096x4096 plasma (2.6
             // million colours) peaked at the same 232 MiB, the histogram's
-            // step being the larger.
-            let table = (opts.dither == Dither::None).then(|| NearestTable::new(&hist, &palette));
+            // step being the larger. See [`use_nearest_table`] for where it
+            // does not pay.
+            let table = (opts.dither == Dither::None
+                && use_nearest_table(hist.len(), img.pixels.len()))
+            .then(|| NearestTable::new(&hist, &palette));
             (palette, table)
         }
     };
@@ -184,6 +188,23 @@ pub fn quantize_with(
         drop_unused(palette, texels)
     };
     Pattern::new(img.size, palette, texels)
+}
+
+/// Histograms of at most this many colours always go through the
+/// [`NearestTable`] (at most 2^21 slots of 6 bytes, 12 MiB).
+const NEAREST_TABLE_COLOURS: usize = 1 << 20;
+
+/// Whether an undithered remap of `pixels` pixels of `colours` distinct
+/// colours is done through a [`NearestTable`] rather than a palette scan a
+/// pixel: when the table is small ([`NEAREST_TABLE_COLOURS`]) or holds at
+/// most one colour for every two pixels. A 4096x4096 picture of 16.7
+/// million distinct colours took 6.60 s through the table (2^25 slots, each
+/// lookup a cache miss) against 5.17 by the scan; the 4096x4096 plasma of
+/// `bench/pat_from_image_large.sh` (2.6 million) 3.43 against 3.62; a
+/// 1024x1024 picture of 2^20 distinct colours 0.433 against 0.437 (paired
+/// runs, `bench/timing.py`'s `measure_in_turns`, K = 256).
+fn use_nearest_table(colours: usize, pixels: usize) -> bool {
+    colours <= NEAREST_TABLE_COLOURS || 2 * colours <= pixels
 }
 
 /// Which pixels become coloured texels: alpha at or above the threshold and not
