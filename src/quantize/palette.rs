@@ -7,7 +7,7 @@
 //! colour and nothing is random, so the same image always gives the same
 //! palette.
 
-use super::coreset::{coreset, CORESET_KMEANS_ITERATIONS, CORESET_POINTS};
+use super::coreset::{coreset_of_histogram, CORESET_KMEANS_ITERATIONS, CORESET_POINTS};
 use super::kmeans::{integer_lloyd, kmeans, kmeans_at_most, neighbour_search, split_merge};
 use super::median_cut::median_cut;
 use super::space::{point, Point};
@@ -105,15 +105,25 @@ pub fn choose_palette_with(
     if hist.len() <= k {
         return hist.iter().map(|(c, _)| Rgb8(*c)).collect();
     }
+    if hist.len() > CORESET_POINTS {
+        return finish(search(
+            &coreset_of_histogram(hist),
+            k,
+            Histogram::Coreset,
+            progress,
+        ));
+    }
     let all: Vec<(Point, f64)> = hist.iter().map(|(c, n)| (point(*c), *n as f64)).collect();
-    let palette = if all.len() > CORESET_POINTS {
-        search(&coreset(&all), k, Histogram::Coreset, progress)
-    } else if all.len() * k > LIGHT_SEARCH_WORK {
+    finish(if all.len() * k > LIGHT_SEARCH_WORK {
         search(&all, k, Histogram::Large, progress)
     } else {
         search(&all, k, Histogram::Whole, progress)
-    };
-    let mut palette: Vec<Rgb8> = palette.iter().map(|c| Rgb8(c.map(|v| v as u8))).collect();
+    })
+}
+
+/// The searched centres as 8-bit colours, sorted, without repeats.
+fn finish(centres: Vec<Point>) -> Vec<Rgb8> {
+    let mut palette: Vec<Rgb8> = centres.iter().map(|c| Rgb8(c.map(|v| v as u8))).collect();
     palette.sort();
     palette.dedup();
     palette
