@@ -48,6 +48,7 @@
 mod coreset;
 mod kmeans;
 mod median_cut;
+mod packed;
 mod palette;
 mod palette_file;
 mod psnr;

@@ -10,22 +10,21 @@
 use super::coreset::{coreset_of_histogram, CORESET_KMEANS_ITERATIONS, CORESET_POINTS};
 use super::kmeans::{integer_lloyd, kmeans, kmeans_at_most, neighbour_search, split_merge};
 use super::median_cut::median_cut;
+use super::packed::{pack, slot, unpack, EMPTY};
 use super::space::{point, Point};
 use crate::color::Rgb8;
 use crate::progress::{Progress, Silent};
 
 /// Distinct colours and their pixel counts, sorted by colour (deterministic).
 pub fn histogram(colors: impl Iterator<Item = [u8; 3]>) -> Vec<([u8; 3], u64)> {
-    let mut packed: Vec<u32> = colors
-        .map(|[r, g, b]| (r as u32) << 16 | (g as u32) << 8 | b as u32)
-        .collect();
+    let mut packed: Vec<u32> = colors.map(pack).collect();
     if let Some(few) = count_few(&packed) {
         return few;
     }
     packed.sort_unstable();
     let mut out: Vec<([u8; 3], u64)> = Vec::new();
     for p in packed {
-        let c = [(p >> 16) as u8, (p >> 8) as u8, p as u8];
+        let c = unpack(p);
         match out.last_mut() {
             Some((last, n)) if *last == c => *n += 1,
             _ => out.push((c, 1)),
@@ -47,7 +46,6 @@ const FEW_COLOURS: usize = 1 << 15;
 /// hash table, a run of one colour at a time; `None` if they hold more than
 /// [`FEW_COLOURS`] distinct colours.
 fn count_few(packed: &[u32]) -> Option<Vec<([u8; 3], u64)>> {
-    const EMPTY: u32 = u32::MAX;
     // No more slots than twice the pixels: a 64x64 image's table is 8,192
     // slots, not the 65,536 of a large one (768 KiB to clear for 4,096
     // pixels).
@@ -61,11 +59,7 @@ fn count_few(packed: &[u32]) -> Option<Vec<([u8; 3], u64)>> {
     while let Some(&c) = rest.first() {
         let run = rest.iter().take_while(|&&p| p == c).count();
         rest = &rest[run..];
-        // Fibonacci hashing, then linear probing.
-        let mut s = (c.wrapping_mul(0x9e37_79b1) >> (32 - slots.trailing_zeros())) as usize;
-        while keys[s] != c && keys[s] != EMPTY {
-            s = (s + 1) & (slots - 1);
-        }
+        let s = slot(&keys, c);
         if keys[s] == EMPTY {
             distinct += 1;
             if distinct > FEW_COLOURS {
@@ -81,11 +75,7 @@ fn count_few(packed: &[u32]) -> Option<Vec<([u8; 3], u64)>> {
         .filter(|&(k, _)| k != EMPTY)
         .collect();
     out.sort_unstable();
-    Some(
-        out.into_iter()
-            .map(|(p, n)| ([(p >> 16) as u8, (p >> 8) as u8, p as u8], n))
-            .collect(),
-    )
+    Some(out.into_iter().map(|(p, n)| (unpack(p), n)).collect())
 }
 
 /// Chooses at most `k` colours for the weighted colour histogram `hist`. With

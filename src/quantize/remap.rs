@@ -11,6 +11,7 @@
 //! threshold scaled to the palette's typical step ([`ordered_spread`]); its
 //! regular texture tiles cleanly.
 
+use super::packed::{pack, slot, EMPTY};
 use super::space::{dist2, point, Channels, Nearest, Point};
 use crate::color::{decode_table, linear_to_srgb, Rgb8};
 use crate::pat::TRANSPARENT;
@@ -83,29 +84,10 @@ pub fn remap_with(
     let nearest = Nearest::new(&centres);
     match dither {
         Dither::None => {
-            // Each pixel on its own, so bands of rows run in parallel; the
-            // answer does not depend on the order.
-            use rayon::prelude::*;
             let channels = Channels::new(&centres);
-            let band = REMAP_BAND_ROWS * n.max(1);
-            out.par_chunks_mut(band)
-                .zip(colors.par_chunks(band).zip(opaque.par_chunks(band)))
-                .for_each(|(out, (colors, opaque))| {
-                    // Neighbouring pixels often repeat a colour: the last
-                    // answer is kept.
-                    let mut last: Option<([u8; 3], u16)> = None;
-                    for ((o, &c), &op) in out.iter_mut().zip(colors).zip(opaque) {
-                        if op {
-                            let index = match last {
-                                Some((lc, index)) if lc == c => index,
-                                _ => channels.nearest(point(c)).0 as u16,
-                            };
-                            last = Some((c, index));
-                            *o = index;
-                        }
-                    }
-                    progress.advance((out.len() / n.max(1)) as u64);
-                });
+            let rgb = |c: &[u8; 3]| *c;
+            let nearest = |c| channels.nearest(point(c)).0 as u16;
+            remap_bands(&mut out, colors, opaque, n, rgb, nearest, progress);
         }
         Dither::Ordered => {
             let spread = ordered_spread(&centres);
@@ -182,16 +164,13 @@ pub fn remap_with(
 /// image of few colours looks each pixel up instead of scanning the palette.
 /// Built from the histogram, whose colours are those of the opaque pixels.
 pub(super) struct NearestTable {
-    /// Packed colours (`r << 16 | g << 8 | b`), [`NearestTable::EMPTY`] in
-    /// free slots; a power of two long.
+    /// Packed colours ([`pack`]), [`EMPTY`] in free slots; a power of two
+    /// long.
     keys: Vec<u32>,
     index: Vec<u16>,
 }
 
 impl NearestTable {
-    /// Not a packed 24-bit colour.
-    const EMPTY: u32 = u32::MAX;
-
     /// The table of `colours` (a [`super::histogram`]'s: distinct, their
     /// counts unused) and their nearest `palette` colour
     /// (ties to the lower index, as the scan gives). At most half full, so
@@ -206,42 +185,24 @@ impl NearestTable {
             .collect();
         let len = (2 * colours.len()).next_power_of_two().max(2);
         let mut table = NearestTable {
-            keys: vec![Self::EMPTY; len],
+            keys: vec![EMPTY; len],
             index: vec![0; len],
         };
         for (&(c, _), &i) in colours.iter().zip(&nearest) {
-            let slot = table.slot(pack(c));
-            table.keys[slot] = pack(c);
-            table.index[slot] = i;
+            let s = slot(&table.keys, pack(c));
+            table.keys[s] = pack(c);
+            table.index[s] = i;
         }
         table
-    }
-
-    /// The slot of `key`: where it is, or the free one where it would go.
-    #[inline]
-    fn slot(&self, key: u32) -> usize {
-        let mask = self.keys.len() - 1;
-        // Fibonacci hashing: the top bits of the product, then linear probing.
-        let mut s = (key.wrapping_mul(0x9e37_79b1) >> (32 - self.keys.len().trailing_zeros()))
-            as usize
-            & mask;
-        while self.keys[s] != key && self.keys[s] != Self::EMPTY {
-            s = (s + 1) & mask;
-        }
-        s
     }
 
     /// The nearest palette index of `c`, one of the table's colours.
     #[inline]
     fn get(&self, c: [u8; 3]) -> u16 {
-        let s = self.slot(pack(c));
+        let s = slot(&self.keys, pack(c));
         debug_assert_eq!(self.keys[s], pack(c), "a colour not in the histogram");
         self.index[s]
     }
-}
-
-fn pack([r, g, b]: [u8; 3]) -> u32 {
-    (r as u32) << 16 | (g as u32) << 8 | b as u32
 }
 
 /// The undithered [`remap`] of RGBA `pixels` through a [`NearestTable`] of
@@ -254,24 +215,42 @@ pub(super) fn remap_by_table(
     table: &NearestTable,
     progress: &dyn Progress,
 ) -> Vec<u16> {
-    use rayon::prelude::*;
     let n = size as usize;
     progress.phase("remap", n as u64);
     let mut out = vec![TRANSPARENT; pixels.len()];
+    let rgb = |&[r, g, b, _]: &[u8; 4]| [r, g, b];
+    remap_bands(&mut out, pixels, opaque, n, rgb, |c| table.get(c), progress);
+    out
+}
+
+/// The undithered remap's loop: `out[i]` becomes `nearest` of the colour
+/// (`rgb`) of each opaque pixel, in parallel bands of rows (each pixel on its
+/// own, so the answer does not depend on the order), reporting each band's
+/// rows to `progress`. Neighbouring pixels often repeat a colour, and
+/// comparing it is cheaper than a palette scan or a hash (the 1024x1024
+/// gradient's rows are one colour each): the last answer is kept while the
+/// colour repeats.
+fn remap_bands<P: Sync>(
+    out: &mut [u16],
+    pixels: &[P],
+    opaque: &[bool],
+    n: usize,
+    rgb: impl Fn(&P) -> [u8; 3] + Sync,
+    nearest: impl Fn([u8; 3]) -> u16 + Sync,
+    progress: &dyn Progress,
+) {
+    use rayon::prelude::*;
     let band = REMAP_BAND_ROWS * n.max(1);
     out.par_chunks_mut(band)
         .zip(pixels.par_chunks(band).zip(opaque.par_chunks(band)))
         .for_each(|(out, (pixels, opaque))| {
-            // As in the scan: neighbouring pixels often repeat a colour, and
-            // comparing it is cheaper than hashing it (the 1024x1024 gradient's
-            // rows are one colour each).
             let mut last: Option<([u8; 3], u16)> = None;
-            for ((o, &[r, g, b, _]), &op) in out.iter_mut().zip(pixels).zip(opaque) {
+            for ((o, p), &op) in out.iter_mut().zip(pixels).zip(opaque) {
                 if op {
-                    let c = [r, g, b];
+                    let c = rgb(p);
                     let index = match last {
                         Some((lc, index)) if lc == c => index,
-                        _ => table.get(c),
+                        _ => nearest(c),
                     };
                     last = Some((c, index));
                     *o = index;
@@ -279,7 +258,6 @@ pub(super) fn remap_by_table(
             }
             progress.advance((out.len() / n.max(1)) as u64);
         });
-    out
 }
 
 /// The amplitude of the ordered dither: the mean distance from each palette
