@@ -478,8 +478,9 @@ enum OutputInner {
 /// `bench/pat_from_image_large.sh` at K = 256: gradient 0.082 s against
 /// 0.098, netscape 0.093 against 0.106, logo 0.125 against 0.140; a step of
 /// 1 MiB did as well, 16 MiB less (gradient 0.092 s), 64 MiB (once) as
-/// badly as none. The data still reaches the disk before the rename is
-/// final, as before; outputs smaller than this are untouched.
+/// badly as none. Only when the pages start for the disk changes, not what
+/// the file holds or how it replaces the old one; outputs smaller than this
+/// are untouched.
 const WRITE_BEHIND_BYTES: u64 = 4 << 20;
 
 /// Past this many bytes a file output's pages are left to the usual
@@ -931,35 +932,20 @@ impl Image {
         png: PngOptions,
         w: &mut W,
     ) -> io::Result<()> {
-        let (wd, ht) = (self.width, self.height);
         match format {
-            ImageFormat::Ppm => {
-                write!(w, "P6\n{wd} {ht}\n255\n")?;
-                if self.channels == 3 {
-                    w.write_all(&self.data)?;
-                } else {
-                    let rgb: Vec<u8> = self
-                        .data
-                        .chunks_exact(4)
-                        .flat_map(|p| [p[0], p[1], p[2]])
-                        .collect();
-                    w.write_all(&rgb)?;
-                }
-            }
-            ImageFormat::Pam => {
-                write_pam_header(w, (wd, ht), self.channels, 255)?;
-                w.write_all(&self.data)?;
-            }
+            // One IDAT chunk of the whole deflate stream, as this image's
+            // PNG has always been (rows streamed end it differently,
+            // [`PNG_STREAM_CHUNK_BYTES`]).
             ImageFormat::Png => write_png(
                 w,
-                (wd, ht, self.channels),
+                (self.width, self.height, self.channels),
                 png::BitDepth::Eight,
                 &self.data,
                 png,
-            )?,
-            ImageFormat::Pfm => return Err(wrong_encoding(Encoding::Srgb8, format)),
+            ),
+            // PPM, PAM and PFM's refusal: the rows' encoder, the same bytes.
+            _ => encode_rows(&mut &*self, format, png, w),
         }
-        Ok(())
     }
 
     /// Writes the image to `name` (`-` = standard output) atomically.
@@ -1807,10 +1793,10 @@ fn write_pam_header(
 mod tests {
     use super::*;
 
-    /// Two routes to one file: the rows of an image, encoded as they come,
-    /// give the whole image's PPM and PAM bytes and its PNG pixels (the PNG
-    /// decoded by the `image` crate, not by the encoder's own crate), with
-    /// one IDAT chunk or, cut small, many.
+    /// The rows of an image, encoded as they come, give netpbm's bytes
+    /// (written out here by hand) and the image's PNG pixels (decoded by the
+    /// `image` crate, not by the encoder's own crate), with one IDAT chunk
+    /// or, cut small, many.
     #[test]
     fn rows_give_the_pixels_and_netpbm_bytes_of_the_whole_image() {
         let mut seed = 7u32;
@@ -1829,11 +1815,25 @@ mod tests {
                 channels,
                 data,
             };
-            for format in [ImageFormat::Ppm, ImageFormat::Pam] {
+            // netpbm's files written out by hand (ppm(5), pam(5)): PPM
+            // without alpha, PAM with it when there is one.
+            let rgb: Vec<u8> = img
+                .data
+                .chunks(channels as usize)
+                .flat_map(|p| [p[0], p[1], p[2]])
+                .collect();
+            let tupltype = if channels == 4 { "RGB_ALPHA" } else { "RGB" };
+            let ppm = [format!("P6\n{width} {height}\n255\n").as_bytes(), &rgb].concat();
+            let pam = [
+                format!("P7\nWIDTH {width}\nHEIGHT {height}\nDEPTH {channels}\nMAXVAL 255\nTUPLTYPE {tupltype}\nENDHDR\n").as_bytes(),
+                &img.data,
+            ]
+            .concat();
+            for (format, want) in [(ImageFormat::Ppm, ppm), (ImageFormat::Pam, pam)] {
                 let (mut whole, mut rows) = (Vec::new(), Vec::new());
                 img.encode(format, &mut whole).unwrap();
                 encode_rows(&mut &img, format, PngOptions::GENERAL, &mut rows).unwrap();
-                assert_eq!(rows, whole, "{format:?} {channels}");
+                assert!(rows == want && whole == want, "{format:?} {channels}");
             }
             for (options, chunk) in [
                 (PngOptions::GENERAL, PNG_STREAM_CHUNK_BYTES),
