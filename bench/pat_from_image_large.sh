@@ -6,7 +6,8 @@
 # resized to 1024x1024 by ImageMagick (so all tools quantize the same pixels;
 # the small ones are upscaled, which gives them 10^5-10^6 distinct colours).
 # Time and peak memory: bench/timing.py (median of RUNS whole-process runs
-# after one warm-up; decode, quantize, write to a file). Ours writes a .pat,
+# after one warm-up, ours and pngquant taking turns in each round; decode,
+# quantize, write to a file). Ours writes a .pat,
 # 84 MB of text at K = 256 (the thesis's format: one bit plane per colour),
 # pngquant a PNG of about 1 MB. PSNR: examples/psnr.rs, 8-bit sRGB over RGB.
 set -euo pipefail
@@ -36,7 +37,7 @@ echo "# pat-from-image at ${N}x${N} against pngquant"
 echo
 echo "Run $(date -u '+%Y-%m-%d %H:%M UTC') at commit $(git rev-parse --short HEAD) on $(nproc) cores,"
 echo "load average $(cut -d' ' -f1-3 /proc/loadavg); $(pngquant --version | head -1 | sed 's/^/pngquant /')."
-echo "Time: median of $RUNS whole-process runs after a warm-up (bench/timing.py); memory: peak RSS."
+echo "Time: median of $RUNS whole-process runs after a warm-up, the three commands of a row taking turns (bench/timing.py); memory: peak RSS."
 echo "PSNR: 8-bit sRGB over RGB against the ${N}x${N} input. d = ours - pngquant."
 echo
 echo "| image | K | colours in | ours PSNR | pngquant PSNR | d dB | ours s | ours s, no file | pngquant s | time ours/pq | no file ours/pq | ours MiB | pq MiB | memory ours/pq |"
@@ -45,14 +46,15 @@ for k in 256 64; do
     for entry in "${images[@]}"; do
         name=${entry%%|*}
         in=$OUT/$name.png
-        read -r t_ours m_ours < <(python3 bench/timing.py --runs "$RUNS" -- \
-            "$BIN/pat-from-image" --size $N --colors $k -o "$OUT/$name-$k.pat" "$in")
-        # The same work with the .pat going to /dev/null (timing.py discards
-        # standard output): what the 84 MB file itself costs to write.
-        read -r t_null _ < <(python3 bench/timing.py --runs "$RUNS" -- \
-            "$BIN/pat-from-image" --size $N --colors $k -o - "$in")
-        read -r t_pq m_pq < <(python3 bench/timing.py --runs "$RUNS" -- \
-            pngquant --nofs --force --output "$OUT/$name-$k-pq.png" $k "$in")
+        # Ours, ours with the .pat going to /dev/null (timing.py discards
+        # standard output: what the 84 MB file itself costs to write) and
+        # pngquant, taking turns in each round, so that a slow spell of
+        # this shared machine falls on all three.
+        { read -r t_ours m_ours; read -r t_null _; read -r t_pq m_pq; } < <(
+            python3 bench/timing.py --runs "$RUNS" \
+                -- "$BIN/pat-from-image" --size $N --colors $k -o "$OUT/$name-$k.pat" "$in" \
+                -- "$BIN/pat-from-image" --size $N --colors $k -o - "$in" \
+                -- pngquant --nofs --force --output "$OUT/$name-$k-pq.png" $k "$in")
         read -r p_ours _ < <("$BIN/examples/psnr" "$in" "$OUT/$name-$k.pat")
         read -r p_pq _ < <("$BIN/examples/psnr" "$in" "$OUT/$name-$k-pq.png")
         colours=$($IM "$in" -format %k info:)

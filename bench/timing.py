@@ -19,6 +19,12 @@ prints `MEDIAN_SECONDS PEAK_KB` on one line, followed by the median of each
 `render`, `write`). The command's output is discarded; a command that fails
 stops the benchmark with its exit status and stderr.
 
+    python3 bench/timing.py [--runs N] [--warmup W] -- CMD1 ARG... -- CMD2 ARG... [-- ...]
+
+times several commands taking turns in each round (`measure_in_turns`) and
+prints `MEDIAN_SECONDS PEAK_KB` for each, one line each in order, the peak
+from one more run of each.
+
 From Python (bench/ on sys.path): `measure` (one command, wall time and
 peak), `measure_in_turns` (several commands taking turns in each round,
 wall time and `--timings` phases) and `medians` (one command, wall time and
@@ -191,6 +197,19 @@ def main(argv):
             raise SystemExit(f"timing.py: unknown option {flag}")
     if not argv[1:]:
         raise SystemExit(__doc__)
+    cmds = [[]]
+    for word in argv[1:]:
+        if word == "--":
+            cmds.append([])
+        else:
+            cmds[-1].append(word)
+    if len(cmds) > 1 and not phases:
+        if not all(cmds):
+            raise SystemExit(__doc__)
+        gnu = os.access(GNU_TIME, os.X_OK)
+        for cmd, (median, _) in zip(cmds, measure_in_turns(cmds, runs, warmup, stdin)):
+            print(f"{median:.4f} {run_once(cmd, stdin, gnu_time=gnu)[1]}")
+        return
     if phases:
         (median, found), = measure_in_turns([argv[1:]], runs, warmup, stdin)
         missing = [n for n in phases if n not in found]
