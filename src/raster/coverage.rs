@@ -857,6 +857,13 @@ fn piece_in_tile<'a>(
     large
 }
 
+/// What [`render_bin`] gives pixel `(px, py)` when no polygon covers any of
+/// it: the same arithmetic, so a tile that no polygon reaches can be filled
+/// with it without being swept.
+pub fn background_pixel(bg: &Background, px: u32, py: u32) -> [f32; 3] {
+    super::visible::blend_background([0.0; 3], 0.0, bg, px, py)
+}
+
 /// The swept pixels of `tile`, row by row.
 fn colours(pixels: &PixelStates, bg: &Background, tile: [u32; 4]) -> Vec<[f32; 3]> {
     let [tx0, ty0, tx1, ty1] = tile;

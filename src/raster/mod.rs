@@ -52,8 +52,8 @@ use crate::color::{linear_to_srgb, linear_to_srgb16};
 use crate::io::{AnyImage, Encoding, Image, Image16, LinearImage};
 use crate::progress::{Progress, Silent};
 use crate::view::View;
-use frame::RowOrder;
 pub use frame::{Background, Frame};
+use frame::{Block, RowOrder};
 #[cfg(test)]
 pub(crate) use project::project;
 pub use project::{try_project, Cull, Dropped, ScreenPoly, ShadeField, Shader, Tally};
@@ -334,12 +334,23 @@ fn render_pixels<P: Copy + Default + Send>(
     let bins = bin(polys, size.0, size.1);
     let floor = tie_floor(view);
     progress.phase("render", tiles.len() as u64);
+    // A tile that no polygon reaches, over a plain background, is one
+    // colour: the resolver's own for a pixel of background only, worked out
+    // at the tile's corner (it is the same at every pixel).
+    let empty = |i: usize| bins[i].is_empty() && bg.plain().is_some();
     match aa {
         Aa::Exact => {
             let estimated = std::sync::atomic::AtomicU64::new(0);
             let render = |i: usize| {
-                let (block, n) = coverage::render_bin_counted(polys, &bins[i], bg, tiles[i], floor);
-                estimated.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+                let [x, y, _, _] = tiles[i];
+                let block = if empty(i) {
+                    Block::Flat(coverage::background_pixel(bg, x, y))
+                } else {
+                    let (block, n) =
+                        coverage::render_bin_counted(polys, &bins[i], bg, tiles[i], floor);
+                    estimated.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+                    Block::Pixels(block)
+                };
                 progress.advance(1);
                 block
             };
@@ -349,7 +360,12 @@ fn render_pixels<P: Copy + Default + Send>(
         Aa::None | Aa::Ss(_) => {
             let k = if let Aa::Ss(k) = aa { k } else { 1 };
             let render = |i: usize| {
-                let block = scan::render_tile(polys, &bins[i], bg, tiles[i], k, floor);
+                let [x, y, _, _] = tiles[i];
+                let block = if empty(i) {
+                    Block::Flat(scan::background_pixel(bg, k, x, y))
+                } else {
+                    Block::Pixels(scan::render_tile(polys, &bins[i], bg, tiles[i], k, floor))
+                };
                 progress.advance(1);
                 block
             };
@@ -460,6 +476,59 @@ mod determinism {
                 .install(|| reference::render(&polys, &bg, &v, 6).frame.to_image())
         };
         assert_eq!(run_ref(1), run_ref(2));
+    }
+
+    /// A tile that no polygon reaches, filled with the resolver's colour for
+    /// a pixel of background only, is what the resolver gives it: the same
+    /// frame over a plain colour as over a pattern of that one colour (which
+    /// every tile is resolved over, pixel by pixel), in each resolver, and
+    /// the same 8-bit image encoded as the tiles come.
+    #[test]
+    fn empty_tiles_filled_at_once_are_the_resolvers_own_pixels() {
+        use crate::pat::Pattern;
+        use crate::texture::Texels;
+        let mut rng = Rng(5);
+        let (w, h) = (200, 150);
+        let v = View::ortho2(0.0, w as f64, 0.0, h as f64, w, h);
+        // Small triangles near the lower left and one across the top right
+        // corner, off the frame in part: most tiles are empty.
+        let mut polys: Vec<ScreenPoly> = (0..40)
+            .filter_map(|i| {
+                let (cx, cy) = (rng.next() * 60.0, rng.next() * 50.0);
+                let pts = [[0.0, 0.0], [7.3, 1.1], [2.2, 6.9]].map(|[x, y]| [cx + x, cy + y]);
+                tests::poly2(&v, &pts, Rgb8([i as u8 * 6, 90, 200]), i)
+            })
+            .collect();
+        let corner = [[190.5, 140.25], [230.0, 141.0], [195.0, 180.0]];
+        polys.extend(tests::poly2(&v, &corner, Rgb8([250, 250, 0]), 40));
+        let bins = bin(&polys, w, h);
+        let empty = (0..bins.len()).filter(|&i| bins[i].is_empty()).count();
+        assert!(
+            empty > bins.len() / 2,
+            "{empty} of {} tiles empty",
+            bins.len()
+        );
+        let colour = Rgb8([37, 141, 203]);
+        let plain = Background::color(colour);
+        let one_colour = Pattern::new(16, vec![colour], vec![0; 256]).unwrap();
+        let patterned = Background::new(colour, Some(Texels::new(&one_colour)));
+        for aa in [Aa::None, Aa::Ss(2), Aa::Ss(3), Aa::Exact] {
+            let frame = render(&polys, &plain, &v, aa);
+            let bits = |f: &Frame| {
+                f.pixels
+                    .iter()
+                    .flatten()
+                    .map(|c| c.to_bits())
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(
+                bits(&frame),
+                bits(&render(&polys, &patterned, &v, aa)),
+                "{aa:?}"
+            );
+            let (image, _) = render_encoded(&polys, &plain, &v, aa, &Silent, Encoding::Srgb8);
+            assert!(image == frame.encode(Encoding::Srgb8), "{aa:?}");
+        }
     }
 
     /// Tiles encoded as they are rendered give the image that encoding the

@@ -256,16 +256,42 @@ pub fn render_tile(
                     }
                 }
             }
-            if n_bg > 0 {
-                let b = bg.at(tx0 + tx as u32, ty0 + ty as u32);
-                for ch in 0..3 {
-                    acc[ch] += b[ch] * n_bg as f64;
-                }
-            }
-            out.push(acc.map(|a| (a * inv) as f32));
+            out.push(mean_of_samples(
+                acc,
+                n_bg,
+                bg,
+                (tx0 + tx as u32, ty0 + ty as u32),
+                inv,
+            ));
         }
     }
     out
+}
+
+/// A pixel's linear light: the mean, by `inv = 1/k²`, of its samples, `acc`
+/// summing those of polygons and `n_bg` more of the background.
+#[inline]
+fn mean_of_samples(
+    mut acc: [f64; 3],
+    n_bg: u32,
+    bg: &Background,
+    (px, py): (u32, u32),
+    inv: f64,
+) -> [f32; 3] {
+    if n_bg > 0 {
+        let b = bg.at(px, py);
+        for ch in 0..3 {
+            acc[ch] += b[ch] * n_bg as f64;
+        }
+    }
+    acc.map(|a| (a * inv) as f32)
+}
+
+/// What [`render_tile`] gives pixel `(px, py)` with `k x k` samples when no
+/// polygon covers any of them: the same arithmetic, so a tile that no
+/// polygon reaches can be filled with it without being sampled.
+pub fn background_pixel(bg: &Background, k: u32, px: u32, py: u32) -> [f32; 3] {
+    mean_of_samples([0.0; 3], k * k, bg, (px, py), 1.0 / (k * k) as f64)
 }
 
 #[cfg(test)]

@@ -849,7 +849,7 @@ pub(super) fn subtract_pairwise(
 }
 
 /// Adds the background over the part of the pixel no fragment covers.
-fn blend_background(
+pub(super) fn blend_background(
     mut acc: [f64; 3],
     covered: f64,
     bg: &Background,
