@@ -1,6 +1,7 @@
 //! Every documented command runs (netpbm's way: the test suite runs the
 //! commands its manuals show). The commands of the README's and `docs/`'s
-//! ```` ```sh ```` blocks and of each tool's `--help` "Examples" run in a copy
+//! ```` ```sh ```` blocks (and the whole commands their prose quotes in
+//! backticks: [`inline_commands`]) and of each tool's `--help` "Examples" run in a copy
 //! of `examples/try/` (the files the texts name, such as `scene.json` and
 //! `photo.jpg`, with a link to `fixtures/`), in order, one copy per text, with
 //! the tools just built first on `PATH`. The man pages are generated from the
@@ -109,6 +110,10 @@ fn markdown_commands(rel: &str) -> Vec<Documented> {
                     "{rel}:{n}: a command in an indented block: put it in a ```sh block \
                      so that it runs as a test"
                 );
+                out.extend(inline_commands(line).into_iter().map(|command| Documented {
+                    place: format!("{rel}:{n} (inline)"),
+                    command,
+                }));
                 continue;
             }
         }
@@ -127,6 +132,37 @@ fn markdown_commands(rel: &str) -> Vec<Documented> {
         }
     }
     out
+}
+
+/// The whole commands a line of prose shows in backticks: a span that
+/// starts with a tool and ends in a file it reads (`.json`, `.pat`, an
+/// image, a map; not the `-o` output) or in `-`, with no placeholder in
+/// capitals (`N`, `FILE`).
+/// Fragments (`scene-render --max-polygons N`, `polyfill3 | scene-render`)
+/// are not commands; a span broken across two lines is not seen.
+fn inline_commands(line: &str) -> Vec<String> {
+    line.split('`')
+        .skip(1)
+        .step_by(2)
+        .filter(|span| is_command(span))
+        .filter(|span| {
+            let words: Vec<&str> = span.split_whitespace().collect();
+            let placeholder = words.iter().any(|w| {
+                let w = w.trim_end_matches("...");
+                w.chars().any(|c| c.is_ascii_uppercase())
+                    && w.chars()
+                        .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
+            });
+            let last = words.last().copied().unwrap_or("");
+            let written = words.len() >= 2 && words[words.len() - 2] == "-o";
+            let reads = [".json", ".pat", ".png", ".jpg", ".map", ".ndjson"]
+                .iter()
+                .any(|e| last.ends_with(e))
+                || last == "-";
+            !placeholder && reads && !written
+        })
+        .map(str::to_string)
+        .collect()
 }
 
 /// Whether a line of text starts with one of the tools or a build command.
