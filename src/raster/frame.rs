@@ -112,10 +112,12 @@ fn copy_block(band: &mut [[f32; 3]], w: usize, t: [u32; 4], block: &[[f32; 3]]) 
     }
 }
 
-/// A tile's pixels as a resolver gives them to [`render_bands`].
-pub(crate) enum Block {
-    /// Row-major linear light, a value a pixel.
-    Pixels(Vec<[f32; 3]>),
+/// A tile's pixels as a resolver gives them to [`render_bands`]: linear
+/// light, or (over a transparent background) the pair of a pixel's linear
+/// light over black and over white.
+pub(crate) enum Block<T = [f32; 3]> {
+    /// Row-major, a value a pixel.
+    Pixels(Vec<T>),
     /// The same linear light in every pixel: a tile that no polygon
     /// reaches, over a plain background. Encoded once and copied: resolving
     /// and encoding such tiles pixel by pixel was most of the render phase
@@ -124,7 +126,22 @@ pub(crate) enum Block {
     /// 3.03 s before, 0.43 after). The tile's colour is the resolver's own
     /// for a pixel of background only (test
     /// `empty_tiles_filled_at_once_are_the_resolvers_own_pixels`).
-    Flat([f32; 3]),
+    Flat(T),
+}
+
+impl<T: Copy> Block<T> {
+    /// The pixels of two passes over a tile of `n` pixels, paired.
+    pub(crate) fn zip<U: Copy>(self, other: Block<U>, n: usize) -> Block<(T, U)> {
+        let pixels = |b: Block<T>| match b {
+            Block::Pixels(v) => v,
+            Block::Flat(p) => vec![p; n],
+        };
+        match (self, other) {
+            (Block::Flat(a), Block::Flat(b)) => Block::Flat((a, b)),
+            (a, Block::Pixels(b)) => Block::Pixels(pixels(a).into_iter().zip(b).collect()),
+            (a, Block::Flat(b)) => Block::Pixels(pixels(a).into_iter().map(|a| (a, b)).collect()),
+        }
+    }
 }
 
 /// The order of the rows of pixels in memory.
@@ -149,12 +166,12 @@ pub(crate) enum RowOrder {
 /// worth of fresh pages: the part of a 2048x2048 textured render that did
 /// not scale with threads.) Each band is locked only while a block is
 /// encoded into it.
-pub(crate) fn render_bands<P: Copy + Default + Send>(
+pub(crate) fn render_bands<T: Copy, P: Copy + Default + Send>(
     (width, height): (u32, u32),
     tiles: &[[u32; 4]],
     order: RowOrder,
-    render: impl Fn(usize) -> Block + Sync,
-    encode: impl Fn([f32; 3]) -> P + Sync,
+    render: impl Fn(usize) -> Block<T> + Sync,
+    encode: impl Fn(T) -> P + Sync,
 ) -> Vec<P> {
     use rayon::prelude::*;
     use std::sync::Mutex;
@@ -218,6 +235,43 @@ pub(crate) fn render_bands<P: Copy + Default + Send>(
     pixels
 }
 
+/// A pixel's linear light over black and over white: the two passes of a
+/// transparent background ([`Background::transparent`]).
+pub(crate) type OverBlackAndWhite = ([f32; 3], [f32; 3]);
+
+/// One pixel over a transparent background, from its linear light over
+/// black (`b`: its colour premultiplied by its coverage `a`) and over
+/// white (`wh = b + (1 - a)`): `a = 1 - (wh - b)`, averaged over the
+/// channels, and the colour `b / a`, each encoded once, rounding (straight,
+/// not premultiplied, alpha, as PNG and PAM store it); `steps` is the code
+/// of alpha 1, and a pixel is transparent, all zeros, below half a step.
+#[inline]
+fn with_alpha<T: Copy + Default>(
+    b: [f32; 3],
+    wh: [f32; 3],
+    steps: f32,
+    encode: fn(f32) -> T,
+    code: fn(f32) -> T,
+) -> [T; 4] {
+    let uncovered: f32 = (0..3).map(|c| wh[c] - b[c]).sum::<f32>() / 3.0;
+    let alpha = (1.0 - uncovered).clamp(0.0, 1.0);
+    if alpha < 0.5 / steps {
+        return [T::default(); 4];
+    }
+    let [r, g, bl] = b.map(|c| encode((c / alpha).clamp(0.0, 1.0)));
+    [r, g, bl, code(alpha * steps)]
+}
+
+/// [`with_alpha`] in 8-bit sRGB.
+pub(crate) fn rgba8((b, wh): OverBlackAndWhite) -> [u8; 4] {
+    with_alpha(b, wh, 255.0, linear_to_srgb, |a| a.round() as u8)
+}
+
+/// [`with_alpha`] in 16-bit sRGB.
+pub(crate) fn rgba16((b, wh): OverBlackAndWhite) -> [u16; 4] {
+    with_alpha(b, wh, 65535.0, linear_to_srgb16, |a| a.round() as u16)
+}
+
 impl Frame {
     /// Assembles a frame from per-tile results (each a row-major block of the
     /// tile's pixels, in [`super::tiles`] order).
@@ -260,37 +314,38 @@ impl Frame {
     /// coverage `a`) and over white (`over_white = over_black + (1 - a)`):
     /// `a = 1 - (over_white - over_black)`, averaged over the channels, and
     /// the colour `over_black / a`, each encoded once, rounding (straight,
-    /// not premultiplied, alpha, as PNG and PAM store it).
+    /// not premultiplied, alpha, as PNG and PAM store it); a pixel below
+    /// half an 8-bit step of alpha is transparent, all zeros.
     pub fn to_image_with_alpha(over_black: &Frame, over_white: &Frame) -> Image {
+        Image {
+            width: over_black.width,
+            height: over_black.height,
+            channels: 4,
+            data: Frame::pairs_top_first(over_black, over_white, rgba8),
+        }
+    }
+
+    /// The pixels of two passes of one frame through `encode`, a pixel
+    /// from each, rows top first.
+    fn pairs_top_first<T: Copy>(
+        over_black: &Frame,
+        over_white: &Frame,
+        encode: fn(OverBlackAndWhite) -> [T; 4],
+    ) -> Vec<T> {
         assert_eq!(
             (over_black.width, over_black.height),
             (over_white.width, over_white.height),
             "two passes of one frame"
         );
-        let (w, h) = (over_black.width as usize, over_black.height as usize);
-        let mut data = vec![0u8; w * h * 4];
-        for (r, out) in data.chunks_exact_mut((w * 4).max(1)).enumerate().take(h) {
-            let y = h - 1 - r;
-            for (x, o) in out.chunks_exact_mut(4).enumerate() {
-                let (b, wh) = (over_black.pixels[y * w + x], over_white.pixels[y * w + x]);
-                let uncovered: f32 = (0..3).map(|c| wh[c] - b[c]).sum::<f32>() / 3.0;
-                let alpha = (1.0 - uncovered).clamp(0.0, 1.0);
-                // Below half an 8-bit step of alpha the pixel is transparent.
-                if alpha < 0.5 / 255.0 {
-                    o.copy_from_slice(&[0, 0, 0, 0]);
-                    continue;
-                }
-                let colour = b.map(|c| linear_to_srgb((c / alpha).clamp(0.0, 1.0)));
-                o[..3].copy_from_slice(&colour);
-                o[3] = (alpha * 255.0).round() as u8;
-            }
-        }
-        Image {
-            width: over_black.width,
-            height: over_black.height,
-            channels: 4,
-            data,
-        }
+        let w = (over_black.width as usize).max(1);
+        let (black, white) = (&over_black.pixels, &over_white.pixels);
+        black
+            .chunks_exact(w)
+            .rev()
+            .zip(white.chunks_exact(w).rev())
+            .flat_map(|(b, wh)| b.iter().zip(wh).map(|(b, wh)| encode((*b, *wh))))
+            .flatten()
+            .collect()
     }
 
     /// The image in `encoding`: [`Frame::to_image`], [`Frame::to_image16`]
@@ -324,32 +379,11 @@ impl Frame {
     /// each the nearest 16-bit code, a pixel transparent below half a
     /// 16-bit step of alpha.
     pub fn to_image16_with_alpha(over_black: &Frame, over_white: &Frame) -> Image16 {
-        assert_eq!(
-            (over_black.width, over_black.height),
-            (over_white.width, over_white.height),
-            "two passes of one frame"
-        );
-        let (w, h) = (over_black.width as usize, over_black.height as usize);
-        let mut data = vec![0u16; w * h * 4];
-        for (r, out) in data.chunks_exact_mut((w * 4).max(1)).enumerate().take(h) {
-            let y = h - 1 - r;
-            for (x, o) in out.chunks_exact_mut(4).enumerate() {
-                let (b, wh) = (over_black.pixels[y * w + x], over_white.pixels[y * w + x]);
-                let uncovered: f32 = (0..3).map(|c| wh[c] - b[c]).sum::<f32>() / 3.0;
-                let alpha = (1.0 - uncovered).clamp(0.0, 1.0);
-                if alpha < 0.5 / 65535.0 {
-                    continue;
-                }
-                let colour = b.map(|c| linear_to_srgb16((c / alpha).clamp(0.0, 1.0)));
-                o[..3].copy_from_slice(&colour);
-                o[3] = (alpha * 65535.0).round() as u16;
-            }
-        }
         Image16 {
             width: over_black.width,
             height: over_black.height,
             channels: 4,
-            data,
+            data: Frame::pairs_top_first(over_black, over_white, rgba16),
         }
     }
 

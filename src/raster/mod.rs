@@ -48,7 +48,7 @@ pub mod reference;
 pub mod scan;
 mod visible;
 
-use crate::color::{linear_to_srgb, linear_to_srgb16};
+use crate::color::{linear_to_srgb, linear_to_srgb16, Rgb8};
 use crate::io::{AnyImage, Encoding, Image, Image16, LinearImage};
 use crate::progress::{Progress, Silent};
 use crate::view::View;
@@ -329,47 +329,118 @@ fn render_pixels<P: Copy + Default + Send>(
     order: RowOrder,
     encode: impl Fn([f32; 3]) -> P + Sync,
 ) -> (Vec<P>, u64) {
-    let size = (view.width, view.height);
-    let tiles = tiles(size.0, size.1);
-    let bins = bin(polys, size.0, size.1);
-    let floor = tie_floor(view);
-    progress.phase("render", tiles.len() as u64);
-    // A tile that no polygon reaches, over a plain background, is one
-    // colour: the resolver's own for a pixel of background only, worked out
-    // at the tile's corner (it is the same at every pixel).
-    let empty = |i: usize| bins[i].is_empty() && bg.plain().is_some();
-    match aa {
-        Aa::Exact => {
-            let estimated = std::sync::atomic::AtomicU64::new(0);
-            let render = |i: usize| {
-                let [x, y, _, _] = tiles[i];
-                let block = if empty(i) {
-                    Block::Flat(coverage::background_pixel(bg, x, y))
-                } else {
-                    let (block, n) =
-                        coverage::render_bin_counted(polys, &bins[i], bg, tiles[i], floor);
-                    estimated.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
-                    Block::Pixels(block)
-                };
-                progress.advance(1);
-                block
-            };
-            let pixels = frame::render_bands(size, &tiles, order, render, encode);
-            (pixels, estimated.into_inner())
+    let r = Resolver::new(polys, view, aa);
+    progress.phase("render", r.tiles.len() as u64);
+    let render = |i: usize| {
+        let block = r.tile(i, bg, true);
+        progress.advance(1);
+        block
+    };
+    let pixels = frame::render_bands(r.size, &r.tiles, order, render, encode);
+    (pixels, r.estimated.into_inner())
+}
+
+/// [`render_encoded`] over a transparent background
+/// ([`Background::transparent`]), with alpha: each tile drawn over black
+/// and over white in turn, and encoded from the two as soon as it is done
+/// ([`Frame::encode_with_alpha`]'s pixels, without its two frames of 12
+/// bytes a pixel). Linear float has no alpha: it is the frame over black,
+/// drawn once.
+pub fn render_encoded_with_alpha(
+    polys: &[ScreenPoly],
+    bg: &Background,
+    view: &View,
+    aa: Aa,
+    progress: &dyn Progress,
+    encoding: Encoding,
+) -> (AnyImage, u64) {
+    let (black, white) = (bg.opaque(Rgb8::BLACK), bg.opaque(Rgb8::WHITE));
+    let (width, height) = (view.width, view.height);
+    let r = Resolver::new(polys, view, aa);
+    progress.phase("render", r.tiles.len() as u64);
+    let render = |i: usize| {
+        let [x0, y0, x1, y1] = r.tiles[i];
+        let n = ((x1 - x0) * (y1 - y0)) as usize;
+        let block = r.tile(i, &black, true).zip(r.tile(i, &white, false), n);
+        progress.advance(1);
+        block
+    };
+    let top = RowOrder::TopFirst;
+    let image = match encoding {
+        Encoding::LinearF32 => return render_encoded(polys, &black, view, aa, progress, encoding),
+        Encoding::Srgb8 => AnyImage::Srgb8(Image {
+            width,
+            height,
+            channels: 4,
+            data: frame::render_bands(r.size, &r.tiles, top, render, frame::rgba8).into_flattened(),
+        }),
+        Encoding::Srgb16 => AnyImage::Srgb16(Image16 {
+            width,
+            height,
+            channels: 4,
+            data: frame::render_bands(r.size, &r.tiles, top, render, frame::rgba16)
+                .into_flattened(),
+        }),
+    };
+    (image, r.estimated.into_inner())
+}
+
+/// One frame's tiles, their polygons ([`Bins`]) and the resolver `aa`
+/// chosen for them: what [`Resolver::tile`] needs to render any tile over
+/// any background.
+struct Resolver<'a> {
+    polys: &'a [ScreenPoly],
+    size: (u32, u32),
+    tiles: Vec<[u32; 4]>,
+    bins: Bins,
+    floor: f64,
+    aa: Aa,
+    /// Fragments estimated so far ([`Frame::estimated`]).
+    estimated: std::sync::atomic::AtomicU64,
+}
+
+impl<'a> Resolver<'a> {
+    fn new(polys: &'a [ScreenPoly], view: &View, aa: Aa) -> Resolver<'a> {
+        let size = (view.width, view.height);
+        Resolver {
+            polys,
+            size,
+            tiles: tiles(size.0, size.1),
+            bins: bin(polys, size.0, size.1),
+            floor: tie_floor(view),
+            aa,
+            estimated: Default::default(),
         }
-        Aa::None | Aa::Ss(_) => {
-            let k = if let Aa::Ss(k) = aa { k } else { 1 };
-            let render = |i: usize| {
-                let [x, y, _, _] = tiles[i];
-                let block = if empty(i) {
+    }
+
+    /// Tile `i` over `bg`, its estimated fragments counted if `count`.
+    ///
+    /// A tile that no polygon reaches, over a plain background, is one
+    /// colour: the resolver's own for a pixel of background only, worked out
+    /// at the tile's corner (it is the same at every pixel).
+    fn tile(&self, i: usize, bg: &Background, count: bool) -> Block {
+        let (bin, tile) = (&self.bins[i], self.tiles[i]);
+        let [x, y, _, _] = tile;
+        let empty = bin.is_empty() && bg.plain().is_some();
+        match self.aa {
+            Aa::Exact if empty => Block::Flat(coverage::background_pixel(bg, x, y)),
+            Aa::Exact => {
+                let (block, n) =
+                    coverage::render_bin_counted(self.polys, bin, bg, tile, self.floor);
+                if count {
+                    self.estimated
+                        .fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+                }
+                Block::Pixels(block)
+            }
+            Aa::None | Aa::Ss(_) => {
+                let k = if let Aa::Ss(k) = self.aa { k } else { 1 };
+                if empty {
                     Block::Flat(scan::background_pixel(bg, k, x, y))
                 } else {
-                    Block::Pixels(scan::render_tile(polys, &bins[i], bg, tiles[i], k, floor))
-                };
-                progress.advance(1);
-                block
-            };
-            (frame::render_bands(size, &tiles, order, render, encode), 0)
+                    Block::Pixels(scan::render_tile(self.polys, bin, bg, tile, k, self.floor))
+                }
+            }
         }
     }
 }
@@ -528,6 +599,72 @@ mod determinism {
             );
             let (image, _) = render_encoded(&polys, &plain, &v, aa, &Silent, Encoding::Srgb8);
             assert!(image == frame.encode(Encoding::Srgb8), "{aa:?}");
+        }
+    }
+
+    /// Over a transparent background, tiles drawn over black and over white
+    /// in turn and encoded as they come give what the two whole frames
+    /// give ([`Frame::encode_with_alpha`]), in each encoding and resolver,
+    /// with and without a background pattern (partly transparent: a
+    /// checker), with empty tiles, partial tiles, and one thread or two.
+    #[test]
+    fn alpha_encoded_as_tiles_come_equals_alpha_from_two_frames() {
+        use crate::pat::{Pattern, TRANSPARENT};
+        use crate::texture::Texels;
+        let mut rng = Rng(19);
+        let checker: Vec<u16> = (0..256)
+            .map(|i| {
+                if (i / 16 + i) % 2 == 0 {
+                    0
+                } else {
+                    TRANSPARENT
+                }
+            })
+            .collect();
+        let pattern = Texels::new(&Pattern::new(16, vec![Rgb8([200, 10, 90])], checker).unwrap());
+        for (w, h) in [(100, 70), (33, 65), (1, 1)] {
+            let v = perspective(60.0, w, h, 0.0, 100.0);
+            let polys: Vec<ScreenPoly> = (0..40)
+                .filter_map(|i| {
+                    let c = DVec3::new(
+                        rng.next() * 3.0 - 5.0,
+                        rng.next() * 3.0 - 4.0,
+                        -3.0 - rng.next() * 20.0,
+                    );
+                    let tri: Vec<DVec3> = (0..3)
+                        .map(|_| c + DVec3::new(rng.next() * 2.0, rng.next() * 2.0, rng.next()))
+                        .collect();
+                    project(&v, &tri, Rgb8([i as u8 * 6, 200, 9]), i, Cull::None).ok()
+                })
+                .collect();
+            for bg in [
+                Background::transparent(None),
+                Background::transparent(Some(pattern.clone())),
+            ] {
+                for aa in [Aa::None, Aa::Ss(2), Aa::Exact] {
+                    let black = render(&polys, &bg.opaque(Rgb8::BLACK), &v, aa);
+                    let white = render(&polys, &bg.opaque(Rgb8::WHITE), &v, aa);
+                    for encoding in [Encoding::Srgb8, Encoding::Srgb16, Encoding::LinearF32] {
+                        let want = Frame::encode_with_alpha(&black, &white, encoding);
+                        for threads in [1, 2] {
+                            let (image, estimated) = rayon::ThreadPoolBuilder::new()
+                                .num_threads(threads)
+                                .build()
+                                .unwrap()
+                                .install(|| {
+                                    render_encoded_with_alpha(
+                                        &polys, &bg, &v, aa, &Silent, encoding,
+                                    )
+                                });
+                            assert!(
+                                image == want,
+                                "{w}x{h} {aa:?} {encoding:?}, {threads} threads"
+                            );
+                            assert_eq!(estimated, black.estimated);
+                        }
+                    }
+                }
+            }
         }
     }
 

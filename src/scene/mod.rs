@@ -54,7 +54,7 @@ use crate::geom::Shape;
 use crate::io::{AnyImage, Encoding, Image};
 use crate::light::{Lights, Shade};
 use crate::progress::{Progress, Silent};
-use crate::raster::{self, Aa, Background, Cull, Frame, ScreenPoly, Shader, Tally};
+use crate::raster::{self, Aa, Background, Cull, ScreenPoly, Shader, Tally};
 use crate::stream::{for_each_item_in, Instance, Item, Objects, PatternMode, PatternRef, Record};
 use crate::stripe::record::StripeLoader;
 use crate::stripe::LodMode;
@@ -1126,7 +1126,7 @@ pub fn render(polys: &[ScreenPoly], bg: &Background, view: &View, aa: Aa) -> Ima
 }
 
 /// [`render`], reporting its tiles to `progress` (a transparent background
-/// renders twice, so its phases come twice).
+/// draws each tile twice, over black and over white, and reports it once).
 pub fn render_with(
     polys: &[ScreenPoly],
     bg: &Background,
@@ -1145,7 +1145,7 @@ pub struct Rendered {
     /// The image in the encoding asked for.
     pub image: AnyImage,
     /// Textured fragments `--aa exact` estimated rather than integrated
-    /// ([`Frame::estimated`]); 0 elsewhere.
+    /// ([`raster::Frame::estimated`]); 0 elsewhere.
     pub estimated: u64,
 }
 
@@ -1183,8 +1183,8 @@ impl Rendered {
 }
 
 /// [`render_with`] in any encoding: 8- or 16-bit sRGB, or the frame's
-/// linear values (PFM). A transparent background in linear float gives the
-/// colour over black ([`Frame::encode_with_alpha`]).
+/// linear values (PFM). A transparent background gives RGBA, and in linear
+/// float the colour over black ([`raster::render_encoded_with_alpha`]).
 pub fn render_encoded(
     polys: &[ScreenPoly],
     bg: &Background,
@@ -1194,18 +1194,13 @@ pub fn render_encoded(
     encoding: Encoding,
 ) -> Rendered {
     build_mips_eagerly(polys);
-    if bg.is_transparent() {
-        // Two passes, over black and over white: the difference is the
-        // coverage (Background::transparent).
-        let (black, white) = (bg.opaque(Rgb8::BLACK), bg.opaque(Rgb8::WHITE));
-        let over_black = raster::render_with(polys, &black, view, aa, progress);
-        let over_white = raster::render_with(polys, &white, view, aa, progress);
-        return Rendered {
-            image: Frame::encode_with_alpha(&over_black, &over_white, encoding),
-            estimated: over_black.estimated,
-        };
-    }
-    let (image, estimated) = raster::render_encoded(polys, bg, view, aa, progress, encoding);
+    let (image, estimated) = if bg.is_transparent() {
+        // Two passes, over black and over white, tile by tile: the
+        // difference is the coverage (Background::transparent).
+        raster::render_encoded_with_alpha(polys, bg, view, aa, progress, encoding)
+    } else {
+        raster::render_encoded(polys, bg, view, aa, progress, encoding)
+    };
     Rendered { image, estimated }
 }
 
