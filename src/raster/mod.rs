@@ -510,23 +510,46 @@ mod determinism {
     use crate::view::tests::perspective;
     use glam::DVec3;
 
+    /// `n` random triangles through `v`, from `rng`: centres at
+    /// `(r·spread[0] - 5, r·spread[1] - 4, -3 - 20r)`, corners at the
+    /// centre plus `(r·size[0], r·size[1], r·size[2])`, each `r` uniform in
+    /// [0, 1); triangle `i` coloured `colour(i)`.
+    fn triangles(
+        v: &View,
+        rng: &mut Rng,
+        n: u32,
+        spread: [f64; 2],
+        size: [f64; 3],
+        colour: impl Fn(u32) -> Rgb8,
+    ) -> Vec<ScreenPoly> {
+        (0..n)
+            .filter_map(|i| {
+                let c = DVec3::new(
+                    rng.next() * spread[0] - 5.0,
+                    rng.next() * spread[1] - 4.0,
+                    -3.0 - rng.next() * 20.0,
+                );
+                let tri: Vec<DVec3> = (0..3)
+                    .map(|_| {
+                        c + DVec3::new(
+                            rng.next() * size[0],
+                            rng.next() * size[1],
+                            rng.next() * size[2],
+                        )
+                    })
+                    .collect();
+                project(v, &tri, colour(i), i, Cull::None).ok()
+            })
+            .collect()
+    }
+
     #[test]
     fn output_is_identical_for_any_thread_count() {
         let v = perspective(60.0, 100, 70, 0.0, 100.0);
         let mut rng = Rng(7);
-        let polys: Vec<ScreenPoly> = (0..300)
-            .filter_map(|i| {
-                let c = DVec3::new(
-                    rng.next() * 10.0 - 5.0,
-                    rng.next() * 8.0 - 4.0,
-                    -3.0 - rng.next() * 20.0,
-                );
-                let tri: Vec<DVec3> = (0..3)
-                    .map(|_| c + DVec3::new(rng.next() * 3.0, rng.next() * 3.0, rng.next() * 3.0))
-                    .collect();
-                project(&v, &tri, Rgb8([i as u8, 255 - i as u8, 77]), i, Cull::None).ok()
-            })
-            .collect();
+        let polys = triangles(&v, &mut rng, 300, [10.0, 8.0], [3.0; 3], |i| {
+            Rgb8([i as u8, 255 - i as u8, 77])
+        });
         let bg = Background::color(Rgb8([3, 4, 5]));
         for aa in [Aa::None, Aa::Ss(3), Aa::Exact] {
             let run = |n: usize| {
@@ -624,19 +647,9 @@ mod determinism {
         let pattern = Texels::new(&Pattern::new(16, vec![Rgb8([200, 10, 90])], checker).unwrap());
         for (w, h) in [(100, 70), (33, 65), (1, 1)] {
             let v = perspective(60.0, w, h, 0.0, 100.0);
-            let polys: Vec<ScreenPoly> = (0..40)
-                .filter_map(|i| {
-                    let c = DVec3::new(
-                        rng.next() * 3.0 - 5.0,
-                        rng.next() * 3.0 - 4.0,
-                        -3.0 - rng.next() * 20.0,
-                    );
-                    let tri: Vec<DVec3> = (0..3)
-                        .map(|_| c + DVec3::new(rng.next() * 2.0, rng.next() * 2.0, rng.next()))
-                        .collect();
-                    project(&v, &tri, Rgb8([i as u8 * 6, 200, 9]), i, Cull::None).ok()
-                })
-                .collect();
+            let polys = triangles(&v, &mut rng, 40, [3.0, 3.0], [2.0, 2.0, 1.0], |i| {
+                Rgb8([i as u8 * 6, 200, 9])
+            });
             for bg in [
                 Background::transparent(None),
                 Background::transparent(Some(pattern.clone())),
@@ -677,19 +690,9 @@ mod determinism {
         let mut rng = Rng(11);
         for (w, h) in [(100, 70), (33, 65), (1, 1), (64, 32), (40, 64)] {
             let v = perspective(60.0, w, h, 0.0, 100.0);
-            let polys: Vec<ScreenPoly> = (0..60)
-                .filter_map(|i| {
-                    let c = DVec3::new(
-                        rng.next() * 10.0 - 5.0,
-                        rng.next() * 8.0 - 4.0,
-                        -3.0 - rng.next() * 20.0,
-                    );
-                    let tri: Vec<DVec3> = (0..3)
-                        .map(|_| c + DVec3::new(rng.next() * 4.0, rng.next() * 4.0, rng.next()))
-                        .collect();
-                    project(&v, &tri, Rgb8([i as u8 * 4, 200, 9]), i, Cull::None).ok()
-                })
-                .collect();
+            let polys = triangles(&v, &mut rng, 60, [10.0, 8.0], [4.0, 4.0, 1.0], |i| {
+                Rgb8([i as u8 * 4, 200, 9])
+            });
             let bg = Background::color(Rgb8([30, 4, 5]));
             for aa in [Aa::None, Aa::Ss(2), Aa::Exact] {
                 let frame = render(&polys, &bg, &v, aa);
