@@ -138,8 +138,6 @@ pub enum WriteStep {
     CreateIn(PathBuf),
     /// Writing (or flushing) the data.
     Write,
-    /// Flushing the data to a device named as the output.
-    WriteDevice,
     /// Moving the finished temporary file to the output's name.
     Rename,
 }
@@ -153,7 +151,6 @@ impl WriteStep {
                 format!("{output}: cannot create a file in {}", dir.display())
             }
             WriteStep::Write => format!("writing {}", display_out(output)),
-            WriteStep::WriteDevice => "writing the output device".to_string(),
             WriteStep::Rename => format!("renaming the output to {output}"),
         }
     }
@@ -457,8 +454,12 @@ pub struct Output {
 
 enum OutputInner {
     Stdout(BufWriter<io::Stdout>),
-    /// A device or pipe named with `-o`, written in place.
-    Device(BufWriter<std::fs::File>),
+    /// A device or pipe named with `-o`, written in place; its name as
+    /// given, for the error of the last flush.
+    Device {
+        w: BufWriter<std::fs::File>,
+        name: String,
+    },
     File {
         tmp: BufWriter<tempfile::NamedTempFile>,
         path: PathBuf,
@@ -551,7 +552,10 @@ impl Output {
                     return Err(IoError::BinaryToTerminal);
                 }
                 return Ok(Output {
-                    inner: OutputInner::Device(BufWriter::with_capacity(1 << 16, f)),
+                    inner: OutputInner::Device {
+                        w: BufWriter::with_capacity(1 << 16, f),
+                        name: name.to_string(),
+                    },
                     failed: None,
                 });
             }
@@ -605,8 +609,9 @@ impl Output {
     pub fn commit(self) -> Result<(), IoError> {
         match self.inner {
             OutputInner::Stdout(mut w) => w.flush().map_err(write_error(STDIO, WriteStep::Write)),
-            OutputInner::Device(mut w) => {
-                w.flush().map_err(write_error("", WriteStep::WriteDevice))
+            // Named: a small output (`-o /dev/full`) fails only here.
+            OutputInner::Device { mut w, name } => {
+                w.flush().map_err(write_error(name, WriteStep::Write))
             }
             OutputInner::File { tmp, path, .. } => {
                 let shown = path.display().to_string();
@@ -650,7 +655,7 @@ impl Write for Output {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
         let result = match &mut self.inner {
             OutputInner::Stdout(w) => w.write(buf),
-            OutputInner::Device(w) => w.write(buf),
+            OutputInner::Device { w, .. } => w.write(buf),
             OutputInner::File {
                 tmp,
                 written,
@@ -666,7 +671,7 @@ impl Write for Output {
     fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
         let result = match &mut self.inner {
             OutputInner::Stdout(w) => w.write_all(buf),
-            OutputInner::Device(w) => w.write_all(buf),
+            OutputInner::Device { w, .. } => w.write_all(buf),
             OutputInner::File {
                 tmp,
                 written,
@@ -682,7 +687,7 @@ impl Write for Output {
     fn flush(&mut self) -> io::Result<()> {
         let result = match &mut self.inner {
             OutputInner::Stdout(w) => w.flush(),
-            OutputInner::Device(w) => w.flush(),
+            OutputInner::Device { w, .. } => w.flush(),
             OutputInner::File { tmp, .. } => tmp.flush(),
         };
         self.noted(result)
@@ -1987,6 +1992,26 @@ mod tests {
         }
         out.commit().unwrap();
         assert!(std::fs::read(&path).unwrap() == bytes);
+    }
+
+    /// A device named as the output whose writes fail only when the last
+    /// bytes are flushed (an output smaller than the buffer, to a full
+    /// device) is named in the error, as a larger output's is.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_device_that_fails_at_the_last_flush_is_named() {
+        if !Path::new("/dev/full").exists() {
+            return;
+        }
+        let mut out = Output::create("/dev/full", false).unwrap();
+        out.write_all(b"P6\n1 1\n255\n\0\0\0").unwrap();
+        let err = out.commit().unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "writing /dev/full",
+            "{:?}",
+            std::error::Error::source(&err)
+        );
     }
 
     #[test]
