@@ -9,7 +9,19 @@ use std::path::{Path, PathBuf};
 /// Checks that `name` can be written, as [`Output::create`] would, and
 /// writes nothing: for tools to refuse a missing directory or a terminal
 /// before hours of work rather than after.
+///
+/// A FIFO named as the output is not opened: opening it waits for a
+/// reader, and closing it again ends that reader's input before any byte
+/// is written (`cat fifo > copy &` got nothing, and the tool then waited
+/// for a second reader for ever).
 pub fn check_output(name: &str, binary: bool) -> Result<(), IoError> {
+    #[cfg(unix)]
+    if name != STDIO {
+        use std::os::unix::fs::FileTypeExt;
+        if std::fs::metadata(name).is_ok_and(|m| m.file_type().is_fifo()) {
+            return Ok(());
+        }
+    }
     Output::create(name, binary).map(drop)
 }
 

@@ -190,6 +190,33 @@ clitest!(a_signal_removes_the_output_being_written, |dir| {
     }
 });
 
+clitest!(a_fifo_named_as_the_output_gets_the_whole_output, |dir| {
+    // `-o fifo` with a reader waiting: the output checked before the work
+    // must not open and close the FIFO (the reader saw an empty input and
+    // the tool then waited for another reader for ever).
+    dir.write(
+        "t.json",
+        r#"{"vertices": [[0,0],[9,0],[0,9]], "color": [1,2,3]}"#,
+    );
+    let img = repo("fixtures/images/brick.png");
+    for (tool, args) in [
+        ("pat-from-image", format!("--size 16 '{}'", img.display())),
+        ("scene-render", "--size 16x16 t.json".to_string()),
+    ] {
+        let script = format!(
+            "rm -f fifo copy; mkfifo fifo && {{ cat fifo > copy & }}; \
+             timeout 60 {tool} {args} -o fifo; echo $? > status; wait; \
+             {tool} {args} -o file"
+        );
+        let out = sh(dir.path(), &script);
+        assert!(out.status.success(), "{out:?}");
+        let status = std::fs::read_to_string(dir.path().join("status")).unwrap();
+        assert_eq!(status.trim(), "0", "{tool}: {out:?}");
+        let (copy, file) = (dir.read("copy"), dir.read("file"));
+        assert!(!file.is_empty() && copy == file, "{tool}: {}", copy.len());
+    }
+});
+
 clitest!(
     a_missing_output_directory_is_refused_before_the_work,
     |dir| {
