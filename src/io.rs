@@ -193,7 +193,8 @@ fn write_error(output: impl Into<String>, step: WriteStep) -> impl FnOnce(io::Er
 }
 
 /// The operating system's error without the temporary file's name, which
-/// `tempfile` adds and which means nothing to the user (the message names
+/// `tempfile` adds (to a failed creation, and to every failed write of a
+/// `NamedTempFile`) and which means nothing to the user (the message names
 /// the output and its directory).
 fn without_temp_name(e: io::Error) -> io::Error {
     // tempfile's error words it "{cause} at path {temporary file}" and does
@@ -630,7 +631,7 @@ impl Output {
                 let tmp_path = tmp.get_ref().path().to_path_buf();
                 let tmp = tmp
                     .into_inner()
-                    .map_err(|e| e.into_error())
+                    .map_err(|e| without_temp_name(e.into_error()))
                     .map_err(write_error(shown.clone(), WriteStep::Write))?;
                 let persisted = tmp.persist(&path);
                 unfinished(&tmp_path, false);
@@ -673,7 +674,7 @@ impl Write for Output {
                 written,
                 started,
                 ..
-            } => tmp.write(buf).inspect(|&n| {
+            } => tmp.write(buf).map_err(without_temp_name).inspect(|&n| {
                 *written += n as u64;
                 file_written(tmp, *written, started);
             }),
@@ -689,7 +690,7 @@ impl Write for Output {
                 written,
                 started,
                 ..
-            } => tmp.write_all(buf).inspect(|_| {
+            } => tmp.write_all(buf).map_err(without_temp_name).inspect(|_| {
                 *written += buf.len() as u64;
                 file_written(tmp, *written, started);
             }),
@@ -700,7 +701,7 @@ impl Write for Output {
         let result = match &mut self.inner {
             OutputInner::Stdout(w) => w.flush(),
             OutputInner::Device { w, .. } => w.flush(),
-            OutputInner::File { tmp, .. } => tmp.flush(),
+            OutputInner::File { tmp, .. } => tmp.flush().map_err(without_temp_name),
         };
         self.noted(result)
     }

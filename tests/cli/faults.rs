@@ -190,6 +190,37 @@ clitest!(a_signal_removes_the_output_being_written, |dir| {
     }
 });
 
+clitest!(
+    a_failed_write_names_the_output_not_its_temporary_file,
+    |dir| {
+        // A file output that cannot grow (here `ulimit -f`, with SIGXFSZ
+        // ignored, so that the write fails with EFBIG as on a full disk): the
+        // error names the output, not `tempfile`'s `.patkit-*.tmp` (which is
+        // gone by then), and the old file is kept. Writes fail during the
+        // encoding (2000x2000) or only at the last flush (100x100).
+        dir.write("out.ppm", "old");
+        let brick = repo("fixtures/patterns/brick.pat");
+        let img = repo("fixtures/images/brick.png");
+        for cmd in [
+            format!("pat-tile --size 2000x2000 '{}' -o out.ppm", brick.display()),
+            format!("pat-tile --size 100x100 '{}' -o out.ppm", brick.display()),
+            format!("pat-from-image --size 256 '{}' -o out.ppm", img.display()),
+        ] {
+            let out = sh(
+                dir.path(),
+                &format!("trap '' XFSZ; ulimit -f 40; {cmd}; echo $? > status"),
+            );
+            let said = String::from_utf8_lossy(&out.stderr).into_owned();
+            let status = std::fs::read_to_string(dir.path().join("status")).unwrap();
+            assert_eq!(status.trim(), "1", "{cmd}: {said}");
+            assert!(said.contains("error: writing out.ppm: "), "{cmd}: {said}");
+            assert!(!said.contains(".patkit-"), "{cmd}: {said}");
+            assert_eq!(dir.read("out.ppm"), b"old", "{cmd}");
+            assert_eq!(dir.files(), ["out.ppm", "status"], "{cmd}");
+        }
+    }
+);
+
 clitest!(a_fifo_named_as_the_output_gets_the_whole_output, |dir| {
     // `-o fifo` with a reader waiting: the output checked before the work
     // must not open and close the FIFO (the reader saw an empty input and
