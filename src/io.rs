@@ -545,6 +545,15 @@ impl Output {
             return Err(IoError::EmptyOutputName);
         }
         let mut path = PathBuf::from(name);
+        // A name the file system cannot hold (a component over NAME_MAX,
+        // as `-o f%0255d.png` makes with its prefix and suffix) is refused
+        // now: the temporary file's own short name was made, and only the
+        // rename at the end of the work failed.
+        if let Err(e) = std::fs::symlink_metadata(&path) {
+            if e.kind() == io::ErrorKind::InvalidFilename {
+                return Err(write_error(name, WriteStep::Open)(e));
+            }
+        }
         if path.is_dir() {
             return Err(IoError::OutputIsDirectory {
                 output: name.to_string(),
@@ -2025,6 +2034,29 @@ mod tests {
             "{:?}",
             std::error::Error::source(&err)
         );
+    }
+
+    /// A file name longer than the file system holds is refused when the
+    /// output is opened (and so by `check_output`, before any work), not
+    /// only by the rename at the end.
+    #[test]
+    fn a_file_name_too_long_is_refused_when_opened() {
+        let dir = tempfile::tempdir().unwrap();
+        let name = dir.path().join(format!("f{}.png", "0".repeat(300)));
+        let name = name.to_str().unwrap();
+        let err = check_output(name, false).unwrap_err();
+        assert!(err.to_string().starts_with(name), "{err}");
+        let IoError::Write { error, .. } = err else {
+            panic!("{err:?}")
+        };
+        assert_eq!(error.kind(), io::ErrorKind::InvalidFilename);
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+        // At the limit (255 bytes on Linux's file systems) it is written.
+        let name = dir.path().join(format!("f{}.png", "0".repeat(250)));
+        let mut out = Output::create(name.to_str().unwrap(), false).unwrap();
+        out.write_all(b"x").unwrap();
+        out.commit().unwrap();
+        assert_eq!(std::fs::read(&name).unwrap(), b"x");
     }
 
     #[test]

@@ -683,6 +683,22 @@ clitest!(frame_options_are_checked_before_anything_is_drawn, |dir| {
         .stderr(predicate::str::contains(
             "shrink.json: record 1: instance of `a` at frame 2: transform step 0: scale: singular",
         ));
+    // A frame name over NAME_MAX (as `-o f%0255d.png` makes with its prefix
+    // and suffix): refused by name before the first frame is drawn, not by
+    // the rename after it.
+    let long = format!("{}%d.png", "f".repeat(252));
+    let out = dir
+        .cmd("scene-render")
+        .args(["--frames", "3", "spin.ndjson", "-o", &long])
+        .assert()
+        .code(1);
+    let said = String::from_utf8_lossy(&out.get_output().stderr).into_owned();
+    let first = format!("{}0.png: cannot open for writing", "f".repeat(252));
+    assert!(said.contains(&first), "{said}");
+    assert!(
+        !said.contains("renaming") && !said.contains("warning"),
+        "{said}"
+    );
 });
 
 clitest!(a_frame_batch_runs_through_gnu_parallel, |dir| {
