@@ -168,8 +168,8 @@ impl Pattern {
         String::from_utf8(out).expect("canonical form is ASCII")
     }
 
-    /// Exact byte length of the canonical form (for preallocation).
-    fn canonical_len(&self) -> usize {
+    /// Exact byte length of the canonical form ([`Pattern::write_canonical`]).
+    pub fn canonical_len(&self) -> usize {
         let words_per_row = (self.size / WORD_BITS) as usize;
         let row = words_per_row * 5; // "xxxx" plus a space or the newline
         let header = format!("{} {}\n", self.size, self.palette.len()).len();

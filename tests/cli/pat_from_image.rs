@@ -404,3 +404,36 @@ clitest!(
             .stderr(predicates::str::contains("'0' for '--threads <N>'"));
     }
 );
+
+clitest!(
+    a_pattern_too_large_for_the_other_tools_to_read_is_warned_about,
+    |dir| {
+        // 2048x2048 of 256 colours is about 335.5 million bytes of text; the tools
+        // that read a .pat read at most 256 MiB of it. A small picture of
+        // 256 colours, scaled up with --dither none (no new colours), makes
+        // it; the pattern goes to /dev/null.
+        let colours = image::RgbaImage::from_fn(16, 16, |x, y| {
+            image::Rgba([(x * 16) as u8, (y * 16) as u8, ((x + y) * 8) as u8, 255])
+        });
+        dir.write("colours.png", png_with(&colours, None, None));
+        let big = dir
+            .cmd("pat-from-image")
+            .args(["--size", "2048", "--colors", "256", "--dither", "none"])
+            .args(["colours.png", "-o", "/dev/null"])
+            .assert()
+            .success();
+        let err = String::from_utf8(big.get_output().stderr.clone()).unwrap();
+        assert!(
+            err.contains("warning: the pattern's text is 3355")
+                && err.contains("read a .pat of at most 268435456 bytes"),
+            "{err}"
+        );
+        // At 1024x1024 (about 84 million bytes) the others read it: no warning.
+        dir.cmd("pat-from-image")
+            .args(["--size", "1024", "--colors", "256", "--dither", "none"])
+            .args(["colours.png", "-o", "/dev/null"])
+            .assert()
+            .success()
+            .stderr("");
+    }
+);
