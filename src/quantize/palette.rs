@@ -130,6 +130,16 @@ fn finish(centres: Vec<Point>) -> Vec<Rgb8> {
 /// the most a histogram of the small benchmark (`bench/pat_from_image.sh`:
 /// at most 32,768 colours at K <= 32) can reach, so those keep the whole
 /// search.
+///
+/// What it costs where k-means' local optima are worst, a smooth ramp (the
+/// split/merge trials are what escape them): a 256x256 gradient of exactly
+/// 32,768 colours (a hostile-input review's, `--crop --size 256`) lost
+/// 1.0 dB, 33.65 to 32.61 at K = 64 and 39.60 to 38.59 at K = 256, in 0.02-0.03
+/// s against 0.14-0.19, and fell 0.04-0.08 dB below `pngquant --nofs`
+/// (32.69 and 38.63, 0.03 s). Trials with k-means cut to 50 steps
+/// ([`CORESET_KMEANS_ITERATIONS`]) gave the 1.0 dB back but not the time
+/// (0.17-0.18 s). Not resolved: the benchmark images keep their margins
+/// over pngquant, this kind of picture does not.
 const LIGHT_SEARCH_WORK: usize = 1 << 20;
 
 /// What the palette search runs on.
