@@ -281,7 +281,12 @@ pub fn shorten_long_numbers(message: &str) -> std::borrow::Cow<'_, str> {
             num_end -= 1;
         }
         let token = &message[start..num_end];
-        if token.len() > LONGEST_PLAIN_NUMBER {
+        // Digits inside a word (a file name such as `f%0099...9d.png` or
+        // `frame000...0.png`) are the user's text, echoed as given.
+        let in_word = |b: u8| b.is_ascii_alphanumeric() || b"_%/\\".contains(&b);
+        let inside =
+            (start > 0 && in_word(bytes[start - 1])) || (end < bytes.len() && in_word(bytes[end]));
+        if token.len() > LONGEST_PLAIN_NUMBER && !inside {
             if let Ok(x) = token.parse::<f64>() {
                 out.push_str(&message[copied..start]);
                 out.push_str(&format!("{x:e}"));
@@ -318,6 +323,15 @@ mod tests {
             "version 1.2.3",
         ] {
             assert_eq!(shorten_long_numbers(keep), keep);
+        }
+        // Digits that are part of a word, as in a file name, stay as given.
+        let zeros = "0".repeat(255);
+        for keep in [
+            "-o f%0099999999999999999999999d.png: too wide".to_string(),
+            format!("renaming the output to f{zeros}.png: File name too long"),
+            format!("{zeros}.png and dir/{zeros}/x and {zeros}_1"),
+        ] {
+            assert_eq!(shorten_long_numbers(&keep), keep);
         }
         // The exponent form is the same value.
         let x = 1.2345678901234567e-25;
