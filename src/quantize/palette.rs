@@ -138,8 +138,13 @@ fn finish(centres: Vec<Point>) -> Vec<Rgb8> {
 /// s against 0.14-0.19, and fell 0.04-0.08 dB below `pngquant --nofs`
 /// (32.69 and 38.63, 0.03 s). Trials with k-means cut to 50 steps
 /// ([`CORESET_KMEANS_ITERATIONS`]) gave the 1.0 dB back but not the time
-/// (0.17-0.18 s). Not resolved: the benchmark images keep their margins
-/// over pngquant, this kind of picture does not.
+/// (0.17-0.18 s); trials of 10, 16 or 24 Lloyd steps each after a 50-step
+/// first run gave 33.59-33.61 dB at K = 64 and 38.61-38.82 at K = 256 in
+/// 0.06-0.11 s, but added 0.01-0.025 s to the logo, the drawing and
+/// netscape at 1024x1024, K = 256 (whole process to /dev/null, median of 5,
+/// taking turns), which would put them over pngquant's time there. Not
+/// resolved: the benchmark images keep their margins over pngquant, this
+/// kind of picture does not.
 const LIGHT_SEARCH_WORK: usize = 1 << 20;
 
 /// What the palette search runs on.
