@@ -20,10 +20,12 @@
 //!    visibility within a pixel in `visible`), [`reference`](mod@reference) (`--reference`: the
 //!    reference (docs/rendering.md) by an independent method, with its own error estimate).
 //! 4. Linear light is encoded to sRGB once, rounding: each tile as soon as
-//!    it is rendered ([`render_encoded`]), or a whole [`Frame`] kept in linear
-//!    light ([`Frame::to_image`]) where it is needed, for the two passes of a
-//!    transparent background and for `--reference`. ([`Background`] is what
-//!    lies behind every polygon.)
+//!    it is rendered ([`render_encoded`]; over a transparent background from
+//!    the tile's two passes, over black and over white,
+//!    [`render_encoded_with_alpha`]), or a whole [`Frame`] kept in linear
+//!    light ([`Frame::to_image`]) where it is needed, for `--reference`. A
+//!    tile that no polygon reaches, over a plain background, is one colour,
+//!    encoded once. ([`Background`] is what lies behind every polygon.)
 //!
 //! Work is split into fixed square tiles of [`TILE`] pixels; every tile is
 //! computed from the same inputs in the same order whatever the number of
