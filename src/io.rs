@@ -251,6 +251,14 @@ pub const MAX_CAMERA_BYTES: u64 = 1 << 20;
 /// table): only a regular file (a scene naming `/dev/zero` or a FIFO is
 /// refused, not read forever) of at most [`MAX_NAMED_FILE_BYTES`].
 pub fn read_path(path: &Path) -> io::Result<Vec<u8>> {
+    open_path(path)?.read_all()
+}
+
+/// Opens a file that an input names, refusing what [`read_path`] refuses
+/// but its size, and reads its first bytes: a caller that finds a `.pat`
+/// there reads it as a stream ([`Opened::into_reader`]), bounded by its
+/// header rather than by [`MAX_NAMED_FILE_BYTES`].
+pub fn open_path(path: &Path) -> io::Result<Opened> {
     let meta = std::fs::metadata(path)?;
     if meta.is_dir() {
         return Err(is_a_directory());
@@ -261,23 +269,81 @@ pub fn read_path(path: &Path) -> io::Result<Vec<u8>> {
             "is not a regular file: a stream names only files",
         ));
     }
-    let too_large = || {
-        io::Error::new(
-            io::ErrorKind::InvalidData,
-            format!("is larger than the {MAX_NAMED_FILE_BYTES} bytes a named file may have"),
-        )
-    };
-    if meta.len() > MAX_NAMED_FILE_BYTES {
-        return Err(too_large());
+    let mut file = std::fs::File::open(path)?;
+    let start = read_start(&mut file)?;
+    Ok(Opened {
+        start,
+        rest: Box::new(file),
+        limit: MAX_NAMED_FILE_BYTES,
+        known_len: Some(meta.len()),
+        limit_says: "a named file may have",
+        input: path.display().to_string(),
+    })
+}
+
+/// An input opened and its first bytes read (up to `SNIFF_BYTES`), to be
+/// read whole, bounded as its kind says ([`Opened::read_all`]), or as a
+/// stream whose reader bounds it ([`Opened::into_reader`]).
+pub struct Opened {
+    /// The first bytes.
+    pub start: Vec<u8>,
+    rest: Box<dyn Read>,
+    /// The most bytes [`Opened::read_all`] reads, and what it is, for its error.
+    limit: u64,
+    limit_says: &'static str,
+    /// A regular file's length, to refuse one too large before reading it.
+    known_len: Option<u64>,
+    /// The name it was opened by, for [`Opened::read_input`]'s errors.
+    input: String,
+}
+
+impl Opened {
+    /// The whole input, refused past its limit.
+    pub fn read_all(self) -> io::Result<Vec<u8>> {
+        let too_large = || {
+            io::Error::new(
+                io::ErrorKind::InvalidData,
+                format!(
+                    "is larger than the {} bytes {}",
+                    self.limit, self.limit_says
+                ),
+            )
+        };
+        if self.known_len.is_some_and(|n| n > self.limit) {
+            return Err(too_large());
+        }
+        let mut bytes = self.start;
+        let expected = self.known_len.unwrap_or(0) as usize;
+        bytes.reserve(expected.saturating_sub(bytes.len()));
+        // Bounded even if the file grows while it is read.
+        let rest = self.limit.saturating_sub(bytes.len() as u64);
+        self.rest
+            .take(rest.saturating_add(1))
+            .read_to_end(&mut bytes)?;
+        if bytes.len() as u64 > self.limit {
+            return Err(too_large());
+        }
+        Ok(bytes)
     }
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    // Bounded even if the file grows while it is read.
-    std::fs::File::open(path)?
-        .take(MAX_NAMED_FILE_BYTES + 1)
-        .read_to_end(&mut bytes)?;
-    if bytes.len() as u64 > MAX_NAMED_FILE_BYTES {
-        return Err(too_large());
+
+    /// [`Opened::read_all`] with [`read_input`]'s errors, which carry the name.
+    pub fn read_input(self) -> Result<Vec<u8>, IoError> {
+        let input = self.input.clone();
+        self.read_all()
+            .map_err(|error| IoError::Read { input, error })
     }
+
+    /// The whole input from its first byte as a reader, unbounded: for a
+    /// reader that bounds what it reads ([`crate::Pattern::read_from`]).
+    pub fn into_reader(self) -> impl Read {
+        io::Cursor::new(self.start).chain(self.rest)
+    }
+}
+
+/// The first `SNIFF_BYTES` of `r` (fewer if it ends sooner).
+fn read_start(r: &mut impl Read) -> io::Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    r.take(SNIFF_BYTES as u64).read_to_end(&mut bytes)?;
     Ok(bytes)
 }
 
@@ -373,35 +439,37 @@ impl InputKind {
 /// bytes are checked before the rest is read, and no more than the kind's
 /// limit is read. Errors carry the name.
 pub fn read_input(name: &str, kind: InputKind) -> Result<Vec<u8>, IoError> {
-    let read = if name == STDIO {
-        read_checked(io::stdin().lock(), kind)
-    } else if Path::new(name).is_dir() {
-        Err(is_a_directory())
-    } else {
-        // Any file the user names, FIFOs and `<(...)` included.
-        std::fs::File::open(name).and_then(|f| read_checked(f, kind))
+    open_input(name, kind)?.read_input()
+}
+
+/// Opens a file by name, or standard input for `-`, and checks its first
+/// bytes as `kind`: [`read_input`] but for the rest, which the caller reads
+/// whole or as a stream (a `.pat` larger than the kind's limit).
+pub fn open_input(name: &str, kind: InputKind) -> Result<Opened, IoError> {
+    let open = || {
+        let mut r: Box<dyn Read> = if name == STDIO {
+            Box::new(io::stdin().lock())
+        } else if Path::new(name).is_dir() {
+            return Err(is_a_directory());
+        } else {
+            // Any file the user names, FIFOs and `<(...)` included.
+            Box::new(std::fs::File::open(name)?)
+        };
+        let start = read_start(&mut r)?;
+        let limit = kind.check_start(&start)?;
+        Ok(Opened {
+            start,
+            rest: r,
+            limit,
+            limit_says: "this input may have",
+            known_len: None,
+            input: name.to_string(),
+        })
     };
-    read.map_err(|error| IoError::Read {
+    open().map_err(|error| IoError::Read {
         input: name.to_string(),
         error,
     })
-}
-
-/// [`read_input`]'s reading: the start, its check, then the rest up to the
-/// limit.
-fn read_checked(mut r: impl Read, kind: InputKind) -> io::Result<Vec<u8>> {
-    let mut bytes = Vec::new();
-    (&mut r).take(SNIFF_BYTES as u64).read_to_end(&mut bytes)?;
-    let limit = kind.check_start(&bytes)?;
-    r.take(limit.saturating_sub(bytes.len() as u64).saturating_add(1))
-        .read_to_end(&mut bytes)?;
-    if bytes.len() as u64 > limit {
-        return Err(io::Error::new(
-            io::ErrorKind::InvalidData,
-            format!("is larger than the {limit} bytes this input may have"),
-        ));
-    }
-    Ok(bytes)
 }
 
 /// The name to show in errors for an input argument.

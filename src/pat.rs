@@ -24,9 +24,9 @@
 
 use crate::color::Rgb8;
 pub use crate::text::ParseError;
-use crate::text::{Word, Words};
+use crate::text::{ReadWords, Span};
 use std::fmt;
-use std::io::{self, Write};
+use std::io::{self, Read, Write};
 use std::path::Path;
 
 /// Pattern sides are multiples of this many texels: one 16-bit word per run.
@@ -148,16 +148,28 @@ impl Pattern {
         self.color_at(col.rem_euclid(s) as u32, row.rem_euclid(s) as u32)
     }
 
-    /// Reads a `.pat` file; errors name the file, line and word.
+    /// Reads a `.pat` file as a stream ([`Pattern::read_from`]); errors
+    /// name the file, line and word.
     pub fn read_file(path: &Path) -> Result<Pattern, ParseError> {
         let name = path.display().to_string();
-        let bytes = crate::io::read_path(path).map_err(|e| ParseError::io(&name, e))?;
-        Pattern::parse(&bytes, &name)
+        let opened = crate::io::open_path(path).map_err(|e| ParseError::io(&name, e))?;
+        Pattern::read_from(&mut opened.into_reader(), &name)
     }
 
     /// Parses the texted format (docs/pat-format.md) from bytes; `name` is used in errors.
-    pub fn parse(bytes: &[u8], name: &str) -> Result<Pattern, ParseError> {
-        Parser::new(bytes, name).pattern()
+    pub fn parse(mut bytes: &[u8], name: &str) -> Result<Pattern, ParseError> {
+        // In memory already: no bound on what is read.
+        Parser::new(&mut bytes, name, u64::MAX, false).pattern()
+    }
+
+    /// Parses a pattern read from `reader` a chunk at a time, in memory of
+    /// its texels and a buffer of a few hundred KiB: a pattern's text may be
+    /// a gigabyte (4096x4096 in 256 colours) where its texels are 32 MiB.
+    /// The same parser and errors as [`Pattern::parse`]; what is read is
+    /// bounded by [`read_limit`] of the header (before it by
+    /// [`crate::io::MAX_NAMED_FILE_BYTES`]), so an endless input ends.
+    pub fn read_from(reader: &mut dyn Read, name: &str) -> Result<Pattern, ParseError> {
+        Parser::new(reader, name, crate::io::MAX_NAMED_FILE_BYTES, true).pattern()
     }
 
     /// The canonical text (docs/pat-format.md), as one string.
@@ -479,30 +491,34 @@ const PAT_CONTENTS: &str = "`SIZE NCOLORS` and colour blocks of hex words";
 /// The `.pat` grammar (docs/pat-format.md) over the shared word tokenizer. The format has
 /// no comments: a `#` is a word, and so trailing garbage or a bad number.
 struct Parser<'a> {
-    words: Words<'a>,
+    words: ReadWords<'a>,
+    /// Whether to bound the bytes read by the header (`Pattern::read_from`).
+    bounded: bool,
 }
 
 impl<'a> Parser<'a> {
-    fn new(bytes: &'a [u8], name: &'a str) -> Self {
+    /// `limit` bounds the bytes read before the header is known.
+    fn new(reader: &'a mut dyn Read, name: &'a str, limit: u64, bounded: bool) -> Self {
         Parser {
-            words: Words::without_comments(bytes, name, PAT_CONTENTS),
+            words: ReadWords::new(reader, name, PAT_CONTENTS, limit),
+            bounded,
         }
     }
 
     /// A 16-bit word: 1..4 hex digits of any case, optional `0x`. `what` is
     /// only formatted on an error: this runs once per word of the file.
-    fn hex_word(&mut self, what: &dyn Fn() -> String) -> Result<(u16, Word<'a>), ParseError> {
+    fn hex_word(&mut self, what: &dyn Fn() -> String) -> Result<(u16, Span), ParseError> {
         let Some(w) = self.words.next()? else {
             return Err(self
                 .words
                 .expect(&what())
                 .expect_err("the end of the words stays the end"));
         };
-        let digits = w
-            .text
+        let text = self.words.text(&w);
+        let digits = text
             .strip_prefix("0x")
-            .or_else(|| w.text.strip_prefix("0X"))
-            .unwrap_or(w.text);
+            .or_else(|| text.strip_prefix("0X"))
+            .unwrap_or(text);
         if digits.is_empty() || !digits.bytes().all(|c| c.is_ascii_hexdigit()) {
             return Err(self.words.error_at(&w, format!("expected {}", what())));
         }
@@ -530,6 +546,17 @@ impl<'a> Parser<'a> {
             &format!("the number of colours, 0 to {MAX_COLORS}"),
             MAX_COLORS as u64,
         )? as usize;
+        if self.bounded {
+            let limit = read_limit(size, ncolors);
+            self.words.set_limit(
+                limit,
+                format!(
+                    "a {size}x{size} pattern of {ncolors} colour{} may take \
+                     (twice its canonical length, and 1 MiB)",
+                    if ncolors == 1 { "" } else { "s" }
+                ),
+            );
+        }
 
         let s = size as usize;
         let words_per_row = s / WORD_BITS as usize;
@@ -591,6 +618,28 @@ impl<'a> Parser<'a> {
             texels,
         })
     }
+}
+
+/// The most bytes [`Pattern::read_from`] reads of a pattern whose header
+/// says `size` and `ncolors`: twice the canonical length with the longest
+/// `R G B` lines, and 1 MiB. Room for any layout a person or script writes
+/// (`0x0000`, CRLF, a space more), and an end to an endless input.
+pub fn read_limit(size: u32, ncolors: usize) -> u64 {
+    let row = (size / WORD_BITS) as u64 * 5;
+    let block = "255 255 255\n".len() as u64 + size as u64 * row;
+    let canonical = format!("{size} {ncolors}\n").len() as u64 + ncolors as u64 * block;
+    2 * canonical + (1 << 20)
+}
+
+/// Whether an input that starts with `start` is a `.pat` to read as a
+/// stream: its first word starts with a digit, as a pattern's size does.
+/// What does not (an image, a modulation map, a palette list, any other
+/// file) is read whole as before, for the formats and errors of its own.
+pub fn starts_as_pattern(start: &[u8]) -> bool {
+    start
+        .iter()
+        .find(|b| !b.is_ascii_whitespace())
+        .is_some_and(u8::is_ascii_digit)
 }
 
 #[cfg(test)]
@@ -881,6 +930,146 @@ mod tests {
         let e = Pattern::read_file(&missing).unwrap_err().to_string();
         assert!(e.starts_with(&missing.display().to_string()), "{e}");
         assert!(e.contains("No such file"), "{e}");
+    }
+
+    /// A reader that hands out 1 to 7 bytes a call, in turn: every word,
+    /// line end and error falls across a refill somewhere.
+    struct Trickle<'a> {
+        bytes: &'a [u8],
+        next: usize,
+    }
+
+    impl Read for Trickle<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            self.next = self.next % 7 + 1;
+            let n = self.next.min(buf.len()).min(self.bytes.len());
+            buf[..n].copy_from_slice(&self.bytes[..n]);
+            self.bytes = &self.bytes[n..];
+            Ok(n)
+        }
+    }
+
+    fn streamed(bytes: &[u8], name: &str) -> Result<Pattern, ParseError> {
+        Pattern::read_from(&mut Trickle { bytes, next: 0 }, name)
+    }
+
+    #[test]
+    fn a_stream_read_a_few_bytes_at_a_time_parses_as_the_bytes_do() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/patterns");
+        let mut seen = 0;
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_none_or(|e| e != "pat") {
+                continue;
+            }
+            let bytes = std::fs::read(&path).unwrap();
+            let whole = Pattern::parse(&bytes, "f.pat").unwrap();
+            assert_eq!(streamed(&bytes, "f.pat").unwrap(), whole, "{path:?}");
+            seen += 1;
+        }
+        assert!(seen >= 9, "{seen} fixtures");
+        let text = large().to_canonical();
+        assert_eq!(streamed(text.as_bytes(), "l.pat").unwrap(), large());
+    }
+
+    #[test]
+    fn a_stream_gives_the_errors_the_bytes_give() {
+        let zeros = vec!["0"; 15].join(" ");
+        let mut words = vec!["0"; 16];
+        words[2] = "10000";
+        let too_many_digits = one_colour(&words.join(" "));
+        words[2] = "0xg1";
+        let not_hex = one_colour(&words.join(" "));
+        let mut junk = b"16 1\n1 2 3\n".to_vec();
+        junk.extend_from_slice(&[0x89, b'P', b'N', b'G', 0, 1]);
+        let mut cases: Vec<Vec<u8>> = [
+            String::new(),
+            " \n\t\n".into(),
+            "\nsixteen 1".into(),
+            "-16 1".into(),
+            "root:x:0:0:root:/root 1".into(),
+            "17 0".into(),
+            "99999999999999999999999 0".into(),
+            "16 -1".into(),
+            "16 65536".into(),
+            "16 1e9".into(),
+            "16".into(),
+            "16 1\n1 256 3\n".into(),
+            "16 1\n1 2 -3\n".into(),
+            one_colour(&vec!["0"; 15].join(" ")),
+            one_colour(&vec!["0"; 17].join(" ")),
+            format!("{}\n# comment", one_colour(&vec!["0"; 16].join(" "))),
+            too_many_digits,
+            not_hex,
+            format!("16 2\n1 1 1\n0100 {zeros}\n2 2 2\n0300 {zeros}"),
+            format!("16 1\n1 2 3\n{}x", "f".repeat(40)),
+        ]
+        .into_iter()
+        .map(String::into_bytes)
+        .collect();
+        cases.push(junk);
+        cases.push(b"\x00\x01".to_vec());
+        cases.push(b"16 0\r\n\x7f".to_vec());
+        for bytes in &cases {
+            let whole = Pattern::parse(bytes, "x.pat").unwrap_err();
+            assert_eq!(
+                streamed(bytes, "x.pat").unwrap_err().to_string(),
+                whole.to_string(),
+                "{:?}",
+                String::from_utf8_lossy(bytes)
+            );
+        }
+    }
+
+    #[test]
+    fn a_word_longer_than_a_stream_keeps_is_an_error_naming_its_line() {
+        let mut text = b"16 1\n\n".to_vec();
+        text.extend(std::iter::repeat_n(b'7', crate::text::MAX_STREAM_WORD + 10));
+        let e = Pattern::read_from(&mut &text[..], "w.pat")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            format!(
+                "w.pat:3: word 3 `777777777777777777777777...`: a word of more than {} bytes: \
+                 expected `SIZE NCOLORS` and colour blocks of hex words",
+                crate::text::MAX_STREAM_WORD
+            )
+        );
+    }
+
+    /// Whitespace without end after `head`.
+    struct Endless {
+        head: &'static [u8],
+    }
+
+    impl Read for Endless {
+        fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            let n = self.head.len().min(buf.len());
+            buf[..n].copy_from_slice(&self.head[..n]);
+            self.head = &self.head[n..];
+            buf[n..].fill(b' ');
+            Ok(buf.len())
+        }
+    }
+
+    #[test]
+    fn an_endless_stream_ends_at_the_bound_its_header_sets() {
+        let e = Pattern::read_from(&mut Endless { head: b"16 1\n" }, "-")
+            .unwrap_err()
+            .to_string();
+        let bound = read_limit(16, 1);
+        assert!(bound > 2 * sample().canonical_len() as u64);
+        assert_eq!(
+            e,
+            format!(
+                "-: is longer than the {bound} bytes a 16x16 pattern of 1 colour may take \
+                 (twice its canonical length, and 1 MiB)"
+            )
+        );
+        // The largest pattern pat-from-image writes is well within its bound.
+        let biggest = 4096u64 * (4096 / 16 * 5) * 256;
+        assert!(read_limit(4096, 256) > 2 * biggest);
     }
 
     #[test]

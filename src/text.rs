@@ -68,17 +68,164 @@ pub(crate) struct Word<'a> {
     pub index: usize,
 }
 
+/// The error at word `index` (`text`, on `line`) of `file`. The first word
+/// is not echoed (`FIRST_WORD`), a long one is cut at `MAX_ECHO`.
+fn word_error(file: &str, text: &str, line: usize, index: usize, message: String) -> ParseError {
+    let mut echo: String = text.chars().take(MAX_ECHO).collect();
+    if text.len() > MAX_ECHO {
+        echo.push_str("...");
+    }
+    if index == FIRST_WORD {
+        echo.clear();
+    }
+    ParseError {
+        file: file.to_string(),
+        line: Some(line),
+        word: Some((index, echo)),
+        message,
+    }
+}
+
+/// The error of a file that ended where `what` was expected: "empty file"
+/// when it had no word at all (`what_file` says what it should contain).
+fn end_error(file: &str, cursor: &Cursor, what: &str, what_file: &str) -> ParseError {
+    if cursor.count == 0 {
+        return ParseError {
+            file: file.to_string(),
+            line: None,
+            word: None,
+            message: format!("empty file: expected {what_file}"),
+        };
+    }
+    ParseError {
+        file: file.to_string(),
+        line: Some(cursor.last_line),
+        word: None,
+        message: format!("unexpected end of file: expected {what}"),
+    }
+}
+
+/// `text` as an unsigned decimal of at most `max`, saturating so absurd
+/// values give a range error; the error's message otherwise.
+fn decimal_value(text: &str, what: &str, max: u64) -> Result<u64, String> {
+    if !text.bytes().all(|c| c.is_ascii_digit()) {
+        return Err(format!("expected {what}"));
+    }
+    let v = text.bytes().fold(0u64, |acc, c| {
+        acc.saturating_mul(10).saturating_add((c - b'0') as u64)
+    });
+    if v > max {
+        return Err(format!("out of range: expected {what}"));
+    }
+    Ok(v)
+}
+
+/// What [`Cursor::scan`] found.
+enum Scan {
+    /// A word at `start..end` of the bytes.
+    Word(usize, usize),
+    /// No more words.
+    End,
+    /// The bytes ended inside a word, or before one, and more may follow.
+    More,
+}
+
+/// Where the tokenizer is: kept across a stream's refills, so that lines
+/// and word numbers count from the file's start whatever its chunks.
+#[derive(Clone, Copy, Debug)]
+struct Cursor {
+    /// Whether `#` starts a comment.
+    comments: bool,
+    /// Offset of the next byte to look at.
+    pos: usize,
+    line: usize,
+    count: usize,
+    last_line: usize,
+    /// Inside a comment that the bytes so far did not end.
+    in_comment: bool,
+}
+
+impl Cursor {
+    fn new(comments: bool) -> Cursor {
+        Cursor {
+            comments,
+            pos: 0,
+            line: 1,
+            count: 0,
+            last_line: 1,
+            in_comment: false,
+        }
+    }
+
+    /// The grammar of words, the one both tokenizers use: the next word of
+    /// `b` from `pos`, whitespace and comments skipped. Unless `at_eof`, a
+    /// word reaching the end of `b` may go on in the next chunk: that is
+    /// `More`, with `pos` left at the word's start. A byte that is neither
+    /// whitespace nor printable ASCII is `Err(byte)` on `line`.
+    fn scan(&mut self, b: &[u8], at_eof: bool) -> Result<Scan, u8> {
+        loop {
+            if self.in_comment {
+                match b[self.pos..].iter().position(|&c| c == b'\n') {
+                    Some(n) => {
+                        self.pos += n;
+                        self.in_comment = false;
+                    }
+                    None => {
+                        self.pos = b.len();
+                        return Ok(if at_eof { Scan::End } else { Scan::More });
+                    }
+                }
+            }
+            while self.pos < b.len() && b[self.pos].is_ascii_whitespace() {
+                if b[self.pos] == b'\n' {
+                    self.line += 1;
+                }
+                self.pos += 1;
+            }
+            if self.comments && self.pos < b.len() && b[self.pos] == b'#' {
+                self.in_comment = true;
+                continue;
+            }
+            break;
+        }
+        if self.pos == b.len() {
+            return Ok(if at_eof { Scan::End } else { Scan::More });
+        }
+        let start = self.pos;
+        let mut end = start;
+        while end < b.len() && !b[end].is_ascii_whitespace() {
+            let c = b[end];
+            if !c.is_ascii_graphic() {
+                return Err(c);
+            }
+            end += 1;
+        }
+        if end == b.len() && !at_eof {
+            return Ok(Scan::More);
+        }
+        self.pos = end;
+        self.count += 1;
+        self.last_line = self.line;
+        Ok(Scan::Word(start, end))
+    }
+
+    /// The error for byte `c`, which is not text.
+    fn not_text(&self, file: &str, c: u8, what_file: &str) -> ParseError {
+        ParseError {
+            file: file.to_string(),
+            line: Some(self.line),
+            word: None,
+            message: format!("byte 0x{c:02x} is not text: expected {what_file}"),
+        }
+    }
+}
+
 /// Words of a text file with their lines. In the stripe formats `#` starts a
 /// comment to the end of the line (the maps are generated by scripts that like
 /// to say how); the `.pat` format has no comments.
 pub(crate) struct Words<'a> {
     bytes: &'a [u8],
-    /// Whether `#` starts a comment.
-    comments: bool,
-    pos: usize,
-    line: usize,
-    count: usize,
-    last_line: usize,
+    cursor: Cursor,
     pub name: &'a str,
     /// What the file should contain, for the "empty file" message.
     what: &'static str,
@@ -88,7 +235,7 @@ impl<'a> Words<'a> {
     /// A tokenizer where `#` starts a comment.
     pub fn new(bytes: &'a [u8], name: &'a str, what: &'static str) -> Self {
         Words {
-            comments: true,
+            cursor: Cursor::new(true),
             ..Words::without_comments(bytes, name, what)
         }
     }
@@ -96,97 +243,35 @@ impl<'a> Words<'a> {
     /// A tokenizer with no comments: `#` is a word like any other.
     pub fn without_comments(bytes: &'a [u8], name: &'a str, what: &'static str) -> Self {
         Words {
-            comments: false,
             bytes,
-            pos: 0,
-            line: 1,
-            count: 0,
-            last_line: 1,
+            cursor: Cursor::new(false),
             name,
             what,
         }
     }
 
     pub fn error_at(&self, w: &Word, message: String) -> ParseError {
-        let mut text: String = w.text.chars().take(MAX_ECHO).collect();
-        if w.text.len() > MAX_ECHO {
-            text.push_str("...");
-        }
-        if w.index == FIRST_WORD {
-            text.clear();
-        }
-        ParseError {
-            file: self.name.to_string(),
-            line: Some(w.line),
-            word: Some((w.index, text)),
-            message,
-        }
-    }
-
-    fn error_line(&self, line: usize, message: String) -> ParseError {
-        ParseError {
-            file: self.name.to_string(),
-            line: Some(line),
-            word: None,
-            message,
-        }
+        word_error(self.name, w.text, w.line, w.index, message)
     }
 
     /// Next word, `Ok(None)` at the end, or an error on a byte that is not text.
     pub fn next(&mut self) -> Result<Option<Word<'a>>, ParseError> {
-        let b = self.bytes;
-        loop {
-            while self.pos < b.len() && b[self.pos].is_ascii_whitespace() {
-                if b[self.pos] == b'\n' {
-                    self.line += 1;
-                }
-                self.pos += 1;
-            }
-            if self.comments && self.pos < b.len() && b[self.pos] == b'#' {
-                while self.pos < b.len() && b[self.pos] != b'\n' {
-                    self.pos += 1;
-                }
-                continue;
-            }
-            break;
+        match self.cursor.scan(self.bytes, true) {
+            Ok(Scan::Word(start, end)) => Ok(Some(Word {
+                text: std::str::from_utf8(&self.bytes[start..end]).expect("checked ASCII"),
+                line: self.cursor.line,
+                index: self.cursor.count,
+            })),
+            Ok(Scan::End | Scan::More) => Ok(None),
+            Err(c) => Err(self.cursor.not_text(self.name, c, self.what)),
         }
-        if self.pos == b.len() {
-            return Ok(None);
-        }
-        let start = self.pos;
-        while self.pos < b.len() && !b[self.pos].is_ascii_whitespace() {
-            let c = b[self.pos];
-            if !c.is_ascii_graphic() {
-                return Err(self.error_line(
-                    self.line,
-                    format!("byte 0x{c:02x} is not text: expected {}", self.what),
-                ));
-            }
-            self.pos += 1;
-        }
-        self.count += 1;
-        self.last_line = self.line;
-        Ok(Some(Word {
-            text: std::str::from_utf8(&b[start..self.pos]).expect("checked ASCII"),
-            line: self.line,
-            index: self.count,
-        }))
     }
 
     /// The next word, or an error naming what was expected.
     pub fn expect(&mut self, what: &str) -> Result<Word<'a>, ParseError> {
         match self.next()? {
             Some(w) => Ok(w),
-            None if self.count == 0 => Err(ParseError {
-                file: self.name.to_string(),
-                line: None,
-                word: None,
-                message: format!("empty file: expected {}", self.what),
-            }),
-            None => Err(self.error_line(
-                self.last_line,
-                format!("unexpected end of file: expected {what}"),
-            )),
+            None => Err(end_error(self.name, &self.cursor, what, self.what)),
         }
     }
 
@@ -197,16 +282,7 @@ impl<'a> Words<'a> {
     }
 
     pub fn decimal_of(&self, w: &Word, what: &str, max: u64) -> Result<u64, ParseError> {
-        if !w.text.bytes().all(|c| c.is_ascii_digit()) {
-            return Err(self.error_at(w, format!("expected {what}")));
-        }
-        let v = w.text.bytes().fold(0u64, |acc, c| {
-            acc.saturating_mul(10).saturating_add((c - b'0') as u64)
-        });
-        if v > max {
-            return Err(self.error_at(w, format!("out of range: expected {what}")));
-        }
-        Ok(v)
+        decimal_value(w.text, what, max).map_err(|m| self.error_at(w, m))
     }
 
     /// Fails if anything but comments and whitespace remains.
@@ -218,6 +294,165 @@ impl<'a> Words<'a> {
                 format!("trailing data: the file ends after {expected_count}"),
             )),
         }
+    }
+}
+
+/// The longest word a stream's words may have: 64 KiB, thousands of times
+/// any word of the formats, and a bound on the buffer of a stream that is
+/// one endless word.
+pub(crate) const MAX_STREAM_WORD: usize = 1 << 16;
+
+/// Bytes read from a stream at a time.
+const STREAM_CHUNK: usize = 1 << 18;
+
+/// Where a word of [`ReadWords`] is: its text is
+/// [`ReadWords::text`] until the next word is read.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Span {
+    start: usize,
+    end: usize,
+    pub line: usize,
+    pub index: usize,
+}
+
+/// The words of a text read from a stream a chunk at a time, in a buffer of
+/// at most `STREAM_CHUNK` plus `MAX_STREAM_WORD` bytes however long the
+/// text: a `.pat` of 4096x4096 texels in 256 colours is 1.3 GB. Lines,
+/// word numbers and every error are those [`Words`] gives for the same
+/// bytes; a word longer than [`MAX_STREAM_WORD`] is an error. No comments
+/// (the `.pat` format has none).
+pub(crate) struct ReadWords<'a> {
+    reader: &'a mut dyn std::io::Read,
+    /// The unread part of the text: `buf[cursor.pos..]`.
+    buf: Vec<u8>,
+    cursor: Cursor,
+    eof: bool,
+    /// Bytes read so far, and the most that may be read, with why.
+    read: u64,
+    limit: u64,
+    limit_reason: String,
+    pub name: &'a str,
+    what: &'static str,
+}
+
+impl<'a> ReadWords<'a> {
+    /// The words of `reader`, of which at most `limit` bytes are read
+    /// ([`ReadWords::set_limit`]).
+    pub fn new(
+        reader: &'a mut dyn std::io::Read,
+        name: &'a str,
+        what: &'static str,
+        limit: u64,
+    ) -> Self {
+        ReadWords {
+            reader,
+            buf: Vec::new(),
+            cursor: Cursor::new(false),
+            eof: false,
+            read: 0,
+            limit,
+            limit_reason: String::new(),
+            name,
+            what,
+        }
+    }
+
+    /// Reading more than `limit` bytes in all is an error saying so, and
+    /// `reason` (what the bound is): an endless input must end.
+    pub fn set_limit(&mut self, limit: u64, reason: String) {
+        self.limit = limit;
+        self.limit_reason = reason;
+    }
+
+    /// Drops what was scanned and reads the next chunk after the rest.
+    fn refill(&mut self) -> Result<(), ParseError> {
+        let pos = self.cursor.pos;
+        self.buf.drain(..pos);
+        self.cursor.pos = 0;
+        if self.buf.len() >= MAX_STREAM_WORD {
+            let text = std::str::from_utf8(&self.buf[..MAX_ECHO + 1]).expect("checked ASCII");
+            return Err(word_error(
+                self.name,
+                text,
+                self.cursor.line,
+                self.cursor.count + 1,
+                format!(
+                    "a word of more than {MAX_STREAM_WORD} bytes: expected {}",
+                    self.what
+                ),
+            ));
+        }
+        let kept = self.buf.len();
+        self.buf.resize(kept + STREAM_CHUNK, 0);
+        let n = loop {
+            match self.reader.read(&mut self.buf[kept..]) {
+                Ok(n) => break n,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(ParseError::io(self.name, e)),
+            }
+        };
+        self.buf.truncate(kept + n);
+        self.eof = n == 0;
+        self.read += n as u64;
+        if self.read > self.limit {
+            return Err(ParseError {
+                file: self.name.to_string(),
+                line: None,
+                word: None,
+                message: format!(
+                    "is longer than the {} bytes {}",
+                    self.limit, self.limit_reason
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// Next word, `Ok(None)` at the end, or an error on a byte that is not
+    /// text, a word too long, a failed read or the limit passed.
+    pub fn next(&mut self) -> Result<Option<Span>, ParseError> {
+        loop {
+            match self.cursor.scan(&self.buf, self.eof) {
+                Ok(Scan::Word(start, end)) => {
+                    return Ok(Some(Span {
+                        start,
+                        end,
+                        line: self.cursor.line,
+                        index: self.cursor.count,
+                    }))
+                }
+                Ok(Scan::End) => return Ok(None),
+                Ok(Scan::More) => self.refill()?,
+                Err(c) => return Err(self.cursor.not_text(self.name, c, self.what)),
+            }
+        }
+    }
+
+    /// The text of the word last read.
+    pub fn text(&self, w: &Span) -> &str {
+        std::str::from_utf8(&self.buf[w.start..w.end]).expect("checked ASCII")
+    }
+
+    pub fn error_at(&self, w: &Span, message: String) -> ParseError {
+        word_error(self.name, self.text(w), w.line, w.index, message)
+    }
+
+    /// The next word, or an error naming what was expected.
+    pub fn expect(&mut self, what: &str) -> Result<Span, ParseError> {
+        match self.next()? {
+            Some(w) => Ok(w),
+            None => Err(end_error(self.name, &self.cursor, what, self.what)),
+        }
+    }
+
+    /// An unsigned decimal, saturating so absurd values give a range error.
+    pub fn decimal(&mut self, what: &str, max: u64) -> Result<u64, ParseError> {
+        let w = self.expect(what)?;
+        self.decimal_of(&w, what, max)
+    }
+
+    pub fn decimal_of(&self, w: &Span, what: &str, max: u64) -> Result<u64, ParseError> {
+        decimal_value(self.text(w), what, max).map_err(|m| self.error_at(w, m))
     }
 }
 

@@ -160,9 +160,16 @@ fn run_in_pool(args: Args) -> Result<()> {
     }
     let palette = match &args.palette {
         Some(file) => {
-            let bytes =
-                io::read_input(file, io::InputKind::Text).context("reading the --palette file")?;
-            Some(quantize::parse_palette_file(&bytes, display_name(file))?)
+            let name = display_name(file);
+            let opened =
+                io::open_input(file, io::InputKind::Text).context("reading the --palette file")?;
+            if quantize::palette_is_pattern(&opened.start) {
+                let p = pat::Pattern::read_from(&mut opened.into_reader(), name)?;
+                Some(quantize::pattern_palette(&p, name)?)
+            } else {
+                let bytes = opened.read_input().context("reading the --palette file")?;
+                Some(quantize::parse_palette_file(&bytes, name)?)
+            }
         }
         None => None,
     };

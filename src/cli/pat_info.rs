@@ -108,7 +108,16 @@ pub fn run(args: Args) -> Result<()> {
     let mut reports = Vec::new();
     for file in &args.files {
         let name = display_name(file);
-        let bytes = read_input(file, crate::io::InputKind::Text);
+        // A pattern is read as a stream (it may be larger than a file read
+        // whole may be); anything else whole, as a map or for its error.
+        let mut stream = None;
+        let bytes = match crate::io::open_input(file, crate::io::InputKind::Text) {
+            Ok(opened) if crate::pat::starts_as_pattern(&opened.start) => {
+                stream = Some(opened);
+                Ok(Vec::new())
+            }
+            opened => opened.and_then(crate::io::Opened::read_input),
+        };
         if let Ok(b) = &bytes {
             if ModulationMap::sniff(b) {
                 let result = ModulationMap::parse(b, name)
@@ -136,10 +145,15 @@ pub fn run(args: Args) -> Result<()> {
                 continue;
             }
         }
-        let result = bytes
-            .map_err(anyhow::Error::new)
-            .and_then(|bytes| Pattern::parse(&bytes, name).map_err(anyhow::Error::new))
-            .and_then(|p| texel(&p, args.at).map(|t| (p, t)));
+        let result = match stream {
+            Some(opened) => {
+                Pattern::read_from(&mut opened.into_reader(), name).map_err(anyhow::Error::new)
+            }
+            None => bytes
+                .map_err(anyhow::Error::new)
+                .and_then(|bytes| Pattern::parse(&bytes, name).map_err(anyhow::Error::new)),
+        }
+        .and_then(|p| texel(&p, args.at).map(|t| (p, t)));
         let (pattern, at) = match result {
             Ok(ok) => ok,
             Err(e) => {

@@ -4,8 +4,7 @@
 use super::{warn, IntPair, Size};
 use crate::cli::usage_bail;
 use crate::color::Rgb8;
-use crate::io::{display_name, read_input, save_rows, ImageFormat, Output, PngOptions};
-use crate::pat::Pattern;
+use crate::io::{display_name, open_input, save_rows, ImageFormat, Output, PngOptions};
 use crate::texture::{ScreenTiling, TileRows};
 use anyhow::{Context, Result};
 use clap::Parser;
@@ -91,8 +90,8 @@ pub fn run(args: Args) -> Result<()> {
         Some(super::output_format_8bit(args.format, &args.output)?)
     };
     let name = display_name(&args.input);
-    let bytes = read_input(&args.input, crate::io::InputKind::Text)?;
-    let pattern = Pattern::parse(&bytes, name)?;
+    let opened = open_input(&args.input, crate::io::InputKind::Text)?;
+    let pattern = super::read_pattern(opened, name)?;
 
     let Some(format) = format else {
         let mut tiled = pattern

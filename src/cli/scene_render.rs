@@ -442,10 +442,7 @@ fn run_in_pool(args: Args) -> Result<()> {
     let view = View::new(&camera, width, height);
     let bg_pattern = match &args.background_pattern {
         // A command-line input: `<(...)` works as well as a file.
-        Some(p) => Some(Texels::parse(
-            &read_input(p, crate::io::InputKind::TextOrImage)?,
-            display_name(p),
-        )?),
+        Some(p) => Some(Texels::read_input(p)?),
         None => None,
     };
     let bg = match args.background {

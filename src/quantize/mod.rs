@@ -59,7 +59,7 @@ mod space;
 mod test_data;
 
 pub use self::palette::{choose_palette, choose_palette_with, histogram};
-pub use self::palette_file::parse_palette_file;
+pub use self::palette_file::{palette_is_pattern, parse_palette_file, pattern_palette};
 pub use self::psnr::psnr;
 pub use self::remap::{remap, remap_with, Dither};
 use self::remap::{remap_by_table, NearestTable};

@@ -77,6 +77,32 @@ pub fn parse_palette_file(bytes: &[u8], name: &str) -> Result<Vec<Rgb8>, Palette
     } else {
         Pattern::parse(bytes, name)?.palette().to_vec()
     };
+    checked(palette, name)
+}
+
+/// Whether a palette file that starts with `start` is a `.pat` to read as a
+/// stream ([`Pattern::read_from`]: a pattern may be larger than a file read
+/// whole may be): it starts as a pattern, and its first line, whole within
+/// `start`, holds no comma (`16,0,0` starts a list).
+pub fn palette_is_pattern(start: &[u8]) -> bool {
+    let from = start.iter().position(|b| !b.is_ascii_whitespace());
+    let first_line = from.and_then(|i| {
+        let line = &start[i..];
+        line.iter()
+            .position(|&b| b == b'\n')
+            .map(|end| &line[..end])
+    });
+    crate::pat::starts_as_pattern(start) && first_line.is_some_and(|l| !l.contains(&b','))
+}
+
+/// The palette of a pattern read as a stream, checked as
+/// [`parse_palette_file`] checks one.
+pub fn pattern_palette(pattern: &Pattern, name: &str) -> Result<Vec<Rgb8>, PaletteError> {
+    checked(pattern.palette().to_vec(), name)
+}
+
+/// `palette`, unless it is empty or too long for a quantized pattern.
+fn checked(palette: Vec<Rgb8>, name: &str) -> Result<Vec<Rgb8>, PaletteError> {
     if palette.is_empty() {
         return Err(PaletteError::Empty(name.to_string()));
     }

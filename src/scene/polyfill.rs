@@ -241,11 +241,11 @@ impl<W: Write> Job<'_, W> {
             return Ok(p.clone());
         }
         let name = path.display().to_string();
-        let bytes = crate::io::read_path(&path)
+        let opened = crate::io::open_path(&path)
             .map_err(|e| CellsError::Pattern(crate::text::ParseError::io(&name, e)))?;
         // An image texture (scene-render draws those) has no palette for
         // the cells' colours and merging: a .pat is needed here.
-        if crate::io::is_image(&bytes) {
+        if crate::io::is_image(&opened.start) {
             return Err(CellsError::Option(OptionError::new(
                 format!(
                     "{name}: an image; polygons are cut into the texels of a .pat \
@@ -256,7 +256,9 @@ impl<W: Write> Job<'_, W> {
                 "",
             )));
         }
-        let p = Rc::new(Pattern::parse(&bytes, &name).map_err(CellsError::Pattern)?);
+        // Read as a stream: a pattern may be larger than a file read whole.
+        let p = Pattern::read_from(&mut opened.into_reader(), &name);
+        let p = Rc::new(p.map_err(CellsError::Pattern)?);
         self.summary.files.push(path.clone());
         self.patterns.insert(path, p.clone());
         Ok(p)

@@ -222,11 +222,14 @@ fn fan(face: &Face, mesh: &Mesh) -> Vec<[usize; 3]> {
 /// header, a `.pat`'s side.
 fn texture_size(path: &Path) -> Result<(u32, u32), String> {
     let name = path.display().to_string();
-    let bytes = crate::io::read_path(path).map_err(|err| format!("{name}: {err}"))?;
-    if crate::io::is_image(&bytes) {
+    let opened = crate::io::open_path(path).map_err(|err| format!("{name}: {err}"))?;
+    if crate::io::is_image(&opened.start) {
+        let bytes = opened.read_all().map_err(|err| format!("{name}: {err}"))?;
         crate::io::texture_size(&bytes, &name).map_err(|err| err.to_string())
     } else {
-        let p = crate::pat::Pattern::parse(&bytes, &name).map_err(|err| err.to_string())?;
+        // Read as a stream: a pattern may be larger than a file read whole.
+        let p = crate::pat::Pattern::read_from(&mut opened.into_reader(), &name)
+            .map_err(|err| err.to_string())?;
         Ok((p.size(), p.size()))
     }
 }

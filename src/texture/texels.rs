@@ -120,6 +120,13 @@ pub enum LoadError {
     Image(#[from] crate::io::IoError),
 }
 
+/// Whether an opened texture is a `.pat` to read as a stream (it may be
+/// larger than a file read whole may be): not an image, and starting as a
+/// pattern.
+fn is_pattern_stream(opened: &crate::io::Opened) -> bool {
+    !crate::io::is_image(&opened.start) && crate::pat::starts_as_pattern(&opened.start)
+}
+
 impl Texels {
     /// The texels of `p` (docs/pat-format.md: row 0 at the bottom), each an sRGB
     /// colour or transparent.
@@ -143,9 +150,29 @@ impl Texels {
     /// refused before it is decoded.
     pub fn read_file(path: &Path) -> Result<Texels, LoadError> {
         let name = path.display().to_string();
-        let bytes =
-            crate::io::read_path(path).map_err(|e| crate::text::ParseError::io(&name, e))?;
-        Texels::parse(&bytes, &name)
+        let io_error = |e| crate::text::ParseError::io(&name, e);
+        let opened = crate::io::open_path(path).map_err(io_error)?;
+        if is_pattern_stream(&opened) {
+            return Ok(Texels::new(&Pattern::read_from(
+                &mut opened.into_reader(),
+                &name,
+            )?));
+        }
+        Texels::parse(&opened.read_all().map_err(io_error)?, &name)
+    }
+
+    /// [`Texels::read_file`] of an input named on the command line (`-`
+    /// for standard input), with [`crate::io::read_input`]'s errors.
+    pub fn read_input(file: &str) -> Result<Texels, LoadError> {
+        let name = crate::io::display_name(file);
+        let opened = crate::io::open_input(file, crate::io::InputKind::TextOrImage)?;
+        if is_pattern_stream(&opened) {
+            return Ok(Texels::new(&Pattern::read_from(
+                &mut opened.into_reader(),
+                name,
+            )?));
+        }
+        Texels::parse(&opened.read_input()?, name)
     }
 
     /// [`Texels::read_file`] of bytes already read; `name` is used in
