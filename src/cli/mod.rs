@@ -750,6 +750,22 @@ pub fn dep_name(path: &std::path::Path) -> String {
     }
 }
 
+/// A `.pat` named on the command line, opened by [`crate::io::open_input`]
+/// (`name` for errors): read as a stream when it starts as a pattern, so
+/// one larger than [`crate::io::MAX_NAMED_FILE_BYTES`] is read in memory of
+/// its texels; else read whole and parsed as before, for the errors of
+/// what it is.
+pub fn read_pattern(opened: crate::io::Opened, name: &str) -> anyhow::Result<crate::pat::Pattern> {
+    if crate::pat::starts_as_pattern(&opened.start) {
+        Ok(crate::pat::Pattern::read_from(
+            &mut opened.into_reader(),
+            name,
+        )?)
+    } else {
+        Ok(crate::pat::Pattern::parse(&opened.read_input()?, name)?)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -858,21 +874,5 @@ mod tests {
         let u = anyhow::Error::new(UsageError("bad".into()));
         assert_eq!(report("t", Err(u)), EXIT_USAGE);
         assert_eq!(report("t", Err(anyhow::anyhow!("x"))), EXIT_FAILURE);
-    }
-}
-
-/// A `.pat` named on the command line, opened by [`crate::io::open_input`]
-/// (`name` for errors): read as a stream when it starts as a pattern, so
-/// one larger than [`crate::io::MAX_NAMED_FILE_BYTES`] is read in memory of
-/// its texels; else read whole and parsed as before, for the errors of
-/// what it is.
-pub fn read_pattern(opened: crate::io::Opened, name: &str) -> anyhow::Result<crate::pat::Pattern> {
-    if crate::pat::starts_as_pattern(&opened.start) {
-        Ok(crate::pat::Pattern::read_from(
-            &mut opened.into_reader(),
-            name,
-        )?)
-    } else {
-        Ok(crate::pat::Pattern::parse(&opened.read_input()?, name)?)
     }
 }

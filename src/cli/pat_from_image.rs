@@ -195,19 +195,6 @@ fn run_in_pool(args: Args) -> Result<()> {
     let pattern = quantize::quantize_with(&square, &opts, &bar)?;
     drop(bar);
     write_pattern(&pattern, &args.output)?;
-    let text = pattern.canonical_len() as u64;
-    if text > io::MAX_NAMED_FILE_BYTES {
-        // The other tools read a .pat whole, and no more than that.
-        super::warn(
-            "pat-from-image",
-            format!(
-                "the pattern's text is {text} bytes: pat-info, pat-tile, polyfill3 and \
-                 scene-render read a .pat of at most {} bytes (fewer --colors or a smaller \
-                 --size makes one they read)",
-                io::MAX_NAMED_FILE_BYTES
-            ),
-        );
-    }
     if args.report {
         let (_, transparent) = pattern.histogram();
         let psnr = match quantize::psnr(&pattern, &square) {
