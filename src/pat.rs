@@ -159,7 +159,7 @@ impl Pattern {
     /// Parses the texted format (docs/pat-format.md) from bytes; `name` is used in errors.
     pub fn parse(mut bytes: &[u8], name: &str) -> Result<Pattern, ParseError> {
         // In memory already: no bound on what is read.
-        Parser::new(&mut bytes, name, u64::MAX, false).pattern()
+        Parser::new(&mut bytes, name, false).pattern()
     }
 
     /// Parses a pattern read from `reader` a chunk at a time, in memory of
@@ -169,7 +169,7 @@ impl Pattern {
     /// bounded by [`read_limit`] of the header (before it by
     /// [`crate::io::MAX_NAMED_FILE_BYTES`]), so an endless input ends.
     pub fn read_from(reader: &mut dyn Read, name: &str) -> Result<Pattern, ParseError> {
-        Parser::new(reader, name, crate::io::MAX_NAMED_FILE_BYTES, true).pattern()
+        Parser::new(reader, name, true).pattern()
     }
 
     /// The canonical text (docs/pat-format.md), as one string.
@@ -497,11 +497,34 @@ struct Parser<'a> {
 }
 
 impl<'a> Parser<'a> {
-    /// `limit` bounds the bytes read before the header is known.
-    fn new(reader: &'a mut dyn Read, name: &'a str, limit: u64, bounded: bool) -> Self {
-        Parser {
-            words: ReadWords::new(reader, name, PAT_CONTENTS, limit),
-            bounded,
+    /// A `bounded` parser bounds what it reads by the header, and by
+    /// [`crate::io::MAX_NAMED_FILE_BYTES`] (the old bound of any `.pat`)
+    /// until the header is read.
+    fn new(reader: &'a mut dyn Read, name: &'a str, bounded: bool) -> Self {
+        let mut words = ReadWords::new(reader, name, PAT_CONTENTS);
+        if bounded {
+            words.set_limit(
+                crate::io::MAX_NAMED_FILE_BYTES,
+                "an input may have before a pattern's `SIZE NCOLORS`".to_string(),
+            );
+        }
+        Parser { words, bounded }
+    }
+
+    /// Bounds what a stream may read to the header and `blocks` colour
+    /// blocks ([`read_limit`]), raised block by block: a header that
+    /// promises 65,535 colours of 4096x4096 (687 GB) and then sends
+    /// whitespace without end is refused after 11.5 MB, not 1.4 TB.
+    fn bound(&mut self, size: u32, blocks: usize) {
+        if self.bounded {
+            self.words.set_limit(
+                read_limit(size, blocks),
+                format!(
+                    "the header and {blocks} colour block{} of a {size}x{size} pattern may take \
+                     (twice their canonical length, and 1 MiB)",
+                    if blocks == 1 { "" } else { "s" }
+                ),
+            );
         }
     }
 
@@ -546,17 +569,7 @@ impl<'a> Parser<'a> {
             &format!("the number of colours, 0 to {MAX_COLORS}"),
             MAX_COLORS as u64,
         )? as usize;
-        if self.bounded {
-            let limit = read_limit(size, ncolors);
-            self.words.set_limit(
-                limit,
-                format!(
-                    "a {size}x{size} pattern of {ncolors} colour{} may take \
-                     (twice its canonical length, and 1 MiB)",
-                    if ncolors == 1 { "" } else { "s" }
-                ),
-            );
-        }
+        self.bound(size, 0);
 
         let s = size as usize;
         let words_per_row = s / WORD_BITS as usize;
@@ -564,6 +577,7 @@ impl<'a> Parser<'a> {
         let mut palette = Vec::with_capacity(ncolors.min(256));
         for k in 0..ncolors {
             let n = k + 1;
+            self.bound(size, n);
             let mut rgb = [0u8; 3];
             for (ch, name) in rgb.iter_mut().zip(["red", "green", "blue"]) {
                 *ch = self
@@ -621,9 +635,10 @@ impl<'a> Parser<'a> {
 }
 
 /// The most bytes [`Pattern::read_from`] reads of a pattern whose header
-/// says `size` and `ncolors`: twice the canonical length with the longest
-/// `R G B` lines, and 1 MiB. Room for any layout a person or script writes
-/// (`0x0000`, CRLF, a space more), and an end to an endless input.
+/// says `size`, up to the end of its first `ncolors` colour blocks: twice
+/// the canonical length with the longest `R G B` lines, and 1 MiB. Room
+/// for any layout a person or script writes (`0x0000`, CRLF, a space
+/// more), and an end to an endless input.
 pub fn read_limit(size: u32, ncolors: usize) -> u64 {
     let row = (size / WORD_BITS) as u64 * 5;
     let block = "255 255 255\n".len() as u64 + size as u64 * row;
@@ -1063,9 +1078,20 @@ mod tests {
         assert_eq!(
             e,
             format!(
-                "-: is longer than the {bound} bytes a 16x16 pattern of 1 colour may take \
-                 (twice its canonical length, and 1 MiB)"
+                "-: is longer than the {bound} bytes the header and 1 colour block of a 16x16 \
+                 pattern may take (twice their canonical length, and 1 MiB)"
             )
+        );
+        // A header promising more than it sends is bounded by what came.
+        let head = b"4096 65535\n1 2 3\n";
+        let e = Pattern::read_from(&mut Endless { head }, "-")
+            .unwrap_err()
+            .to_string();
+        let bound = read_limit(4096, 1);
+        assert!(bound < 12 << 20, "{bound}");
+        assert!(
+            e.starts_with(&format!("-: is longer than the {bound} bytes")),
+            "{e}"
         );
         // The largest pattern pat-from-image writes is well within its bound.
         let biggest = 4096u64 * (4096 / 16 * 5) * 256;

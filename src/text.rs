@@ -336,21 +336,16 @@ pub(crate) struct ReadWords<'a> {
 }
 
 impl<'a> ReadWords<'a> {
-    /// The words of `reader`, of which at most `limit` bytes are read
-    /// ([`ReadWords::set_limit`]).
-    pub fn new(
-        reader: &'a mut dyn std::io::Read,
-        name: &'a str,
-        what: &'static str,
-        limit: u64,
-    ) -> Self {
+    /// The words of `reader`, all of them unless [`ReadWords::set_limit`]
+    /// says otherwise.
+    pub fn new(reader: &'a mut dyn std::io::Read, name: &'a str, what: &'static str) -> Self {
         ReadWords {
             reader,
             buf: Vec::new(),
             cursor: Cursor::new(false),
             eof: false,
             read: 0,
-            limit,
+            limit: u64::MAX,
             limit_reason: String::new(),
             name,
             what,
