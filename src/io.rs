@@ -1888,6 +1888,28 @@ fn write_pam_header(
 mod tests {
     use super::*;
 
+    #[test]
+    fn an_opened_file_reads_back_whole_from_its_first_byte() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("f.pat");
+        let bytes: Vec<u8> = (0..3 * SNIFF_BYTES + 5)
+            .map(|i| b'0' + (i % 7) as u8)
+            .collect();
+        std::fs::write(&path, &bytes).unwrap();
+        let opened = open_path(&path).unwrap();
+        assert_eq!(opened.start, bytes[..SNIFF_BYTES]);
+        let mut back = Vec::new();
+        opened.into_reader().read_to_end(&mut back).unwrap();
+        assert_eq!(back, bytes);
+        assert_eq!(open_path(&path).unwrap().read_all().unwrap(), bytes);
+        let name = path.to_str().unwrap();
+        let opened = open_input(name, InputKind::Text).unwrap();
+        assert_eq!(opened.read_input().unwrap(), bytes);
+        // What read_path refuses, open_path refuses: a directory, a device.
+        assert!(open_path(dir.path()).is_err());
+        assert!(open_path(Path::new("/dev/zero")).is_err());
+    }
+
     /// The rows of an image, encoded as they come, give netpbm's bytes
     /// (written out here by hand) and the image's PNG pixels (decoded by the
     /// `image` crate, not by the encoder's own crate), with one IDAT chunk

@@ -142,6 +142,23 @@ mod tests {
     use crate::test_util::chain;
 
     #[test]
+    fn only_a_file_starting_as_a_pattern_is_read_as_one_streamed() {
+        for (start, pattern) in [
+            (&b"16 1\n1 2 3\n"[..], true),
+            (b"\n\n  32 0\r\n", true),
+            (b"255,0,0\n0,0,255\n", false),
+            (b"16, 0, 0\n", false),
+            (b"# a list\n1,2,3\n", false),
+            (b"#ff0000\n", false),
+            // A first line not yet whole: read whole, decided as before.
+            (b"16 1", false),
+            (b"", false),
+        ] {
+            assert_eq!(palette_is_pattern(start), pattern, "{start:?}");
+        }
+    }
+
+    #[test]
     fn palette_files_parse_as_lists_or_patterns() {
         let list =
             b"# my palette\n\n#ff0000  # red\n 0, 255 ,0\n#00f # not a colour: a comment? no\n";
