@@ -24,7 +24,7 @@
 
 use crate::color::Rgb8;
 pub use crate::text::ParseError;
-use crate::text::{ReadWords, Span};
+use crate::text::{Failed, ReadWords, Span};
 use std::fmt;
 use std::io::{self, Read, Write};
 use std::path::Path;
@@ -159,7 +159,9 @@ impl Pattern {
     /// Parses the texted format (docs/pat-format.md) from bytes; `name` is used in errors.
     pub fn parse(mut bytes: &[u8], name: &str) -> Result<Pattern, ParseError> {
         // In memory already: no bound on what is read.
-        Parser::new(&mut bytes, name, false).pattern()
+        Parser::new(&mut bytes, name, false)
+            .pattern()
+            .map_err(|e| *e)
     }
 
     /// Parses a pattern read from `reader` a chunk at a time, in memory of
@@ -169,7 +171,7 @@ impl Pattern {
     /// bounded by [`read_limit`] of the header (before it by
     /// [`crate::io::MAX_NAMED_FILE_BYTES`]), so an endless input ends.
     pub fn read_from(reader: &mut dyn Read, name: &str) -> Result<Pattern, ParseError> {
-        Parser::new(reader, name, true).pattern()
+        Parser::new(reader, name, true).pattern().map_err(|e| *e)
     }
 
     /// The canonical text (docs/pat-format.md), as one string.
@@ -530,7 +532,7 @@ impl<'a> Parser<'a> {
 
     /// A 16-bit word: 1..4 hex digits of any case, optional `0x`. `what` is
     /// only formatted on an error: this runs once per word of the file.
-    fn hex_word(&mut self, what: &dyn Fn() -> String) -> Result<(u16, Span), ParseError> {
+    fn hex_word(&mut self, what: &dyn Fn() -> String) -> Result<(u16, Span), Failed> {
         let Some(w) = self.words.next()? else {
             return Err(self
                 .words
@@ -557,7 +559,7 @@ impl<'a> Parser<'a> {
         Ok((u16::from_str_radix(digits, 16).expect("checked hex"), w))
     }
 
-    fn pattern(mut self) -> Result<Pattern, ParseError> {
+    fn pattern(mut self) -> Result<Pattern, Failed> {
         let what = "the pattern size, a multiple of 16 from 16 to 4096";
         let w = self.words.expect(what)?;
         let size = self.words.decimal_of(&w, what, u64::MAX)?;
