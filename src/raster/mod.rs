@@ -332,13 +332,7 @@ fn render_pixels<P: Copy + Default + Send>(
     encode: impl Fn([f32; 3]) -> P + Sync,
 ) -> (Vec<P>, u64) {
     let r = Resolver::new(polys, view, aa);
-    progress.phase("render", r.tiles.len() as u64);
-    let render = |i: usize| {
-        let block = r.tile(i, bg, true);
-        progress.advance(1);
-        block
-    };
-    let pixels = frame::render_bands(r.size, &r.tiles, order, render, encode);
+    let pixels = r.bands(progress, order, |i| r.tile(i, bg, true), encode);
     (pixels, r.estimated.into_inner())
 }
 
@@ -356,33 +350,35 @@ pub fn render_encoded_with_alpha(
     progress: &dyn Progress,
     encoding: Encoding,
 ) -> (AnyImage, u64) {
-    let (black, white) = (bg.opaque(Rgb8::BLACK), bg.opaque(Rgb8::WHITE));
-    let (width, height) = (view.width, view.height);
+    let black = bg.opaque(Rgb8::BLACK);
+    if encoding == Encoding::LinearF32 {
+        return render_encoded(polys, &black, view, aa, progress, encoding);
+    }
+    let white = bg.opaque(Rgb8::WHITE);
     let r = Resolver::new(polys, view, aa);
-    progress.phase("render", r.tiles.len() as u64);
-    let render = |i: usize| {
+    let both = |i: usize| {
         let [x0, y0, x1, y1] = r.tiles[i];
         let n = ((x1 - x0) * (y1 - y0)) as usize;
-        let block = r.tile(i, &black, true).zip(r.tile(i, &white, false), n);
-        progress.advance(1);
-        block
+        r.tile(i, &black, true).zip(r.tile(i, &white, false), n)
     };
-    let top = RowOrder::TopFirst;
-    let image = match encoding {
-        Encoding::LinearF32 => return render_encoded(polys, &black, view, aa, progress, encoding),
-        Encoding::Srgb8 => AnyImage::Srgb8(Image {
+    let (width, height, top) = (view.width, view.height, RowOrder::TopFirst);
+    // 8 or 16 bits: linear float returned above.
+    let image = if encoding == Encoding::Srgb8 {
+        let data = r.bands(progress, top, both, frame::rgba8).into_flattened();
+        AnyImage::Srgb8(Image {
             width,
             height,
             channels: 4,
-            data: frame::render_bands(r.size, &r.tiles, top, render, frame::rgba8).into_flattened(),
-        }),
-        Encoding::Srgb16 => AnyImage::Srgb16(Image16 {
+            data,
+        })
+    } else {
+        let data = r.bands(progress, top, both, frame::rgba16).into_flattened();
+        AnyImage::Srgb16(Image16 {
             width,
             height,
             channels: 4,
-            data: frame::render_bands(r.size, &r.tiles, top, render, frame::rgba16)
-                .into_flattened(),
-        }),
+            data,
+        })
     };
     (image, r.estimated.into_inner())
 }
@@ -413,6 +409,25 @@ impl<'a> Resolver<'a> {
             aa,
             estimated: Default::default(),
         }
+    }
+
+    /// Every tile through `tile`, each reported to `progress` (phase
+    /// "render") and encoded into the frame's rows in `order` as soon as it
+    /// is done ([`frame::render_bands`]).
+    fn bands<T: Copy, P: Copy + Default + Send>(
+        &self,
+        progress: &dyn Progress,
+        order: RowOrder,
+        tile: impl Fn(usize) -> Block<T> + Sync,
+        encode: impl Fn(T) -> P + Sync,
+    ) -> Vec<P> {
+        progress.phase("render", self.tiles.len() as u64);
+        let render = |i: usize| {
+            let block = tile(i);
+            progress.advance(1);
+            block
+        };
+        frame::render_bands(self.size, &self.tiles, order, render, encode)
     }
 
     /// Tile `i` over `bg`, its estimated fragments counted if `count`.
