@@ -109,49 +109,31 @@ pub fn run(args: Args) -> Result<()> {
     for file in &args.files {
         let name = display_name(file);
         // A pattern is read as a stream (it may be larger than a file read
-        // whole may be); anything else whole, as a map or for its error.
-        let mut stream = None;
-        let bytes = match crate::io::open_input(file, crate::io::InputKind::Text) {
-            Ok(opened) if crate::pat::starts_as_pattern(&opened.start) => {
-                stream = Some(opened);
-                Ok(Vec::new())
-            }
-            opened => opened.and_then(crate::io::Opened::read_input),
-        };
-        if let Ok(b) = &bytes {
-            if ModulationMap::sniff(b) {
-                let result = ModulationMap::parse(b, name)
-                    .map_err(anyhow::Error::new)
-                    .and_then(|m| match args.at {
-                        Some(_) => anyhow::bail!(
-                            "{name}: --at names a texel of a pattern, but this is a modulation map"
-                        ),
-                        None => Ok(m),
-                    });
-                match result {
-                    Err(e) => {
-                        eprintln_or_drop!("pat-info: error: {e:#}");
-                        failures += 1;
-                    }
-                    Ok(_) if args.check => {}
-                    Ok(m) if args.json => reports.push(map_json(name, &m)),
-                    Ok(m) => {
-                        write!(stdout, "{}", map_text(name, &m))?;
-                        if args.preview {
-                            write!(stdout, "{}", map_preview(&m, args.preview_size, colour))?;
+        // whole may be: `read_pattern`); anything else whole, as a map or for
+        // its error.
+        let result = match crate::io::open_input(file, crate::io::InputKind::Text) {
+            Ok(opened) if !crate::pat::starts_as_pattern(&opened.start) => {
+                match opened.read_input() {
+                    Ok(b) if ModulationMap::sniff(&b) => {
+                        let map = ModulationMap::parse(&b, name).map_err(anyhow::Error::new);
+                        match map.and_then(|m| map_report(&m, name, &args, colour)) {
+                            Err(e) => {
+                                eprintln_or_drop!("pat-info: error: {e:#}");
+                                failures += 1;
+                            }
+                            Ok(Report::Json(j)) => reports.push(j),
+                            Ok(Report::Text(t)) => write!(stdout, "{t}")?,
                         }
+                        continue;
                     }
+                    bytes => bytes
+                        .map_err(anyhow::Error::new)
+                        .and_then(|b| Pattern::parse(&b, name).map_err(anyhow::Error::new)),
                 }
-                continue;
             }
-        }
-        let result = match stream {
-            Some(opened) => {
-                Pattern::read_from(&mut opened.into_reader(), name).map_err(anyhow::Error::new)
-            }
-            None => bytes
+            opened => opened
                 .map_err(anyhow::Error::new)
-                .and_then(|bytes| Pattern::parse(&bytes, name).map_err(anyhow::Error::new)),
+                .and_then(|o| super::read_pattern(o, name)),
         }
         .and_then(|p| texel(&p, args.at).map(|t| (p, t)));
         let (pattern, at) = match result {
@@ -316,6 +298,30 @@ fn json_report(name: &str, p: &Pattern, at: Option<(u32, u32, Option<u16>)>) -> 
         };
     }
     obj
+}
+
+/// What pat-info says of one file: a JSON value for the list `--json`
+/// prints at the end, or text to print now (empty with `--check`).
+enum Report {
+    Json(Value),
+    Text(String),
+}
+
+/// The report of modulation map `m`, as `args` ask (`--at` names a texel
+/// of a pattern, so it is an error here).
+fn map_report(m: &ModulationMap, name: &str, args: &Args, colour: bool) -> Result<Report> {
+    if args.at.is_some() {
+        anyhow::bail!("{name}: --at names a texel of a pattern, but this is a modulation map");
+    }
+    Ok(if args.check {
+        Report::Text(String::new())
+    } else if args.json {
+        Report::Json(map_json(name, m))
+    } else if args.preview {
+        Report::Text(map_text(name, m) + &map_preview(m, args.preview_size, colour))
+    } else {
+        Report::Text(map_text(name, m))
+    })
 }
 
 fn map_text(name: &str, m: &ModulationMap) -> String {
