@@ -3,6 +3,12 @@
 //! colour-code tables). Errors are [`ParseError`]s naming file,
 //! line, word number and word; a byte that is not printable ASCII is refused
 //! as binary data rather than decoded.
+//!
+//! One word grammar (`Cursor`) serves two tokenizers: `Words`, over bytes
+//! already in memory (the stripe formats, small inputs), and `ReadWords`,
+//! over a stream read a chunk at a time (a `.pat`, which may be a gigabyte
+//! of text for 32 MiB of texels), with the same lines, word numbers and
+//! errors for the same bytes.
 
 use std::fmt;
 
