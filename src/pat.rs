@@ -1055,6 +1055,77 @@ mod tests {
         );
     }
 
+    /// `bytes` read in two parts, the first ending at `cut`.
+    struct CutAt<'a> {
+        bytes: &'a [u8],
+        cut: usize,
+    }
+
+    impl Read for CutAt<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            let n = match self.cut {
+                0 => self.bytes.len(),
+                cut => cut,
+            }
+            .min(buf.len());
+            buf[..n].copy_from_slice(&self.bytes[..n]);
+            self.bytes = &self.bytes[n..];
+            self.cut = self.cut.saturating_sub(n);
+            Ok(n)
+        }
+    }
+
+    #[test]
+    fn a_long_word_is_refused_whatever_the_reads_of_its_stream() {
+        // The red value of colour 1 is a decimal of `len` digits, 000...01.
+        // A hostile-input review found a word of exactly MAX_STREAM_WORD
+        // bytes refused as "more than" that when a pipe's read ended right
+        // after it, and one byte longer accepted when it was read whole:
+        // the same bytes, two answers, decided by how the reads fell.
+        let max = crate::text::MAX_STREAM_WORD;
+        for len in [max - 1, max, max + 1] {
+            let head = "16 1\n";
+            let mut text = head.as_bytes().to_vec();
+            text.extend(std::iter::repeat_n(b'0', len - 1));
+            text.extend_from_slice(b"1 2 3\n");
+            text.extend_from_slice(vec!["ffff"; 16].join("\n").as_bytes());
+            let word_end = head.len() + len;
+            let reads = [
+                Pattern::read_from(&mut &text[..], "w.pat"),
+                streamed(&text, "w.pat"),
+                Pattern::read_from(
+                    &mut CutAt {
+                        bytes: &text,
+                        cut: word_end,
+                    },
+                    "w.pat",
+                ),
+                Pattern::read_from(
+                    &mut CutAt {
+                        bytes: &text,
+                        cut: 4096,
+                    },
+                    "w.pat",
+                ),
+                Pattern::parse(&text, "w.pat"),
+            ];
+            for (i, read) in reads.into_iter().enumerate() {
+                if len <= max {
+                    let p = read.unwrap_or_else(|e| panic!("{len} bytes, read {i}: {e}"));
+                    assert_eq!(p.palette(), [Rgb8([1, 2, 3])]);
+                } else {
+                    let e = read.expect_err("too long").to_string();
+                    assert!(
+                        e.starts_with(
+                            "w.pat:2: word 3 `000000000000000000000000...`: a word of more than"
+                        ),
+                        "{len} bytes, read {i}: {e}"
+                    );
+                }
+            }
+        }
+    }
+
     /// Whitespace without end after `head`.
     struct Endless {
         head: &'static [u8],

@@ -376,19 +376,10 @@ impl<'a> ReadWords<'a> {
         let pos = self.cursor.pos;
         self.buf.drain(..pos);
         self.cursor.pos = 0;
-        if self.buf.len() >= MAX_STREAM_WORD {
-            let text = std::str::from_utf8(&self.buf[..MAX_ECHO + 1]).expect("checked ASCII");
-            return Err(word_error(
-                self.name,
-                text,
-                self.cursor.line,
-                self.cursor.count + 1,
-                format!(
-                    "a word of more than {MAX_STREAM_WORD} bytes: expected {}",
-                    self.what
-                ),
-            )
-            .into());
+        // What is left is the start of a word that the bytes so far did
+        // not end: already too long, it is refused before more is read.
+        if self.buf.len() > MAX_STREAM_WORD {
+            return Err(self.too_long(0, self.cursor.line, self.cursor.count + 1));
         }
         let kept = self.buf.len();
         self.buf.resize(kept + STREAM_CHUNK, 0);
@@ -417,18 +408,43 @@ impl<'a> ReadWords<'a> {
         Ok(())
     }
 
+    /// The error of the word at `start` of the buffer (word `index`, on
+    /// `line`), longer than [`MAX_STREAM_WORD`].
+    fn too_long(&self, start: usize, line: usize, index: usize) -> Failed {
+        let echo = &self.buf[start..start + MAX_ECHO + 1];
+        let text = std::str::from_utf8(echo).expect("checked ASCII");
+        word_error(
+            self.name,
+            text,
+            line,
+            index,
+            format!(
+                "a word of more than {MAX_STREAM_WORD} bytes: expected {}",
+                self.what
+            ),
+        )
+        .into()
+    }
+
     /// Next word, `Ok(None)` at the end, or an error on a byte that is not
     /// text, a word too long, a failed read or the limit passed.
     pub fn next(&mut self) -> Result<Option<Span>, Failed> {
         loop {
             match self.cursor.scan(&self.buf, self.eof) {
                 Ok(Scan::Word(start, end)) => {
+                    // Whether a long word is refused must not depend on
+                    // where the reads of the input happened to end: a word
+                    // whole in one chunk is held to the same bound as one
+                    // that spans refills.
+                    if end - start > MAX_STREAM_WORD {
+                        return Err(self.too_long(start, self.cursor.line, self.cursor.count));
+                    }
                     return Ok(Some(Span {
                         start,
                         end,
                         line: self.cursor.line,
                         index: self.cursor.count,
-                    }))
+                    }));
                 }
                 Ok(Scan::End) => return Ok(None),
                 Ok(Scan::More) => self.refill()?,
