@@ -542,8 +542,10 @@ pub fn shorten_long_numbers(message: &str) -> std::borrow::Cow<'_, str> {
         }
         let token = &message[start..num_end];
         // Digits inside a word (a file name such as `f%0099...9d.png` or
-        // `frame000...0.png`) are the user's text, echoed as given.
-        let in_word = |b: u8| b.is_ascii_alphanumeric() || b"_%/\\".contains(&b);
+        // `frame000...0.png`) are the user's text, echoed as given; so are
+        // digits quoted in backticks, the way messages echo a user's word
+        // (a .pat's `999...` of 26 digits, cut to 24, was shown `1e24...`).
+        let in_word = |b: u8| b.is_ascii_alphanumeric() || b"_%/\\`".contains(&b);
         let inside =
             (start > 0 && in_word(bytes[start - 1])) || (end < bytes.len() && in_word(bytes[end]));
         if token.len() > LONGEST_PLAIN_NUMBER && !inside {
@@ -590,6 +592,9 @@ mod tests {
             "-o f%0099999999999999999999999d.png: too wide".to_string(),
             format!("renaming the output to f{zeros}.png: File name too long"),
             format!("{zeros}.png and dir/{zeros}/x and {zeros}_1"),
+            // A word quoted as the user wrote it (cut to 24 characters).
+            "t.pat:1: word 2 `999999999999999999999999...`: out of range".to_string(),
+            format!("invalid size `{zeros}`: expected N"),
         ] {
             assert_eq!(shorten_long_numbers(&keep), keep);
         }

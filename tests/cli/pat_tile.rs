@@ -124,6 +124,23 @@ clitest!(failures_leave_no_output_and_empty_stdout, |dir| {
     assert_eq!(dir.files(), vec!["bad.pat".to_string()]);
 });
 
+clitest!(a_long_number_in_a_pattern_is_echoed_as_written, |dir| {
+    // A hostile-input review found pat-tile (and every tool but pat-info,
+    // which prints its errors itself) echoing a 26-digit colour count,
+    // cut to 24 characters, as `1e24...`: the user's word rewritten as a
+    // number, and not even its value.
+    dir.write("n.pat", format!("16 {}\n", "9".repeat(26)));
+    let echo = format!("word 2 `{}...`: out of range", "9".repeat(24));
+    for tool in ["pat-tile", "pat-info"] {
+        dir.cmd(tool)
+            .arg("n.pat")
+            .assert()
+            .code(1)
+            .stdout("")
+            .stderr(predicate::str::contains(&echo));
+    }
+});
+
 clitest!(bad_sizes_and_formats_are_usage_errors, |dir| {
     dir.write("c.pat", checker16());
     for size in ["0x5", "100000x10", "60000x60000", "12", "axb"] {
