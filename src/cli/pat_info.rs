@@ -11,7 +11,7 @@ use crate::stream::{Item, Record};
 use crate::stripe::map::ModulationMap;
 use crate::stripe::record::{LoadedStripe, StripeSpec, TranslationSpec};
 use crate::stripe::vector::Orientation;
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Parser;
 use serde_json::{json, Value};
 use std::io::Write;
@@ -84,6 +84,10 @@ pub struct Args {
     pub preview_size: u32,
 }
 
+/// The context of a failed write of a report: without it a full disk or a
+/// closed standard output said only "No space left on device".
+const WRITING_STDOUT: &str = "writing standard output";
+
 /// Runs `pat-info`.
 pub fn run(args: Args) -> Result<()> {
     super::check_stdout()?;
@@ -122,7 +126,7 @@ pub fn run(args: Args) -> Result<()> {
                                 failures += 1;
                             }
                             Ok(Report::Json(j)) => reports.push(j),
-                            Ok(Report::Text(t)) => write!(stdout, "{t}")?,
+                            Ok(Report::Text(t)) => write!(stdout, "{t}").context(WRITING_STDOUT)?,
                         }
                         continue;
                     }
@@ -150,11 +154,13 @@ pub fn run(args: Args) -> Result<()> {
         if args.json {
             reports.push(json_report(name, &pattern, at));
         } else {
-            write!(stdout, "{}", text_report(name, &pattern, at))?;
+            write!(stdout, "{}", text_report(name, &pattern, at)).context(WRITING_STDOUT)?;
             if args.preview && colour {
-                write!(stdout, "{}", preview(&pattern, args.preview_size))?;
+                write!(stdout, "{}", preview(&pattern, args.preview_size))
+                    .context(WRITING_STDOUT)?;
             } else if args.preview {
-                write!(stdout, "{}", plain_preview(&pattern, args.preview_size))?;
+                write!(stdout, "{}", plain_preview(&pattern, args.preview_size))
+                    .context(WRITING_STDOUT)?;
             }
         }
     }
@@ -162,10 +168,11 @@ pub fn run(args: Args) -> Result<()> {
         serde_json::to_writer_pretty(
             &mut stdout,
             &super::json_document("pat-info", "files", reports),
-        )?;
-        writeln!(stdout)?;
+        )
+        .context(WRITING_STDOUT)?;
+        writeln!(stdout).context(WRITING_STDOUT)?;
     }
-    stdout.flush()?;
+    stdout.flush().context(WRITING_STDOUT)?;
     if failures > 0 {
         return Err(AlreadyReported.into());
     }
@@ -430,13 +437,14 @@ fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
             if as_json {
                 let o = record_json(name, n, &loaded, record.color);
                 let doc = super::json_document("pat-info", "records", vec![o]);
-                serde_json::to_writer_pretty(&mut stdout, &doc)?;
-                writeln!(stdout)?;
+                serde_json::to_writer_pretty(&mut stdout, &doc).context(WRITING_STDOUT)?;
+                writeln!(stdout).context(WRITING_STDOUT)?;
             } else {
                 let title = format!("{label}: stripe texture");
-                write!(stdout, "{}", record_text(&title, &loaded, record.color))?;
+                write!(stdout, "{}", record_text(&title, &loaded, record.color))
+                    .context(WRITING_STDOUT)?;
             }
-            stdout.flush()?;
+            stdout.flush().context(WRITING_STDOUT)?;
             return Ok(());
         }
         Item::Light(_) => {
@@ -483,15 +491,15 @@ fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
             })
             .collect();
         let doc = super::json_document("pat-info", "records", list);
-        serde_json::to_writer_pretty(&mut stdout, &doc)?;
-        writeln!(stdout)?;
+        serde_json::to_writer_pretty(&mut stdout, &doc).context(WRITING_STDOUT)?;
+        writeln!(stdout).context(WRITING_STDOUT)?;
     } else {
         for (_, label, loaded, colour) in &shown {
             let title = format!("{label}: stripe texture ({what})");
-            write!(stdout, "{}", record_text(&title, loaded, *colour))?;
+            write!(stdout, "{}", record_text(&title, loaded, *colour)).context(WRITING_STDOUT)?;
         }
     }
-    stdout.flush()?;
+    stdout.flush().context(WRITING_STDOUT)?;
     Ok(())
 }
 

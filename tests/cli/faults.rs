@@ -823,3 +823,20 @@ clitest!(a_camera_file_is_read_only_to_its_limit, |dir| {
         assert!(said.contains(want), "{cmd}: {said}");
     }
 });
+
+clitest!(pat_info_names_standard_output_when_it_is_full, |dir| {
+    // A hostile-input review found `pat-info brick.pat > /dev/full` saying
+    // only "pat-info: error: No space left on device (os error 28)", where
+    // the other tools say what they were writing.
+    let brick = repo("fixtures/patterns/brick.pat");
+    for flags in ["", "--json", "--preview --color never"] {
+        let cmd = format!("pat-info {flags} {} > /dev/full", brick.display());
+        let out = sh(dir.path(), &cmd);
+        let said = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{cmd}: {said}");
+        assert!(
+            said.starts_with("pat-info: error: writing standard output: No space left on device"),
+            "{cmd}: {said}"
+        );
+    }
+});
