@@ -139,7 +139,13 @@ pub fn run(args: Args) -> Result<()> {
                 .map_err(anyhow::Error::new)
                 .and_then(|o| super::read_pattern(o, name)),
         }
-        .and_then(|p| texel(&p, args.at).map(|t| (p, t)));
+        // Which file the texel is outside of: with several files of
+        // several sizes the message alone did not say.
+        .and_then(|p| {
+            texel(&p, args.at)
+                .with_context(|| name.to_string())
+                .map(|t| (p, t))
+        });
         let (pattern, at) = match result {
             Ok(ok) => ok,
             Err(e) => {

@@ -55,6 +55,22 @@ clitest!(at_reports_a_transparent_texel_and_refuses_outside, |dir| {
         .stderr(predicate::str::contains(
             "texel (0,16) is outside the 16x16 pattern",
         ));
+    // With several files, the error names the one the texel is outside of
+    // (a hostile-input review found it named none).
+    let big = patkit::Pattern::parse(checker16().as_bytes(), "c.pat")
+        .unwrap()
+        .tiled(32, 1, (0, 0))
+        .unwrap();
+    dir.write("big.pat", big.to_canonical());
+    dir.cmd("pat-info")
+        .args(["--at", "20,0", "big.pat", "c.pat"])
+        .assert()
+        .code(1)
+        .stdout(predicate::str::contains("texel (20,0)"))
+        .stderr(
+            "pat-info: error: c.pat: texel (20,0) is outside the 16x16 pattern: columns and \
+             rows run 0..15\n",
+        );
 });
 
 clitest!(check_is_silent_on_success_and_names_each_bad_file, |dir| {
