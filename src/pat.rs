@@ -648,10 +648,11 @@ pub fn read_limit(size: u32, ncolors: usize) -> u64 {
     2 * canonical + (1 << 20)
 }
 
-/// Whether an input that starts with `start` is a `.pat` to read as a
-/// stream: its first word starts with a digit, as a pattern's size does.
-/// What does not (an image, a modulation map, a palette list, any other
-/// file) is read whole as before, for the formats and errors of its own.
+/// Whether an input that starts with `start` may be a `.pat`: its first
+/// word starts with a digit, as a pattern's size does. For a caller that
+/// must tell a pattern from another text format by its first bytes (a
+/// `--palette` file, which may be a list of colours); the readers of
+/// nothing but patterns and images stream all but an image.
 pub fn starts_as_pattern(start: &[u8]) -> bool {
     start
         .iter()

@@ -751,19 +751,18 @@ pub fn dep_name(path: &std::path::Path) -> String {
 }
 
 /// A `.pat` named on the command line, opened by [`crate::io::open_input`]
-/// (`name` for errors): read as a stream when it starts as a pattern, so
-/// one larger than [`crate::io::MAX_NAMED_FILE_BYTES`] is read in memory of
-/// its texels; else read whole and parsed as before, for the errors of
-/// what it is.
+/// (`name` for errors), read as a stream: in memory of its texels, however
+/// large its text, and bounded by its header. Whatever it starts with: the
+/// stream's errors are [`crate::pat::Pattern::parse`]'s, and what is not a
+/// pattern is refused at its first word. (Reading whole what did not start
+/// as a pattern in its first 4096 bytes took 256 MiB before refusing
+/// `yes | pat-tile -` or `yes ' ' | pat-tile -`, and refused a large
+/// pattern after 4 KiB of blank lines.)
 pub fn read_pattern(opened: crate::io::Opened, name: &str) -> anyhow::Result<crate::pat::Pattern> {
-    if crate::pat::starts_as_pattern(&opened.start) {
-        Ok(crate::pat::Pattern::read_from(
-            &mut opened.into_reader(),
-            name,
-        )?)
-    } else {
-        Ok(crate::pat::Pattern::parse(&opened.read_input()?, name)?)
-    }
+    Ok(crate::pat::Pattern::read_from(
+        &mut opened.into_reader(),
+        name,
+    )?)
 }
 
 #[cfg(test)]

@@ -112,29 +112,29 @@ pub fn run(args: Args) -> Result<()> {
     let mut reports = Vec::new();
     for file in &args.files {
         let name = display_name(file);
-        // A pattern is read as a stream (it may be larger than a file read
-        // whole may be: `read_pattern`); anything else whole, as a map or for
-        // its error.
+        // What may be a modulation map is read whole, as a map or for its
+        // error; anything else is a pattern, read as a stream (it may be
+        // larger than a file read whole may be: `read_pattern`). Reading
+        // whole what did not start as a pattern took 256 MiB before
+        // refusing `yes | pat-info -`.
         let result = match crate::io::open_input(file, crate::io::InputKind::Text) {
-            Ok(opened) if !crate::pat::starts_as_pattern(&opened.start) => {
-                match opened.read_input() {
-                    Ok(b) if ModulationMap::sniff(&b) => {
-                        let map = ModulationMap::parse(&b, name).map_err(anyhow::Error::new);
-                        match map.and_then(|m| map_report(&m, name, &args, colour)) {
-                            Err(e) => {
-                                eprintln_or_drop!("pat-info: error: {e:#}");
-                                failures += 1;
-                            }
-                            Ok(Report::Json(j)) => reports.push(j),
-                            Ok(Report::Text(t)) => write!(stdout, "{t}").context(WRITING_STDOUT)?,
+            Ok(opened) if ModulationMap::may_start(&opened.start) => match opened.read_input() {
+                Ok(b) if ModulationMap::sniff(&b) => {
+                    let map = ModulationMap::parse(&b, name).map_err(anyhow::Error::new);
+                    match map.and_then(|m| map_report(&m, name, &args, colour)) {
+                        Err(e) => {
+                            eprintln_or_drop!("pat-info: error: {e:#}");
+                            failures += 1;
                         }
-                        continue;
+                        Ok(Report::Json(j)) => reports.push(j),
+                        Ok(Report::Text(t)) => write!(stdout, "{t}").context(WRITING_STDOUT)?,
                     }
-                    bytes => bytes
-                        .map_err(anyhow::Error::new)
-                        .and_then(|b| Pattern::parse(&b, name).map_err(anyhow::Error::new)),
+                    continue;
                 }
-            }
+                bytes => bytes
+                    .map_err(anyhow::Error::new)
+                    .and_then(|b| Pattern::parse(&b, name).map_err(anyhow::Error::new)),
+            },
             opened => opened
                 .map_err(anyhow::Error::new)
                 .and_then(|o| super::read_pattern(o, name)),

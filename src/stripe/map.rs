@@ -156,6 +156,18 @@ impl ModulationMap {
         matches!(w.next(), Ok(Some(word)) if word.text == MAGIC)
     }
 
+    /// Whether a file whose first bytes are `start` may be a map, for a
+    /// caller that reads anything else as a stream (a `.pat`): its first
+    /// byte that is not whitespace starts a comment or [`MAGIC`], or
+    /// `start` is all whitespace (a map may have any number of blank
+    /// lines and comments before [`MAGIC`]).
+    pub fn may_start(start: &[u8]) -> bool {
+        match start.iter().find(|b| !b.is_ascii_whitespace()) {
+            None => true,
+            Some(&b) => b == b'#' || b == MAGIC.as_bytes()[0],
+        }
+    }
+
     /// Reads a map file; errors name the file, line and word.
     pub fn read_file(path: &Path) -> Result<ModulationMap, ParseError> {
         let name = path.display().to_string();

@@ -121,10 +121,13 @@ pub enum LoadError {
 }
 
 /// Whether an opened texture is a `.pat` to read as a stream (it may be
-/// larger than a file read whole may be): not an image, and starting as a
-/// pattern.
+/// larger than a file read whole may be): what is not an image. An image
+/// never starts with whitespace, and the stream's errors are those of
+/// [`Pattern::parse`]; reading whole what did not start as a pattern in
+/// its first 4096 bytes took 256 MiB before refusing
+/// `yes ' ' | scene-render --background-pattern - ...`.
 fn is_pattern_stream(opened: &crate::io::Opened) -> bool {
-    !crate::io::is_image(&opened.start) && crate::pat::starts_as_pattern(&opened.start)
+    !crate::io::is_image(&opened.start)
 }
 
 impl Texels {

@@ -840,3 +840,62 @@ clitest!(pat_info_names_standard_output_when_it_is_full, |dir| {
         );
     }
 });
+
+clitest!(
+    a_pattern_input_that_is_not_one_is_refused_in_little_memory,
+    |dir| {
+        // A hostile-input review found `yes | pat-tile -` and
+        // `yes ' ' | pat-tile -` taking 265 MB before refusing: what did not
+        // start as a pattern in its first 4096 bytes was read whole, to 256 MiB.
+        // The readers of nothing but patterns (and images) now stream all but
+        // an image; pat-info streams all that cannot be a modulation map.
+        dir.write(
+            "tri.json",
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3]}"#,
+        );
+        let tools = [
+            "pat-tile --size 8x8 -o t.png -",
+            "pat-info --check -",
+            "scene-render --size 8x8 --background-pattern - -o s.png tri.json",
+        ];
+        for (feed, said, who) in [
+            (
+                "yes",
+                "<stdin>:1: word 1: expected the pattern size, a multiple of 16 from 16 to 4096",
+                &tools[..],
+            ),
+            (
+                "yes ' '",
+                "<stdin>: is longer than the 268435456 bytes an input may have before a \
+             pattern's `SIZE NCOLORS`",
+                &[tools[0], tools[2]][..],
+            ),
+        ] {
+            for tool in who {
+                let script = format!("{feed} | sh -c 'ulimit -v 196608; exec {tool}'");
+                let out = sh(dir.path(), &script);
+                let err = String::from_utf8_lossy(&out.stderr);
+                let name = tool.split(' ').next().unwrap();
+                assert_eq!(err, format!("{name}: error: {said}\n"), "{script}");
+            }
+        }
+        // A pattern after 4 KiB of blank lines, streamed, counts its lines.
+        let late = format!("{}16 1\n1 2 300\n", "\n".repeat(5000));
+        dir.write("late.pat", &late);
+        for tool in tools {
+            let words: Vec<&str> = tool.split(' ').collect();
+            let script = words
+                .iter()
+                .map(|&w| if w == "-" { "late.pat" } else { w })
+                .collect::<Vec<_>>()
+                .join(" ");
+            let out = sh(dir.path(), &script);
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(
+                err.contains("late.pat:5002: word 5 `300`: out of range"),
+                "{script}: {err}"
+            );
+        }
+        assert_eq!(dir.files(), ["late.pat", "tri.json"]);
+    }
+);
