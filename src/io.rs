@@ -44,7 +44,13 @@ pub const MAX_IMAGE_PIXELS: u64 = 1 << 28;
 #[derive(Debug, thiserror::Error)]
 pub enum IoError {
     /// An input could not be read.
-    #[error("{}", if input == STDIO { "reading standard input" } else { input })]
+    #[error("{}", if input == STDIO {
+        "reading standard input"
+    } else if input.is_empty() {
+        "an empty input name"
+    } else {
+        input
+    })]
     Read {
         /// The input's name as given; `-` is standard input.
         input: String,
@@ -350,7 +356,9 @@ fn read_start(r: &mut impl Read) -> io::Result<Vec<u8>> {
 /// Opens a file to read by name, with a clear error for a directory.
 pub fn open_file(name: &str) -> Result<std::fs::File, IoError> {
     let path = Path::new(name);
-    let opened = if path.is_dir() {
+    let opened = if name.is_empty() {
+        Err(empty_input_name())
+    } else if path.is_dir() {
         Err(is_a_directory())
     } else {
         std::fs::File::open(path)
@@ -359,6 +367,16 @@ pub fn open_file(name: &str) -> Result<std::fs::File, IoError> {
         input: name.to_string(),
         error,
     })
+}
+
+/// The error for an input named by the empty string (`pat-tile ''`): the
+/// operating system's "No such file or directory" named nothing, the name
+/// being empty.
+fn empty_input_name() -> io::Error {
+    io::Error::new(
+        io::ErrorKind::InvalidInput,
+        "expected a file name, or - for standard input",
+    )
 }
 
 /// The error for a directory named as an input file.
@@ -449,6 +467,8 @@ pub fn open_input(name: &str, kind: InputKind) -> Result<Opened, IoError> {
     let open = || {
         let mut r: Box<dyn Read> = if name == STDIO {
             Box::new(io::stdin().lock())
+        } else if name.is_empty() {
+            return Err(empty_input_name());
         } else if Path::new(name).is_dir() {
             return Err(is_a_directory());
         } else {

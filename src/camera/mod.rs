@@ -235,6 +235,9 @@ impl fmt::Display for CameraError {
             CameraError::Read { path, .. } if path == "-" => {
                 f.write_str("reading the camera from standard input")
             }
+            CameraError::Read { path, .. } if path.is_empty() => {
+                f.write_str("an empty camera file name")
+            }
             CameraError::Read { path, .. } => write!(f, "{path}: cannot read camera"),
             CameraError::Json { origin, error } => {
                 write!(f, "{origin}: not valid camera JSON: {error}")

@@ -266,7 +266,8 @@ fn run_in_pool(args: Args) -> Result<()> {
         let stdin = Box::new(BufReader::with_capacity(1 << 16, std::io::stdin()));
         bar.reading(&source, 0, stdin)
     } else {
-        let f = std::fs::File::open(&args.input).with_context(|| args.input.clone())?;
+        // The other tools' opening: an empty name or a directory is said so.
+        let f = crate::io::open_file(&args.input)?;
         let len = f.metadata().map(|m| m.len()).unwrap_or(0);
         bar.reading(&source, len, Box::new(BufReader::with_capacity(1 << 16, f)))
     };

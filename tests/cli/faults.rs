@@ -899,3 +899,57 @@ clitest!(
         assert_eq!(dir.files(), ["late.pat", "tri.json"]);
     }
 );
+
+clitest!(an_empty_input_name_is_said_so_by_every_tool, |dir| {
+    // A hostile-input review found `pat-tile ''` (and scene-render,
+    // polyfill3, pat-from-image, --background-pattern '', --palette '')
+    // saying only "No such file or directory (os error 2)": the name the
+    // error shows was the empty string. An empty output name was already
+    // "an empty output name".
+    dir.write(
+        "tri.json",
+        r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3]}"#,
+    );
+    let photo = repo("fixtures/images/earth-nasa.jpg");
+    let photo = photo.to_str().unwrap();
+    let said = "an empty input name: expected a file name, or - for standard input";
+    for (args, context) in [
+        (vec!["pat-tile", "--size", "8x8", ""], ""),
+        (vec!["pat-info", ""], ""),
+        (vec!["pat-info", "--record", "0", ""], ""),
+        (vec!["scene-render", "-o", "s.png", ""], ""),
+        (vec!["polyfill3", ""], ""),
+        (vec!["pat-from-image", "-o", "p.pat", ""], ""),
+        (
+            vec![
+                "scene-render",
+                "--background-pattern",
+                "",
+                "-o",
+                "s.png",
+                "tri.json",
+            ],
+            "",
+        ),
+        (
+            vec!["pat-from-image", "--palette", "", "-o", "p.pat", photo],
+            "reading the --palette file: ",
+        ),
+    ] {
+        dir.cmd(args[0])
+            .args(&args[1..])
+            .assert()
+            .code(1)
+            .stdout("")
+            .stderr(format!("{}: error: {context}{said}\n", args[0]));
+    }
+    dir.cmd("scene-render")
+        .args(["--camera", "", "-o", "s.png", "tri.json"])
+        .assert()
+        .code(1)
+        .stderr(
+            "scene-render: error: an empty camera file name: expected a file name, or - for \
+             standard input\n",
+        );
+    assert_eq!(dir.files(), ["tri.json"]);
+});
