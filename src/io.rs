@@ -284,6 +284,7 @@ pub fn open_path(path: &Path) -> io::Result<Opened> {
         known_len: Some(meta.len()),
         limit_says: "a named file may have",
         input: path.display().to_string(),
+        blank_lines: 0,
     })
 }
 
@@ -301,9 +302,52 @@ pub struct Opened {
     known_len: Option<u64>,
     /// The name it was opened by, for [`Opened::read_input`]'s errors.
     input: String,
+    /// Newlines of the whitespace before `start` that
+    /// [`Opened::past_blank_start`] read past: given back before `start`.
+    blank_lines: u64,
 }
 
 impl Opened {
+    /// When the first bytes are all whitespace, so that they do not say
+    /// what the input is, reads on to the first byte that is not: `start`
+    /// then begins there. Of the whitespace only its newlines are kept, as
+    /// a count, and given back by [`Opened::read_all`] and
+    /// [`Opened::into_reader`] before `start`: the text formats' words,
+    /// word numbers and lines are the same. Bounded by the input's limit.
+    /// (`yes ' ' | pat-info -` was read whole, to 256 MiB, because its
+    /// first 4096 bytes could not tell a pattern from a modulation map.)
+    pub fn past_blank_start(mut self) -> Result<Opened, IoError> {
+        let mut skipped = 0u64;
+        let mut step = || -> io::Result<()> {
+            while !self.start.is_empty() && self.start.iter().all(u8::is_ascii_whitespace) {
+                let newlines = self.start.iter().filter(|&&b| b == b'\n').count();
+                self.blank_lines += newlines as u64;
+                skipped += self.start.len() as u64;
+                if skipped > self.limit {
+                    return Err(io::Error::new(
+                        io::ErrorKind::InvalidData,
+                        format!(
+                            "is larger than the {} bytes {}",
+                            self.limit, self.limit_says
+                        ),
+                    ));
+                }
+                self.start.clear();
+                (&mut self.rest)
+                    .take(SNIFF_BYTES as u64)
+                    .read_to_end(&mut self.start)?;
+            }
+            Ok(())
+        };
+        match step() {
+            Ok(()) => Ok(self),
+            Err(error) => Err(IoError::Read {
+                input: self.input,
+                error,
+            }),
+        }
+    }
+
     /// The whole input, refused past its limit.
     pub fn read_all(self) -> io::Result<Vec<u8>> {
         let too_large = || {
@@ -318,7 +362,8 @@ impl Opened {
         if self.known_len.is_some_and(|n| n > self.limit) {
             return Err(too_large());
         }
-        let mut bytes = self.start;
+        let mut bytes = vec![b'\n'; self.blank_lines as usize];
+        bytes.extend_from_slice(&self.start);
         let expected = self.known_len.unwrap_or(0) as usize;
         bytes.reserve(expected.saturating_sub(bytes.len()));
         // Bounded even if the file grows while it is read.
@@ -342,7 +387,10 @@ impl Opened {
     /// The whole input from its first byte as a reader, unbounded: for a
     /// reader that bounds what it reads ([`crate::Pattern::read_from`]).
     pub fn into_reader(self) -> impl Read {
-        io::Cursor::new(self.start).chain(self.rest)
+        io::repeat(b'\n')
+            .take(self.blank_lines)
+            .chain(io::Cursor::new(self.start))
+            .chain(self.rest)
     }
 }
 
@@ -484,6 +532,7 @@ pub fn open_input(name: &str, kind: InputKind) -> Result<Opened, IoError> {
             limit_says: "this input may have",
             known_len: None,
             input: name.to_string(),
+            blank_lines: 0,
         })
     };
     open().map_err(|error| IoError::Read {
@@ -1928,6 +1977,41 @@ mod tests {
         // What read_path refuses, open_path refuses: a directory, a device.
         assert!(open_path(dir.path()).is_err());
         assert!(open_path(Path::new("/dev/zero")).is_err());
+    }
+
+    #[test]
+    fn past_a_blank_start_keeps_its_newlines_and_what_follows() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("f.pat");
+        // Four sniffs' worth of blank lines (spaces, tabs, CRLF), then text.
+        let blank = " \t\r\n".repeat(SNIFF_BYTES);
+        let text = "  16 1\n1 2 3\n";
+        std::fs::write(&path, format!("{blank}{text}")).unwrap();
+        let lines = "\n".repeat(SNIFF_BYTES);
+        let name = path.to_str().unwrap();
+        let past = || {
+            open_input(name, InputKind::Text)
+                .unwrap()
+                .past_blank_start()
+                .unwrap()
+        };
+        let opened = past();
+        assert_eq!(opened.start, text.as_bytes());
+        // Of the whitespace read past, its newlines come back first.
+        let mut back = Vec::new();
+        opened.into_reader().read_to_end(&mut back).unwrap();
+        assert_eq!(back, format!("{lines}{text}").into_bytes());
+        assert_eq!(past().read_all().unwrap(), back);
+        // A start that is not blank is left as it is; a blank file is empty.
+        std::fs::write(&path, format!("{text}{blank}")).unwrap();
+        assert_eq!(
+            past().start,
+            format!("{text}{blank}").as_bytes()[..SNIFF_BYTES]
+        );
+        std::fs::write(&path, &blank).unwrap();
+        let opened = past();
+        assert!(opened.start.is_empty());
+        assert_eq!(opened.read_all().unwrap(), lines.as_bytes());
     }
 
     /// The rows of an image, encoded as they come, give netpbm's bytes

@@ -161,8 +161,11 @@ fn run_in_pool(args: Args) -> Result<()> {
     let palette = match &args.palette {
         Some(file) => {
             let name = display_name(file);
-            let opened =
-                io::open_input(file, io::InputKind::Text).context("reading the --palette file")?;
+            // Past blank lines, so that their first line tells a pattern
+            // from a list of colours however many there are.
+            let opened = io::open_input(file, io::InputKind::Text)
+                .and_then(io::Opened::past_blank_start)
+                .context("reading the --palette file")?;
             if quantize::palette_is_pattern(&opened.start) {
                 let p = pat::Pattern::read_from(&mut opened.into_reader(), name)?;
                 Some(quantize::pattern_palette(&p, name)?)

@@ -116,8 +116,11 @@ pub fn run(args: Args) -> Result<()> {
         // error; anything else is a pattern, read as a stream (it may be
         // larger than a file read whole may be: `read_pattern`). Reading
         // whole what did not start as a pattern took 256 MiB before
-        // refusing `yes | pat-info -`.
-        let result = match crate::io::open_input(file, crate::io::InputKind::Text) {
+        // refusing `yes | pat-info -`, and `yes ' ' | pat-info -` before
+        // the whitespace was read past.
+        let opened = crate::io::open_input(file, crate::io::InputKind::Text)
+            .and_then(crate::io::Opened::past_blank_start);
+        let result = match opened {
             Ok(opened) if ModulationMap::may_start(&opened.start) => match opened.read_input() {
                 Ok(b) if ModulationMap::sniff(&b) => {
                     let map = ModulationMap::parse(&b, name).map_err(anyhow::Error::new);

@@ -953,3 +953,64 @@ clitest!(an_empty_input_name_is_said_so_by_every_tool, |dir| {
         );
     assert_eq!(dir.files(), ["tri.json"]);
 });
+
+clitest!(
+    pat_info_and_palette_read_past_blank_lines_in_little_memory,
+    |dir| {
+        // A hostile-input review found `yes ' ' | pat-info -` (and the same
+        // into pat-from-image --palette -) taking 265 MB: 4096 bytes of
+        // whitespace could not tell a pattern from a map (or a colour list),
+        // so the input was read whole, to 256 MiB. Blank lines are now read
+        // past, keeping only their count, and the lines of every error after
+        // them are as before.
+        let photo = repo("fixtures/images/earth-nasa.jpg");
+        let palette = format!("pat-from-image --palette - -o p.pat {}", photo.display());
+        for tool in ["pat-info --check -", &palette] {
+            let script = format!("yes ' ' | sh -c 'ulimit -v 196608; exec {tool}'");
+            let out = sh(dir.path(), &script);
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(1), "{script}: {err}");
+            assert!(
+            err.ends_with(
+                "reading standard input: is larger than the 268435456 bytes this input may have\n"
+            ),
+            "{script}: {err}"
+        );
+        }
+        let blank = " \r\n".repeat(3000);
+        dir.write("m.map", format!("{blank}# a map\nSTRIPE 4\n1 2 3 300\n"));
+        dir.write("c.pat", format!("{blank}16 1\n1 2 300\n"));
+        dir.write("l.txt", format!("{blank}16,0,0\n1,2\n"));
+        for (cmd, said) in [
+            (
+                "pat-info - < m.map",
+                "<stdin>:3003: word 6 `300`: out of range",
+            ),
+            ("pat-info m.map", "m.map:3003: word 6 `300`: out of range"),
+            (
+                "pat-info - < c.pat",
+                "<stdin>:3002: word 5 `300`: out of range",
+            ),
+            (
+                &format!(
+                    "pat-from-image --palette l.txt -o p.pat {}",
+                    photo.display()
+                ),
+                "l.txt:3002: invalid colour `1,2`",
+            ),
+            (
+                &format!(
+                    "pat-from-image --palette c.pat -o p.pat {}",
+                    photo.display()
+                ),
+                "c.pat:3002: word 5 `300`: out of range",
+            ),
+        ] {
+            let out = sh(dir.path(), cmd);
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(1), "{cmd}: {err}");
+            assert!(err.contains(said), "{cmd}: {err}");
+        }
+        assert_eq!(dir.files(), ["c.pat", "l.txt", "m.map"]);
+    }
+);
