@@ -165,8 +165,7 @@ pub fn run(args: Args) -> Result<()> {
         } else {
             write!(stdout, "{}", text_report(name, &pattern, at)).context(WRITING_STDOUT)?;
             if args.preview && colour {
-                write!(stdout, "{}", preview(&pattern, args.preview_size))
-                    .context(WRITING_STDOUT)?;
+                write_preview(&pattern, args.preview_size, &mut stdout).context(WRITING_STDOUT)?;
             } else if args.preview {
                 write!(stdout, "{}", plain_preview(&pattern, args.preview_size))
                     .context(WRITING_STDOUT)?;
@@ -659,7 +658,18 @@ const CHECKER: [[u8; 3]; 2] = [[153, 153, 153], [102, 102, 102]];
 /// Half-block preview: each character cell shows two texels, the upper one in
 /// the foreground (`▀`) and the lower in the background. Top of the output is
 /// the top row of the pattern (row SIZE-1).
+#[cfg(test)]
 fn preview(p: &Pattern, max: u32) -> String {
+    let mut out = Vec::new();
+    write_preview(p, max, &mut out).expect("writing to a Vec cannot fail");
+    String::from_utf8(out).expect("the preview is UTF-8")
+}
+
+/// [`preview`] written to `out` a line at a time: a 4096x4096 pattern's
+/// preview at `--preview-size 4096` is 243 MB of escapes, which were held
+/// whole before the first byte was written (274 MB peak, for a pattern
+/// read in 37 MB).
+fn write_preview(p: &Pattern, max: u32, out: &mut dyn std::io::Write) -> std::io::Result<()> {
     use std::fmt::Write;
     let size = p.size();
     let step = size.div_ceil(max).max(1);
@@ -673,6 +683,7 @@ fn preview(p: &Pattern, max: u32) -> String {
     let mut s = String::new();
     let mut y = cells as i64 - 1;
     while y >= 0 {
+        s.clear();
         for x in 0..cells {
             let top = rgb(x * step, y as u32 * step);
             let bottom = if y >= 1 {
@@ -691,9 +702,10 @@ fn preview(p: &Pattern, max: u32) -> String {
             }
         }
         s.push_str("\x1b[0m\n");
+        out.write_all(s.as_bytes())?;
         y -= 2;
     }
-    s
+    Ok(())
 }
 
 /// Characters naming palette indices 0, 1, ... in a preview without colour.
@@ -728,6 +740,33 @@ mod tests {
     use super::*;
     use crate::color::Rgb8;
     use crate::pat::TRANSPARENT;
+
+    #[test]
+    fn a_preview_is_written_a_line_at_a_time() {
+        // A hostile-input review found a 4096x4096 preview (243 MB of
+        // escapes) built whole before it was written: 274 MB peak.
+        struct Lines(Vec<Vec<u8>>);
+        impl std::io::Write for Lines {
+            fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+                self.0.push(b.to_vec());
+                Ok(b.len())
+            }
+            fn flush(&mut self) -> std::io::Result<()> {
+                Ok(())
+            }
+        }
+        let texels: Vec<u16> = (0..64 * 64).map(|i| (i % 3 % 2) as u16).collect();
+        let palette = vec![Rgb8([1, 2, 3]), Rgb8([4, 5, 6])];
+        let p = Pattern::new(64, palette, texels).unwrap();
+        for max in [64, 7] {
+            let mut lines = Lines(Vec::new());
+            write_preview(&p, max, &mut lines).unwrap();
+            let whole = preview(&p, max);
+            assert_eq!(lines.0.len(), whole.lines().count());
+            assert!(lines.0.iter().all(|l| l.ends_with(b"\x1b[0m\n")));
+            assert_eq!(lines.0.concat(), whole.as_bytes());
+        }
+    }
 
     #[test]
     fn preview_has_one_line_per_two_rows_and_resets_colour() {
