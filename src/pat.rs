@@ -516,15 +516,17 @@ impl<'a> Parser<'a> {
     /// Bounds what a stream may read to the header and `blocks` colour
     /// blocks ([`read_limit`]), raised block by block: a header that
     /// promises 65,535 colours of 4096x4096 (687 GB) and then sends
-    /// whitespace without end is refused after 11.5 MB, not 1.4 TB.
+    /// whitespace without end is refused after 256 MiB, not 1.4 TB.
     fn bound(&mut self, size: u32, blocks: usize) {
         if self.bounded {
             self.words.set_limit(
                 read_limit(size, blocks),
                 format!(
                     "the header and {blocks} colour block{} of a {size}x{size} pattern may take \
-                     (twice their canonical length, and 1 MiB)",
-                    if blocks == 1 { "" } else { "s" }
+                     (twice their canonical length and 1 MiB, or the {} bytes of any .pat read \
+                     whole, whichever is more)",
+                    if blocks == 1 { "" } else { "s" },
+                    crate::io::MAX_NAMED_FILE_BYTES
                 ),
             );
         }
@@ -638,14 +640,19 @@ impl<'a> Parser<'a> {
 
 /// The most bytes [`Pattern::read_from`] reads of a pattern whose header
 /// says `size`, up to the end of its first `ncolors` colour blocks: twice
-/// the canonical length with the longest `R G B` lines, and 1 MiB. Room
-/// for any layout a person or script writes (`0x0000`, CRLF, a space
-/// more), and an end to an endless input.
+/// the canonical length with the longest `R G B` lines, and 1 MiB, and
+/// never less than [`crate::io::MAX_NAMED_FILE_BYTES`]. Room for any
+/// layout a person or script writes (`0x0000`, CRLF, a space more), and an
+/// end to an endless input. The floor keeps every layout the format allows
+/// ("any layout is read", docs/pat-format.md) that a .pat read whole could
+/// have: without it a 4096x4096 pattern of one indented `0xffff` a CRLF
+/// line (12.6 MB) and a 64x64 one followed by 2 MiB of blank space were
+/// refused, where reading them whole had read them.
 pub fn read_limit(size: u32, ncolors: usize) -> u64 {
     let row = (size / WORD_BITS) as u64 * 5;
     let block = "255 255 255\n".len() as u64 + size as u64 * row;
     let canonical = format!("{size} {ncolors}\n").len() as u64 + ncolors as u64 * block;
-    2 * canonical + (1 << 20)
+    (2 * canonical + (1 << 20)).max(crate::io::MAX_NAMED_FILE_BYTES)
 }
 
 /// Whether an input that starts with `start` may be a `.pat`: its first
@@ -1153,7 +1160,8 @@ mod tests {
             e,
             format!(
                 "-: is longer than the {bound} bytes the header and 1 colour block of a 16x16 \
-                 pattern may take (twice their canonical length, and 1 MiB)"
+                 pattern may take (twice their canonical length and 1 MiB, or the 268435456 \
+                 bytes of any .pat read whole, whichever is more)"
             )
         );
         // A header promising more than it sends is bounded by what came.
@@ -1162,7 +1170,7 @@ mod tests {
             .unwrap_err()
             .to_string();
         let bound = read_limit(4096, 1);
-        assert!(bound < 12 << 20, "{bound}");
+        assert_eq!(bound, crate::io::MAX_NAMED_FILE_BYTES);
         assert!(
             e.starts_with(&format!("-: is longer than the {bound} bytes")),
             "{e}"
@@ -1170,6 +1178,24 @@ mod tests {
         // The largest pattern pat-from-image writes is well within its bound.
         let biggest = 4096u64 * (4096 / 16 * 5) * 256;
         assert!(read_limit(4096, 256) > 2 * biggest);
+    }
+
+    #[test]
+    fn a_stream_reads_any_layout_a_file_read_whole_could_have() {
+        // A hostile-input review found the stream's bound (twice the
+        // canonical length, and 1 MiB) refusing layouts the format allows
+        // and reading whole had read: one indented `0xffff` a CRLF line
+        // (12 bytes a word, 2.4 times the canonical 5), and a pattern
+        // followed by 2 MiB of blank space.
+        let mut indented = b"4096 1\r\n    1 2 3\r\n".to_vec();
+        for _ in 0..4096 * 256 {
+            indented.extend_from_slice(b"    0xffff\r\n");
+        }
+        let trailing = format!("{}{}", sample().to_canonical(), " ".repeat(2 << 20));
+        for text in [&indented[..], trailing.as_bytes()] {
+            let whole = Pattern::parse(text, "l.pat").unwrap();
+            assert_eq!(Pattern::read_from(&mut &text[..], "l.pat").unwrap(), whole);
+        }
     }
 
     #[test]
