@@ -215,13 +215,20 @@ fn run_in_pool(args: Args) -> Result<()> {
     if args.compat.is_some() && args.merge.is_some() {
         usage_bail!("--merge and --compat thesis cannot be combined: the thesis does not merge");
     }
+    if args.pattern.as_deref() == Some(std::path::Path::new(STDIO)) {
+        // Records written may name --pattern's file for the renderer (those
+        // forwarded with their pattern, `--uv`), and --depfile lists it:
+        // standard input has no name to give them. Before, `-` was looked
+        // up as a file named `-`, and its error ("-: No such file or
+        // directory") came at the first record that needed it.
+        usage_bail!(
+            "--pattern -: the pattern must be a file (records written may name it for the \
+             renderer), not standard input"
+        );
+    }
     super::stdin_read_once(&[
         ("the stream", Some(&args.input)),
         ("--camera", args.camera.camera.as_deref()),
-        (
-            "--pattern",
-            args.pattern.as_deref().and_then(|p| p.to_str()),
-        ),
     ])?;
     let camera = args.camera.resolve()?;
     match (&camera, args.cull) {

@@ -721,6 +721,28 @@ clitest!(pattern_flag_partitions_polygons_without_a_pattern, |dir| {
     assert_eq!(out, dir.read("faces.ndjson"));
 });
 
+clitest!(pattern_flag_refuses_stdin, |dir| {
+    // A hostile-input review: `--pattern -` was looked up as a file named
+    // `-`, and the first record that needed it failed with "-: No such file
+    // or directory" (status 1) after the records before it were written.
+    // Records written may name --pattern's file, so it must be a file.
+    write_pat(&dir.path().join("p.pat"), 16, |_, _| false);
+    dir.write(
+        "faces.ndjson",
+        "{\"id\":1,\"vertices\":[[0,0],[2,0],[2,2],[0,2]],\"color\":[1,2,3]}\n",
+    );
+    dir.cmd("polyfill3")
+        .args(["--pattern", "-", "faces.ndjson"])
+        .write_stdin(dir.read("p.pat"))
+        .assert()
+        .code(2)
+        .stdout("")
+        .stderr(
+            "polyfill3: error: --pattern -: the pattern must be a file (records written may \
+             name it for the renderer), not standard input\n",
+        );
+});
+
 clitest!(pattern_flag_leaves_a_records_own_texture, |dir| {
     // A record's own pattern (file and placement) is kept; a stripe is a
     // texture of its own too; a quadric is left as before.
