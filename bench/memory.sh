@@ -8,9 +8,9 @@
 # process's own) of: an empty stream (the baseline),
 # the seeded random triangles of bench/random_triangles.py (200,000 and
 # 1,000,000, about four layers a pixel) at 1024x768, and one triangle at
-# 1024x1024, 4096x4096 and 16384x16384, and with --background none at the
-# first two; bytes per triangle above the baseline, and bytes per pixel
-# between 1024x1024 and 4096x4096. And
+# 1024x1024, 4096x4096 and 16384x16384, and with --background none, with
+# --depth 16 and with both at the first two; bytes per triangle above the
+# baseline, and bytes per pixel between 1024x1024 and 4096x4096. And
 # pat-tile's peak filling 1024x1024 and 16384x16384 with a pattern that has
 # transparent texels (RGBA out), written a row at a time.
 set -eu
@@ -51,6 +51,14 @@ echo "One triangle, --background none (RGBA, drawn over black and over white):" 
     "1024x1024 $((small / 1024)) MiB, 4096x4096 $((large / 1024)) MiB:" \
     "$(awk "BEGIN { printf \"%.1f\", ($large - $small) * 1024 / (4096 * 4096 - 1024 * 1024) }")" \
     "bytes per pixel."
+for bg in "" "--background none"; do  # $bg unquoted: empty, or two words
+    small=$(peak --size 1024x1024 --depth 16 $bg "$WORK/one.ndjson")
+    large=$(peak --size 4096x4096 --depth 16 $bg "$WORK/one.ndjson")
+    echo
+    echo "One triangle, --depth 16${bg:+ $bg}: 1024x1024 $((small / 1024)) MiB, 4096x4096 $((large / 1024)) MiB:" \
+        "$(awk "BEGIN { printf \"%.1f\", ($large - $small) * 1024 / (4096 * 4096 - 1024 * 1024) }")" \
+        "bytes per pixel."
+done
 PT="$TARGET/release/pat-tile"
 tile_peak() { python3 bench/timing.py --runs 1 --warmup 0 -- "$PT" --size "$1" fixtures/patterns/bkgrnd.pat -o "$WORK/tiled.png" | cut -d' ' -f2; }
 echo

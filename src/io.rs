@@ -1124,10 +1124,7 @@ impl Image {
         format: ImageFormat,
         png: PngOptions,
     ) -> Result<(), IoError> {
-        let mut out = Output::create(name, true)?;
-        self.encode_with(format, png, &mut out)
-            .map_err(|e| write_error(name, WriteStep::Write)(out.cause(e)))?;
-        out.commit()
+        save_encoded(name, |out| self.encode_with(format, png, out))
     }
 }
 
@@ -1306,10 +1303,7 @@ pub fn save_rows(
     format: ImageFormat,
     png: PngOptions,
 ) -> Result<(), IoError> {
-    let mut out = Output::create(name, true)?;
-    encode_rows(rows, format, png, &mut out)
-        .map_err(|e| write_error(name, WriteStep::Write)(out.cause(e)))?;
-    out.commit()
+    save_encoded(name, |out| encode_rows(rows, format, png, out))
 }
 
 /// A 16-bit sRGB image, row 0 at the top, 3 or 4 channels interleaved: what
@@ -1330,38 +1324,74 @@ pub struct Image16 {
 impl Image16 {
     /// Encodes the image as 16-bit PNG, PPM (MAXVAL 65535; alpha dropped)
     /// or PAM (MAXVAL 65535); PFM is refused (it is written from linear
-    /// light, [`LinearImage`]).
+    /// light, [`LinearImage`]). A PNG takes a big-endian copy of the image
+    /// ([`Image16::encode_spent`] takes none); PPM and PAM a row at a time.
     pub fn encode_with<W: Write>(
         &self,
         format: ImageFormat,
         png: PngOptions,
         w: &mut W,
     ) -> io::Result<()> {
+        match format {
+            ImageFormat::Png => {
+                let bytes: Vec<u8> = self.data.iter().flat_map(|v| v.to_be_bytes()).collect();
+                self.write_png(&bytes, png, w)
+            }
+            _ => self.encode_netpbm(format, w),
+        }
+    }
+
+    /// [`Image16::encode_with`] of an image that is spent by it: a PNG's
+    /// samples are turned big-endian where they are, so that writing takes
+    /// no second image's worth of memory (8192x8192 RGB: 402 MB). The same
+    /// bytes (test `a_spent_16_bit_image_encodes_as_a_kept_one`).
+    pub fn encode_spent<W: Write>(
+        mut self,
+        format: ImageFormat,
+        png: PngOptions,
+        w: &mut W,
+    ) -> io::Result<()> {
+        match format {
+            ImageFormat::Png => {
+                for v in &mut self.data {
+                    *v = v.to_be();
+                }
+                self.write_png(bytemuck::cast_slice(&self.data), png, w)
+            }
+            _ => self.encode_netpbm(format, w),
+        }
+    }
+
+    /// The PNG of the image whose samples, big-endian, are `bytes`.
+    fn write_png<W: Write>(&self, bytes: &[u8], png: PngOptions, w: &mut W) -> io::Result<()> {
+        let size = (self.width, self.height, self.channels);
+        write_png(w, size, png::BitDepth::Sixteen, bytes, png)
+    }
+
+    /// PPM or PAM, a row at a time (PFM refused).
+    fn encode_netpbm(&self, format: ImageFormat, w: &mut dyn Write) -> io::Result<()> {
         let (wd, ht) = (self.width, self.height);
         // Every 16-bit format here stores big-endian samples (PNG 11.2.1,
         // netpbm's PPM and PAM with MAXVAL above 255).
-        let be = |samples: &mut dyn Iterator<Item = u16>| -> Vec<u8> {
-            samples.flat_map(u16::to_be_bytes).collect()
-        };
-        match format {
+        let keep = match format {
             ImageFormat::Ppm => {
                 write!(w, "P6\n{wd} {ht}\n65535\n")?;
-                let c = self.channels as usize;
-                let bytes = be(&mut self.data.chunks_exact(c).flat_map(|p| [p[0], p[1], p[2]]));
-                w.write_all(&bytes)?;
+                3
             }
             ImageFormat::Pam => {
                 write_pam_header(w, (wd, ht), self.channels, 65535)?;
-                w.write_all(&be(&mut self.data.iter().copied()))?;
+                self.channels as usize
             }
-            ImageFormat::Png => write_png(
-                w,
-                (wd, ht, self.channels),
-                png::BitDepth::Sixteen,
-                &be(&mut self.data.iter().copied()),
-                png,
-            )?,
-            ImageFormat::Pfm => return Err(wrong_encoding(Encoding::Srgb16, format)),
+            _ => return Err(wrong_encoding(Encoding::Srgb16, format)),
+        };
+        let c = self.channels as usize;
+        let mut row = Vec::with_capacity(wd as usize * keep * 2);
+        for line in self.data.chunks_exact(wd as usize * c) {
+            row.clear();
+            for pixel in line.chunks_exact(c) {
+                row.extend(pixel[..keep].iter().flat_map(|v| v.to_be_bytes()));
+            }
+            w.write_all(&row)?;
         }
         Ok(())
     }
@@ -1449,6 +1479,21 @@ impl AnyImage {
         }
     }
 
+    /// [`AnyImage::encode_with`] of an image spent by it: a 16-bit one is
+    /// turned big-endian in place rather than copied
+    /// ([`Image16::encode_spent`]); the same bytes.
+    pub fn encode_spent<W: Write>(
+        self,
+        format: ImageFormat,
+        png: PngOptions,
+        w: &mut W,
+    ) -> io::Result<()> {
+        match self {
+            AnyImage::Srgb16(i) => i.encode_spent(format, png, w),
+            other => other.encode_with(format, png, w),
+        }
+    }
+
     /// Writes the image to `name` (`-` = standard output) atomically.
     pub fn save_with(
         &self,
@@ -1456,11 +1501,30 @@ impl AnyImage {
         format: ImageFormat,
         png: PngOptions,
     ) -> Result<(), IoError> {
-        let mut out = Output::create(name, true)?;
-        self.encode_with(format, png, &mut out)
-            .map_err(|e| write_error(name, WriteStep::Write)(out.cause(e)))?;
-        out.commit()
+        save_encoded(name, |out| self.encode_with(format, png, out))
     }
+
+    /// [`AnyImage::save_with`], spending the image
+    /// ([`AnyImage::encode_spent`]).
+    pub fn save_spent(
+        self,
+        name: &str,
+        format: ImageFormat,
+        png: PngOptions,
+    ) -> Result<(), IoError> {
+        save_encoded(name, |out| self.encode_spent(format, png, out))
+    }
+}
+
+/// Writes `name` (`-` = standard output) atomically with `encode`; a
+/// failed write names the output.
+fn save_encoded(
+    name: &str,
+    encode: impl FnOnce(&mut Output) -> io::Result<()>,
+) -> Result<(), IoError> {
+    let mut out = Output::create(name, true)?;
+    encode(&mut out).map_err(|e| write_error(name, WriteStep::Write)(out.cause(e)))?;
+    out.commit()
 }
 
 /// An animated PNG (APNG) written one frame at a time, so an animation never
@@ -2422,6 +2486,60 @@ mod tests {
             .unwrap()
             .to_string()
             .contains("is inf"));
+    }
+
+    #[test]
+    fn a_spent_16_bit_image_encodes_as_a_kept_one() {
+        // PNG, PPM and PAM bytes of an image encoded borrowed, spent (its
+        // samples turned big-endian in place), and, for the netpbm formats
+        // (now written a row at a time), built whole as before: a header and
+        // every kept sample big-endian.
+        let mut state = 12345u32;
+        let mut sample = || {
+            state = state.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+            (state >> 8) as u16
+        };
+        for channels in [3u8, 4] {
+            let (width, height) = (37, 5);
+            let data = (0..width * height * channels as u32)
+                .map(|_| sample())
+                .collect();
+            let img = Image16 {
+                width,
+                height,
+                channels,
+                data,
+            };
+            for f in [ImageFormat::Png, ImageFormat::Ppm, ImageFormat::Pam] {
+                let mut kept = Vec::new();
+                img.encode_with(f, PngOptions::GENERAL, &mut kept).unwrap();
+                let mut spent = Vec::new();
+                let any = AnyImage::Srgb16(img.clone());
+                any.encode_spent(f, PngOptions::GENERAL, &mut spent)
+                    .unwrap();
+                assert!(kept == spent, "{f:?}, {channels} channels");
+                let keep = if f == ImageFormat::Ppm {
+                    3
+                } else {
+                    channels as usize
+                };
+                let whole: Vec<u8> = img
+                    .data
+                    .chunks_exact(channels as usize)
+                    .flat_map(|p| p[..keep].iter().flat_map(|v| v.to_be_bytes()))
+                    .collect();
+                let mut want = Vec::new();
+                match f {
+                    ImageFormat::Ppm => write!(want, "P6\n{width} {height}\n65535\n").unwrap(),
+                    ImageFormat::Pam => {
+                        write_pam_header(&mut want, (width, height), channels, 65535).unwrap()
+                    }
+                    _ => continue,
+                }
+                want.extend(whole);
+                assert!(kept == want, "{f:?}, {channels} channels");
+            }
+        }
     }
 
     #[test]

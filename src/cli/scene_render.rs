@@ -659,10 +659,10 @@ fn finish(
     // The image and the difference appear together or not at all: both are
     // written to their temporary files first, then both moved into place.
     let mut written = Vec::new();
-    let mut write = |image: &AnyImage, name: &str, format: ImageFormat| -> Result<()> {
+    let mut write = |image: AnyImage, name: &str, format: ImageFormat| -> Result<()> {
         let mut out = crate::io::Output::create(name, true)?;
         image
-            .encode_with(format, PngOptions::GENERAL, &mut out)
+            .encode_spent(format, PngOptions::GENERAL, &mut out)
             .map_err(|e| out.cause(e))
             .with_context(|| {
                 let shown = if name == crate::io::STDIO {
@@ -676,10 +676,10 @@ fn finish(
         Ok(())
     };
     if let Some((o, f)) = &output {
-        write(&img, o, *f)?;
+        write(img, o, *f)?;
     }
     if let (Some(d), Some(name)) = (diff, &args.diff) {
-        write(&d, name, super::output_format_8bit(None, name)?)?;
+        write(d, name, super::output_format_8bit(None, name)?)?;
     }
     for out in written {
         out.commit()?;
@@ -953,11 +953,11 @@ fn render_frames(
             }
             apng.as_mut().expect("created above").push(&img)?;
         } else if let Some(out) = stream.as_mut() {
-            img.encode_with(format, PngOptions::GENERAL, out)
+            img.encode_spent(format, PngOptions::GENERAL, out)
                 .map_err(|e| out.cause(e))
                 .context("writing standard output")?;
         } else {
-            img.save_with(&name, format, PngOptions::GENERAL)?;
+            img.save_spent(&name, format, PngOptions::GENERAL)?;
         }
         if args.timings {
             eprintln_or_drop!(
