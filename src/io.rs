@@ -2078,22 +2078,23 @@ mod tests {
         assert_eq!(opened.read_all().unwrap(), lines.as_bytes());
     }
 
+    /// `n` pseudo-random words from `seed` (a linear congruential
+    /// generator, Numerical Recipes' constants): test images' samples.
+    fn noise(seed: u32, n: usize) -> impl Iterator<Item = u32> {
+        let step = |s: u32| s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        std::iter::successors(Some(step(seed)), move |&s| Some(step(s))).take(n)
+    }
+
     /// The rows of an image, encoded as they come, give netpbm's bytes
     /// (written out here by hand) and the image's PNG pixels (decoded by the
     /// `image` crate, not by the encoder's own crate), with one IDAT chunk
     /// or, cut small, many.
     #[test]
     fn rows_give_the_pixels_and_netpbm_bytes_of_the_whole_image() {
-        let mut seed = 7u32;
-        let mut byte = || {
-            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            (seed >> 24) as u8
-        };
         for channels in [3u8, 4] {
             let (width, height) = (37, 23);
-            let data = (0..width * height * channels as u32)
-                .map(|_| byte())
-                .collect();
+            let n = (width * height * channels as u32) as usize;
+            let data = noise(7, n).map(|v| (v >> 24) as u8).collect();
             let img = Image {
                 width,
                 height,
@@ -2494,16 +2495,10 @@ mod tests {
         // samples turned big-endian in place), and, for the netpbm formats
         // (now written a row at a time), built whole as before: a header and
         // every kept sample big-endian.
-        let mut state = 12345u32;
-        let mut sample = || {
-            state = state.wrapping_mul(1_103_515_245).wrapping_add(12_345);
-            (state >> 8) as u16
-        };
         for channels in [3u8, 4] {
             let (width, height) = (37, 5);
-            let data = (0..width * height * channels as u32)
-                .map(|_| sample())
-                .collect();
+            let n = (width * height * channels as u32) as usize;
+            let data = noise(12345, n).map(|v| (v >> 16) as u16).collect();
             let img = Image16 {
                 width,
                 height,
