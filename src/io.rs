@@ -1386,7 +1386,8 @@ impl Image16 {
         };
         let c = self.channels as usize;
         let mut row = Vec::with_capacity(wd as usize * keep * 2);
-        for line in self.data.chunks_exact(wd as usize * c) {
+        // (`max(1)`: an image 0 pixels wide has no rows, and no samples.)
+        for line in self.data.chunks_exact((wd as usize * c).max(1)) {
             row.clear();
             for pixel in line.chunks_exact(c) {
                 row.extend(pixel[..keep].iter().flat_map(|v| v.to_be_bytes()));
@@ -2535,6 +2536,21 @@ mod tests {
                 assert!(kept == want, "{f:?}, {channels} channels");
             }
         }
+    }
+
+    #[test]
+    fn an_empty_16_bit_image_is_a_header_alone() {
+        // No rows to write a row at a time (the row length is 0).
+        let img = Image16 {
+            width: 0,
+            height: 0,
+            channels: 3,
+            data: Vec::new(),
+        };
+        let mut ppm = Vec::new();
+        img.encode_with(ImageFormat::Ppm, PngOptions::GENERAL, &mut ppm)
+            .unwrap();
+        assert_eq!(ppm, b"P6\n0 0\n65535\n");
     }
 
     #[test]
