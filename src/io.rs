@@ -324,13 +324,7 @@ impl Opened {
                 self.blank_lines += newlines as u64;
                 skipped += self.start.len() as u64;
                 if skipped > self.limit {
-                    return Err(io::Error::new(
-                        io::ErrorKind::InvalidData,
-                        format!(
-                            "is larger than the {} bytes {}",
-                            self.limit, self.limit_says
-                        ),
-                    ));
+                    return Err(too_large(self.limit, self.limit_says));
                 }
                 self.start.clear();
                 (&mut self.rest)
@@ -350,17 +344,8 @@ impl Opened {
 
     /// The whole input, refused past its limit.
     pub fn read_all(self) -> io::Result<Vec<u8>> {
-        let too_large = || {
-            io::Error::new(
-                io::ErrorKind::InvalidData,
-                format!(
-                    "is larger than the {} bytes {}",
-                    self.limit, self.limit_says
-                ),
-            )
-        };
         if self.known_len.is_some_and(|n| n > self.limit) {
-            return Err(too_large());
+            return Err(too_large(self.limit, self.limit_says));
         }
         let mut bytes = vec![b'\n'; self.blank_lines as usize];
         bytes.extend_from_slice(&self.start);
@@ -372,7 +357,7 @@ impl Opened {
             .take(rest.saturating_add(1))
             .read_to_end(&mut bytes)?;
         if bytes.len() as u64 > self.limit {
-            return Err(too_large());
+            return Err(too_large(self.limit, self.limit_says));
         }
         Ok(bytes)
     }
@@ -392,6 +377,14 @@ impl Opened {
             .chain(io::Cursor::new(self.start))
             .chain(self.rest)
     }
+}
+
+/// The error of an input past its `limit` (`says`: whose limit it is).
+fn too_large(limit: u64, says: &str) -> io::Error {
+    io::Error::new(
+        io::ErrorKind::InvalidData,
+        format!("is larger than the {limit} bytes {says}"),
+    )
 }
 
 /// The first `SNIFF_BYTES` of `r` (fewer if it ends sooner).

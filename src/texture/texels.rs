@@ -120,14 +120,25 @@ pub enum LoadError {
     Image(#[from] crate::io::IoError),
 }
 
-/// Whether an opened texture is a `.pat` to read as a stream (it may be
-/// larger than a file read whole may be): what is not an image. An image
-/// never starts with whitespace, and the stream's errors are those of
-/// [`Pattern::parse`]; reading whole what did not start as a pattern in
-/// its first 4096 bytes took 256 MiB before refusing
-/// `yes ' ' | scene-render --background-pattern - ...`.
-fn is_pattern_stream(opened: &crate::io::Opened) -> bool {
-    !crate::io::is_image(&opened.start)
+/// An opened texture: an image, read whole by `read_whole` (which gives the
+/// read's errors) and decoded; or else a `.pat`, read as a stream (it may be
+/// larger than a file read whole may be). An image never starts with
+/// whitespace, and the stream's errors are those of [`Pattern::parse`];
+/// reading whole what did not start as a pattern in its first 4096 bytes
+/// took 256 MiB before refusing `yes ' ' | scene-render
+/// --background-pattern - ...`.
+fn from_opened(
+    opened: crate::io::Opened,
+    name: &str,
+    read_whole: impl FnOnce(crate::io::Opened) -> Result<Vec<u8>, LoadError>,
+) -> Result<Texels, LoadError> {
+    if crate::io::is_image(&opened.start) {
+        return Texels::parse(&read_whole(opened)?, name);
+    }
+    Ok(Texels::new(&Pattern::read_from(
+        &mut opened.into_reader(),
+        name,
+    )?))
 }
 
 impl Texels {
@@ -155,13 +166,7 @@ impl Texels {
         let name = path.display().to_string();
         let io_error = |e| crate::text::ParseError::io(&name, e);
         let opened = crate::io::open_path(path).map_err(io_error)?;
-        if is_pattern_stream(&opened) {
-            return Ok(Texels::new(&Pattern::read_from(
-                &mut opened.into_reader(),
-                &name,
-            )?));
-        }
-        Texels::parse(&opened.read_all().map_err(io_error)?, &name)
+        from_opened(opened, &name, |o| Ok(o.read_all().map_err(io_error)?))
     }
 
     /// [`Texels::read_file`] of an input named on the command line (`-`
@@ -169,13 +174,7 @@ impl Texels {
     pub fn read_input(file: &str) -> Result<Texels, LoadError> {
         let name = crate::io::display_name(file);
         let opened = crate::io::open_input(file, crate::io::InputKind::TextOrImage)?;
-        if is_pattern_stream(&opened) {
-            return Ok(Texels::new(&Pattern::read_from(
-                &mut opened.into_reader(),
-                name,
-            )?));
-        }
-        Texels::parse(&opened.read_input()?, name)
+        from_opened(opened, name, |o| Ok(o.read_input()?))
     }
 
     /// [`Texels::read_file`] of bytes already read; `name` is used in
