@@ -9,9 +9,11 @@ triangles, in two sets: `auto` (vertex spread s = sqrt(4WH / 0.3N), about four
 layers a pixel at every N) and `s20` (s = 20 px, so the depth grows with N).
 For each: scene-render --aa exact (render-phase time from --timings, and the
 whole process; median of AA_RUNS, default 3, after a warm-up; one run from a
-million triangles up) and llvmpipe MSAA 4x (upload, draw, resolve, read back;
-median of AA_RUNS after a warm-up). Prints a Markdown table with ratios, and the fitted exponent of
-time against N (least squares on log-log) for each set and renderer.
+million triangles up), scene-render --aa ss4 (render phase, taking turns with
+exact: the point-sampled choice a user has on such scenes) and llvmpipe MSAA
+4x (upload, draw, resolve, read back; median of AA_RUNS after a warm-up).
+Prints a Markdown table with ratios, and the fitted exponent of time against
+N (least squares on log-log) for each set and renderer.
 """
 import math
 import os
@@ -32,10 +34,13 @@ W, H = 1024, 768
 
 
 def scene_render(sr, path, out, runs, warmup):
-    """(median render-phase s, median whole-process s)."""
-    cmd = [sr, "--size", f"{W}x{H}", "--background", "20,20,80", "--aa", "exact", "--timings", path, "-o", out]
-    (whole, phases), = measure_in_turns([cmd], runs, warmup)
-    return phases["render"], whole
+    """(median render-phase s, median whole-process s) of --aa exact, and the
+    median render-phase s of --aa ss4, the two taking turns."""
+    def cmd(aa, to):
+        return [sr, "--size", f"{W}x{H}", "--background", "20,20,80", "--aa", aa, "--timings", path, "-o", to]
+    ss4_out = out.replace(".png", "-ss4.png")
+    (whole, phases), (_, ss4) = measure_in_turns([cmd("exact", out), cmd("ss4", ss4_out)], runs, warmup)
+    return phases["render"], whole, ss4["render"]
 
 
 def fit(ns, ts):
@@ -51,12 +56,13 @@ def main():
     ctx = moderngl.create_standalone_context(backend="egl")
     mvp = srb.ortho(0, W, 0, H, -1, 1)
     here = os.path.dirname(os.path.abspath(__file__))
-    print("| set | N | exact render (s) | exact whole (s) | MSAA 4x render (s) | exact/MSAA4x render |")
-    print("|---|---:|---:|---:|---:|---:|")
+    print("| set | N | exact render (s) | exact whole (s) | ss4 render (s) | MSAA 4x render (s) "
+          "| exact/MSAA4x render | ss4/MSAA4x render |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
     fits = []
     for spread in ["auto", "20"]:
         name = "auto" if spread == "auto" else "s20"
-        ex, gl = [], []
+        ex, s4, gl = [], [], []
         for n in ns:
             path = os.path.join(work, f"tri-{name}-{n}.ndjson")
             if not os.path.exists(path):
@@ -64,19 +70,22 @@ def main():
                     subprocess.run([sys.executable, os.path.join(here, "random_triangles.py"), str(n), spread],
                                    stdout=fh, check=True)
             runs, warmup = (1, 0) if n >= HEAVY else (RUNS, 1)
-            render, whole = scene_render(sr, path, os.path.join(work, f"tri-{name}-{n}.png"), runs, warmup)
+            render, whole, ss4 = scene_render(sr, path, os.path.join(work, f"tri-{name}-{n}.png"), runs, warmup)
             tris = srb.load_triangles(path)
             png = os.path.join(work, f"tri-{name}-{n}-msaa4.png")
             srb.llvmpipe(ctx, tris, mvp, 4, png)
             t_gl = statistics.median([srb.llvmpipe(ctx, tris, mvp, 4, png) for _ in range(RUNS)])
             ex.append(render)
+            s4.append(ss4)
             gl.append(t_gl)
-            print(f"| {name} | {n} | {render:.3f} | {whole:.3f} | {t_gl:.3f} | {render / t_gl:.2f} |", flush=True)
-        fits.append((name, fit(ns, ex), fit(ns, gl)))
+            print(f"| {name} | {n} | {render:.3f} | {whole:.3f} | {ss4:.3f} | {t_gl:.3f} "
+                  f"| {render / t_gl:.2f} | {ss4 / t_gl:.2f} |", flush=True)
+        if len(set(ns)) > 1:
+            fits.append((name, fit(ns, ex), fit(ns, s4), fit(ns, gl)))
     print()
-    for name, e, g in fits:
-        print(f"- {name}: time ~ N^{e:.2f} (exact render), N^{g:.2f} (llvmpipe MSAA 4x), fitted over N = "
-              + ", ".join(str(n) for n in ns) + ".")
+    for name, e, s, g in fits:
+        print(f"- {name}: time ~ N^{e:.2f} (exact render), N^{s:.2f} (ss4 render), N^{g:.2f} (llvmpipe MSAA 4x), "
+              "fitted over N = " + ", ".join(str(n) for n in ns) + ".")
 
 
 if __name__ == "__main__":

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Exact anti-aliasing against llvmpipe MSAA 4x on random flat triangles,
+# Exact anti-aliasing (and --aa ss4) against llvmpipe MSAA 4x on random flat triangles,
 # 10k to 1M (issue "Performance at scale", item 1). Not run in CI.
 #
 #   bench/aa_scaling.sh [N ...] > bench/RESULTS-aa-scaling.md
