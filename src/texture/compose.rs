@@ -182,14 +182,7 @@ mod tests {
     #[test]
     fn premultiplied_composition_agrees_with_apply_at_alpha_0_and_1() {
         let t = [0.25, 0.5, 0.75];
-        for m in [
-            Compose::Replace,
-            Compose::Modulate,
-            Compose::Blend,
-            Compose::BlendIntrinsic,
-            Compose::Decal,
-            Compose::DecalIntrinsic,
-        ] {
+        for m in Compose::ALL {
             let opaque = m.apply_premultiplied([t[0], t[1], t[2], 1.0], I, C1, C2);
             let want = m.apply(Some(t), I, C1, C2).unwrap();
             for i in 0..3 {
