@@ -102,7 +102,7 @@ pub fn compare(img: &Image, reference: &Image) -> Result<Metrics, SizeMismatch> 
         width: img.width,
         height: img.height,
         rmse,
-        psnr: (rmse > 0.0).then(|| 20.0 * math::log10(255.0 / rmse)),
+        psnr: psnr(rmse),
         max_error,
         share_off: pixels_off as f64 / n_px as f64,
         pixels_off,
@@ -259,7 +259,7 @@ pub fn compare_any(img: &AnyImage, reference: &AnyImage) -> Result<AnyMetrics, S
         width,
         height,
         rmse,
-        psnr: (rmse > 0.0).then(|| 20.0 * math::log10(255.0 / rmse)),
+        psnr: psnr(rmse),
         max_error,
         share_off: pixels_off as f64 / n_px as f64,
         pixels_off,
@@ -295,14 +295,25 @@ pub fn diff_any(img: &AnyImage, reference: &AnyImage, gain: u32) -> Result<Image
     })
 }
 
+/// The PSNR of an RMSE in 8-bit codes; `None` when the images are the
+/// same. [`compare`] and [`compare_any`] measure it alike.
+fn psnr(rmse: f64) -> Option<f64> {
+    (rmse > 0.0).then(|| 20.0 * math::log10(255.0 / rmse))
+}
+
+/// The `psnr` line's value in both reports.
+fn psnr_text(psnr: Option<f64>) -> String {
+    match psnr {
+        Some(p) => format!("{p:.2} dB"),
+        None => "inf (identical)".to_string(),
+    }
+}
+
 impl DeepMetrics {
     /// The human-readable report: the lines of [`Metrics::report`] with six
     /// decimals, then the linear-light errors and what was compared.
     pub fn report(&self) -> String {
-        let psnr = match self.psnr {
-            Some(p) => format!("{p:.2} dB"),
-            None => "inf (identical)".to_string(),
-        };
+        let psnr = psnr_text(self.psnr);
         format!(
             "size      {}x{}\nrmse      {:.6}\npsnr      {psnr}\nmax       {:.6}\noff>{OFF_THRESHOLD}     {:.4}% ({} pixels)\n\
              linear    rmse {:.3e}, max {:.3e} (linear light)\n\
@@ -324,10 +335,7 @@ impl DeepMetrics {
 impl Metrics {
     /// The human-readable report: one line per measure.
     pub fn report(&self) -> String {
-        let psnr = match self.psnr {
-            Some(p) => format!("{p:.2} dB"),
-            None => "inf (identical)".to_string(),
-        };
+        let psnr = psnr_text(self.psnr);
         format!(
             "size      {}x{}\nrmse      {:.4}\npsnr      {psnr}\nmax       {}\noff>{OFF_THRESHOLD}     {:.4}% ({} pixels)\n",
             self.width,
