@@ -165,6 +165,20 @@ fn string<'a>(
     }
 }
 
+/// An entry of the colour-code table, 0..=255: `"code"` and `"next_code"`
+/// take one alike.
+fn colour_code(obj: &Map<String, Value>, key: &str) -> Result<Option<u8>, String> {
+    match obj.get(key) {
+        None => Ok(None),
+        Some(v) => match v.as_u64().filter(|&c| c <= 255) {
+            Some(c) => Ok(Some(c as u8)),
+            None => Err(format!(
+                "stripe.{key}: expected a colour code 0..=255, found {v}"
+            )),
+        },
+    }
+}
+
 impl StripeSpec {
     /// The record's stripe texture, if it has a `"stripe"` field. Errors name
     /// the field as `stripe.KEY`.
@@ -254,13 +268,7 @@ impl StripeSpec {
             None => Select::default(),
             Some(s) => Select::parse(s).map_err(|e| format!("stripe.{e}"))?,
         };
-        let code =
-            match obj.get("code") {
-                None => None,
-                Some(v) => Some(v.as_u64().filter(|&c| c <= 255).ok_or_else(|| {
-                    format!("stripe.code: expected a colour code 0..=255, found {v}")
-                })? as u8),
-            };
+        let code = colour_code(obj, "code")?;
         let blend = blend_spec(obj)?;
         let what = "the path of a colour-code table";
         let colours = match (string(obj, "colors", what)?, string(obj, "colours", what)?) {
@@ -335,13 +343,7 @@ fn blend_spec(obj: &Map<String, Value>) -> Result<Option<BlendSpec>, String> {
             }
         },
     };
-    let next_code =
-        match obj.get("next_code") {
-            None => None,
-            Some(v) => Some(v.as_u64().filter(|&c| c <= 255).ok_or_else(|| {
-                format!("stripe.next_code: expected a colour code 0..=255, found {v}")
-            })? as u8),
-        };
+    let next_code = colour_code(obj, "next_code")?;
     let next_colour = obj
         .get("next_color")
         .map(|v| crate::stream::parse_color(v).map_err(|e| format!("stripe.next_{e}")))
