@@ -92,15 +92,35 @@ pub struct ObjError {
     pub message: String,
 }
 
+impl ObjError {
+    /// The error `message` at `line` of `file`: OBJ and MTL reading both
+    /// name the place this way.
+    fn at(file: &Path, line: usize, message: String) -> ObjError {
+        ObjError {
+            file: file.to_path_buf(),
+            line,
+            message,
+        }
+    }
+}
+
+/// The statements of OBJ or MTL text, one a line that has one: its line
+/// number (from 1), the line without its comment, its keyword and the
+/// words after it. The two formats share this syntax.
+fn statements(text: &str) -> impl Iterator<Item = (usize, &str, &str, Vec<&str>)> {
+    text.lines().enumerate().filter_map(|(i, raw)| {
+        let line = raw.split('#').next().unwrap_or("").trim();
+        let mut words = line.split_whitespace();
+        let key = words.next()?;
+        Some((i + 1, line, key, words.collect()))
+    })
+}
+
 impl Mesh {
     /// Reads the OBJ file at `path` and the `.mtl` files it names (resolved
     /// against its directory).
     pub fn read_file(path: &Path) -> Result<Mesh, ObjError> {
-        let bytes = crate::io::read_path(path).map_err(|e| ObjError {
-            file: path.to_path_buf(),
-            line: 0,
-            message: e.to_string(),
-        })?;
+        let bytes = crate::io::read_path(path).map_err(|e| ObjError::at(path, 0, e.to_string()))?;
         Mesh::parse(&bytes, path, &mut |p| {
             crate::io::read_path(p).map_err(|e| e.to_string())
         })
@@ -112,11 +132,7 @@ impl Mesh {
         path: &Path,
         read: &mut dyn FnMut(&Path) -> Result<Vec<u8>, String>,
     ) -> Result<Mesh, ObjError> {
-        let err = |line: usize, message: String| ObjError {
-            file: path.to_path_buf(),
-            line,
-            message,
-        };
+        let err = |line: usize, message: String| ObjError::at(path, line, message);
         let text = std::str::from_utf8(bytes)
             .map_err(|e| err(0, format!("not UTF-8 text ({e}): not an OBJ file")))?;
         let dir = path.parent().unwrap_or(Path::new(""));
@@ -124,12 +140,7 @@ impl Mesh {
         let mut by_name: HashMap<String, usize> = HashMap::new();
         let mut current = None;
         let mut triangles = 0u64;
-        for (i, raw) in text.lines().enumerate() {
-            let n = i + 1;
-            let line = raw.split('#').next().unwrap_or("").trim();
-            let mut words = line.split_whitespace();
-            let Some(key) = words.next() else { continue };
-            let rest: Vec<&str> = words.collect();
+        for (n, line, key, rest) in statements(text) {
             let most = || {
                 mesh.positions
                     .len()
@@ -295,20 +306,11 @@ fn numbers<const N: usize>(words: &[&str], what: &str) -> Result<[f64; N], Strin
 
 /// Adds the materials of MTL text `bytes` (file `path`) to `out`.
 fn parse_mtl(bytes: &[u8], path: &Path, out: &mut Vec<Material>) -> Result<(), ObjError> {
-    let err = |line: usize, message: String| ObjError {
-        file: path.to_path_buf(),
-        line,
-        message,
-    };
+    let err = |line: usize, message: String| ObjError::at(path, line, message);
     let text = std::str::from_utf8(bytes)
         .map_err(|e| err(0, format!("not UTF-8 text ({e}): not an MTL file")))?;
     let dir = path.parent().unwrap_or(Path::new(""));
-    for (i, raw) in text.lines().enumerate() {
-        let n = i + 1;
-        let line = raw.split('#').next().unwrap_or("").trim();
-        let mut words = line.split_whitespace();
-        let Some(key) = words.next() else { continue };
-        let rest: Vec<&str> = words.collect();
+    for (n, line, key, rest) in statements(text) {
         let here = || err(n, format!("{key}: before any newmtl"));
         match key {
             "newmtl" => out.push(Material {
