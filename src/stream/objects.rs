@@ -137,18 +137,7 @@ impl Item {
             let mut object = object;
             let records = object.take_records();
             let fields = object.into_fields();
-            let name = match fields.get("object") {
-                Some(Value::String(s)) if !s.is_empty() => s.clone(),
-                other => {
-                    return Err(field_err(
-                        index,
-                        format!(
-                            "object: expected a non-empty name, found {}",
-                            short(other.unwrap_or(&Value::Null))
-                        ),
-                    ))
-                }
-            };
+            let name = object_name(&fields, "object", index, "a non-empty name")?;
             let records = records.ok_or_else(|| {
                 field_err(
                     index,
@@ -177,18 +166,7 @@ impl Item {
         }
         if object.contains_key("instance") {
             let fields = object.into_fields();
-            let object = match fields.get("instance") {
-                Some(Value::String(s)) if !s.is_empty() => s.clone(),
-                other => {
-                    return Err(field_err(
-                        index,
-                        format!(
-                            "instance: expected an object name, found {}",
-                            short(other.unwrap_or(&Value::Null))
-                        ),
-                    ))
-                }
-            };
+            let object = object_name(&fields, "instance", index, "an object name")?;
             let transform = fields
                 .get("transform")
                 .map(Transform::from_json)
@@ -219,6 +197,27 @@ impl Item {
             }));
         }
         Record::from_fields(index, object.into_fields()).map(Item::Record)
+    }
+}
+
+/// The object name in field `key` of element `index`, a non-empty string,
+/// else an error saying it `expected` one: a definition's `"object"` and an
+/// instance's `"instance"` are checked alike.
+fn object_name(
+    fields: &Fields,
+    key: &str,
+    index: usize,
+    expected: &str,
+) -> Result<String, StreamError> {
+    match fields.get(key) {
+        Some(Value::String(s)) if !s.is_empty() => Ok(s.clone()),
+        other => Err(field_err(
+            index,
+            format!(
+                "{key}: expected {expected}, found {}",
+                short(other.unwrap_or(&Value::Null))
+            ),
+        )),
     }
 }
 
