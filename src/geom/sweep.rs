@@ -162,36 +162,31 @@ impl Treap {
 
     /// The id just before `id` (present) in the order.
     pub(super) fn prev(&self, id: u32) -> Option<u32> {
-        let mut x = id;
-        if self.nodes[x as usize].link[L] != NIL {
-            x = self.nodes[x as usize].link[L];
-            while self.nodes[x as usize].link[R] != NIL {
-                x = self.nodes[x as usize].link[R];
-            }
-            return Some(x);
-        }
-        loop {
-            let p = self.nodes[x as usize].link[P];
-            if p == NIL || self.nodes[p as usize].link[R] == x {
-                return Self::get(p);
-            }
-            x = p;
-        }
+        self.beside(id, L)
     }
 
     /// The id just after `id` (present) in the order.
     pub(super) fn next(&self, id: u32) -> Option<u32> {
+        self.beside(id, R)
+    }
+
+    /// The id next to `id` (present) on `side` of it in the order (`L`:
+    /// before, `R`: after): [`Treap::prev`] and [`Treap::next`] are the
+    /// same walk, mirrored.
+    #[inline]
+    fn beside(&self, id: u32, side: usize) -> Option<u32> {
+        let other = if side == L { R } else { L };
         let mut x = id;
-        if self.nodes[x as usize].link[R] != NIL {
-            x = self.nodes[x as usize].link[R];
-            while self.nodes[x as usize].link[L] != NIL {
-                x = self.nodes[x as usize].link[L];
+        if self.nodes[x as usize].link[side] != NIL {
+            x = self.nodes[x as usize].link[side];
+            while self.nodes[x as usize].link[other] != NIL {
+                x = self.nodes[x as usize].link[other];
             }
             return Some(x);
         }
         loop {
             let p = self.nodes[x as usize].link[P];
-            if p == NIL || self.nodes[p as usize].link[L] == x {
+            if p == NIL || self.nodes[p as usize].link[other] == x {
                 return Self::get(p);
             }
             x = p;
