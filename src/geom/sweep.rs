@@ -116,13 +116,7 @@ impl Treap {
         if child != NIL {
             self.nodes[child as usize].link[P] = parent;
         }
-        if parent == NIL {
-            self.root = child;
-        } else if self.nodes[parent as usize].link[L] == id {
-            self.nodes[parent as usize].link[L] = child;
-        } else {
-            self.nodes[parent as usize].link[R] = child;
-        }
+        self.replace_child(parent, id, child);
         self.nodes[i].link[L] = NIL;
         self.nodes[i].link[R] = NIL;
         self.nodes[i].link[P] = NIL;
@@ -151,12 +145,19 @@ impl Treap {
         }
         self.nodes[pi].link[P] = x;
         self.nodes[xi].link[P] = g;
-        if g == NIL {
-            self.root = x;
-        } else if self.nodes[g as usize].link[L] == p {
-            self.nodes[g as usize].link[L] = x;
+        self.replace_child(g, p, x);
+    }
+
+    /// Hangs `new` from `parent` where `old` hung (the root, for `parent`
+    /// NIL): [`Treap::remove`] and [`Treap::rotate_up`] both move a node
+    /// into another's place.
+    fn replace_child(&mut self, parent: u32, old: u32, new: u32) {
+        if parent == NIL {
+            self.root = new;
+        } else if self.nodes[parent as usize].link[L] == old {
+            self.nodes[parent as usize].link[L] = new;
         } else {
-            self.nodes[g as usize].link[R] = x;
+            self.nodes[parent as usize].link[R] = new;
         }
     }
 
