@@ -396,18 +396,23 @@ fn read_start(r: &mut impl Read) -> io::Result<Vec<u8>> {
 
 /// Opens a file to read by name, with a clear error for a directory.
 pub fn open_file(name: &str) -> Result<std::fs::File, IoError> {
-    let path = Path::new(name);
-    let opened = if name.is_empty() {
-        Err(empty_input_name())
-    } else if path.is_dir() {
-        Err(is_a_directory())
-    } else {
-        std::fs::File::open(path)
-    };
-    opened.map_err(|error| IoError::Read {
+    open_named(name).map_err(|error| IoError::Read {
         input: name.to_string(),
         error,
     })
+}
+
+/// Opens the file an input names (FIFOs and `<(...)` included), with
+/// clear errors for an empty name and a directory: what [`open_file`] and
+/// [`open_input`] open.
+fn open_named(name: &str) -> io::Result<std::fs::File> {
+    if name.is_empty() {
+        Err(empty_input_name())
+    } else if Path::new(name).is_dir() {
+        Err(is_a_directory())
+    } else {
+        std::fs::File::open(name)
+    }
 }
 
 /// The error for an input named by the empty string (`pat-tile ''`): the
@@ -508,13 +513,8 @@ pub fn open_input(name: &str, kind: InputKind) -> Result<Opened, IoError> {
     let open = || {
         let mut r: Box<dyn Read> = if name == STDIO {
             Box::new(io::stdin().lock())
-        } else if name.is_empty() {
-            return Err(empty_input_name());
-        } else if Path::new(name).is_dir() {
-            return Err(is_a_directory());
         } else {
-            // Any file the user names, FIFOs and `<(...)` included.
-            Box::new(std::fs::File::open(name)?)
+            Box::new(open_named(name)?)
         };
         let start = read_start(&mut r)?;
         let limit = kind.check_start(&start)?;
