@@ -84,9 +84,35 @@ pub struct Args {
     pub preview_size: u32,
 }
 
-/// The context of a failed write of a report: without it a full disk or a
-/// closed standard output said only "No space left on device".
-const WRITING_STDOUT: &str = "writing standard output";
+/// Standard output whose failed writes say so: without it a full disk
+/// said only "No space left on device". The error keeps its kind, so a
+/// closed pipe still ends the run quietly (`super::report`).
+struct Stdout(std::io::StdoutLock<'static>);
+
+impl Stdout {
+    fn lock() -> Stdout {
+        Stdout(std::io::stdout().lock())
+    }
+}
+
+/// A failed write of a report, named.
+fn writing_stdout(e: std::io::Error) -> std::io::Error {
+    std::io::Error::new(e.kind(), format!("writing standard output: {e}"))
+}
+
+impl Write for Stdout {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0.write(buf).map_err(writing_stdout)
+    }
+
+    fn write_all(&mut self, buf: &[u8]) -> std::io::Result<()> {
+        self.0.write_all(buf).map_err(writing_stdout)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.0.flush().map_err(writing_stdout)
+    }
+}
 
 /// Runs `pat-info`.
 pub fn run(args: Args) -> Result<()> {
@@ -107,7 +133,7 @@ pub fn run(args: Args) -> Result<()> {
         return record_report(&args.files[0], n, args.json);
     }
     let colour = args.color.stdout_wants_colour();
-    let mut stdout = std::io::stdout().lock();
+    let mut stdout = Stdout::lock();
     let mut failures = 0usize;
     let mut reports = Vec::new();
     for file in &args.files {
@@ -130,7 +156,7 @@ pub fn run(args: Args) -> Result<()> {
                             failures += 1;
                         }
                         Ok(Report::Json(j)) => reports.push(j),
-                        Ok(Report::Text(t)) => write!(stdout, "{t}").context(WRITING_STDOUT)?,
+                        Ok(Report::Text(t)) => write!(stdout, "{t}")?,
                     }
                     continue;
                 }
@@ -163,12 +189,11 @@ pub fn run(args: Args) -> Result<()> {
         if args.json {
             reports.push(json_report(name, &pattern, at));
         } else {
-            write!(stdout, "{}", text_report(name, &pattern, at)).context(WRITING_STDOUT)?;
+            write!(stdout, "{}", text_report(name, &pattern, at))?;
             if args.preview && colour {
-                write_preview(&pattern, args.preview_size, &mut stdout).context(WRITING_STDOUT)?;
+                write_preview(&pattern, args.preview_size, &mut stdout)?;
             } else if args.preview {
-                write!(stdout, "{}", plain_preview(&pattern, args.preview_size))
-                    .context(WRITING_STDOUT)?;
+                write!(stdout, "{}", plain_preview(&pattern, args.preview_size))?;
             }
         }
     }
@@ -176,11 +201,10 @@ pub fn run(args: Args) -> Result<()> {
         serde_json::to_writer_pretty(
             &mut stdout,
             &super::json_document("pat-info", "files", reports),
-        )
-        .context(WRITING_STDOUT)?;
-        writeln!(stdout).context(WRITING_STDOUT)?;
+        )?;
+        writeln!(stdout)?;
     }
-    stdout.flush().context(WRITING_STDOUT)?;
+    stdout.flush()?;
     if failures > 0 {
         return Err(AlreadyReported.into());
     }
@@ -441,18 +465,17 @@ fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
             let label = format!("{name}: record {n}");
             let loaded = load(record, &label)?
                 .ok_or_else(|| anyhow::anyhow!("{label} has no \"stripe\" texture"))?;
-            let mut stdout = std::io::stdout().lock();
+            let mut stdout = Stdout::lock();
             if as_json {
                 let o = record_json(name, n, &loaded, record.color);
                 let doc = super::json_document("pat-info", "records", vec![o]);
-                serde_json::to_writer_pretty(&mut stdout, &doc).context(WRITING_STDOUT)?;
-                writeln!(stdout).context(WRITING_STDOUT)?;
+                serde_json::to_writer_pretty(&mut stdout, &doc)?;
+                writeln!(stdout)?;
             } else {
                 let title = format!("{label}: stripe texture");
-                write!(stdout, "{}", record_text(&title, &loaded, record.color))
-                    .context(WRITING_STDOUT)?;
+                write!(stdout, "{}", record_text(&title, &loaded, record.color))?;
             }
-            stdout.flush().context(WRITING_STDOUT)?;
+            stdout.flush()?;
             return Ok(());
         }
         Item::Light(_) => {
@@ -477,7 +500,7 @@ fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
     if shown.is_empty() {
         anyhow::bail!("{name}: record {n} ({what}) draws no polygon with a \"stripe\" texture");
     }
-    let mut stdout = std::io::stdout().lock();
+    let mut stdout = Stdout::lock();
     if as_json {
         let list: Vec<Value> = shown
             .iter()
@@ -499,15 +522,15 @@ fn record_report(file: &str, n: usize, as_json: bool) -> Result<()> {
             })
             .collect();
         let doc = super::json_document("pat-info", "records", list);
-        serde_json::to_writer_pretty(&mut stdout, &doc).context(WRITING_STDOUT)?;
-        writeln!(stdout).context(WRITING_STDOUT)?;
+        serde_json::to_writer_pretty(&mut stdout, &doc)?;
+        writeln!(stdout)?;
     } else {
         for (_, label, loaded, colour) in &shown {
             let title = format!("{label}: stripe texture ({what})");
-            write!(stdout, "{}", record_text(&title, loaded, *colour)).context(WRITING_STDOUT)?;
+            write!(stdout, "{}", record_text(&title, loaded, *colour))?;
         }
     }
-    stdout.flush().context(WRITING_STDOUT)?;
+    stdout.flush()?;
     Ok(())
 }
 
