@@ -23,6 +23,15 @@ fn sh(dir: &std::path::Path, script: &str) -> std::process::Output {
         .unwrap()
 }
 
+/// [`sh`] of a script that must fail with status 1 (a clear error, not a
+/// crash or a usage error); its standard error.
+fn sh_fails(dir: &std::path::Path, script: &str) -> String {
+    let out = sh(dir, script);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(1), "{script}: {err}");
+    err
+}
+
 /// The status of `first` (a shell command) writing into a pipe that
 /// `head -c 10` closes early, and what the pipeline said on standard error.
 fn through_closed_pipe(dir: &std::path::Path, first: &str) -> (String, String) {
@@ -606,9 +615,7 @@ clitest!(out_of_memory_is_an_error_line_and_leaves_nothing, |dir| {
             "polyfill3",
         ),
     ] {
-        let out = sh(dir.path(), script);
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{tool}: {err}");
+        let err = sh_fails(dir.path(), script);
         assert!(
             err.starts_with(&format!("{tool}: error: out of memory: a request for ")),
             "{err}"
@@ -676,9 +683,7 @@ clitest!(
                 "is not text",
             ),
         ] {
-            let out = sh(dir.path(), &format!("ulimit -v 524288; exec {cmd}"));
-            let err = String::from_utf8_lossy(&out.stderr);
-            assert_eq!(out.status.code(), Some(1), "{cmd}: {err}");
+            let err = sh_fails(dir.path(), &format!("ulimit -v 524288; exec {cmd}"));
             assert!(
                 err.contains("/dev/zero: ") && err.contains(says),
                 "{cmd}: {err}"
@@ -817,9 +822,7 @@ clitest!(a_camera_file_is_read_only_to_its_limit, |dir| {
             "is larger than the 1048576 bytes this input may have",
         ),
     ] {
-        let out = sh(dir.path(), cmd);
-        let said = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{cmd}: {said}");
+        let said = sh_fails(dir.path(), cmd);
         assert!(said.contains(want), "{cmd}: {said}");
     }
 });
@@ -831,9 +834,7 @@ clitest!(pat_info_names_standard_output_when_it_is_full, |dir| {
     let brick = repo("fixtures/patterns/brick.pat");
     for flags in ["", "--json", "--preview --color never"] {
         let cmd = format!("pat-info {flags} {} > /dev/full", brick.display());
-        let out = sh(dir.path(), &cmd);
-        let said = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{cmd}: {said}");
+        let said = sh_fails(dir.path(), &cmd);
         assert!(
             said.starts_with("pat-info: error: writing standard output: No space left on device"),
             "{cmd}: {said}"
@@ -873,8 +874,7 @@ clitest!(
         ] {
             for tool in who {
                 let script = format!("{feed} | sh -c 'ulimit -v 196608; exec {tool}'");
-                let out = sh(dir.path(), &script);
-                let err = String::from_utf8_lossy(&out.stderr);
+                let err = sh_fails(dir.path(), &script);
                 let name = tool.split(' ').next().unwrap();
                 assert_eq!(err, format!("{name}: error: {said}\n"), "{script}");
             }
@@ -889,8 +889,7 @@ clitest!(
                 .map(|&w| if w == "-" { "late.pat" } else { w })
                 .collect::<Vec<_>>()
                 .join(" ");
-            let out = sh(dir.path(), &script);
-            let err = String::from_utf8_lossy(&out.stderr);
+            let err = sh_fails(dir.path(), &script);
             assert!(
                 err.contains("late.pat:5002: word 5 `300`: out of range"),
                 "{script}: {err}"
@@ -967,15 +966,14 @@ clitest!(
         let palette = format!("pat-from-image --palette - -o p.pat {}", photo.display());
         for tool in ["pat-info --check -", &palette] {
             let script = format!("yes ' ' | sh -c 'ulimit -v 196608; exec {tool}'");
-            let out = sh(dir.path(), &script);
-            let err = String::from_utf8_lossy(&out.stderr);
-            assert_eq!(out.status.code(), Some(1), "{script}: {err}");
+            let err = sh_fails(dir.path(), &script);
             assert!(
-            err.ends_with(
-                "reading standard input: is larger than the 268435456 bytes this input may have\n"
-            ),
-            "{script}: {err}"
-        );
+                err.ends_with(
+                    "reading standard input: is larger than the 268435456 bytes this input may \
+                     have\n"
+                ),
+                "{script}: {err}"
+            );
         }
         let blank = " \r\n".repeat(3000);
         dir.write("m.map", format!("{blank}# a map\nSTRIPE 4\n1 2 3 300\n"));
@@ -1006,9 +1004,7 @@ clitest!(
                 "c.pat:3002: word 5 `300`: out of range",
             ),
         ] {
-            let out = sh(dir.path(), cmd);
-            let err = String::from_utf8_lossy(&out.stderr);
-            assert_eq!(out.status.code(), Some(1), "{cmd}: {err}");
+            let err = sh_fails(dir.path(), cmd);
             assert!(err.contains(said), "{cmd}: {err}");
         }
         assert_eq!(dir.files(), ["c.pat", "l.txt", "m.map"]);
