@@ -27,17 +27,17 @@
 //!
 //! Run: `cargo bench --bench tile_map_probe -- SCENE.ndjson [REFERENCE.pam]`.
 
+use glam::DVec2;
+use patkit::geom::polygon::{area2, clip_axis, clip_line, AREA_EPS};
 use std::time::Instant;
 
-type P = [f64; 2];
+type P = DVec2;
 const W: usize = 1024;
 const H: usize = 768;
 const TILE: usize = 32;
 /// The side of a cell of a tile's grid of pieces, in pixels.
 const CELL: usize = 4;
 const CELLS: usize = TILE / CELL;
-/// Pieces of no more area than this are dropped (as `geom::polygon::AREA_EPS`).
-const AREA_EPS: f64 = 1e-12;
 /// scene-render's `--background 20,20,80`.
 const BACKGROUND: [u8; 3] = [20, 20, 80];
 
@@ -60,7 +60,7 @@ fn read(path: &str) -> Vec<Triangle> {
         };
         assert_eq!(v.len(), 3, "{path}: only triangles");
         let c = r.color.expect("flat colours");
-        let verts = [v[0], v[1], v[2]].map(|p| [p.x, p.y]);
+        let verts = [v[0], v[1], v[2]].map(|p| p.truncate());
         if let Some(plane) = plane_of(&[v[0], v[1], v[2]].map(|p| [p.x, p.y, p.z])) {
             let linear = c.0.map(|u| decode[u as usize]);
             out.push(Triangle {
@@ -90,35 +90,6 @@ fn plane_of(t: &[[f64; 3]; 3]) -> Option<[f64; 3]> {
     Some([zx, zy, a[2] - zx * a[0] - zy * a[1]])
 }
 
-/// Twice the signed area (counter-clockwise positive).
-fn area2(v: &[P]) -> f64 {
-    (0..v.len())
-        .map(|i| {
-            let (a, b) = (v[i], v[(i + 1) % v.len()]);
-            a[0] * b[1] - a[1] * b[0]
-        })
-        .sum()
-}
-
-/// The part of convex `v` where `l(p) = l[0] x + l[1] y + l[2] >= 0`.
-fn clip(v: &[P], l: [f64; 3], out: &mut Vec<P>) {
-    out.clear();
-    for i in 0..v.len() {
-        let (a, b) = (v[i], v[(i + 1) % v.len()]);
-        let (da, db) = (
-            l[0] * a[0] + l[1] * a[1] + l[2],
-            l[0] * b[0] + l[1] * b[1] + l[2],
-        );
-        if da >= 0.0 {
-            out.push(a);
-        }
-        if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
-            let t = da / (da - db);
-            out.push([a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t]);
-        }
-    }
-}
-
 fn bbox(v: &[P]) -> [f64; 4] {
     v.iter()
         .fold([f64::MAX, f64::MAX, f64::MIN, f64::MIN], |b, p| {
@@ -137,7 +108,8 @@ fn apart(a: &[f64; 4], b: &[f64; 4]) -> bool {
 
 /// The convex pieces of `p \ o` (`o` convex, counter-clockwise) into `out`,
 /// and `p ∩ o` left in `inside`; `false`, with nothing pushed, where `p`
-/// misses `o`.
+/// misses `o`. (The renderer's own, `raster::visible::subtract`, is
+/// private to it.)
 fn subtract(
     p: &[P],
     o: &[P],
@@ -168,12 +140,14 @@ fn subtract(
             out.push(std::mem::take(inside));
             return true;
         }
-        clip(inside, [-l[0], -l[1], -l[2]], tmp);
+        tmp.clear();
+        clip_line(inside, [-l[0], -l[1], -l[2]], tmp);
         if tmp.len() >= 3 && area2(tmp) > 2.0 * AREA_EPS {
             out.push(tmp.clone());
         }
         cut = true;
-        clip(inside, l, tmp);
+        tmp.clear();
+        clip_line(inside, l, tmp);
         std::mem::swap(inside, tmp);
         if inside.len() < 3 {
             inside.clear();
@@ -194,8 +168,8 @@ fn edge(cells: &mut [[f64; 3]], (width, rows): (usize, usize), o: P, a: P, b: P,
     let (stride, right) = (width + 2, width as f64);
     let k = |v: f64, hi: f64| v.clamp(0.0, hi);
     let (a, b) = (
-        [k(a[0] - o[0], right), k(a[1] - o[1], rows as f64)],
-        [k(b[0] - o[0], right), k(b[1] - o[1], rows as f64)],
+        DVec2::new(k(a.x - o.x, right), k(a.y - o.y, rows as f64)),
+        DVec2::new(k(b.x - o.x, right), k(b.y - o.y, rows as f64)),
     );
     let (a, b, sign) = match a[1].partial_cmp(&b[1]) {
         Some(std::cmp::Ordering::Less) => (a, b, -1.0),
@@ -278,7 +252,7 @@ fn integrate_once(tris: &[Triangle]) -> f64 {
     let stride = width + 2;
     let start = Instant::now();
     let mut cells = vec![[0.0; 3]; stride * rows];
-    let o = [-(pad as f64); 2];
+    let o = DVec2::splat(-(pad as f64));
     for v in order {
         for i in 0..3 {
             // Colour 1 in each channel: as much arithmetic as a colour, and
@@ -373,25 +347,33 @@ fn tile_map(tris: &[Triangle], counts: &mut Counts) -> Vec<[f64; 3]> {
     let mut rest: Vec<Vec<P>> = Vec::new();
     for (tile, bin) in bins.iter().enumerate() {
         let start = Instant::now();
-        let o = [(tile % tw * TILE) as f64, (tile / tw * TILE) as f64];
-        let (x1, y1) = (o[0] + TILE as f64, o[1] + TILE as f64);
+        let o = DVec2::new((tile % tw * TILE) as f64, (tile / tw * TILE) as f64);
+        let (x1, y1) = (o.x + TILE as f64, o.y + TILE as f64);
         let mut map = TileMap {
             origin: o,
             pieces: Vec::new(),
             grid: vec![Vec::new(); CELLS * CELLS],
             met: Vec::new(),
         };
-        map.add(vec![o, [x1, o[1]], [x1, y1], [o[0], y1]], None, bg);
+        let square = vec![
+            o,
+            DVec2::new(x1, o.y),
+            DVec2::new(x1, y1),
+            DVec2::new(o.x, y1),
+        ];
+        map.add(square, None, bg);
         let mut order = Vec::new();
         for &i in bin {
             let mut v = ccw(&tris[i]).to_vec();
-            for l in [
-                [1.0, 0.0, -o[0]],
-                [-1.0, 0.0, x1],
-                [0.0, 1.0, -o[1]],
-                [0.0, -1.0, y1],
+            // Cut to the tile, the crossings on its sides exactly.
+            for (axis, value, keep_above) in [
+                (0, o.x, true),
+                (0, x1, false),
+                (1, o.y, true),
+                (1, y1, false),
             ] {
-                clip(&v, l, &mut tmp);
+                tmp.clear();
+                clip_axis(&v, axis, value, keep_above, &mut tmp);
                 std::mem::swap(&mut v, &mut tmp);
             }
             if v.len() >= 3 && area2(&v) > 2.0 * AREA_EPS {
@@ -426,7 +408,7 @@ fn tile_map(tris: &[Triangle], counts: &mut Counts) -> Vec<[f64; 3]> {
                                 continue;
                             } else {
                                 let mut f = Vec::new();
-                                clip(&v, d, &mut f);
+                                clip_line(&v, d, &mut f);
                                 if f.len() < 3 || area2(&f) <= 2.0 * AREA_EPS {
                                     continue;
                                 }
@@ -444,8 +426,14 @@ fn tile_map(tris: &[Triangle], counts: &mut Counts) -> Vec<[f64; 3]> {
                     }
                     let (plane, linear) = (pc.plane, pc.linear);
                     map.pieces[id as usize].alive = false;
+                    // What is left lies outside the newcomer's part: not
+                    // met again by it (the two sides of a cut are made
+                    // from different endpoints, so they may overlap by a
+                    // rounding, and a remainder met again would be cut
+                    // again without end).
                     for piece in rest.drain(..) {
                         map.add(piece, plane, linear);
+                        *map.met.last_mut().expect("just added") = n as u32;
                     }
                 }
                 // Pieces added to this cell meanwhile are kept after the old.
