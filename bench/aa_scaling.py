@@ -4,9 +4,13 @@ MSAA 4x as the triangle count grows (issue "Performance at scale", item 1).
 
     aa_scaling.py SCENE_RENDER WORKDIR [N ...]
 
-Scenes from bench/random_triangles.py (seeded): 1024x768, N random flat
-triangles, in two sets: `auto` (vertex spread s = sqrt(4WH / 0.3N), about four
-layers a pixel at every N) and `s20` (s = 20 px, so the depth grows with N).
+Scenes, seeded, 1024x768, N flat triangles, in three sets: from
+bench/random_triangles.py, a soup of random triangles, `auto` (vertex spread
+s = sqrt(4WH / 0.3N), about four layers a pixel at every N) and `s20` (s = 20
+px, so the depth grows with N); from bench/layered_mesh.py, `mesh`: four
+sheets of N/4 triangles each over the frame, triangles sharing their edges
+within a sheet, sheets crossing along curves (about four layers a pixel, as
+`auto`). AA_SETS (default `auto s20 mesh`) picks the sets.
 For each: scene-render --aa exact (render-phase time from --timings, and the
 whole process; median of AA_RUNS, default 3, after a warm-up; one run from a
 million triangles up), scene-render --aa ss4 (render phase, taking turns with
@@ -60,14 +64,19 @@ def main():
           "| exact/MSAA4x render | ss4/MSAA4x render |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|")
     fits = []
-    for spread in ["auto", "20"]:
-        name = "auto" if spread == "auto" else "s20"
+    generators = {
+        "auto": ["random_triangles.py", "auto"],
+        "s20": ["random_triangles.py", "20"],
+        "mesh": ["layered_mesh.py"],
+    }
+    for name in os.environ.get("AA_SETS", "auto s20 mesh").split():
+        script, *args = generators[name]
         ex, s4, gl = [], [], []
         for n in ns:
             path = os.path.join(work, f"tri-{name}-{n}.ndjson")
             if not os.path.exists(path):
                 with open(path, "w") as fh:
-                    subprocess.run([sys.executable, os.path.join(here, "random_triangles.py"), str(n), spread],
+                    subprocess.run([sys.executable, os.path.join(here, script), str(n), *args],
                                    stdout=fh, check=True)
             runs, warmup = (1, 0) if n >= HEAVY else (RUNS, 1)
             render, whole, ss4 = scene_render(sr, path, os.path.join(work, f"tri-{name}-{n}.png"), runs, warmup)
