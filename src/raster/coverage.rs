@@ -16,7 +16,8 @@
 //! 3. **Tile sweep.** The same areas, found front to back: the tile's
 //!    polygons come nearest first (a deep tile's square by square,
 //!    `DEEP_TILES`; a square of small plain polygons pixel by pixel, each
-//!    pixel's fragments in its own order, `BY_PIXEL_MEAN_BOX`), and each
+//!    pixel's fragments in its own order, `BY_PIXEL_MEAN_BOX`, unless they
+//!    lie in layers, `LAYERED_MOST_SPREAD`), and each
 //!    fragment is cut out of its
 //!    pixel's uncovered part as it is made, its visible area being what it
 //!    removed (`raster::visible::PixelStates`). That holds where no fragment is in front of
@@ -456,6 +457,8 @@ struct TileScratch {
     /// `waiting` in the sweep's order, and where each pixel's run starts.
     queue: Vec<Waiting>,
     starts: Vec<u32>,
+    /// The nearness spreads and middles of [`layered`].
+    depths: [Vec<f64>; 2],
 }
 
 /// The buffers a piece is cut into rows and pixels with.
@@ -537,7 +540,10 @@ pub fn render_bin_counted(
                 part.clear();
                 part.extend(boxed.iter().filter(|(_, b)| boxes_meet(b, &square)));
                 g.gather(polys, &part, square, tie_floor);
-                let sub = if by_pixel(&part, square) && g.locals.iter().all(|l| l.plain) {
+                let sub = if by_pixel(&part, square)
+                    && g.locals.iter().all(|l| l.plain)
+                    && !layered(polys, &part, square, &mut s.depths)
+                {
                     render_square_by_pixel(polys, g, bg, square, s)
                 } else {
                     render_tile(polys, g, bg, square, s)
@@ -645,7 +651,8 @@ fn box_in(b: [u32; 4], tile: [u32; 4]) -> [u32; 4] {
 /// the square, which counts a large polygon once for each square it
 /// meets: a scene's squares go by pixel less often than its own mean box
 /// suggests (at 100,000 `auto`, 4% of the squares of the whole frame, a
-/// review counted).
+/// review counted). A square whose polygons lie in layers goes by polygon
+/// whatever their size ([`LAYERED_MOST_SPREAD`]).
 ///
 /// `valgrind --tool=callgrind`, one thread, the bottom-left 256x192 of
 /// `bench/aa_scaling.sh`'s triangles (`auto`, and 200,000 with their
@@ -707,6 +714,78 @@ fn by_pixel(part: &[(u32, [u32; 4])], square: [u32; 4]) -> bool {
         }
     }
     !part.is_empty()
+}
+
+/// How many times the median spread of a deep square's polygons' nearness
+/// (over their boxes in the square) may be the median deviation of their
+/// nearness from the median for the square to count as *layered*
+/// ([`layered`]) and be swept polygon by polygon, not pixel by pixel.
+///
+/// The pixel sweep ([`BY_PIXEL_MEAN_BOX`]) gains where small polygons cross
+/// each other at random depths; on surfaces seen through each other (a
+/// mesh's sheets, flat shapes stacked) the polygon sweep gains more, since
+/// it drops a hidden layer's rows before cutting them where the pixel sweep
+/// cuts and lists every one. Of the deep squares the pixel sweep took
+/// before this rule, one thread, `bench/aa_scaling.sh`'s scenes, this
+/// ratio per square (up to [`LAYERED_SAMPLES`] polygons), counted by a
+/// build that printed it: of the triangle soup (`auto`, 100,000 to a
+/// million) 25,021 of 25,070 squares at 1 or above, 49 between 0.5 and 1,
+/// none below 0.5; of the four crossing sheets of the mesh set (100,000 to
+/// a million) 36,263 of 36,864 below 0.5 and 35,042 below 0.25. Render
+/// phase, one thread, the build before and this one taking turns (median
+/// of 3): the mesh set 0.332 against 0.223 s at 100,000, 0.425 against
+/// 0.290 at 200,000, 0.923 against 0.625 at a million, the same PFM bytes;
+/// the soup at 200,000 1.799 against 1.824 (median of 7; the build before
+/// run twice: 1.799 and 1.789), the same bytes.
+const LAYERED_MOST_SPREAD: f64 = 0.5;
+
+/// Whether the polygons of a deep square (`part`, with their pixel boxes)
+/// lie in layers: the median spread of each one's nearness over its box in
+/// the square is under [`LAYERED_MOST_SPREAD`] times the median distance
+/// of their nearness (at their boxes' centres) from its median. Medians,
+/// not extremes: a sliver seen edge on has a nearness gradient that
+/// dwarfs the scene's. `depths` is scratch.
+fn layered(
+    polys: &[ScreenPoly],
+    part: &[(u32, [u32; 4])],
+    square: [u32; 4],
+    depths: &mut [Vec<f64>; 2],
+) -> bool {
+    let [spreads, mids] = depths;
+    spreads.clear();
+    mids.clear();
+    // Every `step`th polygon: the stream order of a mesh is layer by layer.
+    let step = part.len().div_ceil(LAYERED_SAMPLES).max(1);
+    for &(i, b) in part.iter().step_by(step) {
+        let [a, bq, c] = polys[i as usize].plane;
+        let b = box_in(b, square);
+        let (x0, y0, x1, y1) = (b[0] as f64, b[1] as f64, b[2] as f64, b[3] as f64);
+        // The plane is affine: its extremes over the box are at corners.
+        let (xl, xh) = if a >= 0.0 { (x0, x1) } else { (x1, x0) };
+        let (yl, yh) = if bq >= 0.0 { (y0, y1) } else { (y1, y0) };
+        let (lo, hi) = (a * xl + bq * yl + c, a * xh + bq * yh + c);
+        spreads.push(hi - lo);
+        mids.push(0.5 * (lo + hi));
+    }
+    let spread = median(spreads);
+    let middle = median(mids);
+    for m in mids.iter_mut() {
+        *m = (*m - middle).abs();
+    }
+    // A NaN (an infinite plane) is not less: swept by pixel, as before.
+    spread < LAYERED_MOST_SPREAD * median(mids)
+}
+
+/// How many of a deep square's polygons [`layered`] looks at, at most.
+const LAYERED_SAMPLES: usize = 32;
+
+/// The upper median of `v` (reordered), or NaN when it is empty.
+fn median(v: &mut [f64]) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    let k = v.len() / 2;
+    *v.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1
 }
 
 /// Whether the pixel boxes `a` and `b` (inclusive-exclusive) share a pixel.
@@ -1315,12 +1394,14 @@ mod sweep {
         assert_eq!(sweep_side(&boxed, [0, 0, 32, 32]), 32);
     }
 
-    /// The squares of the deep tiles above (the scenes of
-    /// `deep_random_scenes_match_the_reference` and
+    /// The squares of the deep tiles of tilted triangles above (the scenes
+    /// of `deep_random_scenes_match_the_reference` and
     /// `a_deep_tile_swept_in_squares_is_the_whole_tile_swept_at_once`, whose
-    /// triangles are a few pixels across) are swept pixel by pixel, so those
-    /// tests check that sweep against the reference and against the
-    /// polygon sweep; triangles 20 pixels across are swept by polygon.
+    /// triangles are a few pixels across and cross each other) are swept
+    /// pixel by pixel, so those tests check that sweep against the
+    /// reference and against the polygon sweep; triangles 20 pixels across
+    /// are swept by polygon, and so are the flat ones of those tests, which
+    /// lie in layers ([`LAYERED_MOST_SPREAD`]).
     #[test]
     fn squares_of_small_polygons_are_swept_pixel_by_pixel() {
         let square = [8, 8, 16, 16];
@@ -1330,10 +1411,14 @@ mod sweep {
                 .filter(|(_, b)| boxes_meet(b, &square))
                 .collect()
         };
+        let mut depths = Default::default();
         for (seed, tilted, n, (w, h)) in [(3, true, 400, (32, 24)), (6, true, 1000, (32, 32))] {
             let (_, polys) = scene(seed, n, tilted, w, h);
             assert!(by_pixel(&meeting(&polys), square), "seed {seed}");
+            assert!(!layered(&polys, &meeting(&polys), square, &mut depths));
         }
+        let (_, flat) = scene(1, 400, false, 32, 24);
+        assert!(layered(&flat, &meeting(&flat), square, &mut depths));
         let v = View::ortho2(0.0, 32.0, 0.0, 32.0, 32, 32);
         let mut r = Lcg(9);
         let large: Vec<ScreenPoly> = (0..200)
@@ -1360,6 +1445,75 @@ mod sweep {
         let mean = boxes.iter().map(|&(_, b)| box_area(b)).sum::<f64>() / boxes.len() as f64;
         assert!(mean <= BY_PIXEL_MEAN_BOX, "small: {mean}");
         assert!(!by_pixel(&boxes, square));
+    }
+
+    /// `sheets` grid meshes over a `w x h` frame, cells of `cell` pixels
+    /// (two triangles each, sharing their edges), sheet `k` at depth
+    /// `-0.6 + 0.4 k` with a gentle slope, each vertex moved a little: the
+    /// layered surfaces of bench/layered_mesh.py, small.
+    fn sheets(sheets: u32, cell: f64, w: u32, h: u32) -> (View, Vec<ScreenPoly>) {
+        let v = View::ortho2(0.0, w as f64, 0.0, h as f64, w, h);
+        let mut r = Lcg(11);
+        let (cols, rows) = ((w as f64 / cell) as usize, (h as f64 / cell) as usize);
+        let mut polys = Vec::new();
+        for k in 0..sheets {
+            let grid: Vec<Vec<DVec3>> = (0..=rows)
+                .map(|j| {
+                    (0..=cols)
+                        .map(|i| {
+                            let (x, y) = (i as f64 * cell, j as f64 * cell);
+                            let (jx, jy) = (r.unit() - 0.5, r.unit() - 0.5);
+                            let z = -0.6 + 0.4 * k as f64 + 0.004 * x - 0.003 * y;
+                            DVec3::new(x + 0.5 * jx, y + 0.5 * jy, z)
+                        })
+                        .collect()
+                })
+                .collect();
+            for j in 0..rows {
+                for i in 0..cols {
+                    let (a, b) = (grid[j][i], grid[j][i + 1]);
+                    let (c, d) = (grid[j + 1][i + 1], grid[j + 1][i]);
+                    for tri in [[a, b, c], [a, c, d]] {
+                        let colour = Rgb8([(r.unit() * 255.0) as u8, (r.unit() * 255.0) as u8, 90]);
+                        let order = polys.len() as u32;
+                        polys.extend(project(&v, &tri, colour, order, Cull::None).ok());
+                    }
+                }
+            }
+        }
+        (v, polys)
+    }
+
+    /// Deep squares of layered meshes are swept polygon by polygon
+    /// ([`LAYERED_MOST_SPREAD`]), and come out as the reference has them;
+    /// the random tilted triangles above are not layered, and nothing is
+    /// layered where nothing is.
+    #[test]
+    fn squares_of_layered_meshes_are_swept_by_polygon() {
+        let (v, polys) = sheets(4, 3.0, 32, 24);
+        let square = [8, 8, 16, 16];
+        let bin: Vec<u32> = (0..polys.len() as u32).collect();
+        let boxed: Vec<_> = super::super::boxed(&polys, &bin).collect();
+        assert_eq!(sweep_side(&boxed, [0, 0, 32, 24]), 8);
+        let part: Vec<_> = boxed
+            .iter()
+            .filter(|(_, b)| boxes_meet(b, &square))
+            .copied()
+            .collect();
+        let mut depths = Default::default();
+        assert!(by_pixel(&part, square));
+        assert!(layered(&polys, &part, square, &mut depths));
+        assert!(!layered(&polys, &[], square, &mut depths));
+        let bg = Background::color(Rgb8([20, 40, 60]));
+        let exact = render(&polys, &bg, &v, Aa::Exact).to_image();
+        let want = reference::render(&polys, &bg, &v, 6).frame.to_image();
+        let worst = exact
+            .data
+            .iter()
+            .zip(&want.data)
+            .map(|(a, b)| a.abs_diff(*b))
+            .max();
+        assert_eq!(worst, Some(0), "layered sheets against the reference");
     }
 
     /// One pixel's fragments: random triangles clipped to the square, flat
