@@ -14,7 +14,8 @@ Scenes: the texture benchmark's (bench/texbench.py), the fixtures' spheres,
 lit and photographed globes and house, demo 2 over its background pattern
 (the golden test's), and the random flat triangles of bench/aa_scaling.sh at
 10,000 to 200,000, about 4 layers a pixel (`auto`) and 20-pixel triangles
-(`s20`), one of them over a transparent background.
+(`s20`), one of them over a transparent background, and its layered meshes
+(`mesh`, bench/layered_mesh.py) at the same counts.
 """
 import array
 import os
@@ -65,13 +66,15 @@ def scenes(work):
         "--perspective", "55,1,0,1000", "--lookat", "0,100,-5,0,0,-900", "--cull", "back",
         "--background-pattern", os.path.join(ROOT, "fixtures", "patterns", "bkgrnd.pat"),
         "--size", "1024x768", os.path.join(ROOT, "examples", "scenes", "demo2.json")]))
-    for kind, spread in (("auto", "auto"), ("s20", "20")):
+    for kind, script, args in (("auto", "random_triangles.py", ["auto"]),
+                               ("s20", "random_triangles.py", ["20"]),
+                               ("mesh", "layered_mesh.py", [])):
         for n in (10_000, 100_000, 200_000):
             path = os.path.join(work, f"tri-{kind}-{n}.ndjson")
             if not os.path.exists(path):
                 with open(path + ".tmp", "w") as fh:
-                    subprocess.run([sys.executable, os.path.join(HERE, "random_triangles.py"),
-                                    str(n), spread], stdout=fh, check=True)
+                    subprocess.run([sys.executable, os.path.join(HERE, script), str(n), *args],
+                                   stdout=fh, check=True)
                 os.replace(path + ".tmp", path)
             out.append((f"{n} triangles, {kind}", ["--size", "1024x768", path]))
     out.append(("10000 triangles, auto, --background none",
