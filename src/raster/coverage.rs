@@ -1284,8 +1284,9 @@ mod ties {
 /// against the independent reference.
 #[cfg(test)]
 mod sweep {
+    use super::super::tests::exact_off_reference;
     use super::super::visible::{subtract_pairwise, Pairwise};
-    use super::super::{project, reference, render, Aa, Cull};
+    use super::super::{project, Cull};
     use super::*;
     use crate::color::Rgb8;
     use crate::view::View;
@@ -1335,16 +1336,7 @@ mod sweep {
         let bg = Background::color(Rgb8([20, 40, 60]));
         for (seed, tilted) in [(1, false), (2, false), (3, true), (4, true)] {
             let (v, polys) = scene(seed, 400, tilted, 32, 24);
-            let exact = render(&polys, &bg, &v, Aa::Exact).to_image();
-            let r = reference::render(&polys, &bg, &v, 6);
-            let want = r.frame.to_image();
-            let worst = exact
-                .data
-                .iter()
-                .zip(&want.data)
-                .map(|(a, b)| a.abs_diff(*b))
-                .max()
-                .unwrap();
+            let worst = exact_off_reference(&polys, &bg, &v);
             assert!(worst <= 1, "seed {seed} tilted {tilted}: off by {worst}");
         }
     }
@@ -1505,15 +1497,8 @@ mod sweep {
         assert!(layered(&polys, &part, square, &mut depths));
         assert!(!layered(&polys, &[], square, &mut depths));
         let bg = Background::color(Rgb8([20, 40, 60]));
-        let exact = render(&polys, &bg, &v, Aa::Exact).to_image();
-        let want = reference::render(&polys, &bg, &v, 6).frame.to_image();
-        let worst = exact
-            .data
-            .iter()
-            .zip(&want.data)
-            .map(|(a, b)| a.abs_diff(*b))
-            .max();
-        assert_eq!(worst, Some(0), "layered sheets against the reference");
+        let worst = exact_off_reference(&polys, &bg, &v);
+        assert_eq!(worst, 0, "layered sheets against the reference");
     }
 
     /// One pixel's fragments: random triangles clipped to the square, flat

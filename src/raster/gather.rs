@@ -209,8 +209,8 @@ impl TileGeom {
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::poly2;
-    use super::super::{reference, render, Aa, Background};
+    use super::super::tests::{exact_off_reference, poly2};
+    use super::super::Background;
     use super::*;
     use crate::color::Rgb8;
     use crate::view::View;
@@ -282,14 +282,7 @@ mod tests {
             .unwrap(),
         ];
         let bg = Background::color(Rgb8::BLACK);
-        let exact = render(&polys, &bg, &v, Aa::Exact).to_image();
-        let want = reference::render(&polys, &bg, &v, 6).frame.to_image();
-        let worst = exact
-            .data
-            .iter()
-            .zip(&want.data)
-            .map(|(a, b)| a.abs_diff(*b))
-            .max();
-        assert!(worst <= Some(1), "off by {worst:?}");
+        let worst = exact_off_reference(&polys, &bg, &v);
+        assert!(worst <= 1, "off by {worst}");
     }
 }

@@ -474,6 +474,20 @@ pub(crate) mod tests {
         project(view, &w, color, order, Cull::None).ok()
     }
 
+    /// The largest difference, in 8-bit codes, between `--aa exact`'s image
+    /// of `polys` and the reference's (6 strips a pixel): the tests' check
+    /// of the exact resolver against a method that shares none of its code.
+    pub fn exact_off_reference(polys: &[ScreenPoly], bg: &Background, view: &View) -> u8 {
+        let exact = render(polys, bg, view, Aa::Exact).to_image();
+        let want = reference::render(polys, bg, view, 6).frame.to_image();
+        let diffs = exact
+            .data
+            .iter()
+            .zip(&want.data)
+            .map(|(a, b)| a.abs_diff(*b));
+        diffs.max().unwrap_or(0)
+    }
+
     #[test]
     fn aa_names_parse() {
         assert_eq!("none".parse::<Aa>().unwrap(), Aa::None);
