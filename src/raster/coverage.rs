@@ -1478,8 +1478,9 @@ mod sweep {
 
     /// Deep squares of layered meshes are swept polygon by polygon
     /// ([`LAYERED_MOST_SPREAD`]), and come out as the reference has them;
-    /// the random tilted triangles above are not layered, and nothing is
-    /// layered where nothing is.
+    /// a square with no polygons is not layered (the random tilted
+    /// triangles of `squares_of_small_polygons_are_swept_pixel_by_pixel`
+    /// are not either).
     #[test]
     fn squares_of_layered_meshes_are_swept_by_polygon() {
         let (v, polys) = sheets(4, 3.0, 32, 24);
