@@ -38,7 +38,7 @@
 //! their union up to ~1e-16; [`AREA_EPS`] absorbs that so no seam of background
 //! shows through, and the pixel is bit for bit that of one polygon.
 
-use super::gather::{Local, PieceRef, TileGeom, GATHER_MAX_VERTS};
+use super::gather::{nearness_range, Local, PieceRef, TileGeom, GATHER_MAX_VERTS};
 use super::visible::{bounds, clip_to_box, fmax, fmin, PixelStates, Scratch, Shown};
 use super::{Background, ScreenPoly};
 use crate::geom::polygon::{area2, clip_axis, pixel_square, vertex_mean, AREA_EPS};
@@ -786,13 +786,7 @@ fn layered(
     spreads.clear();
     mids.clear();
     for &(i, b) in part {
-        let [a, bq, c] = polys[i as usize].plane;
-        let b = box_in(b, square);
-        let (x0, y0, x1, y1) = (b[0] as f64, b[1] as f64, b[2] as f64, b[3] as f64);
-        // The plane is affine: its extremes over the box are at corners.
-        let (xl, xh) = if a >= 0.0 { (x0, x1) } else { (x1, x0) };
-        let (yl, yh) = if bq >= 0.0 { (y0, y1) } else { (y1, y0) };
-        let (lo, hi) = (a * xl + bq * yl + c, a * xh + bq * yh + c);
+        let (lo, hi) = nearness_range(&polys[i as usize].plane, b, square);
         spreads.push(hi - lo);
         mids.push(0.5 * (lo + hi));
     }
@@ -1427,22 +1421,11 @@ mod sweep {
     #[test]
     fn squares_of_small_polygons_are_swept_pixel_by_pixel() {
         let square = [8, 8, 16, 16];
-        let meeting = |polys: &[ScreenPoly]| -> Vec<(u32, [u32; 4])> {
-            let bin: Vec<u32> = (0..polys.len() as u32).collect();
-            super::super::boxed(polys, &bin)
-                .filter(|(_, b)| boxes_meet(b, &square))
-                .collect()
-        };
+        let meeting = |polys: &[ScreenPoly]| meeting(polys, square);
         let mut depths = Default::default();
         for (seed, tilted, n, (w, h)) in [(3, true, 400, (32, 24)), (6, true, 1000, (32, 32))] {
             let (v, polys) = scene(seed, n, tilted, w, h);
-            let part = meeting(&polys);
-            let mut g = TileGeom::default();
-            g.gather(&polys, &part, square, super::super::tie_floor(&v));
-            assert!(
-                sweeps_by_pixel(&polys, &g, &part, square, &mut depths),
-                "seed {seed}"
-            );
+            assert!(square_by_pixel(&v, &polys, square), "seed {seed}");
         }
         let (_, flat) = scene(1, 400, false, 32, 24);
         assert!(layered(&flat, &meeting(&flat), square, &mut depths));
@@ -1472,6 +1455,24 @@ mod sweep {
         let mean = boxes.iter().map(|&(_, b)| box_area(b)).sum::<f64>() / boxes.len() as f64;
         assert!(mean <= BY_PIXEL_MEAN_BOX, "small: {mean}");
         assert!(!by_pixel(&boxes, square));
+    }
+
+    /// The polygons of `polys` whose pixel box meets `square`, with their
+    /// boxes, as a deep tile's square has them.
+    fn meeting(polys: &[ScreenPoly], square: [u32; 4]) -> Vec<(u32, [u32; 4])> {
+        let bin: Vec<u32> = (0..polys.len() as u32).collect();
+        super::super::boxed(polys, &bin)
+            .filter(|(_, b)| boxes_meet(b, &square))
+            .collect()
+    }
+
+    /// Whether `square` of a deep tile of `polys` (seen through `v`) is
+    /// swept pixel by pixel, as [`render_bin_counted`] decides it.
+    fn square_by_pixel(v: &View, polys: &[ScreenPoly], square: [u32; 4]) -> bool {
+        let part = meeting(polys, square);
+        let mut g = TileGeom::default();
+        g.gather(polys, &part, square, super::super::tie_floor(v));
+        sweeps_by_pixel(polys, &g, &part, square, &mut Default::default())
     }
 
     /// `sheets` grid meshes over a `w x h` frame, cells of `cell` pixels
@@ -1534,27 +1535,18 @@ mod sweep {
     fn squares_of_layered_meshes_are_swept_by_polygon() {
         let (v, polys) = sheets(4, 3.0, 32, 24, None);
         let square = [8, 8, 16, 16];
-        let bin: Vec<u32> = (0..polys.len() as u32).collect();
-        let boxed: Vec<_> = super::super::boxed(&polys, &bin).collect();
-        assert_eq!(sweep_side(&boxed, [0, 0, 32, 24]), 8);
-        let part: Vec<_> = boxed
-            .iter()
-            .filter(|(_, b)| boxes_meet(b, &square))
-            .copied()
-            .collect();
+        assert_eq!(
+            sweep_side(&meeting(&polys, [0, 0, 32, 24]), [0, 0, 32, 24]),
+            8
+        );
+        assert!(by_pixel(&meeting(&polys, square), square));
+        assert!(!square_by_pixel(&v, &polys, square));
         let mut depths = Default::default();
-        let mut g = TileGeom::default();
-        g.gather(&polys, &part, square, super::super::tie_floor(&v));
-        assert!(by_pixel(&part, square));
-        assert!(!sweeps_by_pixel(&polys, &g, &part, square, &mut depths));
         assert!(!layered(&polys, &[], square, &mut depths));
         // Every fifth triangle tilted steeply across the layers.
-        let (_, crossed) = sheets(4, 3.0, 32, 24, Some(5));
-        let part: Vec<_> = super::super::boxed(&crossed, &bin)
-            .filter(|(_, b)| boxes_meet(b, &square))
-            .collect();
-        assert!(by_pixel(&part, square));
-        assert!(!layered(&crossed, &part, square, &mut depths));
+        let (v, crossed) = sheets(4, 3.0, 32, 24, Some(5));
+        assert!(by_pixel(&meeting(&crossed, square), square));
+        assert!(square_by_pixel(&v, &crossed, square));
         let bg = Background::color(Rgb8([20, 40, 60]));
         let worst = exact_off_reference(&polys, &bg, &v);
         assert_eq!(worst, 0, "layered sheets against the reference");

@@ -127,10 +127,23 @@ pub struct TileGeom {
 /// 2.67 and 1.50. Flat polygons (most 2D scenes) have one nearness
 /// over the box, and come in the same order either way.
 fn farthest_in(plane: &[f64; 3], bbox: [u32; 4], tile: [u32; 4]) -> f64 {
+    nearness_range(plane, bbox, tile).0
+}
+
+/// The least and greatest nearness of `plane` over the pixel box `bbox`
+/// clipped to `tile`: an affine function's extremes over a box are at its
+/// corners, taken axis by axis. The sweep order's key ([`farthest_in`]) and
+/// the layered test of a deep square (`coverage::layered`) read it.
+#[inline]
+pub(super) fn nearness_range(plane: &[f64; 3], bbox: [u32; 4], tile: [u32; 4]) -> (f64, f64) {
     let x = [bbox[0].max(tile[0]) as f64, bbox[2].min(tile[2]) as f64];
     let y = [bbox[1].max(tile[1]) as f64, bbox[3].min(tile[3]) as f64];
     let [a, b, c] = *plane;
-    c + (a * x[0]).min(a * x[1]) + (b * y[0]).min(b * y[1])
+    let ((ax0, ax1), (by0, by1)) = ((a * x[0], a * x[1]), (b * y[0], b * y[1]));
+    (
+        c + ax0.min(ax1) + by0.min(by1),
+        c + ax0.max(ax1) + by0.max(by1),
+    )
 }
 
 impl TileGeom {
