@@ -66,6 +66,7 @@ use glam::DVec3;
 use std::collections::HashMap;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 /// Where a face's colour comes from. A face has exactly one source (a record
@@ -175,7 +176,10 @@ pub struct LoadOptions {
     /// its object's polygons (nested instances multiply), a quadric with
     /// given `slices` and `stacks` its 2 x slices x stacks triangles. A scene
     /// over it is refused when read, before any work, naming the record
-    /// where the count passes it (a 4 KB stream of 40 nested objects, each
+    /// where the count passes it. A quadric that leaves them out gets as
+    /// many as its chords need at the view, so it is counted when projected,
+    /// before it is tessellated, and a frame it takes past the limit is
+    /// refused then (a 4 KB stream of 40 nested objects, each
     /// placing the previous twice, expands to 2^40 polygons). At about 130
     /// bytes per triangle at the peak of a frame drawn once
     /// (`bench/memory.sh`: the scene's parts while it is read, the projected
@@ -207,8 +211,8 @@ impl Part {
             Part::Draw(d) => match &d.shape {
                 Shape::Quadric(q) => match (q.slices, q.stacks) {
                     (Some(a), Some(b)) => 2 * a as u64 * b as u64,
-                    // Chosen from the view's tolerance: bounded by the
-                    // pixels it covers, not by the stream.
+                    // Chosen from the view's tolerance, so counted when
+                    // projected ([`QuadricRoom`]); one here.
                     _ => 1,
                 },
                 _ => 1,
@@ -234,6 +238,16 @@ pub struct Scene {
     warnings: Vec<String>,
     /// The stream's lights; none for an unlit scene.
     lights: crate::light::Lights,
+    /// The polygons counted when the stream was read, and the most a frame
+    /// may have ([`LoadOptions::max_polygons`]); `None`: no limit.
+    limit: Option<Counted>,
+}
+
+/// Polygons counted when a scene was read, against its limit.
+#[derive(Clone, Copy, Debug)]
+struct Counted {
+    read: u64,
+    limit: u64,
 }
 
 /// A polygon no larger than one texel of its "object"-mode pattern (area at
@@ -253,7 +267,13 @@ pub struct CoarseTexture {
 impl CoarseTexture {
     /// `Some` when a polygon of `area` is no larger than one texel of side `incr`.
     pub fn check(record: usize, area: f64, incr: f64) -> Option<CoarseTexture> {
-        (area > 0.0 && area <= incr * incr).then_some(CoarseTexture { record, area, incr })
+        // An area that overflowed is no measure of the polygon (it is
+        // refused as too large, `PlaneError::TooLarge`).
+        (area > 0.0 && area.is_finite() && area <= incr * incr).then_some(CoarseTexture {
+            record,
+            area,
+            incr,
+        })
     }
 
     /// A record's polygon area if it is planar with a straight outline or a
@@ -525,7 +545,7 @@ impl Scene {
         how: &DrawOptions,
         frame: u64,
     ) -> Result<(Vec<ScreenPoly>, Tally), SceneError> {
-        project_waves(&self.waves, view, how, frame, &self.lights)
+        project_waves(&self.waves, view, how, frame, &self.lights, self.limit)
     }
 
     /// [`Scene::project_tallied`] for a scene drawn once: each wave of parts
@@ -538,7 +558,7 @@ impl Scene {
         how: &DrawOptions,
         frame: u64,
     ) -> Result<(Vec<ScreenPoly>, Tally), SceneError> {
-        project_waves(self.waves, view, how, frame, &self.lights)
+        project_waves(self.waves, view, how, frame, &self.lights, self.limit)
     }
 
     /// Adds a top-level part at the end of the stream.
@@ -565,15 +585,20 @@ fn project_waves<W: AsRef<[Part]>>(
     how: &DrawOptions,
     frame: u64,
     lights: &Lights,
+    limit: Option<Counted>,
 ) -> Result<(Vec<ScreenPoly>, Tally), SceneError> {
     use rayon::prelude::*;
-    let mut out = Projected::default();
+    let room = limit.map(|counted| QuadricRoom {
+        counted,
+        taken: AtomicU64::new(0),
+    });
+    let mut out = Projected::new(None);
     for wave in waves {
         let runs: Vec<Result<Projected, SceneError>> = wave
             .as_ref()
             .par_chunks(PROJECT_RUN)
             .map(|parts| {
-                let mut run = Projected::default();
+                let mut run = Projected::new(room.as_ref());
                 project_parts(parts, view, None, None, how, frame, lights, &mut run)?;
                 Ok(run)
             })
@@ -595,13 +620,65 @@ const PROJECT_RUN: usize = 4096;
 const PROJECT_WAVE: usize = 8;
 
 /// A frame's screen polygons as they are projected, and the tally of all.
-#[derive(Default)]
-struct Projected {
+struct Projected<'a> {
     polygons: Vec<ScreenPoly>,
     tally: Tally,
+    /// What the frame's quadrics without given slices and stacks may add.
+    room: Option<&'a QuadricRoom>,
 }
 
-impl Projected {
+/// The triangles that a frame's quadrics tessellated for the view (those
+/// that leave out `slices` or `stacks`) add to the polygons counted when
+/// the scene was read, where each counted as one: they share what the
+/// limit leaves. Reading cannot count them, since the view decides them:
+/// a sphere of radius 1e6 in a 64-pixel 2D view takes 39 million
+/// triangles for its quarter-pixel chords (a hostile-input review: 7.4 GB
+/// before this).
+struct QuadricRoom {
+    counted: Counted,
+    /// Triangles beyond one a quadric, taken so far, by every thread.
+    taken: AtomicU64,
+}
+
+impl QuadricRoom {
+    /// Takes room for a quadric of `triangles` at record `index`, or the
+    /// error that the frame passes the limit there. Threads take room in
+    /// the order they come to their quadrics, so where several such
+    /// quadrics pass the limit together, the record named is one of them,
+    /// not always the first in the stream.
+    fn take(&self, index: usize, triangles: u64) -> Result<(), SceneError> {
+        let more = triangles.saturating_sub(1);
+        let before = self
+            .taken
+            .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |t| {
+                Some(t.saturating_add(more))
+            })
+            .unwrap_or_else(|t| t);
+        let total = self
+            .counted
+            .read
+            .saturating_add(before)
+            .saturating_add(more);
+        if total > self.counted.limit {
+            return Err(SceneError::TooMuchWork {
+                index,
+                polygons: total,
+                limit: self.counted.limit,
+            });
+        }
+        Ok(())
+    }
+}
+
+impl<'a> Projected<'a> {
+    fn new(room: Option<&'a QuadricRoom>) -> Self {
+        Projected {
+            polygons: Vec::new(),
+            tally: Tally::default(),
+            room,
+        }
+    }
+
     fn push(&mut self, p: ScreenPoly) {
         self.tally.count(Ok(&p));
         self.polygons.push(p);
@@ -689,6 +766,10 @@ fn read_items(
         }
         Ok::<(), SceneError>(())
     })?;
+    scene.limit = Some(Counted {
+        read: total,
+        limit: limits.max_polygons,
+    });
     Ok(scene)
 }
 
@@ -730,8 +811,7 @@ fn project_parts(
                 let to_world = placed.unwrap_or_default();
                 if let Shape::Quadric(q) = &d.shape {
                     let lit = Lit::new(lights, d, to_world);
-                    project_quadric(d, q, view, order, how, frame, lit, out)
-                        .in_record(None, d.index as usize)?;
+                    project_quadric(d, q, view, order, how, frame, lit, out)?;
                     continue;
                 }
                 // A record's own animated transform moves it as an instance
@@ -1058,12 +1138,13 @@ fn project_quadric(
     frame: u64,
     lit: Option<Lit>,
     out: &mut Projected,
-) -> Result<(), RecordError> {
+) -> Result<(), SceneError> {
+    let index = d.index as usize;
     let moved;
     let q = match d.animated() {
         Some(v) => {
             let mut m = q.clone();
-            m.transform = record_transform_at(d, v, frame)?;
+            m.transform = record_transform_at(d, v, frame).in_record(None, index)?;
             moved = m;
             &moved
         }
@@ -1081,16 +1162,18 @@ fn project_quadric(
         TextureSource::Placed { texels, .. } => (texels.width(), texels.height()),
         _ => (1, 1),
     };
-    let tris = q.texel_triangles(tolerance, size)?;
-    for t in &tris {
+    if let (Some(room), None, _) | (Some(room), _, None) = (out.room, q.slices, q.stacks) {
+        room.take(index, q.triangle_bound(tolerance))?;
+    }
+    q.for_each_texel_triangle(tolerance, size, |t| {
         // GLU's smooth normals: the triangle's vertices' own.
         let lit = lit.map(|l| Lit {
             normals: Some(&t.n),
             ..l
         });
-        draw_polygon(d, view, &t.v, Some(&t.uv), order, how, lit, out)?;
-    }
-    Ok(())
+        draw_polygon(d, view, &t.v, Some(&t.uv), order, how, lit, out)
+    })
+    .in_record(None, index)
 }
 
 /// World-space chord tolerance for a curved record, from the view's scale at
