@@ -100,6 +100,15 @@ pub enum PlaneError {
         /// Bounding-box diagonal, in world units.
         size: f64,
     },
+    /// The polygon's size or area overflows a float (sides beyond about
+    /// 1e154): nothing can be measured on its plane, though every coordinate
+    /// is finite.
+    TooLarge {
+        /// Bounding-box diagonal, in world units (perhaps infinite).
+        size: f64,
+        /// The area, as far as it could be computed.
+        area: f64,
+    },
     /// A vertex lies farther from the plane than `tolerance` × `size`.
     NonPlanar {
         /// Distance of the farthest vertex from the plane through the
@@ -127,6 +136,13 @@ impl fmt::Display for PlaneError {
                  or repeated, or its outline crosses itself so that its parts cancel (a bow-tie)",
                 readable(area),
                 readable(size)
+            ),
+            PlaneError::TooLarge { size, area } => write!(
+                f,
+                "the polygon is too large to lay a pattern on (size {}, area {}: a 64-bit \
+                 float overflows; sides up to about 1e154 can be)",
+                readable(size),
+                readable(area)
             ),
             PlaneError::NonPlanar {
                 deviation,
@@ -200,6 +216,9 @@ pub fn map_to_plane(
         let scaled = nn / largest;
         (largest * (scaled.length() / 2.0), scaled.normalize())
     };
+    if !size.is_finite() || area.is_infinite() {
+        return Err(PlaneError::TooLarge { size, area });
+    }
     if area.is_nan() || area <= ZERO_AREA_REL * size * size {
         return Err(PlaneError::ZeroArea { area, size });
     }
@@ -395,6 +414,20 @@ mod tests {
                 (signed_area(&p.points) / p.area - 1.0).abs() < 1e-12,
                 "{side}"
             );
+        }
+        // Beyond about 1e154 the area overflows (and then the size): refused
+        // as too large, where it was called collinear (a hostile-input
+        // review; polyfill3 and scene-render said "no area (area NaN for
+        // size inf)").
+        for side in [1e155, 1e160, 1e200, 1e300] {
+            let v = [
+                DVec3::new(side, 0.0, 0.0),
+                DVec3::new(-side, 0.0, 0.0),
+                DVec3::new(0.0, side, 0.0),
+            ];
+            let e = map_to_plane(&v, 0.0, DEFAULT_PLANARITY_TOL).unwrap_err();
+            assert!(matches!(e, PlaneError::TooLarge { .. }), "{side}: {e:?}");
+            assert!(e.to_string().contains("too large"), "{e}");
         }
     }
 
