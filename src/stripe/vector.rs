@@ -232,9 +232,20 @@ impl PatternVector {
         1.0 / (n as f64 * self.spacing)
     }
 
-    /// `P0 = p / N`.
+    /// `P0 = p / N`, with `p` first reduced modulo `N` when it is a whole
+    /// map or more (exactly: the remainder of floats is exact), since the map
+    /// repeats. Unreduced, a phase of 1e17 left `P0` no fractional part to
+    /// place the stripes by (each multiple of 4 drew another picture of a
+    /// 4-entry map) and 1e308 drew nothing (a hostile-input review); a phase
+    /// within one map is used as given, as before.
     pub fn p0(&self, n: usize) -> f64 {
-        self.phase / n as f64
+        let n = n as f64;
+        let p = if self.phase.abs() >= n {
+            self.phase.rem_euclid(n)
+        } else {
+            self.phase
+        };
+        p / n
     }
 
     /// `P(X) = P0 + K_p N_p · X`, in map periods: the seed's formula, which
@@ -253,6 +264,27 @@ impl PatternVector {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_phase_of_whole_maps_places_the_stripes_as_none() {
+        let yp = |yaw, pitch| Orientation::YawPitch { yaw, pitch };
+        let at = |phase: f64| {
+            PatternVector::new(yp(0.0, 0.0), 1.0, phase)
+                .unwrap()
+                .p_at(DVec3::new(0.3, 0.0, -7.25), 4)
+        };
+        for phase in [4.0, -8.0, 4e15, 4e17, 8e20, 4e307] {
+            assert_eq!(at(phase), at(0.0), "phase {phase}");
+        }
+        assert_eq!(at(1e308), at(1e308 % 4.0));
+        assert_eq!(at(6.0), at(2.0));
+        assert_eq!(at(-5.0), at(3.0));
+        // Within one map, the phase as given.
+        assert_eq!(
+            PatternVector::new(yp(0.0, 0.0), 1.0, 3.5).unwrap().p0(4),
+            3.5 / 4.0
+        );
+    }
 
     /// Unit vectors built from sines and cosines of degrees agree to this.
     const TRIG: f64 = 1e-15;
