@@ -57,10 +57,11 @@ impl Camera {
             ))
         })?;
         let name = if path == "-" { "<stdin>" } else { path };
-        let value: Value = serde_json::from_str(&text).map_err(|error| CameraError::Json {
-            origin: name.to_string(),
-            error,
-        })?;
+        let value =
+            crate::stream::value_with_unique_keys(&text).map_err(|error| CameraError::Json {
+                origin: name.to_string(),
+                error,
+            })?;
         Camera::from_json(&value, name)
     }
 }

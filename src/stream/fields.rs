@@ -494,8 +494,9 @@ impl<'de> Visitor<'de> for ElementVisitor {
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Element, A::Error> {
         let mut list: Vec<(String, Field)> = Vec::new();
         let mut records = None;
-        // Where each key is, once there are too many to search (a repeated
-        // key keeps its first place and its last value, as `Value` does).
+        // Where each key is, once there are too many to search. A repeated
+        // key is refused: `Value` keeps the last value, which dropped the
+        // first without a word (`"id": 1, "id": 2` came out as `"id": 2`).
         let mut index: Option<std::collections::HashMap<String, usize>> = None;
         while let Some(key) = map.next_key::<String>()? {
             let field = if key == "records" {
@@ -510,7 +511,7 @@ impl<'de> Visitor<'de> for ElementVisitor {
                     }
                 }
             } else if is_value_key(&key) {
-                Field::Value(map.next_value()?)
+                Field::Value(map.next_value_seed(UniqueKeys)?)
             } else {
                 Field::Raw(without_whitespace(map.next_value()?))
             };
@@ -519,7 +520,7 @@ impl<'de> Visitor<'de> for ElementVisitor {
                 None => list.iter().position(|(k, _)| *k == key),
             };
             match at {
-                Some(i) => list[i].1 = field,
+                Some(_) => return Err(repeated_key(&key)),
                 None => {
                     if let Some(ix) = &mut index {
                         ix.insert(key.clone(), list.len());
@@ -538,6 +539,66 @@ impl<'de> Visitor<'de> for ElementVisitor {
         }
         Ok(Element::Object(Object { list, records }))
     }
+}
+
+/// Parses `text` as one JSON value, as `serde_json::from_str::<Value>`
+/// does, but refuses a key repeated in any of its objects:
+/// for files read whole, such as a camera.
+pub fn value_with_unique_keys(text: &str) -> Result<Value, serde_json::Error> {
+    let mut d = serde_json::Deserializer::from_str(text);
+    let value = UniqueKeys.deserialize(&mut d)?;
+    d.end()?;
+    Ok(value)
+}
+
+/// A JSON value, as `Value` deserializes it, except that a key repeated in
+/// one of its objects is an error: `Value` keeps the last value and drops
+/// the first without a word (`{"ortho2": [0,1,0,1], "ortho2": [0,64,0,64]}`
+/// was the second camera, a hostile-input review found).
+struct UniqueKeys;
+
+impl<'de> DeserializeSeed<'de> for UniqueKeys {
+    type Value = Value;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Value, D::Error> {
+        struct UniqueVisitor;
+        impl<'de> Visitor<'de> for UniqueVisitor {
+            type Value = Value;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a JSON value")
+            }
+            other_values!(Value, std::convert::identity);
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+                let mut out = Vec::new();
+                while let Some(v) = seq.next_element_seed(UniqueKeys)? {
+                    out.push(v);
+                }
+                Ok(Value::Array(out))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
+                let mut out = Map::new();
+                while let Some(key) = map.next_key::<String>()? {
+                    let value = map.next_value_seed(UniqueKeys)?;
+                    match out.entry(key) {
+                        serde_json::map::Entry::Occupied(o) => {
+                            return Err(repeated_key(o.key()));
+                        }
+                        serde_json::map::Entry::Vacant(v) => {
+                            v.insert(value);
+                        }
+                    }
+                }
+                Ok(Value::Object(out))
+            }
+        }
+        d.deserialize_any(UniqueVisitor)
+    }
+}
+
+/// The error of a key repeated in one JSON object.
+fn repeated_key<E: de::Error>(key: &str) -> E {
+    E::custom(format_args!(
+        "the key \"{key}\" appears twice in one object: which one is meant?"
+    ))
 }
 
 /// `"records"`: an array of elements, or (`Err`) any other value, which
@@ -669,24 +730,39 @@ mod tests {
     }
 
     #[test]
-    fn a_repeated_key_keeps_its_first_place_and_last_value_as_value_does() {
+    fn a_repeated_key_is_refused_at_any_depth() {
+        // Before, the last value was kept and the first dropped without a
+        // word, as `Value` does (a hostile-input review: `"id": 1, "id": 2`
+        // came out of polyfill3 as `"id": 2`). Before and after the list
+        // of keys gets its index (16 keys).
         for n in [3, 40] {
-            let mut text = String::from("{\"a\":1,\"color\":[1,2,3]");
+            let mut keys = String::new();
             for i in 0..n {
-                text += &format!(",\"k{i}\":{i}");
+                keys += &format!(",\"k{i}\":{i}");
             }
-            text += ",\"a\":2 ,\"color\":[4,5,6]}";
-            let Element::Object(o) = element(&text) else {
-                panic!()
-            };
-            let f = o.into_fields();
-            let v: Map<String, Value> = serde_json::from_str(&text).unwrap();
-            assert_eq!(f, Fields::from(v.clone()), "{n}");
-            assert_eq!(
-                serde_json::to_string(&f).unwrap(),
-                Value::Object(v).to_string()
-            );
+            for (dup, key) in [
+                (",\"a\":2", "a"),
+                (",\"color\":[4,5,6]", "color"),
+                (",\"pattern\":{\"file\":\"a\",\"file\":\"b\"}", "file"),
+            ] {
+                let text = format!("{{\"a\":1,\"color\":[1,2,3]{keys}{dup}}}");
+                let e = serde_json::from_str::<Element>(&text).unwrap_err();
+                assert!(
+                    e.to_string()
+                        .contains(&format!("the key \"{key}\" appears twice in one object")),
+                    "{n} {key}: {e}"
+                );
+                let e = value_with_unique_keys(&text).unwrap_err().to_string();
+                assert!(e.contains("appears twice"), "{e}");
+            }
         }
+        let text = r#"{"a": [1, {"b": {"c": 2}}], "d": {"c": 3}}"#;
+        assert_eq!(
+            value_with_unique_keys(text).unwrap(),
+            serde_json::from_str::<Value>(text).unwrap()
+        );
+        assert!(value_with_unique_keys(r#"{"a": [{"b": 1, "b": 1}]}"#).is_err());
+        assert!(value_with_unique_keys("{} x").is_err());
     }
 
     #[test]

@@ -41,7 +41,7 @@ mod record;
 mod triangles;
 mod write;
 
-pub use fields::{is_value_key, Field, Fields};
+pub use fields::{is_value_key, value_with_unique_keys, Field, Fields};
 pub use objects::{
     transform_record, Instance, Item, LightDef, ObjectDef, Objects, INSTANCE_CURVE_TOLERANCE,
     MAX_OBJECT_DEPTH,

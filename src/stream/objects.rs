@@ -138,6 +138,7 @@ impl Item {
             let records = object.take_records();
             let fields = object.into_fields();
             let name = object_name(&fields, "object", index, "a non-empty name")?;
+            no_geometry(&fields, index, &format!("object `{name}`: a definition"))?;
             let records = records.ok_or_else(|| {
                 field_err(
                     index,
@@ -167,6 +168,11 @@ impl Item {
         if object.contains_key("instance") {
             let fields = object.into_fields();
             let object = object_name(&fields, "instance", index, "an object name")?;
+            no_geometry(
+                &fields,
+                index,
+                &format!("instance of `{object}`: an instance"),
+            )?;
             let transform = fields
                 .get("transform")
                 .map(Transform::from_json)
@@ -182,12 +188,7 @@ impl Item {
         }
         if object.contains_key("light") {
             let fields = object.into_fields();
-            if let Some(k) = GEOMETRY_KEYS.iter().find(|k| fields.contains_key(k)) {
-                return Err(field_err(
-                    index,
-                    format!("light: a light has no geometry, found \"{k}\" beside it"),
-                ));
-            }
+            no_geometry(&fields, index, "light: a light")?;
             let light =
                 LightRecord::from_json(&fields["light"]).map_err(|m| field_err(index, m))?;
             return Ok(Item::Light(LightDef {
@@ -197,6 +198,20 @@ impl Item {
             }));
         }
         Record::from_fields(index, object.into_fields()).map(Item::Record)
+    }
+}
+
+/// An error unless the fields of element `index` have no geometry key: an
+/// instance, a definition and a light draw nothing of their own, and a
+/// `"rect"` beside `"instance"` was dropped without a word (a
+/// hostile-input review). `what` begins the message.
+fn no_geometry(fields: &Fields, index: usize, what: &str) -> Result<(), StreamError> {
+    match GEOMETRY_KEYS.iter().find(|k| fields.contains_key(k)) {
+        Some(k) => Err(field_err(
+            index,
+            format!("{what} has no geometry of its own, found \"{k}\" beside it"),
+        )),
+        None => Ok(()),
     }
 }
 
@@ -523,6 +538,19 @@ mod tests {
     fn object_errors_name_the_record() {
         assert!(err(r#"{"instance": "ghost"}"#)
             .contains("record 0: instance of unknown object `ghost`"));
+        // Geometry beside "instance" or "object" was dropped without a word.
+        assert!(err(
+            "{\"object\": \"a\", \"records\": []}\n\
+             {\"instance\": \"a\", \"rect\": [0,0,64,64], \"color\": [255,0,0]}"
+        )
+        .contains(
+            "record 1: instance of `a`: an instance has no geometry of its own, found \"rect\" beside it"
+        ));
+        assert!(
+            err(r#"{"object": "a", "vertices": [[0,0],[1,0],[0,1]], "records": []}"#).contains(
+                "record 0: object `a`: a definition has no geometry of its own, found \"vertices\""
+            )
+        );
         assert!(err(r#"{"object": "a", "records": [{"instance": "a"}]}"#)
             .contains("record 0: object `a` places an instance of itself: a cycle"));
         assert!(

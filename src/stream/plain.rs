@@ -133,10 +133,10 @@ enum Key {
     Decline,
     /// Another known field ([`is_value_key`]): parsed as `Value`, as
     /// [`Record::fields`] will parse it.
-    Value,
+    Value(String),
     /// Any other key: its text is kept in [`Record::fields`], so only its
     /// syntax is checked (as `RawValue`, as the fields will read it).
-    Raw,
+    Raw(String),
 }
 
 impl<'de> de::Deserialize<'de> for Key {
@@ -152,8 +152,8 @@ impl<'de> de::Deserialize<'de> for Key {
                     "vertices" => Key::Vertices,
                     "color" => Key::Color,
                     k if declines(k) => Key::Decline,
-                    k if is_value_key(k) => Key::Value,
-                    _ => Key::Raw,
+                    k if is_value_key(k) => Key::Value(k.to_string()),
+                    k => Key::Raw(k.to_string()),
                 })
             }
         }
@@ -174,6 +174,14 @@ impl<'de> de::Deserialize<'de> for Plain {
                     vertices: None,
                     color: None,
                 };
+                // The other keys, to decline a repeated one, which the
+                // general path refuses with its position.
+                let mut others: Vec<String> = Vec::new();
+                let mut repeated = |k: &String| {
+                    let again = others.contains(k);
+                    others.push(k.clone());
+                    again
+                };
                 while let Some(key) = map.next_key::<Key>()? {
                     match key {
                         // A repeated key: the general path keeps the last
@@ -187,10 +195,13 @@ impl<'de> de::Deserialize<'de> for Plain {
                         Key::Vertices => p.vertices = Some(map.next_value_seed(Vertices)?),
                         Key::Color => p.color = Some(map.next_value::<[u8; 3]>()?),
                         Key::Decline => return Err(de::Error::custom("not a plain record")),
-                        Key::Value => {
+                        Key::Value(k) | Key::Raw(k) if repeated(&k) => {
+                            return Err(de::Error::custom("repeated key"))
+                        }
+                        Key::Value(_) => {
                             map.next_value::<Value>()?;
                         }
-                        Key::Raw => {
+                        Key::Raw(_) => {
                             map.next_value::<&RawValue>()?;
                         }
                     }

@@ -252,7 +252,7 @@ clitest!(lights_are_checked_and_passed_through, |dir| {
         ),
         (
             r#"{"light": {"direction": [0, 0, 1]}, "vertices": [[0,0],[1,0],[0,1]]}"#,
-            "record 0: light: a light has no geometry, found \"vertices\" beside it",
+            "record 0: light: a light has no geometry of its own, found \"vertices\" beside it",
         ),
         (
             r#"{"object": "o", "records": [{"light": {"ambient": 1}}]}"#,

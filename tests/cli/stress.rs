@@ -85,11 +85,11 @@ fn scene(t: f64, s: f64) -> String {
                 [1.0, 1.0, -5.0],
                 [-1.0, 1.3, -5.0],
             ],
-            r#""pattern":{"file":"brick.pat","incr":0.0625}"#,
+            r#""color":[200,30,30],"pattern":{"file":"brick.pat","incr":0.0625}"#,
         ),
         (
             &[[-2.0, -0.5, -7.0], [2.0, -0.3, -4.0], [0.0, 2.0, -6.0]],
-            r#""pattern":{"file":"brick.pat","incr":0.05,"rotate":30,"horz":0.5}"#,
+            r#""color":[200,30,30],"pattern":{"file":"brick.pat","incr":0.05,"rotate":30,"horz":0.5}"#,
         ),
         (
             &[[-3.0, -2.0, -9.0], [3.0, -2.0, -9.0], [0.0, 2.5, -9.5]],
@@ -105,10 +105,7 @@ fn scene(t: f64, s: f64) -> String {
                 .collect();
             let rest = rest.replace("0.0625", &(0.0625 * s).to_string());
             let rest = rest.replace("0.05,", &format!("{},", 0.05 * s));
-            format!(
-                "{{\"vertices\":[{}],\"color\":[200,30,30],{rest}}}\n",
-                v.join(",")
-            )
+            format!("{{\"vertices\":[{}],{rest}}}\n", v.join(","))
         })
         .collect()
 }

@@ -46,10 +46,21 @@ pub(super) fn vertices_and_color(line: &[u8], verts: &mut Vec<DVec3>) -> Option<
 fn scan_object(s: &mut Scanner, verts: &mut Vec<DVec3>) -> Option<[u8; 3]> {
     s.byte(b'{')?;
     let (mut vertices, mut color) = (false, None);
+    // The other keys so far, to decline a repeated one (the general path
+    // refuses it); a line of more declines too.
+    let mut others: [&str; MOST_OTHER_KEYS] = [""; MOST_OTHER_KEYS];
+    let mut n_others = 0;
     loop {
         s.byte(b'"')?;
         let key = s.key()?;
         s.byte(b':')?;
+        if !matches!(key, "vertices" | "color") {
+            if n_others == MOST_OTHER_KEYS || others[..n_others].contains(&key) {
+                return None;
+            }
+            others[n_others] = key;
+            n_others += 1;
+        }
         match key {
             "vertices" if !vertices => {
                 s.points(verts)?;
@@ -73,6 +84,11 @@ fn scan_object(s: &mut Scanner, verts: &mut Vec<DVec3>) -> Option<[u8; 3]> {
     s.skip_ws();
     (vertices && s.i == s.b.len()).then_some(color?)
 }
+
+/// The most keys besides `"vertices"` and `"color"` a line the scanner
+/// reads may have (polyfill3's cells have two or three, a generator's own
+/// ids and tags a few more); a line of more goes by serde's route.
+const MOST_OTHER_KEYS: usize = 16;
 
 /// A cursor over the line.
 struct Scanner<'a> {
@@ -628,7 +644,7 @@ mod tests {
             r#"{"vertices":[[-0,-0.0,0.1],[12345678901234567890,1.7976931348623157e308,5e-324],[0.30000000000000004,-1,2]],"color":[0,0,0]}"#,
             // polyfill3's cells, and fields serde's route keeps as text.
             r#"{"vertices":[[99.71238155194987,0.40899343312727865,99.5],[100.0,0.0,100.0],[100.0,0.0,99.5]],"color":[180,144,86],"texel":[5,0],"face":1}"#,
-            r#"{"id":1,"vertices":[[0,0],[1,0],[0,1]],"s":"a\"]}\\","color":[1,2,3],"x":[1e400,{"records":[]}],"n":null,"id":true}"#,
+            r#"{"id":1,"vertices":[[0,0],[1,0],[0,1]],"s":"a\"]}\\","color":[1,2,3],"x":[1e400,{"records":[]}],"n":null,"id2":true}"#,
             // Each side of `short_decimal`'s seven digits, and numbers with
             // fewer than eight bytes after them, which it leaves.
             r#"{"vertices":[[1234567.1234567,-9999999.9999999,12345678.5],[0.12345678,-1.123456789,7],[1234567,-0,5.0e1]],"color":[1,2,3]}"#,
@@ -653,6 +669,9 @@ mod tests {
             r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"x\"":1}"#,
             r#"{"verti\u0063es":[[0,0],[1,0],[0,1]],"color":[1,2,3]}"#,
             r#"{"vertices":[[0,0],[1,0],[0,1]],"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3]}"#,
+            // A repeated key of the record's own (serde's route refuses it).
+            r#"{"id":1,"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"id":2}"#,
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3],"k0":0,"k1":1,"k2":2,"k3":3,"k4":4,"k5":5,"k6":6,"k7":7,"k8":8,"k9":9,"k10":10,"k11":11,"k12":12,"k13":13,"k14":14,"k15":15,"k16":16}"#,
             r#"{"vertices":[[0,0],[1,0],[0,1]]}"#,
             r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3.0]}"#,
             r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,03]}"#,
