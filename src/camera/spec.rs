@@ -430,6 +430,16 @@ impl LookAt {
         let twist = self.twist.unwrap_or(0.0);
         let sight = center - eye;
         let scale = eye.length().max(center.length()).max(1.0);
+        if !sight.length().is_finite() || !scale.is_finite() {
+            return Err(CameraError::invalid(
+                "lookat.center",
+                format!(
+                    "{} is too far from eye {}: the line of sight overflows a 64-bit float",
+                    show(center),
+                    show(eye)
+                ),
+            ));
+        }
         if sight.length() <= COINCIDENT_RELATIVE * scale {
             return Err(CameraError::invalid(
                 "lookat.center",

@@ -144,6 +144,27 @@ pub struct Summary {
     pub files: Vec<PathBuf>,
 }
 
+/// `error` of record `index` of `input` (`within` an object's records): a
+/// [`PartitionError::Record`], except a failed write, which is the output's
+/// and not the record's (`polyfill3 -o /dev/full` said `scene.json: record
+/// 0: No space left on device`, a hostile-input review).
+fn record_error(
+    error: CellsError,
+    input: &str,
+    index: usize,
+    within: Option<(String, usize)>,
+) -> PartitionError {
+    match error {
+        CellsError::Write(e) => PartitionError::Write(e),
+        error => PartitionError::Record {
+            input: input.to_string(),
+            index,
+            within,
+            error: Box::new(error),
+        },
+    }
+}
+
 /// Partitions the stream `reader` (named `source` in errors, its files
 /// resolved against `base`) into `out`. `warn` receives each warning once, as
 /// it happens (records whose pattern mode is not partitioned, the first
@@ -179,12 +200,8 @@ pub fn partition_stream<W: Write>(
     stream::for_each_item_in(reader, source, base, |item| match item {
         Item::Record(rec) => {
             let index = rec.index;
-            job.record(rec).map_err(|error| PartitionError::Record {
-                input: source.to_string(),
-                index,
-                within: None,
-                error: Box::new(error),
-            })
+            job.record(rec)
+                .map_err(|error| record_error(error, source, index, None))
         }
         Item::Object(def) => {
             objects
@@ -307,15 +324,9 @@ impl<W: Write> Job<'_, W> {
     fn object_items(&mut self, def: &ObjectDef, source: &str) -> Result<(), PartitionError> {
         for (i, item) in def.items.iter().enumerate() {
             match item {
-                Item::Record(rec) => {
-                    self.record(rec.clone())
-                        .map_err(|error| PartitionError::Record {
-                            input: source.to_string(),
-                            index: def.index,
-                            within: Some((def.name.clone(), i)),
-                            error: Box::new(error),
-                        })?
-                }
+                Item::Record(rec) => self.record(rec.clone()).map_err(|error| {
+                    record_error(error, source, def.index, Some((def.name.clone(), i)))
+                })?,
                 Item::Instance(inst) => self.instance(inst)?,
                 Item::Object(_) | Item::Light(_) => {
                     unreachable!("Objects::define rejects definitions and lights inside objects")
