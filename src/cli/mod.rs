@@ -325,15 +325,19 @@ pub extern "C" fn pow(x: f64, y: f64) -> f64 {
 /// closed output and `> /dev/null` cannot be told apart, so this is read
 /// earlier, by a constructor the loader runs (Linux).
 static STDOUT_CLOSED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+/// The same for standard input (`tool <&-`): it read as empty, and
+/// `scene-render` drew a blank image with status 0 (a hostile-input review).
+static STDIN_CLOSED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 #[cfg(target_os = "linux")]
 #[used]
 #[link_section = ".init_array"]
-static NOTE_CLOSED_STDOUT: extern "C" fn() = {
+static NOTE_CLOSED_STDIO: extern "C" fn() = {
     extern "C" fn note() {
         // SAFETY: fcntl(F_GETFD) only reads the descriptor's flags.
-        let closed = unsafe { libc::fcntl(1, libc::F_GETFD) } == -1;
-        STDOUT_CLOSED.store(closed, std::sync::atomic::Ordering::Relaxed);
+        let closed = |fd| unsafe { libc::fcntl(fd, libc::F_GETFD) } == -1;
+        STDIN_CLOSED.store(closed(0), std::sync::atomic::Ordering::Relaxed);
+        STDOUT_CLOSED.store(closed(1), std::sync::atomic::Ordering::Relaxed);
     }
     note
 };
@@ -410,14 +414,24 @@ fn is_broken_pipe(e: &anyhow::Error) -> bool {
 
 /// Refuses two inputs that both name standard input (`-`): it can be read
 /// once, and the second reader would silently get nothing (`--camera -` with
-/// the stream on `-` rendered an empty scene with exit status 0). `inputs`
-/// are (what the user wrote, the value given).
+/// the stream on `-` rendered an empty scene with exit status 0); and an
+/// input on a standard input that was closed when the tool started
+/// (`tool <&-`; status 1). `inputs` are (what the user wrote, the value
+/// given).
 pub fn stdin_read_once(inputs: &[(&str, Option<&str>)]) -> anyhow::Result<()> {
     let dashes: Vec<&str> = inputs
         .iter()
         .filter(|(_, v)| *v == Some(crate::io::STDIO))
         .map(|(what, _)| *what)
         .collect();
+    if let ([what, ..], true) = (
+        &dashes[..],
+        STDIN_CLOSED.load(std::sync::atomic::Ordering::Relaxed),
+    ) {
+        anyhow::bail!(
+            "{what} is standard input, which is closed: nothing could be read (give a file)"
+        );
+    }
     if let [first, second, ..] = dashes[..] {
         usage_bail!(
             "{first} and {second} both name `-`: standard input can be read only once; \
@@ -725,6 +739,75 @@ pub fn write_depfile(depfile: &str, targets: &[String], deps: &[String]) -> anyh
     out.write_all(text.as_bytes())
         .with_context(|| format!("writing {depfile}"))?;
     Ok(out.commit()?)
+}
+
+/// Whether the paths `a` and `b` name one existing regular file (the same
+/// device and inode, through links): `./a`, `a` and a link to it do.
+/// `-`, a path that does not exist yet and anything not a regular file
+/// (`/dev/null`, a pipe, a terminal) is never the same file, since writing
+/// it destroys nothing that is read.
+pub fn same_file(a: &str, b: &str) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let file = |p: &str| {
+            (p != crate::io::STDIO)
+                .then(|| std::fs::metadata(p).ok())
+                .flatten()
+                .filter(|m| m.is_file())
+        };
+        matches!((file(a), file(b)), (Some(x), Some(y)) if x.dev() == y.dev() && x.ino() == y.ino())
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (a, b);
+        false
+    }
+}
+
+/// A usage error (status 2) if an output of the command line (`(flag,
+/// path)`) is the same file as one of its inputs ([`same_file`]): the
+/// output would be written in the input's place once the input was read
+/// (`scene-render scene.json -o scene.json` replaced the scene with a PNG,
+/// `--diff ref.png --compare ref.png` the reference with the difference).
+pub fn refuse_replacing_inputs(
+    outputs: &[(&str, Option<&str>)],
+    inputs: &[(&str, Option<&str>)],
+) -> anyhow::Result<()> {
+    for &(out_flag, out) in outputs {
+        for &(in_flag, input) in inputs {
+            if let (Some(out), Some(input)) = (out, input) {
+                if same_file(out, input) {
+                    usage_bail!(
+                        "{out_flag} {out}: the same file as {in_flag} {input}: the output would \
+                         replace an input"
+                    );
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// An error if an output (`(flag, path)`) is the same file as one the
+/// input stream named and the tool read ([`same_file`]), found before the
+/// output is put in place: `polyfill3 -o brick.pat` for a scene of
+/// `brick.pat` would replace the pattern with polygons.
+pub fn refuse_replacing_read_files(
+    outputs: &[(&str, Option<&str>)],
+    read: &[std::path::PathBuf],
+) -> anyhow::Result<()> {
+    for &(flag, out) in outputs {
+        let Some(out) = out else { continue };
+        if let Some(f) = read.iter().find(|f| same_file(out, &f.to_string_lossy())) {
+            anyhow::bail!(
+                "{flag} {out}: the same file as {}, which the stream names: the output would \
+                 replace an input",
+                f.display()
+            );
+        }
+    }
+    Ok(())
 }
 
 /// A path as a depfile names it, the way a Makefile would spell it: `.`

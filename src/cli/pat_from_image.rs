@@ -141,10 +141,12 @@ fn run_in_pool(args: Args) -> Result<()> {
     }
     // Before the work (quantizing a large photo takes a while).
     io::check_output(&args.output, false)?;
-    super::stdin_read_once(&[
-        ("the picture", Some(&args.input)),
+    let inputs = [
+        ("the picture", Some(args.input.as_str())),
         ("--palette", args.palette.as_deref()),
-    ])?;
+    ];
+    super::stdin_read_once(&inputs)?;
+    super::refuse_replacing_inputs(&[("-o", Some(args.output.as_str()))], &inputs)?;
     if args.stripe {
         return run_stripe(&args);
     }

@@ -68,6 +68,9 @@ pub fn run(args: Args) -> Result<()> {
     if args.output == crate::io::STDIO {
         super::check_stdout()?;
     }
+    let inputs = [("the pattern", Some(args.input.as_str()))];
+    super::stdin_read_once(&inputs)?;
+    super::refuse_replacing_inputs(&[("-o", Some(args.output.as_str()))], &inputs)?;
     let tiling = ScreenTiling {
         scale: args.scale,
         offset: (args.offset.0, args.offset.1),

@@ -226,10 +226,18 @@ fn run_in_pool(args: Args) -> Result<()> {
              renderer), not standard input"
         );
     }
-    super::stdin_read_once(&[
-        ("the stream", Some(&args.input)),
+    let pattern = args.pattern.as_ref().map(|p| p.to_string_lossy());
+    let inputs = [
+        ("the stream", Some(args.input.as_str())),
         ("--camera", args.camera.camera.as_deref()),
-    ])?;
+        ("--pattern", pattern.as_deref()),
+    ];
+    super::stdin_read_once(&inputs)?;
+    let outputs = [
+        ("-o", Some(args.output.as_str())),
+        ("--depfile", args.depfile.as_deref()),
+    ];
+    super::refuse_replacing_inputs(&outputs, &inputs)?;
     let camera = args.camera.resolve()?;
     match (&camera, args.cull) {
         (Some(_), None) => {
@@ -248,6 +256,10 @@ fn run_in_pool(args: Args) -> Result<()> {
             "--depfile {}: the same file as -o: the make rule would replace the output",
             args.output
         );
+    }
+    if let Some(depfile) = &args.depfile {
+        // Before the work, as scene-render checks it.
+        crate::io::check_output(depfile, false)?;
     }
     let volume = match camera {
         Some(cam) => {
@@ -300,9 +312,20 @@ fn run_in_pool(args: Args) -> Result<()> {
             .with_context(|| format!("{}: cannot name files relative to it", args.output))?,
     };
     let mut warn = |message: String| super::warn("polyfill3", message);
-    let (out, s) = partition_stream(reader, &source, &base, out, &options, &mut warn)?;
+    let (out, s) = partition_stream(reader, &source, &base, out, &options, &mut warn).map_err(
+        |e| match e {
+            // The output's error, whatever record was being written.
+            crate::scene::PartitionError::Write(io) => {
+                anyhow::Error::from(io).context(format!("writing {}", args.output))
+            }
+            e => e.into(),
+        },
+    )?;
     drop(bar);
-    out.commit()?;
+    super::refuse_replacing_read_files(&outputs, &s.files)?;
+    // The make rule first: a rule that cannot be written leaves the old
+    // output in place, where the output written first would be a target
+    // newer than its files with no rule naming them.
     if let Some(depfile) = &args.depfile {
         let mut deps = vec![args.input.clone()];
         deps.extend(args.camera.camera.iter().cloned());
@@ -310,6 +333,7 @@ fn run_in_pool(args: Args) -> Result<()> {
         deps.extend(s.files.iter().map(|p| super::dep_name(p)));
         super::write_depfile(depfile, std::slice::from_ref(&args.output), &deps)?;
     }
+    out.commit()?;
     if args.json {
         eprintln_or_drop!(
             "{}",

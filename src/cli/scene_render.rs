@@ -215,8 +215,9 @@ pub struct Args {
     pub depfile: Option<String>,
 
     /// The most polygons a frame may expand into (instances times their objects'
-    /// polygons, quadrics with given slices and stacks their triangles): a scene
-    /// over it is refused when read, before any work.
+    /// polygons, quadrics their triangles): a scene over it is refused when read,
+    /// before any work (a quadric without slices and stacks when the view has
+    /// chosen them, before it is cut).
     #[arg(long, value_name = "N", default_value_t = crate::scene::LoadOptions::DEFAULT.max_polygons)]
     pub max_polygons: u64,
 
@@ -259,7 +260,7 @@ pub const MAX_FRAMES: u64 = 24 * 60 * 60 * 24;
 pub const DEFAULT_FPS: u16 = 10;
 
 fn run_in_pool(args: Args) -> Result<()> {
-    super::stdin_read_once(&[
+    let inputs = [
         // With --image no stream is read (its default `-` included).
         (
             "the stream",
@@ -269,7 +270,19 @@ fn run_in_pool(args: Args) -> Result<()> {
         ("--compare", args.compare.as_deref()),
         ("--camera", args.camera.camera.as_deref()),
         ("--background-pattern", args.background_pattern.as_deref()),
-    ])?;
+    ];
+    super::stdin_read_once(&inputs)?;
+    let first_frame = args
+        .output
+        .as_deref()
+        .and_then(|o| frame_name(o, args.frame.unwrap_or(0)));
+    let destinations = [
+        ("-o", args.output.as_deref()),
+        ("-o", first_frame.as_deref()),
+        ("--diff", args.diff.as_deref()),
+        ("--depfile", args.depfile.as_deref()),
+    ];
+    super::refuse_replacing_inputs(&destinations, &inputs)?;
     if let Some(k) = args.frame {
         if k >= args.frames {
             usage_bail!(
@@ -384,6 +397,7 @@ fn run_in_pool(args: Args) -> Result<()> {
     };
     if let Some(img_name) = &args.image {
         let img = load_image(img_name)?;
+        write_depfile(&args, None)?;
         finish(
             &args,
             None,
@@ -394,7 +408,7 @@ fn run_in_pool(args: Args) -> Result<()> {
                 estimated: None,
             },
         )?;
-        return write_depfile(&args, None);
+        return Ok(());
     }
     let output = match (&args.output, &args.compare) {
         (Some(o), _) => Some(o.clone()),
@@ -453,36 +467,31 @@ fn run_in_pool(args: Args) -> Result<()> {
     let limits = crate::scene::LoadOptions {
         max_polygons: args.max_polygons,
     };
-    let scene = Scene::load_with(&args.input, &limits).map_err(|e| match e {
-        crate::scene::SceneError::TooMuchWork { .. } => anyhow::anyhow!(
-            "{}: {e} (--max-polygons raises it)",
-            display_name(&args.input)
-        ),
-        e => e.into(),
-    })?;
+    let scene =
+        Scene::load_with(&args.input, &limits).map_err(|e| scene_error(&args, e, Stage::Read))?;
     for w in scene.warnings() {
         super::warn("scene-render", w);
     }
     let how = draw_options(&args, texture);
     if animation || args.animate {
         let format = format.expect("animations have an output");
-        let files = scene.files().to_vec();
-        render_frames(
+        super::refuse_replacing_read_files(&destinations, scene.files())?;
+        write_depfile(&args, Some(scene.files()))?;
+        return render_frames(
             &args,
             &how,
             scene,
             (&view, camera_given),
             &bg,
             (format, encoding),
-        )?;
-        return write_depfile(&args, Some(&files));
+        );
     }
     // One frame needs only its screen polygons: the scene's parts go as
     // they are projected, before the render's own buffers come.
     let files = scene.files().to_vec();
     let (polys, tally) = scene
         .into_frame(&view, &how, 0)
-        .with_context(|| display_name(&args.input).to_string())?;
+        .map_err(|e| scene_error(&args, e, Stage::Project))?;
     warn_if_blank(&args, (&view, camera_given), 0, &tally);
     let t_render = std::time::Instant::now();
     let bar = args.progress.bar(TOOL);
@@ -514,8 +523,9 @@ fn run_in_pool(args: Args) -> Result<()> {
         residual,
         estimated,
     };
-    finish(&args, output.zip(format), img, reference_img, reports)?;
+    super::refuse_replacing_read_files(&destinations, &files)?;
     write_depfile(&args, Some(&files))?;
+    finish(&args, output.zip(format), img, reference_img, reports)?;
     if args.timings {
         eprintln_or_drop!(
             "{TOOL}: timings: read {:.4} s, render {:.4} s, write {:.4} s ({} polygons)",
@@ -529,7 +539,11 @@ fn run_in_pool(args: Args) -> Result<()> {
 }
 
 /// `--depfile`: the outputs written (every frame of an animation) and every
-/// file read to make them.
+/// file read to make them. Written before the outputs: a rule that cannot
+/// be written then leaves them as they were (written after, they would be
+/// targets newer than their files with no rule naming those files), and a
+/// rule written for outputs that then fail is harmless, their old files
+/// being older than it says.
 fn write_depfile(args: &Args, scene_files: Option<&[std::path::PathBuf]>) -> Result<()> {
     let Some(depfile) = &args.depfile else {
         return Ok(());
@@ -810,6 +824,28 @@ pub fn frame_name(pattern: &str, k: u64) -> Option<String> {
 /// far likelier a wrong camera or scale than an intended picture.
 const ALMOST_NOTHING_PX: f64 = 1.0;
 
+/// Where a [`crate::scene::SceneError`] came from: reading names the
+/// stream in its errors, projecting does not.
+#[derive(PartialEq)]
+enum Stage {
+    Read,
+    Project,
+}
+
+/// A scene's error as the tool says it: named by its input, and a scene
+/// past `--max-polygons` (when read, or when a quadric's slices and stacks
+/// are chosen for the view) says which flag raises the limit.
+fn scene_error(args: &Args, e: crate::scene::SceneError, stage: Stage) -> anyhow::Error {
+    let name = display_name(&args.input);
+    match e {
+        crate::scene::SceneError::TooMuchWork { .. } => {
+            anyhow::anyhow!("{name}: {e} (--max-polygons raises it)")
+        }
+        e if stage == Stage::Project => anyhow::Error::from(e).context(name.to_string()),
+        e => e.into(),
+    }
+}
+
 /// Warns when frame `k` draws nothing, or almost nothing, of a non-empty
 /// stream, naming what became of its polygons (an all-background image with
 /// exit 0 is the commonest silent mistake: a 3D scene without a camera).
@@ -911,7 +947,7 @@ fn render_frames(
         } else {
             scene.as_ref().expect(kept).project_tallied(view, how, k)
         };
-        let (polys, tally) = projected.with_context(|| display_name(&args.input).to_string())?;
+        let (polys, tally) = projected.map_err(|e| scene_error(args, e, Stage::Project))?;
         warn_if_blank(args, (view, camera_given), k, &tally);
         let t1 = std::time::Instant::now();
         let rendered = scene::render_encoded(

@@ -169,6 +169,42 @@ clitest!(a_closed_standard_output_is_an_error, |dir| {
     }
 });
 
+clitest!(a_closed_standard_input_is_an_error, |dir| {
+    // `tool <&-`: it read as empty (Rust puts /dev/null in its place), and
+    // scene-render drew a blank image with status 0. `< /dev/null` is an
+    // empty input, as before, and a file needs no standard input.
+    let scene = repo("fixtures/scenes/demo2-faces.json");
+    for (tool, what) in [
+        ("scene-render --size 8x8 -o out.png", "the stream"),
+        ("polyfill3", "the stream"),
+        ("pat-tile --size 8x8 -o out.png", "the pattern"),
+        ("pat-info", "file 1"),
+        ("pat-from-image --size 16 -o out.pat", "the picture"),
+    ] {
+        let out = sh(dir.path(), &format!("{tool} <&-"));
+        assert_eq!(out.status.code(), Some(1), "{tool}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr),
+            format!(
+                "{}: error: {what} is standard input, which is closed: nothing could be read \
+                 (give a file)\n",
+                tool.split(' ').next().unwrap()
+            )
+        );
+    }
+    assert!(!dir.path().join("out.png").exists());
+    assert!(
+        sh(dir.path(), "scene-render --size 8x8 -o out.png < /dev/null")
+            .status
+            .success()
+    );
+    let out = sh(
+        dir.path(),
+        &format!("scene-render --size 8x8 -o out.png {} <&-", scene.display()),
+    );
+    assert!(out.status.success(), "{out:?}");
+});
+
 clitest!(a_signal_removes_the_output_being_written, |dir| {
     // SIGTERM (a scheduler's pre-emption), SIGINT and SIGHUP while polyfill3
     // writes a large output: the temporary file goes, the target never
@@ -458,8 +494,8 @@ clitest!(
             .stderr(
                 "scene-render: error: nested.json: record 40: the scene expands to 549755813888 \
              polygons in a frame by here (instances times their objects' polygons, quadrics \
-             their slices x stacks x 2 triangles), over the limit of 10000000 \
-             (--max-polygons raises it)\n",
+             their slices x stacks x 2 triangles, given or as fine as the view needs), over \
+             the limit of 10000000 (--max-polygons raises it)\n",
             );
         assert!(started.elapsed().as_secs() < 30, "refused before any work");
         assert!(!dir.path().join("out.png").exists());
@@ -501,6 +537,57 @@ clitest!(
             ])
             .assert()
             .success();
+        // A sphere without slices and stacks gets as many as its chords need
+        // at this view: of radius 1e6 in a 64-pixel frame, 39 million
+        // triangles (7.4 GB before they counted, a hostile-input review).
+        // Counted when projected, they meet the same limit; so do an
+        // object's, once for each instance.
+        dir.write(
+            "huge.json",
+            r#"{"sphere": {"radius": 1e6}, "color": [1,2,3]}"#,
+        );
+        dir.cmd("scene-render")
+            .args(["--size", "64x64", "huge.json", "-o", "huge.png"])
+            .timeout(std::time::Duration::from_secs(60))
+            .assert()
+            .code(1)
+            .stderr(predicates::str::contains(
+                "huge.json: record 0: the scene expands to 39476088 polygons",
+            ))
+            .stderr(predicates::str::contains("(--max-polygons raises it)"));
+        assert!(!dir.path().join("huge.png").exists());
+        let placed = |n: usize| {
+            let mut s = String::from(
+                r#"{"object": "ball", "records": [{"sphere": {"radius": 20}, "color": [1,2,3]}]}"#,
+            );
+            for k in 0..n {
+                s += &format!(
+                    "\n{{\"instance\": \"ball\", \"transform\": [{{\"translate\": [{}, 32, 0]}}]}}",
+                    8 * k
+                );
+            }
+            s
+        };
+        dir.write("one.json", placed(1));
+        dir.write("ten.json", placed(10));
+        let render = |file: &str| {
+            let mut c = dir.cmd("scene-render");
+            c.args([
+                "--max-polygons",
+                "2000",
+                "--size",
+                "64x64",
+                file,
+                "-o",
+                "out.png",
+            ]);
+            c
+        };
+        render("one.json").assert().success();
+        render("ten.json")
+            .assert()
+            .code(1)
+            .stderr(predicates::str::contains("over the limit of 2000"));
     }
 );
 
@@ -1008,5 +1095,124 @@ clitest!(
             assert!(err.contains(said), "{cmd}: {err}");
         }
         assert_eq!(dir.files(), ["c.pat", "l.txt", "m.map"]);
+    }
+);
+
+clitest!(an_output_never_replaces_an_input, |dir| {
+    // A hostile-input review: each of these replaced its input (the scene
+    // with a PNG, the reference with the difference, the pattern with
+    // polygons) and exited 0. Now a usage error before any work, or, for a
+    // file the stream names, an error before the output is put in place.
+    dir.write(
+        "scene.json",
+        r#"{"vertices": [[0,0],[6,0],[0,6]], "color": [9,9,9]}"#,
+    );
+    dir.write(
+        "textured.json",
+        r#"{"vertices": [[0,0,0],[8,0,0],[0,8,0]], "pattern": {"file": "mine.pat", "mode": "object"}}"#,
+    );
+    std::fs::copy(
+        repo("fixtures/patterns/brick.pat"),
+        dir.path().join("mine.pat"),
+    )
+    .unwrap();
+    dir.cmd("scene-render")
+        .args(["--size", "8x8", "scene.json", "-o", "ref.png"])
+        .assert()
+        .success();
+    let kept = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    let (scene, reference, pattern) = (kept("scene.json"), kept("ref.png"), kept("mine.pat"));
+    for (tool, args, code, said) in [
+        ("scene-render", vec!["--format", "png", "scene.json", "-o", "./scene.json"], 2,
+         "-o ./scene.json: the same file as the stream scene.json: the output would replace an input"),
+        ("scene-render", vec!["--size", "8x8", "scene.json", "--compare", "ref.png", "--diff", "ref.png", "-o", "new.png"], 2,
+         "--diff ref.png: the same file as --compare ref.png"),
+        ("polyfill3", vec!["--depfile", "scene.json", "-o", "cells.ndjson", "scene.json"], 2,
+         "--depfile scene.json: the same file as the stream scene.json"),
+        ("polyfill3", vec!["--pattern", "mine.pat", "-o", "mine.pat", "scene.json"], 2,
+         "-o mine.pat: the same file as --pattern mine.pat"),
+        ("polyfill3", vec!["-o", "mine.pat", "textured.json"], 1,
+         "-o mine.pat: the same file as ./mine.pat, which the stream names"),
+        ("scene-render", vec!["--size", "8x8", "--format", "png", "-o", "mine.pat", "textured.json"], 1,
+         "-o mine.pat: the same file as ./mine.pat, which the stream names"),
+        ("pat-tile", vec!["--pat", "--size", "16x16", "-o", "mine.pat", "mine.pat"], 2,
+         "-o mine.pat: the same file as the pattern mine.pat"),
+        ("pat-from-image", vec!["--size", "16", "-o", "ref.png", "ref.png"], 2,
+         "-o ref.png: the same file as the picture ref.png"),
+    ] {
+        dir.cmd(tool)
+            .args(&args)
+            .assert()
+            .code(code)
+            .stderr(predicates::str::contains(said));
+    }
+    assert_eq!(kept("scene.json"), scene);
+    assert_eq!(kept("ref.png"), reference);
+    assert_eq!(kept("mine.pat"), pattern);
+    // A device or another name for another file is no input.
+    dir.cmd("scene-render")
+        .args(["--size", "8x8", "scene.json", "-o", "/dev/null"])
+        .assert()
+        .success();
+});
+
+clitest!(
+    a_make_rule_that_cannot_be_written_leaves_the_output_alone,
+    |dir| {
+        // A hostile-input review: the output was put in place before the rule
+        // was written, so a failed --depfile left a new target with no rule
+        // naming its files, and exit status 1.
+        dir.write(
+            "scene.json",
+            r#"{"vertices": [[0,0],[6,0],[0,6]], "color": [9,9,9]}"#,
+        );
+        dir.write("out.ndjson", "ORIGINAL");
+        dir.write("out.png", "ORIGINAL");
+        for (tool, args) in [
+            (
+                "polyfill3",
+                vec!["--depfile", "/dev/full", "-o", "out.ndjson", "scene.json"],
+            ),
+            (
+                "scene-render",
+                vec![
+                    "--size",
+                    "8x8",
+                    "--depfile",
+                    "/dev/full",
+                    "-o",
+                    "out.png",
+                    "scene.json",
+                ],
+            ),
+        ] {
+            dir.cmd(tool)
+                .args(&args)
+                .assert()
+                .code(1)
+                .stderr(predicates::str::contains("writing /dev/full"));
+        }
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("out.ndjson")).unwrap(),
+            "ORIGINAL"
+        );
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("out.png")).unwrap(),
+            "ORIGINAL"
+        );
+        dir.cmd("polyfill3")
+            .args([
+                "--depfile",
+                "no/such/dir/x.d",
+                "-o",
+                "out.ndjson",
+                "scene.json",
+            ])
+            .assert()
+            .failure();
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("out.ndjson")).unwrap(),
+            "ORIGINAL"
+        );
     }
 );
