@@ -86,7 +86,7 @@ pub fn tie_floor(view: &View) -> f64 {
 }
 
 /// The tie tolerance between two nearness values at a point: relative to
-/// them, floored by the view's scale ([`tie_floor`]).
+/// the larger, plus the view's part ([`tie_floor`]).
 #[inline]
 pub fn tie_tolerance(qa: f64, qb: f64, floor: f64) -> f64 {
     DEPTH_TIE_REL * qa.abs().max(qb.abs()) + floor
