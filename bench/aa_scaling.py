@@ -47,6 +47,47 @@ def scene_render(sr, path, out, runs, warmup):
     return phases["render"], whole, ss4["render"]
 
 
+GENERATORS = {
+    "auto": ["random_triangles.py", "auto"],
+    "s20": ["random_triangles.py", "20"],
+    "mesh": ["layered_mesh.py"],
+}
+
+
+def scene(work, name, n):
+    """The path of set `name`'s scene of `n` triangles in `work`, generated
+    (seeded) the first time it is asked for."""
+    path = os.path.join(work, f"tri-{name}-{n}.ndjson")
+    if not os.path.exists(path):
+        script, *args = GENERATORS[name]
+        here = os.path.dirname(os.path.abspath(__file__))
+        with open(path + ".tmp", "w") as fh:
+            subprocess.run([sys.executable, os.path.join(here, script), str(n), *args], stdout=fh, check=True)
+        os.replace(path + ".tmp", path)
+    return path
+
+
+def arguments():
+    """The program and work directory of the command line, and its N
+    (default 10,000, 100,000, 200,000 and a million)."""
+    return sys.argv[1], sys.argv[2], [int(n) for n in sys.argv[3:]] or [10_000, 100_000, 200_000, 1_000_000]
+
+
+def llvmpipe_view():
+    """llvmpipe's context and the W x H frame's 2D projection."""
+    import moderngl
+    return moderngl.create_standalone_context(backend="egl"), srb.ortho(0, W, 0, H, -1, 1)
+
+
+def msaa4_render(gl_view, path, png):
+    """llvmpipe MSAA 4x's render time of the scene at `path` (median of RUNS
+    after a warm-up), its image written to `png`."""
+    ctx, mvp = gl_view
+    tris = srb.load_triangles(path)
+    srb.llvmpipe(ctx, tris, mvp, 4, png)
+    return statistics.median([srb.llvmpipe(ctx, tris, mvp, 4, png) for _ in range(RUNS)])
+
+
 def fit(ns, ts):
     xs, ys = [math.log(n) for n in ns], [math.log(t) for t in ts]
     mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
@@ -54,36 +95,19 @@ def fit(ns, ts):
 
 
 def main():
-    sr, work = sys.argv[1], sys.argv[2]
-    ns = [int(n) for n in sys.argv[3:]] or [10_000, 100_000, 200_000, 1_000_000]
-    import moderngl
-    ctx = moderngl.create_standalone_context(backend="egl")
-    mvp = srb.ortho(0, W, 0, H, -1, 1)
-    here = os.path.dirname(os.path.abspath(__file__))
+    sr, work, ns = arguments()
+    gl_view = llvmpipe_view()
     print("| set | N | exact render (s) | exact whole (s) | ss4 render (s) | MSAA 4x render (s) "
           "| exact/MSAA4x render | ss4/MSAA4x render |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|")
     fits = []
-    generators = {
-        "auto": ["random_triangles.py", "auto"],
-        "s20": ["random_triangles.py", "20"],
-        "mesh": ["layered_mesh.py"],
-    }
     for name in os.environ.get("AA_SETS", "auto s20 mesh").split():
-        script, *args = generators[name]
         ex, s4, gl = [], [], []
         for n in ns:
-            path = os.path.join(work, f"tri-{name}-{n}.ndjson")
-            if not os.path.exists(path):
-                with open(path, "w") as fh:
-                    subprocess.run([sys.executable, os.path.join(here, script), str(n), *args],
-                                   stdout=fh, check=True)
+            path = scene(work, name, n)
             runs, warmup = (1, 0) if n >= HEAVY else (RUNS, 1)
             render, whole, ss4 = scene_render(sr, path, os.path.join(work, f"tri-{name}-{n}.png"), runs, warmup)
-            tris = srb.load_triangles(path)
-            png = os.path.join(work, f"tri-{name}-{n}-msaa4.png")
-            srb.llvmpipe(ctx, tris, mvp, 4, png)
-            t_gl = statistics.median([srb.llvmpipe(ctx, tris, mvp, 4, png) for _ in range(RUNS)])
+            t_gl = msaa4_render(gl_view, path, os.path.join(work, f"tri-{name}-{n}-msaa4.png"))
             ex.append(render)
             s4.append(ss4)
             gl.append(t_gl)

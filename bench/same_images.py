@@ -19,12 +19,12 @@ lit and photographed globes and house, demo 2 over its background pattern
 """
 import array
 import os
-import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
+import aa_scaling  # noqa: E402
 import texbench  # noqa: E402
 from timing import run_once  # noqa: E402
 
@@ -66,17 +66,9 @@ def scenes(work):
         "--perspective", "55,1,0,1000", "--lookat", "0,100,-5,0,0,-900", "--cull", "back",
         "--background-pattern", os.path.join(ROOT, "fixtures", "patterns", "bkgrnd.pat"),
         "--size", "1024x768", os.path.join(ROOT, "examples", "scenes", "demo2.json")]))
-    for kind, script, args in (("auto", "random_triangles.py", ["auto"]),
-                               ("s20", "random_triangles.py", ["20"]),
-                               ("mesh", "layered_mesh.py", [])):
+    for kind in ("auto", "s20", "mesh"):
         for n in (10_000, 100_000, 200_000):
-            path = os.path.join(work, f"tri-{kind}-{n}.ndjson")
-            if not os.path.exists(path):
-                with open(path + ".tmp", "w") as fh:
-                    subprocess.run([sys.executable, os.path.join(HERE, script), str(n), *args],
-                                   stdout=fh, check=True)
-                os.replace(path + ".tmp", path)
-            out.append((f"{n} triangles, {kind}", ["--size", "1024x768", path]))
+            out.append((f"{n} triangles, {kind}", ["--size", "1024x768", aa_scaling.scene(work, kind, n)]))
     out.append(("10000 triangles, auto, --background none",
                 ["--size", "1024x768", "--background", "none",
                  os.path.join(work, "tri-auto-10000.ndjson")]))
