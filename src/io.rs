@@ -1678,7 +1678,35 @@ fn open_decoder<'a>(bytes: &'a [u8], name: &str) -> Result<impl image::ImageDeco
         .with_guessed_format()
         .map_err(|e| not_an_image(name)(image::ImageError::IoError(e)))?
         .into_decoder()
-        .map_err(not_an_image(name))
+        .map_err(|e| {
+            // The PNG decoder refuses a header past its own memory limit
+            // before our size check can read it ("Memory limit exceeded"
+            // for 2^31-1 x 2^31-1, a hostile-input review): the header
+            // says what the picture is, and our limits say why not.
+            let too_large = matches!(e, image::ImageError::Limits(_))
+                .then(|| png_size(bytes))
+                .flatten()
+                .and_then(|(w, h)| Image::check_size(w, h).err());
+            match too_large {
+                Some(error) => IoError::PictureTooLarge {
+                    input: name.to_string(),
+                    error,
+                },
+                None => not_an_image(name)(e),
+            }
+        })
+}
+
+/// A PNG's width and height as its header (IHDR, the first chunk) gives
+/// them, or `None` for bytes that do not start as one.
+fn png_size(bytes: &[u8]) -> Option<(u32, u32)> {
+    const SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
+    let ihdr = bytes.strip_prefix(SIGNATURE)?.get(4..16)?;
+    let (kind, dims) = ihdr.split_at(4);
+    (kind == b"IHDR").then(|| {
+        let be = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
+        (be(&dims[..4]), be(&dims[4..8]))
+    })
 }
 
 /// [`open_decoder`] for a picture to decode whole: refused, from its header,
@@ -2216,6 +2244,37 @@ mod tests {
         // At the limit, the header passes and the missing pixels are the error.
         let at_limit = decode_image(b"P5\n16384 16384\n255\n", "short.pgm").unwrap_err();
         assert!(matches!(at_limit, IoError::NotAnImage { .. }), "{at_limit}");
+        // A PNG header past the PNG decoder's own memory limit: it said
+        // "Memory limit exceeded" before our check could read the header.
+        let crc32 = |data: &[u8]| {
+            let mut c = !0u32;
+            for &b in data {
+                c ^= b as u32;
+                for _ in 0..8 {
+                    c = if c & 1 == 1 {
+                        (c >> 1) ^ 0xEDB8_8320
+                    } else {
+                        c >> 1
+                    };
+                }
+            }
+            !c
+        };
+        let side = 0x7FFF_FFFFu32;
+        let mut ihdr = b"IHDR".to_vec();
+        ihdr.extend_from_slice(&side.to_be_bytes());
+        ihdr.extend_from_slice(&side.to_be_bytes());
+        ihdr.extend_from_slice(&[8, 2, 0, 0, 0]);
+        let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+        png.extend_from_slice(&13u32.to_be_bytes());
+        png.extend_from_slice(&ihdr);
+        png.extend_from_slice(&crc32(&ihdr).to_be_bytes());
+        assert_eq!(png_size(&png), Some((side, side)));
+        let e = decode_image(&png, "bomb.png").unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "bomb.png: image size 2147483647x2147483647 is too large: each side at most 65535"
+        );
     }
 
     #[test]
