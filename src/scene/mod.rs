@@ -593,6 +593,8 @@ fn project_waves<W: AsRef<[Part]>>(
         taken: AtomicU64::new(0),
     });
     let mut out = Projected::new(None);
+    // The quadrics' triangles beyond one each, in stream order.
+    let mut quadric_triangles = 0u64;
     for wave in waves {
         let runs: Vec<Result<Projected, SceneError>> = wave
             .as_ref()
@@ -606,6 +608,19 @@ fn project_waves<W: AsRef<[Part]>>(
         drop(wave);
         for run in runs {
             let run = run?;
+            if let Some(room) = &room {
+                for &(index, more) in &run.quadrics {
+                    quadric_triangles = quadric_triangles.saturating_add(more);
+                    let polygons = room.total(quadric_triangles);
+                    if polygons > room.counted.limit {
+                        return Err(SceneError::TooMuchWork {
+                            index,
+                            polygons,
+                            limit: room.counted.limit,
+                        });
+                    }
+                }
+            }
             out.polygons.extend(run.polygons);
             out.tally.add(&run.tally);
         }
@@ -625,6 +640,9 @@ struct Projected<'a> {
     tally: Tally,
     /// What the frame's quadrics without given slices and stacks may add.
     room: Option<&'a QuadricRoom>,
+    /// The record and the triangles beyond one of each such quadric met,
+    /// in stream order: the join counts them in that order ([`QuadricRoom`]).
+    quadrics: Vec<(usize, u64)>,
 }
 
 /// The triangles that a frame's quadrics tessellated for the view (those
@@ -634,6 +652,12 @@ struct Projected<'a> {
 /// a sphere of radius 1e6 in a 64-pixel 2D view takes 39 million
 /// triangles for its quarter-pixel chords (a hostile-input review: 7.4 GB
 /// before this).
+///
+/// The projection's threads take room as they come to such quadrics, and
+/// once it is used up they cut no more, which bounds the memory; each run
+/// also lists its quadrics' counts, and the join adds them up in stream
+/// order and names the record where the frame passes the limit, the one
+/// a single thread would name, whatever the threads' timing.
 struct QuadricRoom {
     counted: Counted,
     /// Triangles beyond one a quadric, taken so far, by every thread.
@@ -641,32 +665,21 @@ struct QuadricRoom {
 }
 
 impl QuadricRoom {
-    /// Takes room for a quadric of `triangles` at record `index`, or the
-    /// error that the frame passes the limit there. Threads take room in
-    /// the order they come to their quadrics, so where several such
-    /// quadrics pass the limit together, the record named is one of them,
-    /// not always the first in the stream.
-    fn take(&self, index: usize, triangles: u64) -> Result<(), SceneError> {
-        let more = triangles.saturating_sub(1);
+    /// Takes room for `more` triangles: whether they fit in what the limit
+    /// leaves (if not, the join will refuse the frame).
+    fn take(&self, more: u64) -> bool {
         let before = self
             .taken
             .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |t| {
                 Some(t.saturating_add(more))
             })
             .unwrap_or_else(|t| t);
-        let total = self
-            .counted
-            .read
-            .saturating_add(before)
-            .saturating_add(more);
-        if total > self.counted.limit {
-            return Err(SceneError::TooMuchWork {
-                index,
-                polygons: total,
-                limit: self.counted.limit,
-            });
-        }
-        Ok(())
+        self.total(before.saturating_add(more)) <= self.counted.limit
+    }
+
+    /// The frame's polygons with `more` triangles of such quadrics.
+    fn total(&self, more: u64) -> u64 {
+        self.counted.read.saturating_add(more)
     }
 }
 
@@ -676,6 +689,7 @@ impl<'a> Projected<'a> {
             polygons: Vec::new(),
             tally: Tally::default(),
             room,
+            quadrics: Vec::new(),
         }
     }
 
@@ -1163,7 +1177,11 @@ fn project_quadric(
         _ => (1, 1),
     };
     if let (Some(room), None, _) | (Some(room), _, None) = (out.room, q.slices, q.stacks) {
-        room.take(index, q.triangle_bound(tolerance))?;
+        let more = q.triangle_bound(tolerance).saturating_sub(1);
+        out.quadrics.push((index, more));
+        if !room.take(more) {
+            return Ok(()); // Past the limit: the join refuses the frame.
+        }
     }
     q.for_each_texel_triangle(tolerance, size, |t| {
         // GLU's smooth normals: the triangle's vertices' own.
