@@ -765,11 +765,22 @@ pub fn same_file(a: &str, b: &str) -> bool {
     }
 }
 
+/// The file an input or output name stands for: `-` is standard input or
+/// output, which may be a regular file (`tool - -o x < x`).
+fn stdio_file(name: &str, output: bool) -> &str {
+    match (name, output) {
+        (crate::io::STDIO, false) => "/dev/stdin",
+        (crate::io::STDIO, true) => "/dev/stdout",
+        _ => name,
+    }
+}
+
 /// A usage error (status 2) if an output of the command line (`(flag,
-/// path)`) is the same file as one of its inputs ([`same_file`]): the
-/// output would be written in the input's place once the input was read
-/// (`scene-render scene.json -o scene.json` replaced the scene with a PNG,
-/// `--diff ref.png --compare ref.png` the reference with the difference).
+/// path)`) is the same file as one of its inputs ([`same_file`]; `-` as
+/// the file standard input or output is): the output would be written in
+/// the input's place once the input was read (`scene-render scene.json -o
+/// scene.json` replaced the scene with a PNG, `--diff ref.png --compare
+/// ref.png` the reference with the difference).
 pub fn refuse_replacing_inputs(
     outputs: &[(&str, Option<&str>)],
     inputs: &[(&str, Option<&str>)],
@@ -777,7 +788,7 @@ pub fn refuse_replacing_inputs(
     for &(out_flag, out) in outputs {
         for &(in_flag, input) in inputs {
             if let (Some(out), Some(input)) = (out, input) {
-                if same_file(out, input) {
+                if same_file(stdio_file(out, true), stdio_file(input, false)) {
                     usage_bail!(
                         "{out_flag} {out}: the same file as {in_flag} {input}: the output would \
                          replace an input"
@@ -789,20 +800,24 @@ pub fn refuse_replacing_inputs(
     Ok(())
 }
 
-/// An error if an output (`(flag, path)`) is the same file as one the
-/// input stream named and the tool read ([`same_file`]), found before the
-/// output is put in place: `polyfill3 -o brick.pat` for a scene of
-/// `brick.pat` would replace the pattern with polygons.
+/// An error if an output (`(flag, path)`) is the same file as one of
+/// `inputs` ([`same_file`]): files the input stream named, found before the
+/// output is put in place (`polyfill3 -o brick.pat` for a scene of
+/// `brick.pat` would replace the pattern with polygons), or any input,
+/// checked before an animation's frame is written.
 pub fn refuse_replacing_read_files(
     outputs: &[(&str, Option<&str>)],
-    read: &[std::path::PathBuf],
+    inputs: &[std::path::PathBuf],
 ) -> anyhow::Result<()> {
     for &(flag, out) in outputs {
         let Some(out) = out else { continue };
-        if let Some(f) = read.iter().find(|f| same_file(out, &f.to_string_lossy())) {
+        let out_file = stdio_file(out, true);
+        if let Some(f) = inputs
+            .iter()
+            .find(|f| same_file(out_file, &f.to_string_lossy()))
+        {
             anyhow::bail!(
-                "{flag} {out}: the same file as {}, which the stream names: the output would \
-                 replace an input",
+                "{flag} {out}: the same file as the input {}: the output would replace it",
                 f.display()
             );
         }

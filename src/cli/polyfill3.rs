@@ -316,13 +316,16 @@ fn run_in_pool(args: Args) -> Result<()> {
         |e| match e {
             // The output's error, whatever record was being written.
             crate::scene::PartitionError::Write(io) => {
-                anyhow::Error::from(io).context(format!("writing {}", args.output))
+                anyhow::Error::from(io).context(match args.output.as_str() {
+                    STDIO => "writing standard output".to_string(),
+                    file => format!("writing {file}"),
+                })
             }
             e => e.into(),
         },
     )?;
     drop(bar);
-    super::refuse_replacing_read_files(&outputs, &s.files)?;
+    super::refuse_replacing_read_files(&outputs, &[&s.files[..], &s.named[..]].concat())?;
     // The make rule first: a rule that cannot be written leaves the old
     // output in place, where the output written first would be a target
     // newer than its files with no rule naming them.

@@ -272,13 +272,11 @@ fn run_in_pool(args: Args) -> Result<()> {
         ("--background-pattern", args.background_pattern.as_deref()),
     ];
     super::stdin_read_once(&inputs)?;
-    let first_frame = args
-        .output
-        .as_deref()
-        .and_then(|o| frame_name(o, args.frame.unwrap_or(0)));
+    // An animation's frames are checked one by one as they are written
+    // (`render_frames`); its -o is a pattern of names.
+    let animation = args.frames > 1 || args.frame.is_some();
     let destinations = [
-        ("-o", args.output.as_deref()),
-        ("-o", first_frame.as_deref()),
+        ("-o", args.output.as_deref().filter(|_| !animation)),
         ("--diff", args.diff.as_deref()),
         ("--depfile", args.depfile.as_deref()),
     ];
@@ -297,7 +295,6 @@ fn run_in_pool(args: Args) -> Result<()> {
             args.quadric_tolerance
         );
     }
-    let animation = args.frames > 1 || args.frame.is_some();
     let named_output = args.output.as_deref().filter(|o| *o != crate::io::STDIO);
     if args.depfile.is_some() && named_output.is_none() {
         usage_bail!("--depfile needs -o FILE: the make rule names the output as its target");
@@ -477,6 +474,15 @@ fn run_in_pool(args: Args) -> Result<()> {
         let format = format.expect("animations have an output");
         super::refuse_replacing_read_files(&destinations, scene.files())?;
         write_depfile(&args, Some(scene.files()))?;
+        let named = inputs
+            .iter()
+            .filter_map(|(_, p)| p.filter(|p| *p != crate::io::STDIO));
+        let read: Vec<std::path::PathBuf> = scene
+            .files()
+            .iter()
+            .cloned()
+            .chain(named.map(std::path::PathBuf::from))
+            .collect();
         return render_frames(
             &args,
             &how,
@@ -484,6 +490,7 @@ fn run_in_pool(args: Args) -> Result<()> {
             (&view, camera_given),
             &bg,
             (format, encoding),
+            &read,
         );
     }
     // One frame needs only its screen polygons: the scene's parts go as
@@ -919,6 +926,7 @@ fn render_frames(
     (view, camera_given): (&View, bool),
     bg: &raster::Background,
     (format, encoding): (ImageFormat, crate::io::Encoding),
+    inputs: &[std::path::PathBuf],
 ) -> Result<()> {
     let pattern = args.output.as_deref().expect("checked by run_in_pool");
     let frames: Vec<u64> = match args.frame {
@@ -940,6 +948,9 @@ fn render_frames(
     let last = frames.len().saturating_sub(1);
     for (i, k) in frames.into_iter().enumerate() {
         let name = frame_name(pattern, k).unwrap_or_else(|| pattern.to_string());
+        // Each frame's own name, before it is drawn (`-o frame-%04d.png`
+        // over an input frame-0003.png).
+        super::refuse_replacing_read_files(&[("-o", Some(&name))], inputs)?;
         let t0 = std::time::Instant::now();
         let kept = "the scene is kept until the last frame";
         let projected = if i == last {
@@ -947,7 +958,8 @@ fn render_frames(
         } else {
             scene.as_ref().expect(kept).project_tallied(view, how, k)
         };
-        let (polys, tally) = projected.map_err(|e| scene_error(args, e, Stage::Project))?;
+        let (polys, tally) = projected
+            .map_err(|e| scene_error(args, e, Stage::Project).context(format!("frame {k}")))?;
         warn_if_blank(args, (view, camera_given), k, &tally);
         let t1 = std::time::Instant::now();
         let rendered = scene::render_encoded(

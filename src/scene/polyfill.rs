@@ -142,6 +142,10 @@ pub struct Summary {
     /// The pattern files read, each once, in the order first read: what a
     /// build system must know the output depends on (`polyfill3 --depfile`).
     pub files: Vec<PathBuf>,
+    /// The files records name that the output names too (forwarded, read
+    /// or not: a screen pattern is passed on unread), each once: an output
+    /// must not be put in their place.
+    pub named: Vec<PathBuf>,
 }
 
 /// `error` of record `index` of `input` (`within` an object's records): a
@@ -491,8 +495,13 @@ impl<W: Write> Job<'_, W> {
     /// `rec` with the files it names rewritten for the output
     /// ([`PartitionOptions::refs`]); its typed view (the pattern the job
     /// loads) keeps them as read. Records that name no file are not copied.
-    fn forwarded(&self, mut rec: Record) -> Result<Record, CellsError> {
+    fn forwarded(&mut self, mut rec: Record) -> Result<Record, CellsError> {
         if stream::names_files(&rec.fields) {
+            for f in stream::named_files(&rec.fields, &self.base) {
+                if !self.summary.named.contains(&f) {
+                    self.summary.named.push(f);
+                }
+            }
             let mut fields = rec.fields.clone();
             stream::forward_file_refs(&mut fields, &self.base, &self.args.refs).map_err(
                 |error| CellsError::PatternPath {

@@ -140,6 +140,20 @@ pub fn names_files(fields: &Fields) -> bool {
         .any(|(object, key)| fields.get(object).is_some_and(|o| o.get(*key).is_some()))
 }
 
+/// Every file a record names (see [`names_files`]), resolved against `base`:
+/// what a tool forwarding the record leaves the output pointing at.
+pub fn named_files(fields: &Fields, base: &Path) -> Vec<PathBuf> {
+    FILE_REFS
+        .iter()
+        .filter_map(|(object, key)| match fields.get(object)?.get(*key)? {
+            Value::String(file) if !(*key == "translation" && file == "identity") => {
+                Some(resolve(base, file))
+            }
+            _ => None,
+        })
+        .collect()
+}
+
 /// Rewrites every file a record names (see [`names_files`]), resolved against
 /// `base` (the input's directory), for `to`. Anything else is left as it is.
 pub fn forward_file_refs(fields: &mut Fields, base: &Path, to: &RefTarget) -> std::io::Result<()> {

@@ -1132,9 +1132,9 @@ clitest!(an_output_never_replaces_an_input, |dir| {
         ("polyfill3", vec!["--pattern", "mine.pat", "-o", "mine.pat", "scene.json"], 2,
          "-o mine.pat: the same file as --pattern mine.pat"),
         ("polyfill3", vec!["-o", "mine.pat", "textured.json"], 1,
-         "-o mine.pat: the same file as ./mine.pat, which the stream names"),
+         "-o mine.pat: the same file as the input ./mine.pat: the output would replace it"),
         ("scene-render", vec!["--size", "8x8", "--format", "png", "-o", "mine.pat", "textured.json"], 1,
-         "-o mine.pat: the same file as ./mine.pat, which the stream names"),
+         "-o mine.pat: the same file as the input ./mine.pat: the output would replace it"),
         ("pat-tile", vec!["--pat", "--size", "16x16", "-o", "mine.pat", "mine.pat"], 2,
          "-o mine.pat: the same file as the pattern mine.pat"),
         ("pat-from-image", vec!["--size", "16", "-o", "ref.png", "ref.png"], 2,
@@ -1146,9 +1146,65 @@ clitest!(an_output_never_replaces_an_input, |dir| {
             .code(code)
             .stderr(predicates::str::contains(said));
     }
+    // A review's cases: a later frame of an animation over an input, a
+    // screen pattern polyfill3 passes on unread, standard input that is
+    // the file written.
+    std::fs::copy(
+        dir.path().join("scene.json"),
+        dir.path().join("frame-0003.png"),
+    )
+    .unwrap();
+    dir.write(
+        "screen.json",
+        r#"{"vertices": [[1,1],[30,2],[10,30]], "pattern": {"file": "mine.pat", "mode": "screen"}}"#,
+    );
+    for (tool, args, said) in [
+        (
+            "scene-render",
+            vec![
+                "--size",
+                "8x8",
+                "--frames",
+                "5",
+                "frame-0003.png",
+                "-o",
+                "frame-%04d.png",
+            ],
+            "-o frame-0003.png: the same file as the input frame-0003.png",
+        ),
+        (
+            "polyfill3",
+            vec!["screen.json", "-o", "mine.pat"],
+            "-o mine.pat: the same file as the input ./mine.pat",
+        ),
+    ] {
+        dir.cmd(tool)
+            .args(&args)
+            .assert()
+            .code(1)
+            .stderr(predicates::str::contains(said));
+    }
+    let out = sh(
+        dir.path(),
+        "scene-render --size 8x8 - -o /dev/stdin < scene.json",
+    );
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    assert!(String::from_utf8_lossy(&out.stderr)
+        .contains("-o /dev/stdin: the same file as the stream -"));
+    assert_eq!(kept("frame-0003.png"), scene);
     assert_eq!(kept("scene.json"), scene);
     assert_eq!(kept("ref.png"), reference);
     assert_eq!(kept("mine.pat"), pattern);
+    // Without --frames, `%` in -o is a name like any other.
+    std::fs::copy(
+        dir.path().join("scene.json"),
+        dir.path().join("frame-0000.png"),
+    )
+    .unwrap();
+    dir.cmd("scene-render")
+        .args(["--size", "8x8", "frame-0000.png", "-o", "frame-%04d.png"])
+        .assert()
+        .success();
     // A device or another name for another file is no input.
     dir.cmd("scene-render")
         .args(["--size", "8x8", "scene.json", "-o", "/dev/null"])
