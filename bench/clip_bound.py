@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Driver of bench/clip_bound.sh: how much of llvmpipe MSAA 4x's render time
 is left for exact visibility once a soup's triangles are cut into their pixel
-fragments by the plainest clipper (bench/clip_bound.rs), on the scenes of
+fragments by a plain f64 clipper (bench/clip_bound.rs), on the scenes of
 bench/aa_scaling.sh.
 
     clip_bound.py CLIP_BOUND WORKDIR [N ...]

@@ -1,10 +1,12 @@
-//! A bound for `bench/clip_bound.sh`: the least work any exact per-pixel
-//! anti-aliasing of a triangle soup must do before visibility, cutting each
-//! triangle into its pixel fragments, done as plainly and cheaply as this
-//! file can: one thread, no binning, no storage, each triangle clipped to
-//! each of its pixel rows and each row's piece to each of its pixels
-//! (Sutherland-Hodgman in f64, on the stack), the fragment's area summed.
-//! It knows nothing of the project's code and draws no picture.
+//! For `bench/clip_bound.sh`: one plain way of the cut that exact
+//! per-pixel anti-aliasing of a triangle soup does before visibility, each
+//! triangle into its pixel fragments, timed: one thread, no binning, no
+//! storage, each triangle clipped to each of its pixel rows and each row's
+//! piece to each of its pixels (Sutherland-Hodgman in f64, on the stack),
+//! the fragment's area summed. It cuts every fragment, hidden or not, and
+//! other ways of cutting may be cheaper, so it is a yardstick, not a lower
+//! bound on every design. It knows nothing of the project's code and draws
+//! no picture.
 //!
 //!     clip_bound SCENE.ndjson WIDTH HEIGHT RUNS
 //!

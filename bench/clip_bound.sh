@@ -1,6 +1,6 @@
 #!/bin/sh
 # How much of llvmpipe MSAA 4x's render time a triangle soup leaves for exact
-# visibility once the plainest clipper (bench/clip_bound.rs, no project code)
+# visibility once a plain f64 clipper (bench/clip_bound.rs, no project code)
 # has cut its triangles into pixel fragments: the bound behind
 # RESULTS-aa-scaling.md's reading of issue "Performance at scale", item 1.
 # Not run in CI.
