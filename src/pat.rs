@@ -944,6 +944,18 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("byte 0x00 is not text"), "{e}");
+        // A byte-order mark at the start is named as one; 0xef later is not.
+        let e = Pattern::parse(b"\xef\xbb\xbf16 1\n", "bom.pat")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.ends_with("(a UTF-8 byte-order mark starts so: save the file without one)"),
+            "{e}"
+        );
+        let e = Pattern::parse(b"16 1\n\xef\xbb\xbf", "x.pat")
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains("byte-order mark"), "{e}");
     }
 
     #[test]

@@ -12,6 +12,15 @@
 
 use std::fmt;
 
+/// The first byte of a UTF-8 byte-order mark (EF BB BF), which some
+/// editors put at the start of a text file: none of the formats has one.
+pub(crate) const BOM_FIRST: u8 = 0xEF;
+
+/// Said after an error at a file's first byte when it is [`BOM_FIRST`]:
+/// "byte 0xef is not text" alone left the user to guess (a hostile-input
+/// review).
+pub(crate) const BOM_HINT: &str = " (a UTF-8 byte-order mark starts so: save the file without one)";
+
 /// Longest word echoed back in an error message (as in `pat.rs`).
 const MAX_ECHO: usize = 24;
 
@@ -221,7 +230,14 @@ impl Cursor {
             file: file.to_string(),
             line: Some(self.line),
             word: None,
-            message: format!("byte 0x{c:02x} is not text: expected {what_file}"),
+            message: format!(
+                "byte 0x{c:02x} is not text: expected {what_file}{}",
+                if c == BOM_FIRST && self.line == 1 && self.count == 0 {
+                    BOM_HINT
+                } else {
+                    ""
+                }
+            ),
         }
     }
 }

@@ -10,6 +10,7 @@ use super::objects::{Instance, Item, Objects};
 use super::record::Record;
 use super::{plain, StreamError};
 use crate::geom::transform::Transform;
+use crate::text::{BOM_FIRST, BOM_HINT};
 use serde::de::{Deserializer as _, SeqAccess, Visitor};
 use std::fmt;
 use std::io::BufRead;
@@ -206,12 +207,13 @@ pub fn for_each_item_in<R: BufRead + Send, E: From<StreamError>>(
         Some(b) if b != b'[' && b != b'{' => Err(stream_err(
             Some(0),
             format!(
-                "invalid JSON: the stream starts with {}, not `[` (an array) or `{{` (a record)",
+                "invalid JSON: the stream starts with {}, not `[` (an array) or `{{` (a record){}",
                 if b.is_ascii_graphic() {
                     format!("`{}`", b as char)
                 } else {
                     format!("byte 0x{b:02x}")
-                }
+                },
+                if b == BOM_FIRST { BOM_HINT } else { "" }
             ),
         )
         .into()),
@@ -895,6 +897,16 @@ mod tests {
         assert!(read_all("").unwrap().is_empty());
         assert!(read_all(" \n ").unwrap().is_empty());
         assert!(read_all("[]").unwrap().is_empty());
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_named() {
+        let e = err("\u{feff}{\"rect\": [0,0,1,1], \"color\": [0,0,0]}");
+        assert!(
+            e.contains("starts with byte 0xef, not `[` (an array) or `{` (a record) (a UTF-8 byte-order mark starts so: save the file without one)"),
+            "{e}"
+        );
+        assert!(!err("x").contains("byte-order"));
     }
 
     #[test]
