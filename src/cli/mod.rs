@@ -418,7 +418,7 @@ fn is_broken_pipe(e: &anyhow::Error) -> bool {
 /// input on a standard input that was closed when the tool started
 /// (`tool <&-`; status 1). `inputs` are (what the user wrote, the value
 /// given).
-pub fn stdin_read_once(inputs: &[(&str, Option<&str>)]) -> anyhow::Result<()> {
+pub fn check_stdin_inputs(inputs: &[(&str, Option<&str>)]) -> anyhow::Result<()> {
     let dashes: Vec<&str> = inputs
         .iter()
         .filter(|(_, v)| *v == Some(crate::io::STDIO))

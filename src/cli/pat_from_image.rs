@@ -145,7 +145,7 @@ fn run_in_pool(args: Args) -> Result<()> {
         ("the picture", Some(args.input.as_str())),
         ("--palette", args.palette.as_deref()),
     ];
-    super::stdin_read_once(&inputs)?;
+    super::check_stdin_inputs(&inputs)?;
     super::refuse_replacing_inputs(&[("-o", Some(args.output.as_str()))], &inputs)?;
     if args.stripe {
         return run_stripe(&args);

@@ -69,7 +69,7 @@ pub fn run(args: Args) -> Result<()> {
         super::check_stdout()?;
     }
     let inputs = [("the pattern", Some(args.input.as_str()))];
-    super::stdin_read_once(&inputs)?;
+    super::check_stdin_inputs(&inputs)?;
     super::refuse_replacing_inputs(&[("-o", Some(args.output.as_str()))], &inputs)?;
     let tiling = ScreenTiling {
         scale: args.scale,

@@ -232,7 +232,7 @@ fn run_in_pool(args: Args) -> Result<()> {
         ("--camera", args.camera.camera.as_deref()),
         ("--pattern", pattern.as_deref()),
     ];
-    super::stdin_read_once(&inputs)?;
+    super::check_stdin_inputs(&inputs)?;
     let outputs = [
         ("-o", Some(args.output.as_str())),
         ("--depfile", args.depfile.as_deref()),

@@ -271,16 +271,8 @@ fn run_in_pool(args: Args) -> Result<()> {
         ("--camera", args.camera.camera.as_deref()),
         ("--background-pattern", args.background_pattern.as_deref()),
     ];
-    super::stdin_read_once(&inputs)?;
-    // An animation's frames are checked one by one as they are written
-    // (`render_frames`); its -o is a pattern of names.
+    super::check_stdin_inputs(&inputs)?;
     let animation = args.frames > 1 || args.frame.is_some();
-    let destinations = [
-        ("-o", args.output.as_deref().filter(|_| !animation)),
-        ("--diff", args.diff.as_deref()),
-        ("--depfile", args.depfile.as_deref()),
-    ];
-    super::refuse_replacing_inputs(&destinations, &inputs)?;
     if let Some(k) = args.frame {
         if k >= args.frames {
             usage_bail!(
@@ -317,6 +309,15 @@ fn run_in_pool(args: Args) -> Result<()> {
             }
         }
     }
+    // The same outputs against the inputs, `-o -` as the file standard
+    // output is; an animation's frames are checked one by one as they are
+    // written (`render_frames`), its -o being a pattern of names.
+    let destinations = [
+        ("-o", args.output.as_deref().filter(|_| !animation)),
+        outputs[1],
+        outputs[2],
+    ];
+    super::refuse_replacing_inputs(&destinations, &inputs)?;
     if args.animate {
         match &args.output {
             None => usage_bail!("--animate: give -o, the animated PNG to write"),
