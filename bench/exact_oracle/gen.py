@@ -38,11 +38,13 @@ def plane_pts(rng, pts2, zlo=-1.0, zhi=1.0, bits=20):
     return [(x, y, dy(rng.uniform(zlo, zhi), bits)) for (x, y) in pts2]
 
 
-def tilted(rng, W, H, n):
+def tilted(rng, W, H, n, *z_range):
+    """Triangles over the frame and a little past it, on random planes
+    (depths in `z_range`, plane_pts's default when not given)."""
     recs = []
     for _ in range(n):
         pts = [(dy(rng.uniform(-4, W + 4)), dy(rng.uniform(-4, H + 4))) for _ in range(3)]
-        recs.append(tri_rec(plane_pts(rng, pts), col(rng)))
+        recs.append(tri_rec(plane_pts(rng, pts, *z_range), col(rng)))
     return recs
 
 
@@ -182,11 +184,8 @@ def parallel(rng, W, H, n):
 
 
 def zclip(rng, W, H, n):
-    recs = []
-    for _ in range(n):
-        pts = [(dy(rng.uniform(-4, W + 4)), dy(rng.uniform(-4, H + 4))) for _ in range(3)]
-        recs.append(tri_rec(plane_pts(rng, pts, -3, 3), col(rng)))
-    return recs
+    """As `tilted`, with depths past the view's z = +-1 to be clipped."""
+    return tilted(rng, W, H, n, -3, 3)
 
 
 def concave(rng, W, H, n):

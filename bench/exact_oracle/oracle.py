@@ -213,19 +213,24 @@ def render_pixel(i, j, polys, bg, tie=False):
         xev.add(xa)
         xev.add(xb)
 
+    def add_line(r):
+        """What clip_line gives: a vertical line's x (an event), a segment,
+        or None."""
+        if r is None:
+            return
+        if r[0] == 'v':
+            if X0 < r[1] < X1:
+                xev.add(r[1])
+        else:
+            add_seg(r[1])
+
     add_seg((X0, Y0, X1, Y0))
     add_seg((X0, Y1, X1, Y1))
     for p in rel:
         for e in p.edges:
             add_seg(clip_seg(*e, X0, Y0, X1, Y1))
         for zc in (ONE, -ONE):
-            r = clip_line(p.a, p.b, p.c - zc, X0, Y0, X1, Y1)
-            if r is not None:
-                if r[0] == 'v':
-                    if X0 < r[1] < X1:
-                        xev.add(r[1])
-                else:
-                    add_seg(r[1])
+            add_line(clip_line(p.a, p.b, p.c - zc, X0, Y0, X1, Y1))
     for u in range(len(rel)):
         for w in range(u + 1, len(rel)):
             p, q = rel[u], rel[w]
@@ -242,13 +247,7 @@ def render_pixel(i, j, polys, bg, tie=False):
                 if min(ds) <= tol and max(ds) >= -tol:
                     offs = [ZERO, tol, -tol]
             for off in offs:
-                r = clip_line(p.a - q.a, p.b - q.b, p.c - q.c - off, X0, Y0, X1, Y1)
-                if r is not None:
-                    if r[0] == 'v':
-                        if X0 < r[1] < X1:
-                            xev.add(r[1])
-                    else:
-                        add_seg(r[1])
+                add_line(clip_line(p.a - q.a, p.b - q.b, p.c - q.c - off, X0, Y0, X1, Y1))
     segs = list(segs)
     n = len(segs)
     for u in range(n):
