@@ -497,13 +497,9 @@ impl<W: Write> Job<'_, W> {
     /// loads) keeps them as read. Records that name no file are not copied.
     fn forwarded(&mut self, mut rec: Record) -> Result<Record, CellsError> {
         if stream::names_files(&rec.fields) {
-            for f in stream::named_files(&rec.fields, &self.base) {
-                if !self.summary.named.contains(&f) {
-                    self.summary.named.push(f);
-                }
-            }
             let mut fields = rec.fields.clone();
-            stream::forward_file_refs(&mut fields, &self.base, &self.args.refs).map_err(
+            let named = &mut self.summary.named;
+            stream::forward_file_refs(&mut fields, &self.base, &self.args.refs, named).map_err(
                 |error| CellsError::PatternPath {
                     path: self.base.clone(),
                     error,

@@ -46,7 +46,7 @@ pub use objects::{
     transform_record, Instance, Item, LightDef, ObjectDef, Objects, INSTANCE_CURVE_TOLERANCE,
     MAX_OBJECT_DEPTH,
 };
-pub use paths::{base_dir, forward_file_refs, named_files, names_files, resolve, RefTarget};
+pub use paths::{base_dir, forward_file_refs, names_files, resolve, RefTarget};
 pub use read::{for_each_item, for_each_item_in, for_each_record, nth_item, MAX_NTH_RECORDS};
 pub use record::{parse_color, PatternMode, PatternRef, Record, PATTERN_KEYS, QUADRIC_KEYS};
 pub use triangles::{for_each_quadric_triangle, quadric_triangle_bound};

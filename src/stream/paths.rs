@@ -140,23 +140,16 @@ pub fn names_files(fields: &Fields) -> bool {
         .any(|(object, key)| fields.get(object).is_some_and(|o| o.get(*key).is_some()))
 }
 
-/// Every file a record names (see [`names_files`]), resolved against `base`:
-/// what a tool forwarding the record leaves the output pointing at.
-pub fn named_files(fields: &Fields, base: &Path) -> Vec<PathBuf> {
-    FILE_REFS
-        .iter()
-        .filter_map(|(object, key)| match fields.get(object)?.get(*key)? {
-            Value::String(file) if !(*key == "translation" && file == "identity") => {
-                Some(resolve(base, file))
-            }
-            _ => None,
-        })
-        .collect()
-}
-
 /// Rewrites every file a record names (see [`names_files`]), resolved against
 /// `base` (the input's directory), for `to`. Anything else is left as it is.
-pub fn forward_file_refs(fields: &mut Fields, base: &Path, to: &RefTarget) -> std::io::Result<()> {
+/// Each file resolved is added to `named` unless it is there already: what
+/// the output will point at, which it must not replace.
+pub fn forward_file_refs(
+    fields: &mut Fields,
+    base: &Path,
+    to: &RefTarget,
+    named: &mut Vec<PathBuf>,
+) -> std::io::Result<()> {
     for (object, key) in FILE_REFS {
         let Some(Value::Object(o)) = fields.get_mut(object) else {
             continue;
@@ -167,7 +160,11 @@ pub fn forward_file_refs(fields: &mut Fields, base: &Path, to: &RefTarget) -> st
         if key == "translation" && file == "identity" {
             continue;
         }
-        *file = to.path(&resolve(base, file))?;
+        let resolved = resolve(base, file);
+        *file = to.path(&resolved)?;
+        if !named.contains(&resolved) {
+            named.push(resolved);
+        }
     }
     Ok(())
 }
@@ -209,7 +206,7 @@ mod tests {
         .into();
         assert!(names_files(&fields));
         let mut absolute = fields.clone();
-        forward_file_refs(&mut absolute, &base, &RefTarget::Absolute).unwrap();
+        forward_file_refs(&mut absolute, &base, &RefTarget::Absolute, &mut Vec::new()).unwrap();
         let p = root.join("in/pats/p.pat");
         assert_eq!(absolute["pattern"]["file"], p.to_str().unwrap());
         assert_eq!(
@@ -222,7 +219,7 @@ mod tests {
         );
         assert_eq!(absolute["stripe"]["translation"], "identity");
         let to = RefTarget::relative_to_output(&root.join("out/deep/o.ndjson")).unwrap();
-        forward_file_refs(&mut fields, &base, &to).unwrap();
+        forward_file_refs(&mut fields, &base, &to, &mut Vec::new()).unwrap();
         assert_eq!(fields["pattern"]["file"], "../../in/pats/p.pat");
         assert_eq!(fields["stripe"]["map"], "../../in/m.map");
         assert_eq!(fields["stripe"]["colours"], "../../c.tab");
