@@ -591,6 +591,64 @@ clitest!(
     }
 );
 
+clitest!(
+    the_record_that_passes_the_polygon_limit_is_the_same_at_any_thread_count,
+    |dir| {
+        // The projection threads share the room left for view-tessellated
+        // quadrics, but the join adds each run's counts in stream order, so
+        // the record named is the one a single thread names. 12,000 spheres
+        // of random radius (a fixed LCG), the limit passed in the second
+        // projection run (records 4096 to 8191), while the first still
+        // counts: a review saw the record change from run to run before.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut unit = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut s = String::new();
+        for _ in 0..12_000 {
+            let (r, x, y, z) = (1.0 + 7.0 * unit(), 64.0 * unit(), 64.0 * unit(), unit());
+            s += &format!(
+                "{{\"sphere\": {{\"radius\": {r:.3}}}, \"transform\": {{\"translate\": \
+                 [{x:.2}, {y:.2}, {z:.2}]}}, \"color\": [1,2,3]}}\n"
+            );
+        }
+        dir.write("spheres.ndjson", s);
+        let refused = |threads: &str| {
+            let out = dir
+                .cmd("scene-render")
+                .args(["--threads", threads, "--size", "64x64"])
+                .args([
+                    "--max-polygons",
+                    "1200000",
+                    "spheres.ndjson",
+                    "-o",
+                    "out.png",
+                ])
+                .assert()
+                .code(1)
+                .get_output()
+                .stderr
+                .clone();
+            String::from_utf8(out).unwrap()
+        };
+        let one = refused("1");
+        let record: usize = one
+            .split("record ")
+            .nth(1)
+            .and_then(|rest| rest.split(':').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("no record named: {one}"));
+        assert!((4096..8192).contains(&record), "{one}");
+        for _ in 0..4 {
+            assert_eq!(refused("2"), one);
+        }
+        assert!(!dir.path().join("out.png").exists());
+    }
+);
+
 clitest!(two_inputs_on_standard_input_are_a_usage_error, |dir| {
     // Issue 18, item 3: `--camera -` with the stream on `-` rendered an
     // empty scene with exit status 0.
