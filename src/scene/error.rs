@@ -189,7 +189,8 @@ impl fmt::Display for SceneError {
                     f,
                     "record {index}: the scene expands to {polygons} polygons in a frame \
                      by here (instances times their objects' polygons, quadrics their \
-                     slices x stacks x 2 triangles, given or as fine as the view needs), \
+                     triangles, at most slices x stacks x 2, given or as fine as the view \
+                     needs), \
                      over the limit of {limit}"
                 )
             }

@@ -494,7 +494,8 @@ clitest!(
             .stderr(
                 "scene-render: error: nested.json: record 40: the scene expands to 549755813888 \
              polygons in a frame by here (instances times their objects' polygons, quadrics \
-             their slices x stacks x 2 triangles, given or as fine as the view needs), over \
+             their triangles, at most slices x stacks x 2, given or as fine as the view needs), \
+             over \
              the limit of 10000000 (--max-polygons raises it)\n",
             );
         assert!(started.elapsed().as_secs() < 30, "refused before any work");
