@@ -115,6 +115,18 @@ pub enum IoError {
         #[source]
         error: PfmError,
     },
+    /// A floating-point picture with a sample that is not a finite number.
+    #[error("{input}: the sample {value} at pixel ({x}, {y}) is not a finite number")]
+    NotFinite {
+        /// The input's name, as errors show it.
+        input: String,
+        /// Where the first such sample is (0-based, row 0 at the top).
+        x: u64,
+        /// Its row.
+        y: u64,
+        /// The sample (NaN or an infinity).
+        value: f32,
+    },
     /// An image used as a texture has more pixels than a texture may.
     #[error(
         "{input}: image of {width}x{height} pixels is too large for a texture: \
@@ -511,10 +523,20 @@ pub fn read_input(name: &str, kind: InputKind) -> Result<Vec<u8>, IoError> {
 /// whole or as a stream (a `.pat` larger than the kind's limit).
 pub fn open_input(name: &str, kind: InputKind) -> Result<Opened, IoError> {
     let open = || {
+        let mut known_len = None;
         let mut r: Box<dyn Read> = if name == STDIO {
             Box::new(io::stdin().lock())
         } else {
-            Box::new(open_named(name)?)
+            let f = open_named(name)?;
+            // A file's length refuses one past the limit before it is read:
+            // a 3 GB picture was read into 2 GB of memory first (a
+            // hostile-input review). Pipes and devices have none.
+            known_len = f
+                .metadata()
+                .ok()
+                .filter(|m| m.file_type().is_file())
+                .map(|m| m.len());
+            Box::new(f)
         };
         let start = read_start(&mut r)?;
         let limit = kind.check_start(&start)?;
@@ -523,7 +545,7 @@ pub fn open_input(name: &str, kind: InputKind) -> Result<Opened, IoError> {
             rest: r,
             limit,
             limit_says: "this input may have",
-            known_len: None,
+            known_len,
             input: name.to_string(),
             blank_lines: 0,
         })
@@ -652,6 +674,68 @@ fn write_behind(tmp: &tempfile::NamedTempFile, started: &mut u64, end: u64) {
     *started = end;
 }
 
+/// The process's own descriptor that `path` names, duplicated: `/dev/stdout`,
+/// `/dev/stderr`, `/dev/fd/N`, `/proc/self/fd/N` and links to them. Each
+/// link of the chain is followed by hand (at most `MAX_LINKS`, the kernel's
+/// `MAXSYMLINKS`), and a name is a descriptor when its directory is this
+/// process's (or thread's) `fd` directory: following the last link would
+/// give the file the descriptor has open, not the descriptor.
+#[cfg(target_os = "linux")]
+fn open_descriptor(path: &Path) -> Option<io::Result<std::fs::File>> {
+    const MAX_LINKS: usize = 40;
+    let pid = std::process::id();
+    let own_fd_dir = |dir: &Path| {
+        let parts: Vec<_> = dir.iter().filter_map(|c| c.to_str()).collect();
+        match parts[..] {
+            ["/", "proc", p, "fd"] => p == pid.to_string(),
+            ["/", "proc", p, "task", _, "fd"] => p == pid.to_string(),
+            _ => false,
+        }
+    };
+    let mut p = path.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        let dir = match p.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        if std::fs::canonicalize(dir).is_ok_and(|d| own_fd_dir(&d)) {
+            let fd: i32 = p.file_name()?.to_str()?.parse().ok()?;
+            // SAFETY: the name exists in this process's fd directory, so the
+            // descriptor is open; it is only borrowed to be duplicated.
+            let borrowed = unsafe { std::os::fd::BorrowedFd::borrow_raw(fd) };
+            return Some(borrowed.try_clone_to_owned().map(std::fs::File::from));
+        }
+        let target = std::fs::read_link(&p).ok()?;
+        p = dir.join(target);
+    }
+    None
+}
+
+/// Where the chain of links from `path` ends, without requiring that the end
+/// exist (what [`std::fs::canonicalize`] refuses): a dangling link's target.
+/// A chain longer than the kernel's 40 links is an error, as it is to `open`.
+fn link_target(path: &Path) -> io::Result<PathBuf> {
+    let mut p = path.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::read_link(&p) {
+            Ok(target) => {
+                let dir = p.parent().map(Path::to_path_buf).unwrap_or_default();
+                p = dir.join(target);
+            }
+            Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(p),
+            // Not a link (EINVAL): the end of the chain.
+            Err(_) if std::fs::symlink_metadata(&p).is_ok() => return Ok(p),
+            Err(e) => return Err(e),
+        }
+    }
+    Err(io::Error::other("too many levels of symbolic links"))
+}
+
+#[cfg(not(target_os = "linux"))]
+fn open_descriptor(_: &Path) -> Option<io::Result<std::fs::File>> {
+    None
+}
+
 #[cfg(not(all(target_os = "linux", feature = "cli")))]
 fn write_behind(_: &tempfile::NamedTempFile, started: &mut u64, end: u64) {
     *started = end;
@@ -689,6 +773,23 @@ impl Output {
                 output: name.to_string(),
             });
         }
+        if let Some(f) = open_descriptor(&path) {
+            // `-o /dev/stdout` with standard output appending to a file
+            // (`>> log`): opening the name reaches the file itself, and the
+            // rename then replaced it, losing what it held (a hostile-input
+            // review). Written through the descriptor, as `-` is.
+            let f = f.map_err(write_error(name, WriteStep::Open))?;
+            if binary && f.is_terminal() {
+                return Err(IoError::BinaryToTerminal);
+            }
+            return Ok(Output {
+                inner: OutputInner::Device {
+                    w: BufWriter::with_capacity(1 << 16, f),
+                    name: name.to_string(),
+                },
+                failed: None,
+            });
+        }
         if let Ok(meta) = std::fs::metadata(&path) {
             if !meta.file_type().is_file() {
                 // A device, FIFO or socket (`-o /dev/null`, `-o /dev/stdout`, a
@@ -713,9 +814,14 @@ impl Output {
             }
         }
         if std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink()) {
-            // Replace the file the link points to, not the link.
-            path =
-                std::fs::canonicalize(&path).map_err(write_error(name, WriteStep::ResolveLink))?;
+            // Replace the file the link points to, not the link; a link to
+            // a file not made yet makes it there, as `>` does.
+            path = std::fs::canonicalize(&path)
+                .or_else(|e| match e.kind() {
+                    io::ErrorKind::NotFound => link_target(&path),
+                    _ => Err(e),
+                })
+                .map_err(write_error(name, WriteStep::ResolveLink))?;
         }
         let dir = match path.parent() {
             Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
@@ -1628,9 +1734,9 @@ pub struct Photo {
     /// The EXIF orientation the file asked for (a phone held sideways writes
     /// its sensor's rows and an orientation tag), applied to `image`.
     pub orientation: image::metadata::Orientation,
-    /// The embedded ICC colour profile, if any. It is not applied: the
-    /// tools take every pixel as sRGB.
-    pub icc_profile: Option<Vec<u8>>,
+    /// Whether the file embeds an ICC colour profile. It is not applied:
+    /// the tools take every pixel as sRGB (and the profile is not kept).
+    pub has_icc_profile: bool,
 }
 
 /// The error of a file that is not an image this tool reads.
@@ -1674,27 +1780,96 @@ fn open_decoder<'a>(bytes: &'a [u8], name: &str) -> Result<impl image::ImageDeco
             input: name.to_string(),
         });
     }
-    image::ImageReader::new(io::Cursor::new(bytes))
+    let mut reader = image::ImageReader::new(io::Cursor::new(bytes))
         .with_guessed_format()
-        .map_err(|e| not_an_image(name)(image::ImageError::IoError(e)))?
-        .into_decoder()
-        .map_err(|e| {
-            // The PNG decoder refuses a header past its own memory limit
-            // before our size check can read it ("Memory limit exceeded"
-            // for 2^31-1 x 2^31-1, a hostile-input review): the header
-            // says what the picture is, and our limits say why not.
-            let too_large = matches!(e, image::ImageError::Limits(_))
-                .then(|| png_size(bytes))
-                .flatten()
-                .and_then(|(w, h)| Image::check_size(w, h).err());
-            match too_large {
-                Some(error) => IoError::PictureTooLarge {
-                    input: name.to_string(),
-                    error,
-                },
-                None => not_an_image(name)(e),
-            }
-        })
+        .map_err(|e| not_an_image(name)(image::ImageError::IoError(e)))?;
+    if reader.format() == Some(image::ImageFormat::Png) {
+        let mut limits = image::Limits::default();
+        limits.max_alloc = Some(PNG_METADATA_BYTES);
+        reader.limits(limits);
+    }
+    reader.into_decoder().map_err(|e| {
+        // The PNG decoder refuses a header past its own memory limit
+        // before our size check can read it ("Memory limit exceeded"
+        // for 2^31-1 x 2^31-1, a hostile-input review): the header
+        // says what the picture is, and our limits say why not.
+        let too_large = matches!(e, image::ImageError::Limits(_))
+            .then(|| png_size(bytes))
+            .flatten()
+            .and_then(|(w, h)| Image::check_size(w, h).err());
+        match too_large {
+            Some(error) => IoError::PictureTooLarge {
+                input: name.to_string(),
+                error,
+            },
+            None => not_an_image(name)(e),
+        }
+    })
+}
+
+/// What the PNG decoder may spend on a picture's metadata (its ICC profile,
+/// text, EXIF): the decoder inflates a compressed ICC profile while reading
+/// the header, and the `image` crate's default allowance (512 MiB) let a
+/// 306 KB file with a 300 MB profile take 619 MB for a 64x64 picture (a
+/// hostile-input review). Real profiles are kilobytes; the pixels are
+/// allowed for separately, once their size is checked ([`decode_pixels`]).
+const PNG_METADATA_BYTES: u64 = 64 << 20;
+
+/// What a decoder may allocate besides the picture itself (strips, tiles and
+/// tables of a TIFF): the `image` crate's default allowance for the whole.
+const DECODE_WORK_BYTES: u64 = 512 << 20;
+
+/// Decodes the picture `decoder` reads, its size already checked against
+/// the caller's limit: the decoder may allocate the picture and
+/// [`DECODE_WORK_BYTES`] more (under the `image` crate's default 512 MiB
+/// for everything, a 12000x12000 RGBA TIFF, within the tools' limits, was
+/// refused as "Memory limit exceeded"). Samples that are not finite
+/// numbers (a floating-point TIFF's NaN or infinity) are refused: 8-bit
+/// conversion made NaN white.
+fn decode_pixels(
+    mut decoder: impl image::ImageDecoder,
+    name: &str,
+) -> Result<image::DynamicImage, IoError> {
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some(decoder.total_bytes().saturating_add(DECODE_WORK_BYTES));
+    decoder.set_limits(limits).map_err(not_an_image(name))?;
+    let img = image::DynamicImage::from_decoder(decoder).map_err(not_an_image(name))?;
+    let samples: &[f32] = match &img {
+        image::DynamicImage::ImageRgb32F(i) => i.as_raw(),
+        image::DynamicImage::ImageRgba32F(i) => i.as_raw(),
+        _ => &[],
+    };
+    if let Some(at) = samples.iter().position(|v| !v.is_finite()) {
+        let channels = img.color().channel_count() as usize;
+        let pixel = (at / channels) as u64;
+        let width = u64::from(img.width());
+        return Err(IoError::NotFinite {
+            input: name.to_string(),
+            x: pixel % width,
+            y: pixel / width,
+            value: samples[at],
+        });
+    }
+    Ok(img)
+}
+
+/// Whether a PNG has an ICC profile chunk (`iCCP`) before its pixel data,
+/// found by walking the chunk list without inflating the profile: the
+/// decoder drops a profile past [`PNG_METADATA_BYTES`] without a word.
+fn png_has_icc_profile(bytes: &[u8]) -> bool {
+    const SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
+    let Some(mut rest) = bytes.strip_prefix(SIGNATURE) else {
+        return false;
+    };
+    while rest.len() >= 8 {
+        let len = u32::from_be_bytes([rest[0], rest[1], rest[2], rest[3]]) as usize;
+        match &rest[4..8] {
+            b"iCCP" => return true,
+            b"IDAT" | b"IEND" => return false,
+            _ => rest = rest.get(len.saturating_add(12)..).unwrap_or_default(),
+        }
+    }
+    false
 }
 
 /// A PNG's width and height as its header (IHDR, the first chunk) gives
@@ -1729,18 +1904,21 @@ fn open_picture<'a>(bytes: &'a [u8], name: &str) -> Result<impl image::ImageDeco
 /// profile is reported so the caller can warn that it is not.
 pub fn decode_photo(bytes: &[u8], name: &str) -> Result<Photo, IoError> {
     use image::ImageDecoder as _;
-    let not_an_image = not_an_image(name);
     let mut decoder = open_picture(bytes, name)?;
     let orientation = decoder
         .orientation()
         .unwrap_or(image::metadata::Orientation::NoTransforms);
-    let icc_profile = decoder.icc_profile().ok().flatten();
-    let mut img = image::DynamicImage::from_decoder(decoder).map_err(not_an_image)?;
+    let has_icc_profile = if image::guess_format(bytes).ok() == Some(image::ImageFormat::Png) {
+        png_has_icc_profile(bytes)
+    } else {
+        decoder.icc_profile().ok().flatten().is_some()
+    };
+    let mut img = decode_pixels(decoder, name)?;
     img.apply_orientation(orientation);
     Ok(Photo {
         image: img.into_rgba8(),
         orientation,
-        icc_profile,
+        has_icc_profile,
     })
 }
 
@@ -1784,7 +1962,6 @@ pub fn decode_texture(
     max_pixels: u64,
 ) -> Result<(u32, u32, RgbaPixels), IoError> {
     use image::ImageDecoder as _;
-    let not_an_image = not_an_image(name);
     let mut decoder = open_decoder(bytes, name)?;
     let (width, height) = decoder.dimensions();
     if width as u64 * height as u64 > max_pixels {
@@ -1798,7 +1975,7 @@ pub fn decode_texture(
     let orientation = decoder
         .orientation()
         .unwrap_or(image::metadata::Orientation::NoTransforms);
-    let mut img = image::DynamicImage::from_decoder(decoder).map_err(not_an_image)?;
+    let mut img = decode_pixels(decoder, name)?;
     img.apply_orientation(orientation);
     let (width, height) = (img.width(), img.height());
     let deep = img.color().bytes_per_pixel() / img.color().channel_count() > 1;
@@ -1991,8 +2168,7 @@ pub fn decode_any(bytes: &[u8], name: &str) -> Result<AnyImage, IoError> {
                 error,
             });
     }
-    let img = image::DynamicImage::from_decoder(open_picture(bytes, name)?)
-        .map_err(not_an_image(name))?;
+    let img = decode_pixels(open_picture(bytes, name)?, name)?;
     let (width, height) = (img.width(), img.height());
     let deep = img.color().bytes_per_pixel() / img.color().channel_count() > 1;
     Ok(if deep {
@@ -2015,8 +2191,7 @@ pub fn decode_any(bytes: &[u8], name: &str) -> Result<AnyImage, IoError> {
 /// Decodes any image the `image` crate reads (PNG, JPEG, GIF, BMP, TIFF, WebP,
 /// PNM/PAM) into RGBA8, as stored (no EXIF orientation: see [`decode_photo`]).
 pub fn decode_image(bytes: &[u8], name: &str) -> Result<image::RgbaImage, IoError> {
-    let img = image::DynamicImage::from_decoder(open_picture(bytes, name)?)
-        .map_err(not_an_image(name))?;
+    let img = decode_pixels(open_picture(bytes, name)?, name)?;
     Ok(img.into_rgba8())
 }
 
@@ -2042,6 +2217,74 @@ fn write_pam_header(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_float_picture_with_a_sample_not_finite_is_refused() {
+        // 8-bit conversion made NaN white, and `--report` said "PSNR inf".
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            let mut img = image::Rgb32FImage::from_pixel(3, 2, image::Rgb([0.25, 0.5, 1.0]));
+            img.put_pixel(1, 1, image::Rgb([0.0, bad, 0.0]));
+            let mut tiff = io::Cursor::new(Vec::new());
+            image::DynamicImage::ImageRgb32F(img)
+                .write_to(&mut tiff, image::ImageFormat::Tiff)
+                .unwrap();
+            let err = decode_image(tiff.get_ref(), "f.tif").unwrap_err();
+            assert_eq!(
+                err.to_string(),
+                format!("f.tif: the sample {bad} at pixel (1, 1) is not a finite number")
+            );
+        }
+        // Finite ones decode.
+        let img = image::Rgb32FImage::from_pixel(3, 2, image::Rgb([0.25, 0.5, 1.0]));
+        let mut tiff = io::Cursor::new(Vec::new());
+        image::DynamicImage::ImageRgb32F(img)
+            .write_to(&mut tiff, image::ImageFormat::Tiff)
+            .unwrap();
+        assert_eq!(
+            decode_image(tiff.get_ref(), "f.tif").unwrap().dimensions(),
+            (3, 2)
+        );
+    }
+
+    /// A 2x2 PNG with an ICC profile of `profile` bytes (zeros: it
+    /// compresses to a thousandth of that).
+    fn png_with_profile(profile: usize) -> Vec<u8> {
+        use image::ImageEncoder as _;
+        let mut png = Vec::new();
+        let mut enc = image::codecs::png::PngEncoder::new(&mut png);
+        enc.set_icc_profile(vec![0; profile]).unwrap();
+        enc.write_image(&[9; 12], 2, 2, image::ExtendedColorType::Rgb8)
+            .unwrap();
+        png
+    }
+
+    #[test]
+    fn an_icc_profile_is_reported_without_inflating_it() {
+        // The decoder inflated a 300 MB profile (619 MB peak for a 64x64
+        // picture) and dropped one past its allowance without a word; the
+        // chunk is now found by walking the chunk list, and the decoder
+        // stops at PNG_METADATA_BYTES.
+        let small = png_with_profile(3000);
+        assert!(png_has_icc_profile(&small));
+        assert!(decode_photo(&small, "p.png").unwrap().has_icc_profile);
+        let past = png_with_profile(PNG_METADATA_BYTES as usize + 1000);
+        assert!(past.len() < 1 << 20);
+        let photo = decode_photo(&past, "p.png").unwrap();
+        assert!(photo.has_icc_profile);
+        assert_eq!(photo.image.get_pixel(1, 1).0, [9, 9, 9, 255]);
+        use image::ImageEncoder as _;
+        let mut plain = Vec::new();
+        image::codecs::png::PngEncoder::new(&mut plain)
+            .write_image(&[9; 12], 2, 2, image::ExtendedColorType::Rgb8)
+            .unwrap();
+        assert!(!png_has_icc_profile(&plain));
+        assert!(!decode_photo(&plain, "p.png").unwrap().has_icc_profile);
+        // A chunk list cut short, or lying about a length, is no profile.
+        assert!(!png_has_icc_profile(&small[..20]));
+        let mut lying = plain.clone();
+        lying[8..12].copy_from_slice(&u32::MAX.to_be_bytes());
+        assert!(!png_has_icc_profile(&lying));
+    }
 
     #[test]
     fn an_opened_file_reads_back_whole_from_its_first_byte() {

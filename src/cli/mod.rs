@@ -258,13 +258,27 @@ pub fn report(tool: &str, result: anyhow::Result<()>) -> i32 {
                 "{tool}: error: {}",
                 crate::text::shorten_long_numbers(&in_flag_words(&e))
             );
-            if e.downcast_ref::<UsageError>().is_some() {
+            if is_usage_error(&e) {
                 EXIT_USAGE
             } else {
                 EXIT_FAILURE
             }
         }
     }
+}
+
+/// Whether an error is the user's flags' fault (status 2): a
+/// [`UsageError`], or an output named by the empty string (`-o ''`), which
+/// the library refuses as it opens the output (status 1 before a
+/// hostile-input review, though a bad flag value).
+fn is_usage_error(e: &anyhow::Error) -> bool {
+    e.chain().any(|layer| {
+        layer.is::<UsageError>()
+            || matches!(
+                layer.downcast_ref::<crate::io::IoError>(),
+                Some(crate::io::IoError::EmptyOutputName)
+            )
+    })
 }
 
 /// The error chain as `a: b: c` (anyhow's `{:#}`), with every library

@@ -221,7 +221,7 @@ fn run_in_pool(args: Args) -> Result<()> {
 fn read_photo(input: &str) -> Result<image::RgbaImage> {
     let name = display_name(input);
     let photo = io::decode_photo(&io::read_input(input, io::InputKind::Image)?, name)?;
-    if photo.icc_profile.is_some() {
+    if photo.has_icc_profile {
         super::warn(
             "pat-from-image",
             format!(

@@ -1331,3 +1331,140 @@ clitest!(
         );
     }
 );
+
+#[cfg(target_os = "linux")]
+clitest!(
+    an_output_named_by_a_descriptor_is_written_through_it,
+    |dir| {
+        use crate::util::OkStdout;
+        // `-o /dev/stdout` with standard output appending to a file: the name
+        // reached the file itself, and the rename replaced it, losing what it
+        // held (a hostile-input review). Each name below now writes through
+        // the descriptor, as `-o -` does, after what the file held.
+        let brick = repo("fixtures/patterns/brick.pat");
+        let brick = brick.to_str().unwrap();
+        let tool = env!("CARGO_BIN_EXE_pat-tile");
+        let pat = dir
+            .cmd("pat-tile")
+            .args(["--pat", "--size", "16x16", brick, "-o", "-"])
+            .ok_stdout();
+        dir.write("log", "KEEP\n");
+        let names = ["/dev/stdout", "/dev/fd/1", "/proc/self/fd/1"];
+        for name in names {
+            let status = std::process::Command::new("sh")
+                .current_dir(dir.path())
+                .arg("-c")
+                .arg(format!(
+                    "'{tool}' --pat --size 16x16 '{brick}' -o {name} >> log"
+                ))
+                .status()
+                .unwrap();
+            assert!(status.success(), "{name}");
+        }
+        let mut expected = b"KEEP\n".to_vec();
+        for _ in names {
+            expected.extend_from_slice(&pat);
+        }
+        assert_eq!(dir.read("log"), expected);
+        // What the group writes before and after stays too.
+        let status = std::process::Command::new("sh")
+        .current_dir(dir.path())
+        .arg("-c")
+        .arg(format!(
+            "{{ echo HEADER; '{tool}' --pat --size 16x16 '{brick}' -o /dev/stdout; echo FOOTER; }} > group"
+        ))
+        .status()
+        .unwrap();
+        assert!(status.success());
+        let mut expected = b"HEADER\n".to_vec();
+        expected.extend_from_slice(&pat);
+        expected.extend_from_slice(b"FOOTER\n");
+        assert_eq!(dir.read("group"), expected);
+    }
+);
+
+#[cfg(unix)]
+clitest!(outputs_through_links_and_empty_names, |dir| {
+    // A link to a file not made yet: made there, as `>` makes it; it was
+    // "cannot resolve the link".
+    std::os::unix::fs::symlink("made.png", dir.path().join("link.png")).unwrap();
+    let brick = repo("fixtures/patterns/brick.pat");
+    let brick = brick.to_str().unwrap();
+    dir.cmd("pat-tile")
+        .args(["--size", "4x4", brick, "-o", "link.png"])
+        .assert()
+        .success();
+    assert!(std::fs::symlink_metadata(dir.path().join("link.png"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(dir.read("made.png").starts_with(b"\x89PNG"));
+    // `-o ''` is a bad flag value: status 2 (it was 1).
+    for (tool, args) in [
+        ("pat-tile", vec!["--size", "4x4", brick, "-o", ""]),
+        ("pat-from-image", vec!["-o", "", "made.png"]),
+    ] {
+        dir.cmd(tool)
+            .args(args)
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains("an empty output name"));
+    }
+});
+
+#[cfg(unix)]
+clitest!(
+    a_picture_file_past_the_limit_is_refused_by_its_length,
+    |dir| {
+        // A PNG followed by gigabytes: refused from the file's length before
+        // any of it is read. It was read into 2 GB of memory first, which
+        // `ulimit -v` (1 GiB here) makes an out-of-memory error instead.
+        let png = std::fs::read(repo("fixtures/images/marble.png")).unwrap();
+        let f = std::fs::File::create(dir.path().join("huge.png")).unwrap();
+        std::io::Write::write_all(&mut &f, &png).unwrap();
+        f.set_len(3 << 30).unwrap(); // sparse: no disk used
+        let tool = env!("CARGO_BIN_EXE_pat-from-image");
+        let out = std::process::Command::new("sh")
+            .current_dir(dir.path())
+            .arg("-c")
+            .arg(format!(
+                "ulimit -v 1048576; exec '{tool}' huge.png -o out.pat"
+            ))
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1));
+        assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "pat-from-image: error: huge.png: is larger than the 2147549184 bytes this input may have\n"
+    );
+        assert!(!dir.path().join("out.pat").exists());
+    }
+);
+
+clitest!(
+    a_picture_within_the_limits_is_not_refused_by_the_decoder,
+    |dir| {
+        // A 12000x12000 RGBA TIFF (576 MB of pixels, within the tools' 2^28)
+        // was refused as "Memory limit exceeded": the decoder's own default
+        // allowance is 512 MiB. It is now allowed the picture it holds.
+        if !crate::util::heavy("a 576 MB TIFF") {
+            return;
+        }
+        let side = 12_000u32;
+        let mut pixels = vec![0u8; (side * side * 4) as usize];
+        for (i, p) in pixels.chunks_exact_mut(4).enumerate() {
+            p.copy_from_slice(&[(i % 251) as u8, 80, 160, 255]);
+        }
+        let f = std::fs::File::create(dir.path().join("big.tif")).unwrap();
+        use image::ImageEncoder as _;
+        image::codecs::tiff::TiffEncoder::new(std::io::BufWriter::new(f))
+            .write_image(&pixels, side, side, image::ExtendedColorType::Rgba8)
+            .unwrap();
+        drop(pixels);
+        dir.cmd("pat-from-image")
+            .args(["--size", "16", "--colors", "4", "big.tif", "-o", "big.pat"])
+            .assert()
+            .success();
+        assert!(dir.read("big.pat").starts_with(b"16 "));
+    }
+);
