@@ -215,7 +215,8 @@ pub struct Args {
     pub depfile: Option<String>,
 
     /// The most polygons a frame may expand into (instances times their objects'
-    /// polygons, quadrics their triangles): a scene over it is refused when read,
+    /// polygons, an empty object's counting one, quadrics their triangles): a
+    /// scene over it is refused when read,
     /// before any work (a quadric without slices and stacks when the view has
     /// chosen them, before it is cut).
     #[arg(long, value_name = "N", default_value_t = crate::scene::LoadOptions::DEFAULT.max_polygons)]

@@ -188,7 +188,8 @@ impl fmt::Display for SceneError {
                 write!(
                     f,
                     "record {index}: the scene expands to {polygons} polygons in a frame \
-                     by here (instances times their objects' polygons, quadrics their \
+                     by here (instances times their objects' polygons, an empty one's counting \
+                     one, quadrics their \
                      triangles, at most slices x stacks x 2, given or as fine as the view \
                      needs), \
                      over the limit of {limit}"

@@ -217,7 +217,11 @@ impl Part {
                 },
                 _ => 1,
             },
-            Part::Place(p) => objects.get(&p.name).copied().unwrap_or(0),
+            // At least one: an instance of an empty object draws nothing,
+            // but placing it is work, and twelve objects each placing the
+            // one before ten times, the first empty, are 10^12 placements
+            // (a hostile-input review: hours, under any limit).
+            Part::Place(p) => objects.get(&p.name).copied().unwrap_or(0).max(1),
         }
     }
 }
@@ -232,7 +236,9 @@ pub struct Scene {
     /// single frame's projection frees each wave once it is projected
     /// ([`Scene::into_frame`]).
     waves: Vec<Vec<Part>>,
-    /// The files read besides the stream, in the order they were first read.
+    /// The files read besides the stream, once each: patterns and images
+    /// in the order first read, then the meshes' OBJ and MTL files, then
+    /// stripe maps and tables.
     files: Vec<PathBuf>,
     /// What the reading found worth a warning ([`Scene::warnings`]).
     warnings: Vec<String>,
@@ -495,6 +501,12 @@ impl Scene {
                 }),
             })
         })?;
+        // Then the meshes' files, which reading the stream put there.
+        for f in std::mem::take(&mut scene.files) {
+            if !files.contains(&f) {
+                files.push(f);
+            }
+        }
         files.extend(stripes.files().iter().cloned());
         scene.files = files;
         if let [first, rest @ ..] = coarse.as_slice() {
@@ -753,6 +765,7 @@ fn read_items(
             }
             Item::Object(def) => {
                 checks.define(def.skeleton()).map_err(|e| e.named(name))?;
+                scene.files.extend(def.files);
                 let mut parts = Vec::with_capacity(def.items.len());
                 for it in def.items {
                     parts.push(match it {

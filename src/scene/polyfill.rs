@@ -139,8 +139,9 @@ pub struct Summary {
     pub objects: u64,
     /// Instances.
     pub instances: u64,
-    /// The pattern files read, each once, in the order first read: what a
-    /// build system must know the output depends on (`polyfill3 --depfile`).
+    /// The files read besides the stream, each once, in the order first
+    /// read: pattern files and the meshes' OBJ and MTL files, what a build
+    /// system must know the output depends on (`polyfill3 --depfile`).
     pub files: Vec<PathBuf>,
     /// The files records name that the output names too (forwarded, read
     /// or not: a screen pattern is passed on unread), each once: an output
@@ -292,6 +293,11 @@ impl<W: Write> Job<'_, W> {
     /// them is not known here.
     fn object(&mut self, def: ObjectDef, source: &str) -> Result<(), PartitionError> {
         self.summary.objects += 1;
+        for f in &def.files {
+            if !self.summary.files.contains(f) {
+                self.summary.files.push(f.clone());
+            }
+        }
         self.writer.capture()?;
         let volume = self.volume.take();
         let result = self.object_items(&def, source);

@@ -43,11 +43,13 @@ const FACE_KEYS: [&str; 3] = ["color", "pattern", "shade"];
 /// places it.
 pub fn top_level(index: usize, fields: Fields, base: &Path) -> Result<[Item; 2], StreamError> {
     let name = format!("mesh {index}");
-    let items = faces(index, &fields, base)?;
+    let mut files = Vec::new();
+    let items = faces(index, &fields, base, &mut files)?;
     let def = ObjectDef {
         index,
         name: name.clone(),
         items,
+        files,
         fields: Fields::from(Map::from_iter([
             ("object".to_string(), json!(name)),
             ("records".to_string(), json!([])),
@@ -78,8 +80,14 @@ pub fn top_level(index: usize, fields: Fields, base: &Path) -> Result<[Item; 2],
 }
 
 /// The face records of a mesh record (`fields`, element `index`), the OBJ
-/// file resolved against `base`.
-pub fn faces(index: usize, fields: &Fields, base: &Path) -> Result<Vec<Item>, StreamError> {
+/// file resolved against `base`; the OBJ and MTL files read are added to
+/// `files` (once each).
+pub fn faces(
+    index: usize,
+    fields: &Fields,
+    base: &Path,
+    files: &mut Vec<PathBuf>,
+) -> Result<Vec<Item>, StreamError> {
     let e = |m: String| field_err(index, m);
     let spec = fields["mesh"].as_object().ok_or_else(|| {
         e(format!(
@@ -109,6 +117,11 @@ pub fn faces(index: usize, fields: &Fields, base: &Path) -> Result<Vec<Item>, St
     }
     let path = super::resolve(base, file);
     let mesh = Mesh::read_file(&path).map_err(|o| e(format!("mesh.obj: {o}")))?;
+    for f in &mesh.files {
+        if !files.contains(f) {
+            files.push(f.clone());
+        }
+    }
     let own_pattern = fields.get("pattern").cloned();
     // The record's pattern's size, for "uv" mode: read once.
     let own_size = match &own_pattern {

@@ -77,6 +77,10 @@ pub struct Mesh {
     pub faces: Vec<Face>,
     /// The materials of its `mtllib` files, in the order defined.
     pub materials: Vec<Material>,
+    /// The files read to make it: the OBJ file ([`Mesh::read_file`]'s) and
+    /// its `mtllib` files, resolved, in the order read. A tool that writes
+    /// must not replace them, and a make rule depends on them.
+    pub files: Vec<PathBuf>,
 }
 
 /// Why an OBJ or MTL file cannot be used: the file, the line (0 for the file
@@ -121,9 +125,11 @@ impl Mesh {
     /// against its directory).
     pub fn read_file(path: &Path) -> Result<Mesh, ObjError> {
         let bytes = crate::io::read_path(path).map_err(|e| ObjError::at(path, 0, e.to_string()))?;
-        Mesh::parse(&bytes, path, &mut |p| {
+        let mut mesh = Mesh::parse(&bytes, path, &mut |p| {
             crate::io::read_path(p).map_err(|e| e.to_string())
-        })
+        })?;
+        mesh.files.insert(0, path.to_path_buf());
+        Ok(mesh)
     }
 
     /// Parses OBJ text `bytes` of file `path`; `read` reads an `.mtl`.
@@ -224,6 +230,9 @@ impl Mesh {
                     let mtl = dir.join(name);
                     let bytes = read(&mtl)
                         .map_err(|m| err(n, format!("mtllib {name}: {}: {m}", mtl.display())))?;
+                    if !mesh.files.contains(&mtl) {
+                        mesh.files.push(mtl.clone());
+                    }
                     let start = mesh.materials.len();
                     parse_mtl(&bytes, &mtl, &mut mesh.materials)?;
                     for (k, m) in mesh.materials.iter().enumerate().skip(start) {

@@ -87,7 +87,23 @@ pub fn nth_item<R: BufRead + Send>(
             };
         }
         let mut drawn = Vec::new();
-        // Nested instances multiply: the expansion stops at a budget.
+        // Nested instances multiply: what the expansion visits is refused
+        // past the budget before it starts (an object may be empty, so
+        // what it draws bounds nothing), and what it draws stops there.
+        let affordable = |walk: u64| {
+            if walk <= MAX_NTH_RECORDS {
+                return Ok(());
+            }
+            Err(Stop::Failed(
+                StreamError::in_record(
+                    n,
+                    format!(
+                        "expands to {walk} records and instances (nested instances multiply), more than the {MAX_NTH_RECORDS} that can be listed"
+                    ),
+                )
+                .named(source),
+            ))
+        };
         let keep = |r: Record, drawn: &mut Vec<Record>| {
             if drawn.len() as u64 >= MAX_NTH_RECORDS {
                 return Err(Stop::Failed(
@@ -114,11 +130,13 @@ pub fn nth_item<R: BufRead + Send>(
                     fields: Default::default(),
                 };
                 objects.define(def.clone()).map_err(|e| e.named(source))?;
+                affordable(objects.walk(&def.name))?;
                 objects.expand(Item::Instance(as_placed), source, &mut |r| {
                     keep(r, &mut drawn)
                 })?;
             }
-            Item::Instance(_) => {
+            Item::Instance(inst) => {
+                affordable(objects.walk(&inst.object))?;
                 objects.expand(item.clone(), source, &mut |r| keep(r, &mut drawn))?
             }
         }

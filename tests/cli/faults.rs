@@ -493,7 +493,8 @@ clitest!(
             .code(1)
             .stderr(
                 "scene-render: error: nested.json: record 40: the scene expands to 549755813888 \
-             polygons in a frame by here (instances times their objects' polygons, quadrics \
+             polygons in a frame by here (instances times their objects' polygons, an empty \
+             one's counting one, quadrics \
              their triangles, at most slices x stacks x 2, given or as fine as the view needs), \
              over \
              the limit of 10000000 (--max-polygons raises it)\n",
@@ -1466,5 +1467,126 @@ clitest!(
             .assert()
             .success();
         assert!(dir.read("big.pat").starts_with(b"16 "));
+    }
+);
+
+clitest!(
+    a_mesh_s_obj_and_mtl_files_are_inputs_like_any_other,
+    |dir| {
+        // A hostile-input review: `-o` or `--depfile` naming a mesh's OBJ or
+        // MTL file replaced it (exit 0), and neither tool's make rule named
+        // them, so editing the model rebuilt nothing.
+        let obj = std::fs::read(repo("fixtures/models/house.obj")).unwrap();
+        let mtl = std::fs::read_to_string(repo("fixtures/models/house.mtl")).unwrap();
+        let image = repo("fixtures/images/marble.png");
+        let mtl = mtl.replace("../images/marble.png", image.to_str().unwrap());
+        dir.write("house.obj", &obj);
+        dir.write("house.mtl", &mtl);
+        dir.write("m.json", r#"{"mesh": {"obj": "house.obj"}}"#);
+        for (tool, args) in [
+            ("polyfill3", vec!["m.json", "-o", "house.obj"]),
+            ("polyfill3", vec!["m.json", "-o", "house.mtl"]),
+            (
+                "polyfill3",
+                vec!["m.json", "-o", "p.ndjson", "--depfile", "house.obj"],
+            ),
+            (
+                "scene-render",
+                vec![
+                    "--size",
+                    "8x8",
+                    "--format",
+                    "png",
+                    "m.json",
+                    "-o",
+                    "house.obj",
+                ],
+            ),
+            (
+                "scene-render",
+                vec![
+                    "--size",
+                    "8x8",
+                    "m.json",
+                    "-o",
+                    "s.png",
+                    "--depfile",
+                    "house.mtl",
+                ],
+            ),
+        ] {
+            dir.cmd(tool)
+                .args(&args)
+                .assert()
+                .code(1)
+                .stderr(predicates::str::contains("the output would replace it"));
+            assert_eq!(dir.read("house.obj"), obj, "{tool} {args:?}");
+            assert_eq!(dir.read("house.mtl"), mtl.as_bytes(), "{tool} {args:?}");
+        }
+        for (tool, args) in [
+            (
+                "polyfill3",
+                vec!["m.json", "-o", "p.ndjson", "--depfile", "p.d"],
+            ),
+            (
+                "scene-render",
+                vec!["--size", "8x8", "m.json", "-o", "s.png", "--depfile", "s.d"],
+            ),
+        ] {
+            dir.cmd(tool).args(&args).assert().success();
+            let rule = String::from_utf8(dir.read(args.last().unwrap())).unwrap();
+            for dep in ["m.json", "house.obj", "house.mtl"] {
+                assert!(rule.contains(&format!("\n  {dep}")), "{tool}: {rule}");
+                assert!(rule.contains(&format!("\n{dep}:\n")), "{tool}: {rule}");
+            }
+        }
+    }
+);
+
+clitest!(
+    placements_of_empty_objects_count_against_the_limits,
+    |dir| {
+        // Twelve objects each placing the one before ten times, the first
+        // empty: 10^12 placements that draw nothing escaped --max-polygons and
+        // pat-info --record's budget, which counted what is drawn (a
+        // hostile-input review: hours of work for a 1 KB file).
+        let mut s = String::from("{\"object\": \"o0\", \"records\": []}\n");
+        for k in 1..=12 {
+            let inner = format!("{{\"instance\": \"o{}\"}}", k - 1);
+            let ten = vec![inner; 10].join(", ");
+            s += &format!("{{\"object\": \"o{k}\", \"records\": [{ten}]}}\n");
+        }
+        s += "{\"instance\": \"o12\"}\n";
+        dir.write("fan.json", &s);
+        dir.cmd("scene-render")
+            .args(["--size", "8x8", "fan.json", "-o", "out.png"])
+            .timeout(std::time::Duration::from_secs(60))
+            .assert()
+            .code(1)
+            .stderr(predicates::str::contains(
+                "fan.json: record 13: the scene expands to 1000000000000 polygons",
+            ));
+        dir.cmd("pat-info")
+            .args(["--record", "13", "fan.json"])
+            .timeout(std::time::Duration::from_secs(60))
+            .assert()
+            .code(1)
+            .stderr(
+                "pat-info: error: fan.json: record 13: expands to 1111111111110 records and \
+             instances (nested instances multiply), more than the 100000 that can be listed\n",
+            );
+        // A few empty placements are no error: an empty object draws nothing.
+        dir.write("few.json", s.replace("\"o12\"}\n", "\"o2\"}\n"));
+        dir.cmd("scene-render")
+            .args(["--size", "8x8", "few.json", "-o", "out.png"])
+            .assert()
+            .success();
+        dir.cmd("pat-info")
+            .args(["--record", "13", "few.json"])
+            .assert()
+            .code(1)
+            .stderr(predicates::str::contains(
+                "(instance of `o2`) draws no polygon",
+            ));
     }
 );
