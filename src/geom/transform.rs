@@ -151,6 +151,14 @@ impl Transform {
         Transform(next.0 * self.0)
     }
 
+    /// [`Transform::then`], refused as a single step is when the product
+    /// overflows or is singular: each of two nested instances' translations
+    /// by 1e308 is finite, but not their sum, and the instance's polygons
+    /// were dropped without a word (a hostile-input review).
+    pub fn then_checked(self, next: Transform) -> Result<Transform, TransformError> {
+        Transform::checked(next.0 * self.0)
+    }
+
     /// The column-vector matrix.
     pub fn matrix(&self) -> DMat4 {
         self.0
@@ -229,6 +237,12 @@ impl Transform {
             let s = parse_step(step, frame)
                 .map_err(|e| TransformError(format!("transform step {i}: {e}")))?;
             t = t.then(s);
+        }
+        if steps.len() > 1 {
+            // Steps each fine may be singular together: scaling y by 1e-7,
+            // a turn, then scaling y by 1e-7 again squashes space flat.
+            t = Transform::checked(t.0)
+                .map_err(|e| TransformError(format!("transform steps together: {e}")))?;
         }
         Ok(t)
     }

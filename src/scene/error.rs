@@ -86,6 +86,16 @@ pub enum RecordError {
     /// The record comes after the 4,294,967,296th of its stream: draw
     /// order is 32 bits.
     TooManyRecords,
+    /// An instance's transform, with those of the instances placing it,
+    /// overflows or is singular ([`Transform::then_checked`]).
+    ///
+    /// [`Transform::then_checked`]: crate::geom::transform::Transform::then_checked
+    PlacedTransform {
+        /// The object the instance places.
+        object: String,
+        /// Why.
+        error: TransformError,
+    },
     /// An instance's animated transform fails at a frame.
     InstanceTransform {
         /// The object the instance places.
@@ -137,6 +147,10 @@ impl fmt::Display for RecordError {
             RecordError::InstanceTransform { object, frame, .. } => {
                 write!(f, "instance of `{object}` at frame {frame}")
             }
+            RecordError::PlacedTransform { object, .. } => write!(
+                f,
+                "instance of `{object}`: its transform with those of the instances placing it"
+            ),
             RecordError::SmoothCompose(c) => write!(
                 f,
                 "smooth lighting with compose {}: it mixes the texel with the lit colour, which is exact only when flat: give the record \"shade\": \"flat\", or compose modulate",
@@ -149,9 +163,9 @@ impl fmt::Display for RecordError {
 impl Error for RecordError {
     fn source(&self) -> Option<&(dyn Error + 'static)> {
         match self {
-            RecordError::Transform { error, .. } | RecordError::InstanceTransform { error, .. } => {
-                Some(error)
-            }
+            RecordError::Transform { error, .. }
+            | RecordError::InstanceTransform { error, .. }
+            | RecordError::PlacedTransform { error, .. } => Some(error),
             RecordError::PatternAndStripe
             | RecordError::NoPatternFile
             | RecordError::TooManyRecords

@@ -893,7 +893,14 @@ fn project_parts(
                     None => draw_order(*index)?,
                 };
                 let total = match placed {
-                    Some(outer) => transform.then(outer),
+                    Some(outer) => transform
+                        .then_checked(outer)
+                        .map_err(|error| RecordError::PlacedTransform {
+                            object: name.clone(),
+                            error,
+                        })
+                        // The top-level instance's record, as it draws.
+                        .in_record(None, order as usize)?,
                     None => *transform,
                 };
                 project_parts(

@@ -414,7 +414,16 @@ impl Objects {
                 Item::Instance(inner) => {
                     let inner_def = &self.defs[&inner.object];
                     // The inner placement applies first, then this one.
-                    let placed = inner.transform.then(transform);
+                    let placed = inner.transform.then_checked(transform).map_err(|e| {
+                        StreamError::in_record(
+                            index,
+                            format!(
+                                "object `{}`: instance of `{}`: its transform with those of the instances placing it: {e}",
+                                def.name, inner.object
+                            ),
+                        )
+                        .named(source)
+                    })?;
                     self.place(inner_def, placed, index, source, each)?;
                 }
                 Item::Object(_) | Item::Light(_) => unreachable!("rejected by define"),

@@ -1590,3 +1590,63 @@ clitest!(
             ));
     }
 );
+
+clitest!(
+    transforms_that_overflow_or_flatten_only_together_are_refused,
+    |dir| {
+        // Each step or instance fine alone, not together: the polygons were
+        // dropped with at most a warning, exit 0 (a hostile-input review).
+        let a = r#"{"object": "a", "records": [{"vertices": [[0,0,0],[10,0,0],[0,10,0]], "color": [255,0,0]}]}"#;
+        dir.write(
+        "nested.json",
+        format!(
+            "{a}\n{{\"object\": \"b\", \"records\": [{{\"instance\": \"a\", \"transform\": {{\"translate\": [1e308,0,0]}}}}]}}\n\
+             {{\"instance\": \"b\", \"transform\": {{\"translate\": [1e308,0,0]}}}}\n"
+        ),
+    );
+        dir.write(
+        "steps.json",
+        format!(
+            "{a}\n{{\"instance\": \"a\", \"transform\": [{{\"scale\": [1,1e-7,1]}}, {{\"rotate\": 45, \"axis\": \"z\"}}, {{\"scale\": [1,1e-7,1]}}]}}\n"
+        ),
+    );
+        dir.cmd("scene-render")
+            .args(["--size", "8x8", "nested.json", "-o", "out.png"])
+            .assert()
+            .code(1)
+            .stderr(
+                "scene-render: error: nested.json: record 2: instance of `a`: its transform with \
+             those of the instances placing it: a matrix entry is not finite\n",
+            );
+        dir.cmd("pat-info")
+            .args(["--record", "2", "nested.json"])
+            .assert()
+            .code(1)
+            .stderr(
+                "pat-info: error: nested.json: record 2: object `b`: instance of `a`: its \
+             transform with those of the instances placing it: a matrix entry is not finite\n",
+            );
+        dir.cmd("scene-render")
+            .args(["--size", "8x8", "steps.json", "-o", "out.png"])
+            .assert()
+            .code(1)
+            .stderr(predicates::str::contains(
+                "steps.json: record 1: instance of `a`: transform steps together: singular: \
+             determinant 1e-14 squashes space flat",
+            ));
+        assert!(!dir.path().join("out.png").exists());
+        // Large but finite together: drawn.
+        dir.write(
+            "fine.json",
+            dir_text(&dir, "nested.json").replace("1e308", "1e300"),
+        );
+        dir.cmd("scene-render")
+            .args(["--size", "8x8", "fine.json", "-o", "out.png"])
+            .assert()
+            .success();
+    }
+);
+
+fn dir_text(dir: &crate::util::Dir, name: &str) -> String {
+    String::from_utf8(dir.read(name)).unwrap()
+}
