@@ -230,14 +230,32 @@ fn widen_pipes() {
     }
 }
 
-/// Prints clap's verdict: `--help` and `--version` to stdout with status 0,
-/// anything else as `TOOL: error: ...` with status 2.
+/// Prints clap's verdict: `--help` and `--version` to stdout with status 0
+/// (1 if standard output cannot take them: `--help > /dev/full` said
+/// nothing and exited 0, a hostile-input review; a closed pipe is no
+/// error, as for every output), anything else as `TOOL: error: ...` with
+/// status 2.
 fn exit_usage(tool: &str, e: clap::Error) -> ! {
     use clap::error::ErrorKind;
     match e.kind() {
-        ErrorKind::DisplayHelp
-        | ErrorKind::DisplayVersion
-        | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => e.exit(),
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+            use std::io::Write as _;
+            if STDOUT_CLOSED.load(std::sync::atomic::Ordering::Relaxed) {
+                // Rust's standard output takes a closed descriptor's writes
+                // as done.
+                eprint_or_drop!("{tool}: error: standard output is closed\n");
+                std::process::exit(EXIT_FAILURE)
+            }
+            let printed = e.print().and_then(|()| std::io::stdout().flush());
+            match printed {
+                Err(err) if err.kind() != std::io::ErrorKind::BrokenPipe => {
+                    eprint_or_drop!("{tool}: error: writing standard output: {err}\n");
+                    std::process::exit(EXIT_FAILURE)
+                }
+                _ => std::process::exit(EXIT_OK),
+            }
+        }
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => e.exit(),
         _ => {
             let text = e.render().to_string();
             let text = text.strip_prefix("error: ").unwrap_or(&text);

@@ -1650,3 +1650,60 @@ clitest!(
 fn dir_text(dir: &crate::util::Dir, name: &str) -> String {
     String::from_utf8(dir.read(name)).unwrap()
 }
+
+clitest!(help_and_version_that_cannot_be_written_are_errors, |dir| {
+    // `--help > /dev/full` and `--help >&-` said nothing and exited 0 (a
+    // hostile-input review); a reader that stops early is no error.
+    for tool in [
+        "pat-from-image",
+        "pat-info",
+        "pat-tile",
+        "polyfill3",
+        "scene-render",
+    ] {
+        let bin = assert_cmd::cargo::cargo_bin(tool);
+        for (flag, redirect, code, said) in [
+            (
+                "--help",
+                "> /dev/full",
+                1,
+                "writing standard output: No space left on device",
+            ),
+            (
+                "--version",
+                "> /dev/full",
+                1,
+                "writing standard output: No space left on device",
+            ),
+            ("--help", ">&-", 1, "standard output is closed"),
+            ("--help", "| head -c 1 > /dev/null", 0, ""),
+        ] {
+            let out = std::process::Command::new("bash")
+                .current_dir(dir.path())
+                .arg("-c")
+                .arg(format!(
+                    "set -o pipefail; '{}' {flag} {redirect}",
+                    bin.display()
+                ))
+                .output()
+                .unwrap();
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(
+                out.status.code(),
+                Some(code),
+                "{tool} {flag} {redirect}: {stderr}"
+            );
+            if code == 0 {
+                assert_eq!(stderr, "", "{tool} {flag} {redirect}");
+            } else {
+                assert_eq!(
+                    stderr,
+                    format!("{tool}: error: {said}\n").replace(
+                        "No space left on device",
+                        "No space left on device (os error 28)",
+                    )
+                );
+            }
+        }
+    }
+});
