@@ -499,9 +499,13 @@ pub fn output_format_8bit(
 #[derive(clap::Args, Debug, Clone, Copy, Default)]
 pub struct ThreadArgs {
     /// Worker threads (default: all cores). The output is identical for any N.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=MAX_THREADS as i64))]
     pub threads: Option<u32>,
 }
+
+/// The most worker threads `--threads` (or `RAYON_NUM_THREADS`) may ask
+/// for: far past any machine's cores, short of what starting them costs.
+pub const MAX_THREADS: u64 = 1024;
 
 impl ThreadArgs {
     /// Runs `job` in a pool of that many workers (rayon's, which the library
@@ -510,6 +514,18 @@ impl ThreadArgs {
         let mut pool = rayon::ThreadPoolBuilder::new();
         if let Some(n) = self.threads {
             pool = pool.num_threads(n as usize);
+        } else if let Some(n) = std::env::var("RAYON_NUM_THREADS")
+            .ok()
+            .and_then(|v| v.trim().parse::<u64>().ok())
+            .filter(|&n| n > MAX_THREADS)
+        {
+            // rayon's own variable, which the pool reads when --threads is
+            // not given: a million took 17 s of thread starts before "Resource
+            // temporarily unavailable", naming nothing (a hostile-input review).
+            return Err(UsageError(format!(
+                "RAYON_NUM_THREADS={n}: at most {MAX_THREADS} worker threads (--threads N overrides it)"
+            ))
+            .into());
         }
         let pool = anyhow::Context::context(pool.build(), "starting worker threads")?;
         Ok(pool.install(job))

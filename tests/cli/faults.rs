@@ -1707,3 +1707,22 @@ clitest!(help_and_version_that_cannot_be_written_are_errors, |dir| {
         }
     }
 });
+
+clitest!(rayon_num_threads_is_bounded_as_threads_is, |dir| {
+    // RAYON_NUM_THREADS=1000000 spent 17 s starting threads before an
+    // error that named nothing (a hostile-input review).
+    let marble = repo("fixtures/images/marble.png");
+    let marble = marble.to_str().unwrap();
+    let run = |threads: &[&str]| {
+        let mut c = dir.cmd("pat-from-image");
+        c.env("RAYON_NUM_THREADS", "1000000")
+            .args(threads)
+            .args(["--size", "16", marble, "-o", "p.pat"]);
+        c
+    };
+    run(&[]).assert().code(2).stderr(
+        "pat-from-image: error: RAYON_NUM_THREADS=1000000: at most 1024 worker threads \
+         (--threads N overrides it)\n",
+    );
+    run(&["--threads", "2"]).assert().success();
+});
