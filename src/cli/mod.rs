@@ -744,49 +744,130 @@ pub fn completion(mut cmd: clap::Command, shell: clap_complete::Shell) -> String
 /// `--depfile FILE`: writes the make rule `TARGETS: DEPS` of every file a run
 /// read (as `cc -MD` does), and an empty rule for each dependency (as `-MP`
 /// adds) so that a deleted pattern makes the target out of date instead of
-/// stopping make. Spaces, `#` and `$` in names are escaped for make. Written
-/// atomically, like every output.
+/// stopping make. Names are spelled as GNU make reads them back
+/// ([`make_escaped`]); a name make cannot spell ([`make_cannot_name`]: a
+/// newline, `;`, `=`, ...) is an error before anything is written, since the
+/// rule is written before the outputs and a rule that names other files (or
+/// stops make) would make them look up to date. Written atomically, like
+/// every output.
 pub fn write_depfile(depfile: &str, targets: &[String], deps: &[String]) -> anyhow::Result<()> {
     use anyhow::Context as _;
     use std::io::Write as _;
-    fn escaped(name: &str) -> String {
-        let mut out = String::with_capacity(name.len());
-        for c in name.chars() {
-            match c {
-                ' ' | '#' | '\\' => {
-                    out.push('\\');
-                    out.push(c);
-                }
-                '$' => out.push_str("$$"),
-                _ => out.push(c),
-            }
-        }
-        out
-    }
     let mut seen = std::collections::HashSet::new();
-    let deps: Vec<String> = deps
+    let deps: Vec<&String> = deps
         .iter()
         .filter(|d| d.as_str() != crate::io::STDIO && seen.insert(d.as_str()))
-        .map(|d| escaped(d))
         .collect();
+    for name in targets.iter().chain(deps.iter().copied()) {
+        if let Some(why) = make_cannot_name(name) {
+            anyhow::bail!("--depfile {depfile}: make cannot name the file {name:?}: {why}");
+        }
+    }
     let mut text = targets
         .iter()
-        .map(|t| escaped(t))
+        .map(|t| make_escaped(t, true))
         .collect::<Vec<_>>()
         .join(" ");
     text.push(':');
     for d in &deps {
         text.push_str(" \\\n  ");
-        text.push_str(d);
+        text.push_str(&make_escaped(d, false));
     }
     text.push('\n');
     for d in &deps {
-        text.push_str(&format!("\n{d}:\n"));
+        text.push_str(&format!("\n{}:\n", make_escaped(d, true)));
     }
     let mut out = crate::io::Output::create(depfile, false)?;
     out.write_all(text.as_bytes())
         .with_context(|| format!("writing {depfile}"))?;
     Ok(out.commit()?)
+}
+
+/// Why GNU make (4.x) cannot read `name` back from a rule as that file, if
+/// it cannot; each case was checked by running make on the rule:
+/// - a newline ends the rule, and a tab cannot be escaped in a target;
+/// - `;` starts the recipe and `=` makes the line a variable assignment,
+///   with no escape for either;
+/// - a final `\` escapes the space, `:` or newline that follows it;
+/// - a leading `~` is a home directory, `NAME(MEMBER)` an archive member,
+///   a lone `|` the order-only separator, `define` and `undefine` start a
+///   definition, and `.NAME` in capitals may be a special target
+///   (`.SILENT:` would silence every recipe).
+pub fn make_cannot_name(name: &str) -> Option<&'static str> {
+    let archive_member = name.ends_with(')')
+        && name
+            .find('(')
+            .is_some_and(|open| open > 0 && open + 2 < name.len());
+    let special = name.len() > 1
+        && name.starts_with('.')
+        && name[1..]
+            .bytes()
+            .all(|b| b.is_ascii_uppercase() || b == b'_');
+    Some(if name.contains('\n') {
+        "a newline ends a make rule"
+    } else if name.contains('\t') {
+        "make cannot escape a tab in a target"
+    } else if name.contains(';') {
+        "make reads what follows ';' as a recipe"
+    } else if name.contains('=') {
+        "make reads a rule with '=' as a variable assignment"
+    } else if name.ends_with('\\') {
+        "make reads a final backslash as escaping what follows it"
+    } else if name.starts_with('~') {
+        "make reads a leading '~' as a home directory"
+    } else if archive_member {
+        "make reads NAME(MEMBER) as a member of an archive"
+    } else if name == "|" {
+        "make reads a lone '|' as the order-only separator"
+    } else if name == "define" || name == "undefine" {
+        "make reads it as a directive"
+    } else if special {
+        "make may read it as a special target"
+    } else {
+        return None;
+    })
+}
+
+/// `name` spelled for a make rule, as GNU make reads it back (what `gcc
+/// -MD` does, and more): `$` is `$$`; a space, `#` and `:` (in a target, also
+/// `%`, which would make a pattern rule) take a backslash, and the
+/// backslashes just before them are doubled; other backslashes are
+/// literal to make (`back\slash.pat` is written as it is). make expands
+/// `*`, `?` and `[` as wildcards (`a*.pat` would name `ab.pat` too): in a
+/// name with one of them, each of them and each backslash takes a
+/// backslash first, which the wildcard expansion removes. Names
+/// [`make_cannot_name`] refuses have no spelling.
+pub fn make_escaped(name: &str, target: bool) -> String {
+    let wild = name.contains(['*', '?', '[']);
+    let mut glob = String::with_capacity(name.len());
+    for c in name.chars() {
+        if wild && matches!(c, '\\' | '*' | '?' | '[') {
+            glob.push('\\');
+        }
+        glob.push(c);
+    }
+    let mut out = String::with_capacity(glob.len());
+    let mut backslashes = 0;
+    for c in glob.chars() {
+        if c == '\\' {
+            backslashes += 1;
+            continue;
+        }
+        let escape = matches!(c, ' ' | '#' | ':') || (target && c == '%');
+        let run = if escape {
+            2 * backslashes + 1
+        } else {
+            backslashes
+        };
+        out.extend(std::iter::repeat_n('\\', run));
+        backslashes = 0;
+        match c {
+            '$' => out.push_str("$$"),
+            _ => out.push(c),
+        }
+    }
+    out.extend(std::iter::repeat_n('\\', backslashes));
+    out
 }
 
 /// Whether the paths `a` and `b` name one existing regular file (the same

@@ -326,3 +326,134 @@ clitest!(every_target_of_the_examples_makefile_builds, |dir| {
         assert!(report.contains(&format!("{demo}: rmse ")), "{report}");
     }
 });
+
+clitest!(depfiles_name_hostile_file_names_as_make_reads_them, |dir| {
+    // Names make reads specially: `:` stopped make ("multiple target
+    // patterns"), `back\slash` was written `back\\slash` (a file that does
+    // not exist), `pct%.pat:` was a pattern rule, and a `*` was a wildcard
+    // (`a*b.pat` also named `axb.pat`). Each must be up to date after the
+    // run and out of date once touched, as make itself reads the rule.
+    let found = std::process::Command::new("sh")
+        .args(["-c", "command -v make"])
+        .output()
+        .unwrap();
+    if !crate::util::required("GNU make", found.status.success()) {
+        return;
+    }
+    let deps = [
+        "g:h.pat",
+        "back\\slash.pat",
+        "pct%.pat",
+        "a b.pat",
+        "c$d.pat",
+        "e#f.pat",
+        "x\\ y.pat",
+        "x\\#y.pat",
+        "a*b.pat",
+        "q?[r].pat",
+    ];
+    let brick = std::fs::read(repo("fixtures/patterns/brick.pat")).unwrap();
+    for d in deps {
+        dir.write(d, &brick);
+    }
+    // Matches `a*b.pat` as a wildcard: not a dependency.
+    dir.write("axb.pat", &brick);
+    // Screen patterns for scene-render; polyfill3 reads only those in the
+    // object's own coordinates.
+    let stream = |names: &[&str], how: &str| {
+        names
+            .iter()
+            .map(|n| {
+                let file = serde_json::to_string(n).unwrap();
+                format!(
+                    "{{\"vertices\": [[0,0,0],[8,0,0],[0,8,0]], \"pattern\": {{\"file\": {file}, {how}}}}}\n"
+                )
+            })
+            .collect::<String>()
+    };
+    dir.write("screen.json", stream(&deps, "\"mode\": \"screen\""));
+    dir.write("object.json", stream(&deps, "\"incr\": 1"));
+    let at = |secs: u64| std::time::UNIX_EPOCH + std::time::Duration::from_secs(secs);
+    let set_time = |name: &str, secs: u64| {
+        std::fs::File::options()
+            .write(true)
+            .open(dir.path().join(name))
+            .unwrap()
+            .set_modified(at(secs))
+            .unwrap();
+    };
+    for (tool, target) in [("scene-render", "o:ut$.png"), ("polyfill3", "o%ut#.ndjson")] {
+        let mut cmd = dir.cmd(tool);
+        if tool == "scene-render" {
+            cmd.args(["--size", "8x8", "--ortho2", "0,8,0,8"]);
+        }
+        let input = if tool == "polyfill3" {
+            "object.json"
+        } else {
+            "screen.json"
+        };
+        cmd.args(["--depfile", "d.d", "-o", target, input])
+            .assert()
+            .success();
+        // The rule the tool wrote, with a recipe for its target (make -q
+        // calls a target with no recipe up to date).
+        let rule = String::from_utf8(dir.read("d.d")).unwrap();
+        let targets = rule.lines().next().unwrap().trim_end_matches(": \\");
+        dir.write("M", format!("include d.d\n{targets}:\n\t@echo remake\n"));
+        let up_to_date = || {
+            let run = std::process::Command::new("make")
+                .current_dir(dir.path())
+                .args(["-q", "-f", "M", target])
+                .output()
+                .unwrap();
+            match run.status.code() {
+                Some(0) => true,
+                Some(1) => false,
+                _ => panic!("{tool}: make failed on the rule\n{rule}\n{run:?}"),
+            }
+        };
+        for d in deps.iter().chain(&[input, "axb.pat"]) {
+            set_time(d, 1_000_000_000);
+        }
+        set_time(target, 1_000_000_100);
+        assert!(up_to_date(), "{tool}: {rule}");
+        for d in deps.iter().chain(&[input]) {
+            set_time(d, 1_000_000_200);
+            assert!(!up_to_date(), "{tool}: {d} touched\n{rule}");
+            set_time(d, 1_000_000_000);
+        }
+        set_time("axb.pat", 1_000_000_200);
+        assert!(up_to_date(), "{tool}: axb.pat is no dependency\n{rule}");
+        // A deleted dependency: its empty rule makes the target out of date.
+        std::fs::rename(dir.path().join("pct%.pat"), dir.path().join("keep")).unwrap();
+        assert!(!up_to_date(), "{tool}: pct%.pat deleted\n{rule}");
+        std::fs::rename(dir.path().join("keep"), dir.path().join("pct%.pat")).unwrap();
+    }
+    // Names no make rule can spell: refused by name, and neither the rule
+    // nor the output is written.
+    dir.write("n\nl.pat", &brick);
+    dir.write("bad.json", stream(&["n\nl.pat"], "\"incr\": 1"));
+    for (names, said) in [
+        (
+            ["bad.json", "new.png"],
+            "make cannot name the file \"n\\nl.pat\": a newline",
+        ),
+        (
+            ["object.json", "o;x.png"],
+            "make cannot name the file \"o;x.png\": make reads what follows ';'",
+        ),
+    ] {
+        for tool in ["scene-render", "polyfill3"] {
+            let mut cmd = dir.cmd(tool);
+            if tool == "scene-render" {
+                cmd.args(["--size", "8x8", "--ortho2", "0,8,0,8"]);
+            }
+            cmd.args(["--depfile", "new.d", "-o", names[1], names[0]])
+                .assert()
+                .code(1)
+                .stderr(predicates::str::contains(said));
+            assert!(!dir.path().join("new.d").exists(), "{tool}");
+            assert!(!dir.path().join(names[1]).exists(), "{tool}");
+        }
+    }
+});
