@@ -122,15 +122,17 @@ impl LightRecord {
             }
             ["direction"] => {
                 let d = vector(&obj["direction"], "light.direction")?;
-                let n = d.length();
-                if !(n > 0.0 && n.is_finite()) {
+                // Normalized without squaring huge or tiny components
+                // (`[1e300, 1e300, 1e300]` had "no direction"); an ordinary
+                // direction gives the bits of `-d / d.length()`.
+                let Some(unit) = crate::geom::direction(d) else {
                     return Err(format!(
                         "light.direction [{}, {}, {}]: has no direction",
                         d.x, d.y, d.z
                     ));
-                }
+                };
                 Ok(LightRecord::Source(Source::Directional {
-                    towards: -d / n,
+                    towards: -unit,
                     intensity,
                 }))
             }
@@ -243,6 +245,34 @@ impl Lights {
 mod tests {
     use super::*;
     use serde_json::json;
+
+    #[test]
+    fn very_long_and_short_light_directions_have_a_direction() {
+        // [1e300, 1e300, 1e300]'s squared length overflowed: "has no direction".
+        let s = 1.0 / 3f64.sqrt();
+        for (d, towards) in [
+            ([1e300, 1e300, 1e300], DVec3::splat(-s)),
+            ([0.0, -1e200, 0.0], DVec3::Y),
+            ([0.0, 0.0, 1e-200], DVec3::NEG_Z),
+            ([-1e-200, -1e-200, -1e-200], DVec3::splat(s)),
+        ] {
+            let LightRecord::Source(Source::Directional { towards: t, .. }) =
+                LightRecord::from_json(&json!({ "direction": d })).unwrap()
+            else {
+                panic!("{d:?}: not directional");
+            };
+            assert!((t - towards).length() < 1e-15, "{d:?}: {t}");
+        }
+        // An ordinary direction: -d / |d|, bit for bit.
+        let d = DVec3::new(0.3, -2.0, 5.0);
+        assert_eq!(
+            LightRecord::from_json(&json!({"direction": d.to_array()})).unwrap(),
+            LightRecord::Source(Source::Directional {
+                towards: -d / d.length(),
+                intensity: [1.0; 3]
+            })
+        );
+    }
 
     #[test]
     fn light_records_parse_and_refuse_with_the_key_named() {

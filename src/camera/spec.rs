@@ -365,8 +365,22 @@ fn coincide(a: f64, b: f64) -> bool {
     (a - b).abs() <= COINCIDENT_RELATIVE * a.abs().max(b.abs()).max(1.0)
 }
 
-/// Whether two non-zero directions are parallel (or antiparallel).
+/// Whether two non-zero directions are parallel (or antiparallel). Each is
+/// first [`crate::geom::tame`]d: a vector whose squared length would
+/// overflow or underflow is divided by its largest |component| (with
+/// `[1e300, 1e300, 1e300]` the lengths were infinite and every up
+/// "parallel"); ordinary vectors are compared as they are. If their cross
+/// product's square still overflows or underflows, both are brought to a
+/// largest component of 1, where it cannot overflow, and underflows only
+/// for a sine far below [`PARALLEL_SINE`].
 fn parallel(a: DVec3, b: DVec3) -> bool {
+    let (a, b) = (crate::geom::tame(a), crate::geom::tame(b));
+    let c = a.cross(b).length_squared();
+    let (a, b) = if a.cross(b) == DVec3::ZERO || (c.is_finite() && c >= f64::MIN_POSITIVE) {
+        (a, b)
+    } else {
+        (a / a.abs().max_element(), b / b.abs().max_element())
+    };
     a.cross(b).length() <= PARALLEL_SINE * a.length() * b.length()
 }
 
@@ -878,7 +892,7 @@ fn textbook(v: &ViewSpec) -> Result<Camera, CameraError> {
 
     // MAKE-VIEW-PLANE-TRANSFORMATION (Alg. 8.20): the view plane coordinate axes.
     let r = eye_rotation(vpn, up);
-    let n = vpn.normalize();
+    let n = crate::geom::direction(vpn).expect("a checked VPN is non-zero and finite");
     let plane_centre = vrp + distance * n;
 
     let p = match projection {
@@ -945,7 +959,9 @@ fn textbook(v: &ViewSpec) -> Result<Camera, CameraError> {
                 ));
             }
             let p = r * dop;
-            if p.z.abs() <= PARALLEL_SINE * p.length() {
+            // geom::length: p.length() of a DOP of 1e300 was infinite, and
+            // every such DOP "parallel to the view plane".
+            if p.z.abs() <= PARALLEL_SINE * crate::geom::length(p) {
                 return Err(CameraError::invalid(
                     "view.dop",
                     format!(
@@ -1083,6 +1099,60 @@ mod tests {
             assert!(d <= SAME_VIEW, "differs by {d}");
             assert!(tb.perspective);
             assert!((tb.near - 0.5).abs() <= SAME_VIEW && (tb.far - 40.0).abs() <= SAME_VIEW);
+        }
+    }
+
+    #[test]
+    fn very_long_and_short_view_plane_normals_and_ups() {
+        // A VPN of [1e300, 1e300, 1e300] was "parallel to view_up" (its
+        // length overflowed to infinity); a view-up of 1e300 made NaN.
+        let view = |vpn: [f64; 3], up: [f64; 3]| {
+            cam(json!({"view": {"vrp": [2, 2, 2], "vpn": vpn, "view_up": up,
+                "window": [-1, 1, -1, 1], "dop": vpn, "front": 0, "back": 9}}))
+        };
+        let reference = view([1.0, 1.0, 1.0], [0.0, 1.0, 0.0]);
+        for (vpn, up) in [
+            ([1e300, 1e300, 1e300], [0.0, 1.0, 0.0]),
+            ([1e200, 1e200, 1e200], [0.0, 1e300, 0.0]),
+            ([1e-10, 1e-10, 1e-10], [0.0, 1e300, 0.0]),
+        ] {
+            let c = view(vpn, up);
+            let d = max_diff(reference.world_to_clip(), c.world_to_clip());
+            assert!(d <= SAME_VIEW, "{vpn:?} {up:?}: differs by {d}");
+        }
+        // Isometric directions: a huge one still has equal components.
+        assert!(checked_vpn(Some(DVec3::splat(-1e300)), true).is_ok());
+        assert!(checked_vpn(Some(DVec3::new(-1e300, -2e300, -1e300)), true).is_err());
+        // Tiny vectors are zero by ROUNDOFF, as before: named so.
+        let e = checked_vpn(Some(DVec3::splat(1e-200)), false).unwrap_err();
+        assert!(e.to_string().contains("zero vector"), "{e}");
+        // parallel() itself, with huge, tiny and mixed magnitudes.
+        for (a, b, want) in [
+            (DVec3::splat(1e300), DVec3::Y, false),
+            (DVec3::splat(1e300), DVec3::splat(1e-200), true),
+            (
+                DVec3::new(1e-200, 0.0, 0.0),
+                DVec3::new(0.0, 1e-200, 0.0),
+                false,
+            ),
+            (
+                DVec3::new(1e-100, 0.0, 0.0),
+                DVec3::new(0.0, 1e-100, 0.0),
+                false,
+            ),
+            (
+                DVec3::new(1e150, 0.0, 0.0),
+                DVec3::new(0.0, 1e150, 0.0),
+                false,
+            ),
+            (
+                DVec3::new(1e150, 0.0, 0.0),
+                DVec3::new(-1e150, 0.0, 0.0),
+                true,
+            ),
+            (DVec3::new(1e300, 1.0, 0.0), DVec3::X, true),
+        ] {
+            assert_eq!(parallel(a, b), want, "{a} {b}");
         }
     }
 

@@ -79,16 +79,19 @@ impl Transform {
     }
 
     /// Alg. 8.9-8.11: right-handed rotation by `degrees` about a unit axis.
+    /// The axis is normalized by [`super::direction`], which scales a very
+    /// long or short axis first (`[1e200, 0, 0]` squared to infinity and had
+    /// "no direction"); an ordinary axis gives the same bits as `axis / len`.
     pub fn rotate_axis(axis: DVec3, degrees: f64) -> Result<Transform, TransformError> {
-        let len = axis.length();
-        if len.is_nan() || len <= MIN_AXIS_LENGTH || !len.is_finite() {
+        let unit = super::direction(axis).filter(|_| super::length(axis) > MIN_AXIS_LENGTH);
+        let Some(unit) = unit else {
             return Err(TransformError(format!(
                 "rotation axis [{}, {}, {}] has no direction",
                 axis.x, axis.y, axis.z
             )));
-        }
+        };
         Ok(Transform(DMat4::from_axis_angle(
-            axis / len,
+            unit,
             degrees.to_radians(),
         )))
     }
@@ -374,6 +377,34 @@ mod tests {
 
     fn close(a: DVec3, b: DVec3) -> bool {
         (a - b).length() < 1e-9 * (1.0 + b.length())
+    }
+
+    #[test]
+    fn very_long_and_short_rotation_axes_have_a_direction() {
+        // [1e200, 0, 0]'s squared length overflowed: "has no direction".
+        let r = |axis: [f64; 3]| {
+            Transform::from_json(&json!({"rotate": 90, "axis": axis})).map(|t| t.apply(DVec3::Y))
+        };
+        for axis in [[1e200, 0.0, 0.0], [1e300, 0.0, 0.0], [1e-200, 0.0, 0.0]] {
+            assert!(close(r(axis).unwrap(), DVec3::Z), "{axis:?}");
+        }
+        let x = |axis: [f64; 3]| {
+            Transform::from_json(&json!({"rotate": 120, "axis": axis}))
+                .unwrap()
+                .apply(DVec3::X)
+        };
+        // 120 degrees about the diagonal takes x to y, however long the axis.
+        for k in [1e300, 1e200, 1e-200] {
+            assert!(close(x([k, k, k]), DVec3::Y), "{k}");
+        }
+        // An ordinary axis: the same matrix as before, bit for bit.
+        let axis = DVec3::new(0.3, -2.0, 5.0);
+        assert_eq!(
+            Transform::rotate_axis(axis, 37.0).unwrap().0,
+            DMat4::from_axis_angle(axis / axis.length(), 37f64.to_radians())
+        );
+        assert!(r([0.0, 0.0, 0.0]).is_err());
+        assert!(r([1e-310, 0.0, 0.0]).is_err(), "below MIN_AXIS_LENGTH");
     }
 
     #[test]
