@@ -892,7 +892,7 @@ fn textbook(v: &ViewSpec) -> Result<Camera, CameraError> {
 
     // MAKE-VIEW-PLANE-TRANSFORMATION (Alg. 8.20): the view plane coordinate axes.
     let r = eye_rotation(vpn, up);
-    let n = crate::geom::direction(vpn).expect("a checked VPN is non-zero and finite");
+    let n = crate::geom::normalized(vpn).expect("a checked VPN is non-zero and finite");
     let plane_centre = vrp + distance * n;
 
     let p = match projection {

@@ -241,6 +241,21 @@ pub fn direction(v: DVec3) -> Option<DVec3> {
     (w != DVec3::ZERO).then(|| w / w.length())
 }
 
+/// [`direction`] by glam's `normalize()` (`v` times the reciprocal of its
+/// length, which rounds differently from dividing by it): for the code that
+/// normalized that way, whose ordinary vectors must keep their bits (the
+/// camera's axes: dividing moved a PFM of `bench/same_images.sh` by 7e-15).
+pub fn normalized(v: DVec3) -> Option<DVec3> {
+    if !v.is_finite() {
+        return None;
+    }
+    if plain_length_is_exact(v) {
+        return Some(v.normalize());
+    }
+    let w = tame(v);
+    (w != DVec3::ZERO).then(|| w.normalize())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
