@@ -275,7 +275,17 @@ mod tests {
             );
             assert_eq!(length(v).to_bits(), v.length().to_bits());
             assert_eq!(tame(v), v);
+            // glam's normalize() multiplies by the reciprocal, kept by
+            // `normalized`.
+            assert_eq!(normalized(v).unwrap().to_array(), v.normalize().to_array());
         }
+        // ... which rounds otherwise than dividing, for some vectors.
+        assert!((1..100).any(|i| {
+            let v = DVec3::new(i as f64, 0.7, 0.1);
+            direction(v) != normalized(v)
+        }));
+        let huge = normalized(DVec3::splat(1e300)).unwrap();
+        assert!((huge - DVec3::splat(1.0 / 3f64.sqrt())).length() < 1e-15);
         let s = 1.0 / 3f64.sqrt();
         for (v, unit, len) in [
             (DVec3::new(1e200, 0.0, 0.0), DVec3::X, 1e200),
