@@ -297,11 +297,15 @@ impl Pattern {
     ) -> Result<Pattern, InvalidPattern> {
         let new_size = check_size(new_size as u64)?;
         let scale = scale.max(1) as i64;
+        let size = self.size as i64;
+        // Reduced first: an offset near `i64::MAX` plus the row or column
+        // overflowed (wrapping in a release build, to the wrong texels).
+        let offset = (offset.0.rem_euclid(size), offset.1.rem_euclid(size));
         let mut texels = Vec::with_capacity((new_size as usize).pow(2));
         for row in 0..new_size as i64 {
-            let src_row = (row.div_euclid(scale) + offset.1).rem_euclid(self.size as i64);
+            let src_row = (row.div_euclid(scale) + offset.1).rem_euclid(size);
             for col in 0..new_size as i64 {
-                let src_col = (col.div_euclid(scale) + offset.0).rem_euclid(self.size as i64);
+                let src_col = (col.div_euclid(scale) + offset.0).rem_euclid(size);
                 texels.push(self.texels[(src_row as u32 * self.size + src_col as u32) as usize]);
             }
         }
@@ -1229,6 +1233,28 @@ mod tests {
         assert_eq!(t.index_at(2, 0), p.index_at(2, 0));
         assert_eq!(t.index_at(3, 1), p.index_at(2, 0));
         assert_eq!(t.index_at(0, 0), p.index_at(1, 0));
+    }
+
+    /// An offset near `i64::MAX` or `i64::MIN` tiles as its residue modulo
+    /// the size: added to the row or column it overflowed (wrong texels in
+    /// a release build, a panic in a debug one).
+    #[test]
+    fn tiled_takes_extreme_offsets_as_their_residue() {
+        // 48 texels, not a power of two (whose residues a wrap keeps), and
+        // colours of period 5 along both axes.
+        let palette = (0..5).map(|i| Rgb8([i * 50, 0, 0])).collect();
+        let texels = (0..48 * 48).map(|i| ((i % 48 + 2 * (i / 48)) % 5) as u16);
+        let p = Pattern::new(48, palette, texels.collect()).unwrap();
+        for off in [(i64::MAX, 0), (0, i64::MAX), (i64::MIN, i64::MAX - 5)] {
+            let residue = (off.0.rem_euclid(48), off.1.rem_euclid(48));
+            for scale in [1, 3] {
+                assert_eq!(
+                    p.tiled(48, scale, off).unwrap(),
+                    p.tiled(48, scale, residue).unwrap(),
+                    "{off:?} scale {scale}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -168,9 +168,15 @@ impl ScreenTiling {
 
     /// Texel index (column or row) of pixel coordinate `p` counted from the
     /// left or bottom edge.
+    ///
+    /// The offset is reduced modulo the pattern size before it is added:
+    /// an offset near `i64::MAX` plus the texel count overflowed (wrapping
+    /// in a release build, to the wrong texels). Any offset now shows the
+    /// texels of its residue, and the others the same texels as before.
     #[inline]
     fn texel(&self, p: u32, offset: i64, size: u32) -> u32 {
-        ((p / self.scale.max(1)) as i64 + offset).rem_euclid(size as i64) as u32
+        let size = size as i64;
+        ((p / self.scale.max(1)) as i64 + offset.rem_euclid(size)).rem_euclid(size) as u32
     }
 }
 
@@ -363,6 +369,33 @@ mod tests {
                 direct(&p, w, h, t, bg),
                 "{w}x{h} scale {scale} {off:?}"
             );
+        }
+    }
+
+    /// An offset near `i64::MAX` or `i64::MIN` shows the texels of its
+    /// residue modulo the size: adding it to the texel count overflowed
+    /// (wrong texels in a release build, a panic in a debug one).
+    #[test]
+    fn extreme_offsets_show_the_texels_of_their_residue() {
+        // 48 texels, not a power of two (whose residues a wrap keeps), and
+        // colours of period 5 along both axes.
+        let palette = (0..5).map(|i| Rgb8([i * 50, 0, 0])).collect();
+        let texels = (0..48 * 48).map(|i| ((i % 48 + 2 * (i / 48)) % 5) as u16);
+        let p = Pattern::new(48, palette, texels.collect()).unwrap();
+        for off in [
+            (i64::MAX, i64::MIN),
+            (i64::MIN, i64::MAX),
+            (i64::MAX - 3, 1),
+        ] {
+            let residue = (off.0.rem_euclid(48), off.1.rem_euclid(48));
+            for scale in [1, 3] {
+                let t = |offset| ScreenTiling { scale, offset };
+                assert_eq!(
+                    tile_image(&p, 100, 70, t(off), None).data,
+                    tile_image(&p, 100, 70, t(residue), None).data,
+                    "{off:?} scale {scale}"
+                );
+            }
         }
     }
 
