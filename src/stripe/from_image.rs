@@ -45,6 +45,15 @@ pub fn map_from_image(
     if !angle.is_finite() {
         return Err(FromImageError::Angle(angle));
     }
+    // Reduced to a turn first: the radians of a huge angle (1e20 degrees,
+    // exactly 280 mod 360) carry no fraction of a turn, so its map was not
+    // the map of its residue. Below a turn the angle is kept as given, its
+    // maps byte for byte as before.
+    let angle = if angle.abs() >= 360.0 {
+        angle.rem_euclid(360.0)
+    } else {
+        angle
+    };
     let (w, h) = img.dimensions();
     let (s, c) = math::sin_cos(angle.to_radians());
     let (cx, cy) = (w as f64 / 2.0, h as f64 / 2.0);
@@ -170,6 +179,22 @@ mod tests {
         });
         let m = map_from_image(&img, 90.0, 4, Fade::None).unwrap();
         assert_eq!(m.values(), &[0, 0, 0, 255]);
+    }
+
+    /// An angle of a turn or more gives the map of its residue modulo 360
+    /// (exact in floating point): 1e20 degrees, exactly 280 mod 360, gave
+    /// another map, its radians having lost the fraction of a turn.
+    #[test]
+    fn a_huge_angle_gives_the_map_of_its_residue() {
+        let img = RgbaImage::from_fn(16, 12, |x, y| {
+            let v = ((x * 13 + y * 29) % 256) as u8;
+            Rgba([v, 255 - v, v / 2, 255])
+        });
+        let map = |angle| map_from_image(&img, angle, 16, Fade::None).unwrap();
+        for (huge, residue) in [(1e20, 280.0), (-1e20, 80.0), (360.0 * 1e6 + 30.0, 30.0)] {
+            assert_eq!(map(huge), map(residue), "{huge}");
+        }
+        assert_ne!(map(280.0), map(80.0), "the image tells the angles apart");
     }
 
     #[test]
