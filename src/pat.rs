@@ -39,6 +39,18 @@ pub const TRANSPARENT: u16 = u16::MAX;
 /// The most colours a pattern may have (every index but [`TRANSPARENT`]).
 pub const MAX_COLORS: usize = TRANSPARENT as usize;
 
+/// The most bytes of canonical text a tool writes as a `.pat`: 16 GiB.
+///
+/// The format allows 65,535 colours of 4096x4096, 344 GB of text (one
+/// 2.1 MB bit plane per colour of that side): `pat-tile --pat --size
+/// 4096x4096` of a 16x16 pattern of 65,535 colours (6 MB) set out to write
+/// all of it, until the disk was full. 16 GiB is twelve times the 1.3 GB
+/// of the largest pattern `pat-from-image` makes (4096x4096 in 256
+/// colours) and the text of 3,276 colours at 4096x4096, while no run
+/// fills a disk by surprise. [`Pattern::check_canonical_len`] refuses a
+/// longer text before a byte of it is written.
+pub const MAX_CANONICAL_BYTES: u64 = 16 << 30;
+
 /// The length of canonical text from which [`Pattern::write_canonical`]
 /// formats on a second thread: 1 MiB, a 256x256 pattern of 64 colours.
 /// Below it the thread's start (tens of microseconds) would cost more than
@@ -194,6 +206,23 @@ impl Pattern {
                 .map(|c| format!("{} {} {}\n", c.0[0], c.0[1], c.0[2]).len())
                 .sum::<usize>()
             + self.palette.len() * self.size as usize * row
+    }
+
+    /// An error unless the canonical text is at most
+    /// [`MAX_CANONICAL_BYTES`]: a tool calls it before it writes a `.pat`.
+    /// The message gives the length, the colours and the size, and ends
+    /// with `smaller`, the tool's way to a shorter text (fewer colours, a
+    /// smaller size).
+    pub fn check_canonical_len(&self, smaller: &str) -> Result<(), InvalidPattern> {
+        let len = self.canonical_len() as u64;
+        if len <= MAX_CANONICAL_BYTES {
+            return Ok(());
+        }
+        let (size, n) = (self.size, self.palette.len());
+        Err(InvalidPattern(format!(
+            "the .pat would be {len} bytes of text ({n} colours of {size}x{size}), more than \
+             the {MAX_CANONICAL_BYTES} bytes (16 GiB) a tool writes: {smaller}"
+        )))
     }
 
     /// Writes the canonical form: `SIZE NCOLORS`, then per colour one `R G B` line
@@ -1233,6 +1262,30 @@ mod tests {
         assert_eq!(t.index_at(2, 0), p.index_at(2, 0));
         assert_eq!(t.index_at(3, 1), p.index_at(2, 0));
         assert_eq!(t.index_at(0, 0), p.index_at(1, 0));
+    }
+
+    /// The canonical text is bounded by MAX_CANONICAL_BYTES: 3,276 colours
+    /// at 4096x4096 pass it, 3,277 do not, and the largest pattern
+    /// pat-from-image makes (256 colours) is far below it.
+    #[test]
+    fn canonical_text_longer_than_the_bound_is_refused() {
+        let with_colours = |n: usize| {
+            let palette = vec![Rgb8([255, 255, 255]); n];
+            Pattern::new(4096, palette, vec![0; 4096 * 4096]).unwrap()
+        };
+        let largest_made = with_colours(256);
+        assert!(largest_made.check_canonical_len("").is_ok());
+        assert!(largest_made.canonical_len() as u64 * 12 < MAX_CANONICAL_BYTES);
+        assert!(with_colours(3276).check_canonical_len("").is_ok());
+        let e = with_colours(3277)
+            .check_canonical_len("give fewer colours")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "the .pat would be 17180957094 bytes of text (3277 colours of 4096x4096), more \
+             than the 17179869184 bytes (16 GiB) a tool writes: give fewer colours"
+        );
     }
 
     /// An offset near `i64::MAX` or `i64::MIN` tiles as its residue modulo

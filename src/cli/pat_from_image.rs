@@ -199,6 +199,11 @@ fn run_in_pool(args: Args) -> Result<()> {
     };
     let pattern = quantize::quantize_with(&square, &opts, &bar)?;
     drop(bar);
+    // Never refused at 256 colours of 4096x4096 (1.3 GB), but the bound
+    // is every .pat writer's.
+    pattern
+        .check_canonical_len("give fewer --colors or a smaller --size")
+        .with_context(|| name.to_string())?;
     write_pattern(&pattern, &args.output)?;
     if args.report {
         let (_, transparent) = pattern.histogram();

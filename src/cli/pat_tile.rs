@@ -103,6 +103,11 @@ pub fn run(args: Args) -> Result<()> {
         if let Some(bg) = args.background {
             tiled = tiled.with_background(bg)?;
         }
+        // Before the output is created: 65,535 colours tiled to 4096x4096
+        // are 344 GB of text.
+        tiled
+            .check_canonical_len("give a smaller --size, or tile a pattern of fewer colours")
+            .with_context(|| name.to_string())?;
         let mut out = Output::create(&args.output, false)?;
         tiled
             .write_canonical(&mut out)

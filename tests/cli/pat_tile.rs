@@ -184,6 +184,35 @@ clitest!(bad_sizes_and_formats_are_usage_errors, |dir| {
     }
 });
 
+clitest!(
+    a_pat_longer_than_the_bound_is_refused_before_writing,
+    |dir| {
+        // A hostile-input review found `pat-tile --pat --size 4096x4096` of a
+        // 16x16 pattern of 65,535 colours setting out to write 344 GB. Here
+        // 3,277 colours (all white, the first filling the pattern): 21 kB
+        // above patkit::pat::MAX_CANONICAL_BYTES at 4096x4096.
+        let mut text = String::from("16 3277\n");
+        for k in 0..3277 {
+            text.push_str("255 255 255\n");
+            text.push_str(&if k == 0 { "ffff\n" } else { "0000\n" }.repeat(16));
+        }
+        dir.write("many.pat", text);
+        dir.cmd("pat-tile")
+            .args(["--pat", "--size", "4096x4096", "-o", "big.pat", "many.pat"])
+            // Refused at once: a regression would write gigabytes first.
+            .timeout(std::time::Duration::from_secs(60))
+            .assert()
+            .code(1)
+            .stdout("")
+            .stderr(
+                "pat-tile: error: many.pat: the .pat would be 17180957094 bytes of text \
+             (3277 colours of 4096x4096), more than the 17179869184 bytes (16 GiB) a tool \
+             writes: give a smaller --size, or tile a pattern of fewer colours\n",
+            );
+        assert_eq!(dir.files(), vec!["many.pat".to_string()]);
+    }
+);
+
 #[test]
 fn a_closed_output_pipe_ends_quietly() {
     let dir = crate::util::Dir::new("closed_pipe");
