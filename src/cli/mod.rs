@@ -375,13 +375,20 @@ static NOTE_CLOSED_STDIO: extern "C" fn() = {
 };
 
 /// An error unless standard output can be written: output to a closed
-/// standard output would vanish while the tool reported success.
-pub fn check_stdout() -> anyhow::Result<()> {
+/// standard output would vanish while the tool reported success. A tool
+/// calls it only when it will write there. `hint` ends the message with
+/// the way round it in the tool's own terms (`use -o FILE` where there is
+/// an -o): the one message for all suggested `-o FILE` to pat-info, which
+/// has none.
+pub fn check_stdout(hint: &str) -> anyhow::Result<()> {
     if STDOUT_CLOSED.load(std::sync::atomic::Ordering::Relaxed) {
-        anyhow::bail!("standard output is closed: nothing could be written (use -o FILE)");
+        anyhow::bail!("standard output is closed: nothing could be written ({hint})");
     }
     Ok(())
 }
+
+/// [`check_stdout`]'s hint for a tool whose output may go to a file.
+pub const USE_OUTPUT_FILE: &str = "use -o FILE";
 
 /// When a tool's coloured output (`pat-info --preview`) uses colour
 /// (<https://no-color.org>).

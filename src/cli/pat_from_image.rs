@@ -137,7 +137,7 @@ pub fn run(args: Args) -> Result<()> {
 
 fn run_in_pool(args: Args) -> Result<()> {
     if args.output == io::STDIO {
-        super::check_stdout()?;
+        super::check_stdout(super::USE_OUTPUT_FILE)?;
     }
     // Before the work (quantizing a large photo takes a while).
     io::check_output(&args.output, false)?;

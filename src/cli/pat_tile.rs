@@ -66,7 +66,7 @@ pub struct Args {
 /// Runs `pat-tile`.
 pub fn run(args: Args) -> Result<()> {
     if args.output == crate::io::STDIO {
-        super::check_stdout()?;
+        super::check_stdout(super::USE_OUTPUT_FILE)?;
     }
     let inputs = [("the pattern", Some(args.input.as_str()))];
     super::check_stdin_inputs(&inputs)?;

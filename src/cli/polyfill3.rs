@@ -291,7 +291,7 @@ fn run_in_pool(args: Args) -> Result<()> {
         bar.reading(&source, len, Box::new(BufReader::with_capacity(1 << 16, f)))
     };
     if args.output == STDIO {
-        super::check_stdout()?;
+        super::check_stdout(super::USE_OUTPUT_FILE)?;
     }
     let out = Output::create(&args.output, false)?;
     let options = PartitionOptions {

@@ -247,7 +247,7 @@ pub fn run(args: Args) -> Result<()> {
         None => args.compare.is_none(),
     };
     if to_stdout {
-        super::check_stdout()?;
+        super::check_stdout(super::USE_OUTPUT_FILE)?;
     }
     args.threads.install(|| run_in_pool(args))?
 }
@@ -1043,7 +1043,8 @@ fn print_report(text: &str, image_on_stdout: bool) -> Result<()> {
         eprint_or_drop!("{text}");
         return Ok(());
     }
-    super::check_stdout()?;
+    // The image has its file already: -o is no way round.
+    super::check_stdout("the report goes there: redirect it to a file")?;
     let mut out = std::io::stdout().lock();
     out.write_all(text.as_bytes())
         .and_then(|()| out.flush())

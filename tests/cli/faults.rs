@@ -169,6 +169,43 @@ clitest!(a_closed_standard_output_is_an_error, |dir| {
     }
 });
 
+clitest!(a_closed_standard_output_is_fine_where_nothing_goes, |dir| {
+    // `pat-info --check` prints nothing on success, yet failed with a
+    // closed standard output, suggesting `-o FILE`, which pat-info lacks.
+    // It checks now, and the tools that write there say what they can.
+    let brick = repo("fixtures/patterns/brick.pat");
+    dir.write("bad.pat", "16 1\n");
+    let out = sh(
+        dir.path(),
+        &format!("pat-info --check {} >&-", brick.display()),
+    );
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(String::from_utf8_lossy(&out.stderr), "");
+    let err = sh_fails(dir.path(), "pat-info --check bad.pat >&-");
+    assert!(err.starts_with("pat-info: error: bad.pat:"), "{err}");
+    for (cmd, hint) in [
+        (
+            format!("pat-info {}", brick.display()),
+            "redirect it to a file, or give --check to validate only",
+        ),
+        (
+            format!(
+                "pat-tile --size 8x8 -o ref.png {} && scene-render --compare ref.png --image ref.png",
+                brick.display()
+            ),
+            "the report goes there: redirect it to a file",
+        ),
+        (
+            format!("pat-tile --size 8x8 {}", brick.display()),
+            "use -o FILE",
+        ),
+    ] {
+        let err = sh_fails(dir.path(), &format!("{cmd} >&-"));
+        let said = format!("standard output is closed: nothing could be written ({hint})\n");
+        assert!(err.ends_with(&said), "{cmd}: {err}");
+    }
+});
+
 clitest!(a_closed_standard_input_is_an_error, |dir| {
     // `tool <&-`: it read as empty (Rust puts /dev/null in its place), and
     // scene-render drew a blank image with status 0. `< /dev/null` is an
