@@ -1,5 +1,5 @@
 complete -c pat-tile -s o -l output -d 'Output file; `-` is standard output (binary output to a terminal is refused)' -r
-complete -c pat-tile -l size -d 'Image size (WxH), or with --pat the new pattern\'s size (square, a multiple of 16)' -r
+complete -c pat-tile -l size -d 'Image size (WxH); default 1024x768. With --pat the new pattern\'s size, NxN (square, a multiple of 16 up to 4096), which --pat needs: the default is not square' -r
 complete -c pat-tile -l scale -d 'Each texel becomes an N x N block of pixels' -r
 complete -c pat-tile -l offset -d 'The texel shown at the lower-left pixel (COL,ROW); negative values allowed' -r
 complete -c pat-tile -l background -d 'Colour for transparent texels (`r,g,b` or `#rrggbb`). Without it, PNG and PAM keep transparency as alpha and PPM shows black with a warning' -r

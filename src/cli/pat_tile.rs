@@ -16,6 +16,12 @@ Examples:
   pat-tile --size 640x480 --format ppm brick.pat | pnmtopng > view.png
   pat-tile --pat --size 256x256 brick.pat -o brick256.pat";
 
+/// The image size without --size (an image's: --pat has no default).
+const DEFAULT_SIZE: Size = Size {
+    width: 1024,
+    height: 768,
+};
+
 /// Fill a WxH image with a repeated pattern, one texel per pixel or scaled up;
 /// row 0 of the pattern is at the bottom (IRIS GL). With --pat, write a larger
 /// tiled pattern instead of an image.
@@ -30,9 +36,11 @@ pub struct Args {
     #[arg(short, long, default_value = "-")]
     pub output: String,
 
-    /// Image size (WxH), or with --pat the new pattern's size (square, a multiple of 16).
-    #[arg(long, default_value = "1024x768")]
-    pub size: Size,
+    /// Image size (WxH); default 1024x768. With --pat the new pattern's
+    /// size, NxN (square, a multiple of 16 up to 4096), which --pat needs:
+    /// the default is not square.
+    #[arg(long, value_name = "SIZE")]
+    pub size: Option<Size>,
 
     /// Each texel becomes an N x N block of pixels.
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=65535))]
@@ -76,15 +84,24 @@ pub fn run(args: Args) -> Result<()> {
         offset: (args.offset.0, args.offset.1),
     };
     if args.pat {
-        let Size { width, height } = args.size;
+        // The default is an image's: `--pat` alone was refused as
+        // `--size 1024x768: a pattern must be square`, a value never typed.
+        let Some(size) = args.size else {
+            usage_bail!(
+                "--pat needs --size NxN (square, a multiple of 16 up to {}): the default size, \
+                 {DEFAULT_SIZE}, is not square",
+                crate::pat::MAX_SIZE
+            );
+        };
+        let Size { width, height } = size;
         if width != height || width % 16 != 0 || width > crate::pat::MAX_SIZE {
             usage_bail!(
-                "--size {}: a pattern must be square with a side that is a multiple of 16 up to {}",
-                args.size,
+                "--size {size}: a pattern must be square with a side that is a multiple of 16 up to {}",
                 crate::pat::MAX_SIZE
             );
         }
     }
+    let size = args.size.unwrap_or(DEFAULT_SIZE);
     let format = if args.pat {
         None
     } else {
@@ -98,7 +115,7 @@ pub fn run(args: Args) -> Result<()> {
 
     let Some(format) = format else {
         let mut tiled = pattern
-            .tiled(args.size.width, args.scale, tiling.offset)
+            .tiled(size.width, args.scale, tiling.offset)
             .context("tiling the pattern")?;
         if let Some(bg) = args.background {
             tiled = tiled.with_background(bg)?;
@@ -124,13 +141,7 @@ pub fn run(args: Args) -> Result<()> {
         background = Some(Rgb8::BLACK);
     }
     // Made and written a row at a time: the image is never held whole.
-    let mut rows = TileRows::new(
-        &pattern,
-        args.size.width,
-        args.size.height,
-        tiling,
-        background,
-    );
+    let mut rows = TileRows::new(&pattern, size.width, size.height, tiling, background);
     Ok(save_rows(
         &mut rows,
         &args.output,

@@ -158,6 +158,20 @@ clitest!(bad_sizes_and_formats_are_usage_errors, |dir| {
         .stderr(predicate::str::contains(
             "--size 64x32: a pattern must be square",
         ));
+    // Without --size, --pat was refused as `--size 1024x768: a pattern must
+    // be square`, blaming a value the user never typed: the default.
+    dir.cmd("pat-tile")
+        .args(["--pat", "c.pat"])
+        .assert()
+        .code(2)
+        .stdout("")
+        .stderr(
+            "pat-tile: error: --pat needs --size NxN (square, a multiple of 16 up to 4096): \
+             the default size, 1024x768, is not square\n",
+        );
+    // The default size stays the image's.
+    let png = dir.cmd("pat-tile").arg("c.pat").ok_stdout();
+    assert_eq!(decode(&png).dimensions(), (1024, 768));
     // A bad output extension is a usage error, as in scene-render; no
     // extension (`/dev/null`) is PNG, as on standard output.
     // (scene-render also writes PFM; pat-tile's colours are 8-bit.)
