@@ -118,7 +118,10 @@ pub fn run(args: Args) -> Result<()> {
             .tiled(size.width, args.scale, tiling.offset)
             .context("tiling the pattern")?;
         if let Some(bg) = args.background {
-            tiled = tiled.with_background(bg)?;
+            // Named: the error line is `pat-tile: error: NAME: ...`.
+            tiled = tiled
+                .with_background(bg)
+                .with_context(|| name.to_string())?;
         }
         // Before the output is created: 65,535 colours tiled to 4096x4096
         // are 344 GB of text.

@@ -227,6 +227,32 @@ clitest!(
     }
 );
 
+clitest!(a_background_past_the_colour_limit_names_the_file, |dir| {
+    // A hostile-input review found this error without the file's name:
+    // 65,535 colours (the most), texel (0,0) transparent, the first colour
+    // every other texel, the others none (words written short: `0`).
+    let mut text = String::from("16 65535\n0 0 0\n7fff\n");
+    text.push_str(&"ffff\n".repeat(15));
+    text.push_str(&"1 2 3\n0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0\n".repeat(65534));
+    dir.write("full.pat", text);
+    dir.cmd("pat-tile")
+        .args([
+            "--pat",
+            "--size",
+            "16x16",
+            "--background",
+            "9,9,9",
+            "full.pat",
+        ])
+        .assert()
+        .code(1)
+        .stdout("")
+        .stderr(
+            "pat-tile: error: full.pat: cannot add a background colour to a pattern that \
+             already has 65535 colours\n",
+        );
+});
+
 #[test]
 fn a_closed_output_pipe_ends_quietly() {
     let dir = crate::util::Dir::new("closed_pipe");
