@@ -86,12 +86,21 @@ pub(crate) struct Word<'a> {
 /// The error at word `index` (`text`, on `line`) of `file`. The first word
 /// is not echoed (`FIRST_WORD`), a long one is cut at `MAX_ECHO`.
 fn word_error(file: &str, text: &str, line: usize, index: usize, message: String) -> ParseError {
+    let mut error = number_error(file, text, line, index, message);
+    if index == FIRST_WORD {
+        error.word = Some((index, String::new()));
+    }
+    error
+}
+
+/// [`word_error`] for a word of digits that is out of range, echoed even
+/// as the first word: digits are a number, nobody's secret, and the
+/// message must show the number as written (a saturated 23-digit size was
+/// shown as `pattern size 18446744073709551615`).
+fn number_error(file: &str, text: &str, line: usize, index: usize, message: String) -> ParseError {
     let mut echo: String = text.chars().take(MAX_ECHO).collect();
     if text.len() > MAX_ECHO {
         echo.push_str("...");
-    }
-    if index == FIRST_WORD {
-        echo.clear();
     }
     ParseError {
         file: file.to_string(),
@@ -120,19 +129,33 @@ fn end_error(file: &str, cursor: &Cursor, what: &str, what_file: &str) -> ParseE
     }
 }
 
-/// `text` as an unsigned decimal of at most `max`, saturating so absurd
-/// values give a range error; the error's message otherwise.
-fn decimal_value(text: &str, what: &str, max: u64) -> Result<u64, String> {
+/// Why a word is not an unsigned decimal in range ([`decimal_value`]),
+/// with the error's message.
+enum BadDecimal {
+    /// Not a decimal: the word is echoed as any other ([`word_error`]).
+    NotDigits(String),
+    /// Digits past `max` or past `u64::MAX`: the word is echoed as written
+    /// ([`number_error`]).
+    OutOfRange(String),
+}
+
+/// `text` as an unsigned decimal of at most `max`. A value past `u64::MAX`
+/// is out of range whatever `max` is: it saturated, and a caller that
+/// checks the value itself (a pattern's size, a map's length, `max`
+/// `u64::MAX`) said `18446744073709551615`, a number nobody wrote.
+fn decimal_value(text: &str, what: &str, max: u64) -> Result<u64, BadDecimal> {
     if !text.bytes().all(|c| c.is_ascii_digit()) {
-        return Err(format!("expected {what}"));
+        return Err(BadDecimal::NotDigits(format!("expected {what}")));
     }
-    let v = text.bytes().fold(0u64, |acc, c| {
-        acc.saturating_mul(10).saturating_add((c - b'0') as u64)
+    let v = text.bytes().try_fold(0u64, |acc, c| {
+        acc.checked_mul(10)?.checked_add((c - b'0') as u64)
     });
-    if v > max {
-        return Err(format!("out of range: expected {what}"));
+    match v {
+        Some(v) if v <= max => Ok(v),
+        _ => Err(BadDecimal::OutOfRange(format!(
+            "out of range: expected {what}"
+        ))),
     }
-    Ok(v)
 }
 
 /// What [`Cursor::scan`] found.
@@ -297,14 +320,17 @@ impl<'a> Words<'a> {
         }
     }
 
-    /// An unsigned decimal, saturating so absurd values give a range error.
+    /// An unsigned decimal of at most `max` ([`decimal_value`]).
     pub fn decimal(&mut self, what: &str, max: u64) -> Result<u64, ParseError> {
         let w = self.expect(what)?;
         self.decimal_of(&w, what, max)
     }
 
     pub fn decimal_of(&self, w: &Word, what: &str, max: u64) -> Result<u64, ParseError> {
-        decimal_value(w.text, what, max).map_err(|m| self.error_at(w, m))
+        decimal_value(w.text, what, max).map_err(|e| match e {
+            BadDecimal::NotDigits(m) => self.error_at(w, m),
+            BadDecimal::OutOfRange(m) => number_error(self.name, w.text, w.line, w.index, m),
+        })
     }
 
     /// Fails if anything but comments and whitespace remains.
@@ -486,14 +512,18 @@ impl<'a> ReadWords<'a> {
         }
     }
 
-    /// An unsigned decimal, saturating so absurd values give a range error.
+    /// An unsigned decimal of at most `max` ([`decimal_value`]).
     pub fn decimal(&mut self, what: &str, max: u64) -> Result<u64, Failed> {
         let w = self.expect(what)?;
         self.decimal_of(&w, what, max)
     }
 
     pub fn decimal_of(&self, w: &Span, what: &str, max: u64) -> Result<u64, Failed> {
-        decimal_value(self.text(w), what, max).map_err(|m| self.error_at(w, m))
+        let text = self.text(w);
+        decimal_value(text, what, max).map_err(|e| match e {
+            BadDecimal::NotDigits(m) => self.error_at(w, m),
+            BadDecimal::OutOfRange(m) => number_error(self.name, text, w.line, w.index, m).into(),
+        })
     }
 }
 

@@ -195,7 +195,8 @@ impl ModulationMap {
             ));
         }
         let len_word = w.expect("the map length")?;
-        let n = w.decimal_of(&len_word, "the map length, a power of two", u64::MAX)?;
+        let what = format!("the map length, a power of two from 1 to {MAX_LEN}");
+        let n = w.decimal_of(&len_word, &what, u64::MAX)?;
         let n = check_len(n).map_err(|e| w.error_at(&len_word, e.to_string()))?;
         let mut values = Vec::with_capacity(n);
         let mut fade = Fade::Linear;

@@ -186,3 +186,42 @@ fn every_fixture_pattern_is_valid_with_the_sizes_the_thesis_uses() {
         assert!(p.histogram().1 > 0, "{name} has transparent texels");
     }
 }
+
+clitest!(a_number_past_u64_is_echoed_as_written, |dir| {
+    // A hostile-input review found a 23-digit pattern size reported as
+    // `pattern size 18446744073709551615` and a map length as `map length
+    // 18446744073709551615`: the reader saturated, and the check after it
+    // showed a number nobody wrote. The word is echoed now, even as a
+    // file's first word (digits are nobody's secret).
+    let big = "9".repeat(23);
+    dir.write("big.pat", format!("{big} 1\n"));
+    dir.write("big.map", format!("STRIPE {big}\n"));
+    for (file, what) in [
+        (
+            "big.pat",
+            "word 1 `99999999999999999999999`: out of range: expected the pattern size, \
+             a multiple of 16 from 16 to 4096",
+        ),
+        (
+            "big.map",
+            "word 2 `99999999999999999999999`: out of range: expected the map length, \
+             a power of two from 1 to 65536",
+        ),
+    ] {
+        dir.cmd("pat-info")
+            .arg(file)
+            .assert()
+            .code(1)
+            .stdout("")
+            .stderr(format!("pat-info: error: {file}:1: {what}\n"));
+    }
+    // u64::MAX itself is what was written: the size check shows it.
+    dir.write("max.pat", "18446744073709551615 1\n");
+    dir.cmd("pat-info")
+        .arg("max.pat")
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "pattern size 18446744073709551615 is not a multiple of 16",
+        ));
+});
