@@ -13,7 +13,7 @@
 /// The layers, lowest first. A module may import modules of lower layers only;
 /// modules of one layer are independent of each other.
 pub const LAYERS: &[&[&str]] = &[
-    &["math", "progress"],
+    &["math", "progress", "vector"],
     &["color", "error", "text"],
     &["io"],
     &["pat"],

@@ -9,6 +9,8 @@
 //! - [`error`]: errors every layer may raise (an option named by its field).
 //! - [`math`]: sines, powers and logarithms that give the same bits on every
 //!   host.
+//! - [`vector`]: directions and lengths of vectors whose squares overflow
+//!   or underflow.
 //! - [`text`]: the whitespace tokenizer of the text formats and their
 //!   [`ParseError`].
 //! - [`io`]: standard streams, atomic output files, image decoding and encoding.
@@ -68,6 +70,7 @@ pub mod error;
 pub mod math;
 pub mod progress;
 pub mod text;
+pub mod vector;
 
 pub mod io;
 

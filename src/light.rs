@@ -125,7 +125,7 @@ impl LightRecord {
                 // Normalized without squaring huge or tiny components
                 // (`[1e300, 1e300, 1e300]` had "no direction"); an ordinary
                 // direction gives the bits of `-d / d.length()`.
-                let Some(unit) = crate::geom::direction(d) else {
+                let Some(unit) = crate::vector::direction(d) else {
                     return Err(format!(
                         "light.direction [{}, {}, {}]: has no direction",
                         d.x, d.y, d.z

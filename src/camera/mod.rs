@@ -259,11 +259,11 @@ impl std::error::Error for CameraError {
 /// with `up` projected to +y: rows x = forward × up, y = x × forward, z = −forward.
 /// (Equivalent to the textbook's R_x R_y R_z of eqs. 8.61–8.64, and to gluLookAt.)
 /// The caller has checked that forward and up are non-zero and not parallel.
-/// Normalized by [`crate::geom::normalized`], so that a VPN or view-up of
+/// Normalized by [`crate::vector::normalized`], so that a VPN or view-up of
 /// `[1e300, 1e300, 1e300]` (whose squared length overflows) is a direction
 /// and not NaN; ordinary vectors give the bits of `normalize()`.
 fn eye_rotation(forward: DVec3, up: DVec3) -> DMat3 {
-    let unit = |v: DVec3| crate::geom::normalized(v).unwrap_or(DVec3::NAN);
+    let unit = |v: DVec3| crate::vector::normalized(v).unwrap_or(DVec3::NAN);
     let f = unit(forward);
     let s = unit(f.cross(up));
     let u = s.cross(f);

@@ -366,7 +366,7 @@ fn coincide(a: f64, b: f64) -> bool {
 }
 
 /// Whether two non-zero directions are parallel (or antiparallel). Each is
-/// first [`crate::geom::tame`]d: a vector whose squared length would
+/// first [`crate::vector::tame`]d: a vector whose squared length would
 /// overflow or underflow is divided by its largest |component| (with
 /// `[1e300, 1e300, 1e300]` the lengths were infinite and every up
 /// "parallel"); ordinary vectors are compared as they are. If their cross
@@ -374,7 +374,7 @@ fn coincide(a: f64, b: f64) -> bool {
 /// largest component of 1, where it cannot overflow, and underflows only
 /// for a sine far below [`PARALLEL_SINE`].
 fn parallel(a: DVec3, b: DVec3) -> bool {
-    let (a, b) = (crate::geom::tame(a), crate::geom::tame(b));
+    let (a, b) = (crate::vector::tame(a), crate::vector::tame(b));
     let c = a.cross(b).length_squared();
     let (a, b) = if a.cross(b) == DVec3::ZERO || (c.is_finite() && c >= f64::MIN_POSITIVE) {
         (a, b)
@@ -892,7 +892,7 @@ fn textbook(v: &ViewSpec) -> Result<Camera, CameraError> {
 
     // MAKE-VIEW-PLANE-TRANSFORMATION (Alg. 8.20): the view plane coordinate axes.
     let r = eye_rotation(vpn, up);
-    let n = crate::geom::normalized(vpn).expect("a checked VPN is non-zero and finite");
+    let n = crate::vector::normalized(vpn).expect("a checked VPN is non-zero and finite");
     let plane_centre = vrp + distance * n;
 
     let p = match projection {
@@ -959,9 +959,9 @@ fn textbook(v: &ViewSpec) -> Result<Camera, CameraError> {
                 ));
             }
             let p = r * dop;
-            // geom::length: p.length() of a DOP of 1e300 was infinite, and
+            // vector::length: p.length() of a DOP of 1e300 was infinite, and
             // every such DOP "parallel to the view plane".
-            if p.z.abs() <= PARALLEL_SINE * crate::geom::length(p) {
+            if p.z.abs() <= PARALLEL_SINE * crate::vector::length(p) {
                 return Err(CameraError::invalid(
                     "view.dop",
                     format!(

@@ -79,11 +79,12 @@ impl Transform {
     }
 
     /// Alg. 8.9-8.11: right-handed rotation by `degrees` about a unit axis.
-    /// The axis is normalized by [`super::direction`], which scales a very
+    /// The axis is normalized by [`crate::vector::direction`], which scales a very
     /// long or short axis first (`[1e200, 0, 0]` squared to infinity and had
     /// "no direction"); an ordinary axis gives the same bits as `axis / len`.
     pub fn rotate_axis(axis: DVec3, degrees: f64) -> Result<Transform, TransformError> {
-        let unit = super::direction(axis).filter(|_| super::length(axis) > MIN_AXIS_LENGTH);
+        let unit = crate::vector::direction(axis)
+            .filter(|_| crate::vector::length(axis) > MIN_AXIS_LENGTH);
         let Some(unit) = unit else {
             return Err(TransformError(format!(
                 "rotation axis [{}, {}, {}] has no direction",
