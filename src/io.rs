@@ -778,17 +778,7 @@ impl Output {
             // (`>> log`): opening the name reaches the file itself, and the
             // rename then replaced it, losing what it held (a hostile-input
             // review). Written through the descriptor, as `-` is.
-            let f = f.map_err(write_error(name, WriteStep::Open))?;
-            if binary && f.is_terminal() {
-                return Err(IoError::BinaryToTerminal);
-            }
-            return Ok(Output {
-                inner: OutputInner::Device {
-                    w: BufWriter::with_capacity(1 << 16, f),
-                    name: name.to_string(),
-                },
-                failed: None,
-            });
+            return Output::device(f.map_err(write_error(name, WriteStep::Open))?, name, binary);
         }
         if let Ok(meta) = std::fs::metadata(&path) {
             if !meta.file_type().is_file() {
@@ -799,18 +789,7 @@ impl Output {
                     .write(true)
                     .open(&path)
                     .map_err(write_error(name, WriteStep::Open))?;
-                // `-o /dev/stdout` or `-o /dev/tty` on a terminal: refused
-                // as `-` is, or the picture's bytes would garble the screen.
-                if binary && f.is_terminal() {
-                    return Err(IoError::BinaryToTerminal);
-                }
-                return Ok(Output {
-                    inner: OutputInner::Device {
-                        w: BufWriter::with_capacity(1 << 16, f),
-                        name: name.to_string(),
-                    },
-                    failed: None,
-                });
+                return Output::device(f, name, binary);
             }
         }
         if std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink()) {
@@ -858,6 +837,23 @@ impl Output {
                 path,
                 written: 0,
                 started: 0,
+            },
+            failed: None,
+        })
+    }
+
+    /// Output written straight to `f`, a device, pipe or descriptor named
+    /// `name`: `binary` output to a terminal (`-o /dev/stdout` or `-o
+    /// /dev/tty` on one) is refused as `-` is, or the picture's bytes would
+    /// garble the screen.
+    fn device(f: std::fs::File, name: &str, binary: bool) -> Result<Output, IoError> {
+        if binary && f.is_terminal() {
+            return Err(IoError::BinaryToTerminal);
+        }
+        Ok(Output {
+            inner: OutputInner::Device {
+                w: BufWriter::with_capacity(1 << 16, f),
+                name: name.to_string(),
             },
             failed: None,
         })
