@@ -1381,7 +1381,6 @@ clitest!(
         // the descriptor, as `-o -` does, after what the file held.
         let brick = repo("fixtures/patterns/brick.pat");
         let brick = brick.to_str().unwrap();
-        let tool = env!("CARGO_BIN_EXE_pat-tile");
         let pat = dir
             .cmd("pat-tile")
             .args(["--pat", "--size", "16x16", brick, "-o", "-"])
@@ -1389,15 +1388,8 @@ clitest!(
         dir.write("log", "KEEP\n");
         let names = ["/dev/stdout", "/dev/fd/1", "/proc/self/fd/1"];
         for name in names {
-            let status = std::process::Command::new("sh")
-                .current_dir(dir.path())
-                .arg("-c")
-                .arg(format!(
-                    "'{tool}' --pat --size 16x16 '{brick}' -o {name} >> log"
-                ))
-                .status()
-                .unwrap();
-            assert!(status.success(), "{name}");
+            let script = format!("pat-tile --pat --size 16x16 '{brick}' -o {name} >> log");
+            assert!(sh(dir.path(), &script).status.success(), "{name}");
         }
         let mut expected = b"KEEP\n".to_vec();
         for _ in names {
@@ -1405,15 +1397,10 @@ clitest!(
         }
         assert_eq!(dir.read("log"), expected);
         // What the group writes before and after stays too.
-        let status = std::process::Command::new("sh")
-        .current_dir(dir.path())
-        .arg("-c")
-        .arg(format!(
-            "{{ echo HEADER; '{tool}' --pat --size 16x16 '{brick}' -o /dev/stdout; echo FOOTER; }} > group"
-        ))
-        .status()
-        .unwrap();
-        assert!(status.success());
+        let script = format!(
+            "{{ echo HEADER; pat-tile --pat --size 16x16 '{brick}' -o /dev/stdout; echo FOOTER; }} > group"
+        );
+        assert!(sh(dir.path(), &script).status.success());
         let mut expected = b"HEADER\n".to_vec();
         expected.extend_from_slice(&pat);
         expected.extend_from_slice(b"FOOTER\n");
@@ -1461,20 +1448,14 @@ clitest!(
         let f = std::fs::File::create(dir.path().join("huge.png")).unwrap();
         std::io::Write::write_all(&mut &f, &png).unwrap();
         f.set_len(3 << 30).unwrap(); // sparse: no disk used
-        let tool = env!("CARGO_BIN_EXE_pat-from-image");
-        let out = std::process::Command::new("sh")
-            .current_dir(dir.path())
-            .arg("-c")
-            .arg(format!(
-                "ulimit -v 1048576; exec '{tool}' huge.png -o out.pat"
-            ))
-            .output()
-            .unwrap();
-        assert_eq!(out.status.code(), Some(1));
+        let err = sh_fails(
+            dir.path(),
+            "ulimit -v 1048576; exec pat-from-image huge.png -o out.pat",
+        );
         assert_eq!(
-        String::from_utf8_lossy(&out.stderr),
-        "pat-from-image: error: huge.png: is larger than the 2147549184 bytes this input may have\n"
-    );
+            err,
+            "pat-from-image: error: huge.png: is larger than the 2147549184 bytes this input may have\n"
+        );
         assert!(!dir.path().join("out.pat").exists());
     }
 );
@@ -1634,13 +1615,11 @@ clitest!(
         // Each step or instance fine alone, not together: the polygons were
         // dropped with at most a warning, exit 0 (a hostile-input review).
         let a = r#"{"object": "a", "records": [{"vertices": [[0,0,0],[10,0,0],[0,10,0]], "color": [255,0,0]}]}"#;
-        dir.write(
-        "nested.json",
-        format!(
+        let nested = format!(
             "{a}\n{{\"object\": \"b\", \"records\": [{{\"instance\": \"a\", \"transform\": {{\"translate\": [1e308,0,0]}}}}]}}\n\
              {{\"instance\": \"b\", \"transform\": {{\"translate\": [1e308,0,0]}}}}\n"
-        ),
-    );
+        );
+        dir.write("nested.json", &nested);
         dir.write(
         "steps.json",
         format!(
@@ -1673,10 +1652,7 @@ clitest!(
             ));
         assert!(!dir.path().join("out.png").exists());
         // Large but finite together: drawn.
-        dir.write(
-            "fine.json",
-            dir_text(&dir, "nested.json").replace("1e308", "1e300"),
-        );
+        dir.write("fine.json", nested.replace("1e308", "1e300"));
         dir.cmd("scene-render")
             .args(["--size", "8x8", "fine.json", "-o", "out.png"])
             .assert()
@@ -1684,13 +1660,10 @@ clitest!(
     }
 );
 
-fn dir_text(dir: &crate::util::Dir, name: &str) -> String {
-    String::from_utf8(dir.read(name)).unwrap()
-}
-
 clitest!(help_and_version_that_cannot_be_written_are_errors, |dir| {
     // `--help > /dev/full` and `--help >&-` said nothing and exited 0 (a
     // hostile-input review); a reader that stops early is no error.
+    let full = "writing standard output: No space left on device (os error 28)";
     for tool in [
         "pat-from-image",
         "pat-info",
@@ -1698,50 +1671,16 @@ clitest!(help_and_version_that_cannot_be_written_are_errors, |dir| {
         "polyfill3",
         "scene-render",
     ] {
-        let bin = assert_cmd::cargo::cargo_bin(tool);
-        for (flag, redirect, code, said) in [
-            (
-                "--help",
-                "> /dev/full",
-                1,
-                "writing standard output: No space left on device",
-            ),
-            (
-                "--version",
-                "> /dev/full",
-                1,
-                "writing standard output: No space left on device",
-            ),
-            ("--help", ">&-", 1, "standard output is closed"),
-            ("--help", "| head -c 1 > /dev/null", 0, ""),
+        for (script, said) in [
+            (format!("{tool} --help > /dev/full"), full),
+            (format!("{tool} --version > /dev/full"), full),
+            (format!("{tool} --help >&-"), "standard output is closed"),
         ] {
-            let out = std::process::Command::new("bash")
-                .current_dir(dir.path())
-                .arg("-c")
-                .arg(format!(
-                    "set -o pipefail; '{}' {flag} {redirect}",
-                    bin.display()
-                ))
-                .output()
-                .unwrap();
-            let stderr = String::from_utf8_lossy(&out.stderr);
-            assert_eq!(
-                out.status.code(),
-                Some(code),
-                "{tool} {flag} {redirect}: {stderr}"
-            );
-            if code == 0 {
-                assert_eq!(stderr, "", "{tool} {flag} {redirect}");
-            } else {
-                assert_eq!(
-                    stderr,
-                    format!("{tool}: error: {said}\n").replace(
-                        "No space left on device",
-                        "No space left on device (os error 28)",
-                    )
-                );
-            }
+            let err = sh_fails(dir.path(), &script);
+            assert_eq!(err, format!("{tool}: error: {said}\n"), "{script}");
         }
+        let (status, said) = through_closed_pipe(dir.path(), &format!("{tool} --help"));
+        assert_eq!((status.as_str(), said.as_str()), ("0", ""), "{tool}");
     }
 });
 
