@@ -107,10 +107,6 @@ pub fn nth_item<R: BufRead + Send>(
                 .named(source),
             ))
         };
-        let keep = |r: Record, drawn: &mut Vec<Record>| {
-            drawn.push(r);
-            Ok::<(), Stop>(())
-        };
         match &item {
             Item::Record(r) => drawn.push(r.clone()),
             Item::Light(_) => {}
@@ -124,12 +120,17 @@ pub fn nth_item<R: BufRead + Send>(
                 objects.define(def.clone()).map_err(|e| e.named(source))?;
                 affordable(objects.walk(&def.name))?;
                 objects.expand(Item::Instance(as_placed), source, &mut |r| {
-                    keep(r, &mut drawn)
+                    drawn.push(r);
+                    Ok::<(), Stop>(())
                 })?;
             }
             Item::Instance(inst) => {
                 affordable(objects.walk(&inst.object))?;
-                objects.expand(item.clone(), source, &mut |r| keep(r, &mut drawn))?
+                // Within the budget: every record drawn is kept.
+                objects.expand(item.clone(), source, &mut |r| {
+                    drawn.push(r);
+                    Ok::<(), Stop>(())
+                })?
             }
         }
         found = Some((item, drawn));
