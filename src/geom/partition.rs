@@ -6,7 +6,9 @@
 //! inclusive loop emits degenerate polygons along the far edges. Here:
 //!
 //! 1. The polygon is sliced into horizontal strips, one per grid row: two
-//!    clips per row line, O(V) per row (not per cell).
+//!    clips per row line, of the vertices whose edges reach the row
+//!    (`reach`: the same strip as from the whole ring, at the cost of what
+//!    the strip holds, where clipping the whole ring took O(V) per row).
 //! 2. In each strip the columns touched by a polygon edge are found from the
 //!    edges' x-extents; only those *boundary* cells are clipped, against the
 //!    strip's polygon (a handful of vertices, whatever V is). The runs of
@@ -32,11 +34,13 @@
 //! Self-intersecting polygons are outside the contract (docs/stream-format.md asks for
 //! planar polygons; the result is then the clip of the signed regions).
 
+mod reach;
 mod tidy;
 
 use super::clip::{clip_closed, clip_tagged, split_on_border, Axis, TVertex, Tag};
 use super::plane::{newell_normal, signed_area, PlanePolygon};
 use glam::{DVec2, DVec3};
+use reach::{Reach, REACH_FROM_VERTICES};
 use tidy::{drop_spikes, simple_in_world, Part, WorldPiece};
 pub use tidy::{simple_on_plane, OnPlane};
 
@@ -304,6 +308,16 @@ pub struct Partitioner {
     run: Vec<TVertex>,
     /// Parts split off a piece that touched itself (`tidy`).
     parts: Vec<Part>,
+    /// The edges that reach each row, and the ring a row is cut from
+    /// (`reach`): for polygons of [`REACH_FROM_VERTICES`] or more.
+    rows: Reach,
+    row_ring: Vec<TVertex>,
+    /// The same for the columns of a long strip, and of a long slab (a
+    /// concave strip's run of boundary columns); the ring a slab or a cell
+    /// is cut from.
+    cols_reach: Reach,
+    slab_reach: Reach,
+    cell_ring: Vec<TVertex>,
 }
 
 impl Partitioner {
@@ -343,10 +357,23 @@ impl Partitioner {
         let incr = grid.place.incr;
         let min_area = (MIN_PIECE_AREA_REL * incr.min(extent) * extent)
             .min(MIN_PIECE_AREA_OF_POLYGON * signed_area(orig));
+        let by_reach = orig.len() >= REACH_FROM_VERTICES;
+        if by_reach {
+            self.rows.start(&self.base, Axis::Y, |y| grid.row_of(y));
+        }
         for j in grid.j0..=grid.j1 {
             let (ylo, yhi) = (grid.gy(j), grid.gy(j + 1));
+            // The same strip from the vertices that reach the row.
+            let ring = if by_reach {
+                let band = ((j, j), (ylo, yhi));
+                self.rows
+                    .ring(band.0, band.1, &self.base, Axis::Y, &mut self.row_ring);
+                &self.row_ring
+            } else {
+                &self.base
+            };
             clip_band(
-                &self.base,
+                ring,
                 orig,
                 Axis::Y,
                 (ylo, yhi),
@@ -380,6 +407,13 @@ impl Partitioner {
                 }
             }
             self.ranges.sort_unstable();
+            // A long strip's slabs and cells are cut from the vertices that
+            // reach their columns.
+            let strip_by_reach = n >= REACH_FROM_VERTICES;
+            if strip_by_reach {
+                self.cols_reach
+                    .start(&self.strip, Axis::X, |x| grid.col_of(x));
+            }
             let kstart = grid.col_of(sx0).max(grid.k0);
             let kend = grid.col_of(sx1).min(grid.k1);
             let rb_lo = frame.row_base(ylo);
@@ -438,12 +472,23 @@ impl Partitioner {
                 // cross it): cut out this run's slab first, so that each cell
                 // clips only the few vertices of its own run. The slab's
                 // bridges are undone by `split_on_border` below.
-                let source = if convex || bhi == cursor {
-                    &self.strip
-                } else {
+                let slab = !(convex || bhi == cursor);
+                if slab {
                     let (x0, x1) = (grid.gx(cursor), grid.gx(bhi + 1));
+                    let ring = if strip_by_reach {
+                        self.cols_reach.ring(
+                            (cursor, bhi),
+                            (x0, x1),
+                            &self.strip,
+                            Axis::X,
+                            &mut self.cell_ring,
+                        );
+                        &self.cell_ring
+                    } else {
+                        &self.strip
+                    };
                     clip_band(
-                        &self.strip,
+                        ring,
                         orig,
                         Axis::X,
                         (x0, x1),
@@ -451,15 +496,33 @@ impl Partitioner {
                         &mut self.tmp,
                         &mut self.run,
                     );
-                    &self.run
+                }
+                let source = if slab { &self.run } else { &self.strip };
+                // Cells of a long source, one by one: those of the strip from
+                // its table (a slab took no band of it), those of a long slab
+                // (a comb's teeth in one run) from a table of their own.
+                let mut cell_reach = if !slab {
+                    strip_by_reach.then_some(&mut self.cols_reach)
+                } else if source.len() >= REACH_FROM_VERTICES {
+                    self.slab_reach.start(source, Axis::X, |x| grid.col_of(x));
+                    Some(&mut self.slab_reach)
+                } else {
+                    None
                 };
                 for k in cursor..=bhi {
                     if !sink.wants(k, j) {
                         continue;
                     }
                     let (xl, xr) = (grid.gx(k), grid.gx(k + 1));
+                    let ring = match cell_reach.as_deref_mut() {
+                        Some(reach) => {
+                            reach.ring((k, k), (xl, xr), source, Axis::X, &mut self.cell_ring);
+                            &self.cell_ring
+                        }
+                        None => source,
+                    };
                     clip_band(
-                        source,
+                        ring,
                         orig,
                         Axis::X,
                         (xl, xr),
