@@ -1,6 +1,6 @@
 complete -c pat-from-image -s o -l output -d 'Output .pat file; `-` is standard output. Written only if the whole conversion succeeds' -r
 complete -c pat-from-image -l size -d 'Side of the pattern in texels (`N` or `NxN`): a multiple of 16 from 16 to 4096' -r
-complete -c pat-from-image -l colors -d 'Number of colours to choose, 1 to 256. Images with this many distinct colours or fewer keep exactly their colours' -r
+complete -c pat-from-image -l colors -d 'Number of colours to choose, 1 to 256. An image of this many distinct colours or fewer keeps exactly its colours if it is not resampled (its centred square, or the `--crop`, is already SIZE pixels a side); resampling blends colours' -r
 complete -c pat-from-image -l dither -d 'How pixels take palette colours. `none` (the default) keeps texels crisp and tiles seamlessly, which suits texture patterns best; `floyd-steinberg` diffuses the error (in linear light) for smooth gradients; `ordered` uses an 8x8 Bayer matrix, whose regular texture also tiles' -r -f -a "none\t'Each pixel takes its nearest palette colour: crisp texels, best PSNR'
 floyd-steinberg\t'Error diffusion in linear light, serpentine scan'
 ordered\t'8x8 Bayer threshold matrix: a regular texture that tiles cleanly'"

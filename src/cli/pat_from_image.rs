@@ -63,8 +63,10 @@ pub struct Args {
     #[arg(long, default_value_t = 64, value_name = "N", value_parser = super::parse_pattern_side)]
     pub size: u64,
 
-    /// Number of colours to choose, 1 to 256. Images with this many distinct
-    /// colours or fewer keep exactly their colours.
+    /// Number of colours to choose, 1 to 256. An image of this many distinct
+    /// colours or fewer keeps exactly its colours if it is not resampled (its
+    /// centred square, or the `--crop`, is already SIZE pixels a side);
+    /// resampling blends colours.
     #[arg(long, default_value_t = DEFAULT_COLORS as u64, value_name = "K", conflicts_with = "palette")]
     pub colors: u64,
 
