@@ -70,7 +70,9 @@ seen from the front; texel column floor((x - xmin)/incr - horz) mod SIZE, row \
 floor((y - ymin)/incr - vert) mod SIZE. Concave polygons are supported; a \
 cell whose piece of a concave polygon falls apart gives one polygon per part. \
 Only pieces with positive area are written, and neighbouring cells share \
-their vertices bit for bit.\n\n\
+their vertices bit for bit, except where a piece that rounding folded was \
+mended: there the two may meet at a T-junction whose gap is within rounding \
+(docs/polyfill3.md, The partition).\n\n\
 --uv does not partition: each \"object\" polygon (rect, circle and arc \
 flattened first) is written whole, with \"uv\" (its placement's texel \
 coordinates at each vertex) and \"pattern\": {\"file\", \"mode\": \"uv\"}, \
