@@ -86,7 +86,9 @@ pub struct Args {
 
     /// Background colour (`r,g,b` or `#rrggbb`), or `none`: what polygons
     /// leave uncovered is transparent, and the image carries their coverage
-    /// as alpha (PNG, PAM; twice the render time).
+    /// as alpha (PNG, PAM). The frame is drawn twice: 1.6x the whole
+    /// process's time on 10,000 random triangles in one run
+    /// (bench/RESULTS-same-images.md).
     #[arg(long, value_name = "COLOR", default_value = "0,0,0")]
     pub background: BackgroundColor,
 
@@ -114,7 +116,10 @@ pub struct Args {
 
     /// Anti-aliasing: none (pixel centres), ss<N> (N = k*k samples on a k x k
     /// grid, N up to 256), or exact (the exact visible area of every polygon in
-    /// each pixel, box filter).
+    /// each pixel, box filter; a textured fragment meeting more than 65,536
+    /// texels, 16,384 with transparent texels, or a stripe fragment crossing
+    /// more than 65,536 map-sample boundaries is estimated instead, and reported:
+    /// docs/rendering.md, Where exactness holds).
     // This doc comment is the flag's --help text, where `ss<N>` is meant
     // literally; rustdoc would read `<N>` as an unclosed HTML tag.
     #[allow(rustdoc::invalid_html_tags)]
@@ -125,10 +130,13 @@ pub struct Args {
     #[arg(long, value_name = "E", hide = true, allow_hyphen_values = true)]
     pub max_error: Option<String>,
 
-    /// Render the reference image instead (each pixel the exact average of the
+    /// Render the reference image instead (each pixel the average of the
     /// scene over its square in linear light, by an independent, slower
     /// method: exact along lines, exact between events along y); its own error
-    /// estimate is reported on standard error.
+    /// estimate is reported on standard error, with the number of pixels
+    /// whose 8-bit value it leaves uncertain (pixels meeting more than 1,024
+    /// texel lines or a plane's horizon, for one): it is no ground truth there
+    /// (docs/rendering.md, Where exactness holds).
     #[arg(long, conflicts_with = "aa")]
     pub reference: bool,
 

@@ -68,7 +68,10 @@ pub struct TextureArgs {
     pub no_perspective_correction: bool,
 
     /// How a textured pixel is computed from the pattern: box (the exact
-    /// area integral of the texels under the pixel, crisp), point, bilinear
+    /// area integral of the texels under the pixel, crisp, for fragments
+    /// meeting up to 65,536 texels, 16,384 with transparent texels; beyond,
+    /// the EWA estimate, reported: docs/rendering.md, Where exactness holds),
+    /// point, bilinear
     /// (the base level), mip-point, mip-bilinear (the nearest MIP level),
     /// mip-point-linear, trilinear (the two nearest levels, mixed: XGL's six
     /// methods), ewa (elliptical weighted average, anisotropic). Sets both
