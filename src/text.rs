@@ -610,9 +610,29 @@ pub fn shorten_long_numbers(message: &str) -> std::borrow::Cow<'_, str> {
     std::borrow::Cow::Owned(out)
 }
 
+/// `message` on one line, its control characters written as Rust escapes
+/// (`\n`, `\t`, `\u{1b}`): an error or a warning echoes the user's file
+/// names, and a name holding a newline split the message over two lines
+/// (a script reading one line a message lost the rest), one holding an
+/// escape sequence could rewrite the terminal.
+pub fn one_line(message: &str) -> std::borrow::Cow<'_, str> {
+    if !message.chars().any(char::is_control) {
+        return std::borrow::Cow::Borrowed(message);
+    }
+    let mut out = String::with_capacity(message.len() + 8);
+    for c in message.chars() {
+        if c.is_control() {
+            out.extend(c.escape_debug());
+        } else {
+            out.push(c);
+        }
+    }
+    std::borrow::Cow::Owned(out)
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{readable, shorten_long_numbers};
+    use super::{one_line, readable, shorten_long_numbers};
 
     #[test]
     fn long_numbers_in_messages_get_an_exponent() {
@@ -666,5 +686,13 @@ mod tests {
         ] {
             assert_eq!(readable(x), want, "{x}");
         }
+    }
+
+    #[test]
+    fn one_line_escapes_control_characters_and_keeps_the_rest() {
+        assert_eq!(one_line("a.png: not found"), "a.png: not found");
+        assert_eq!(one_line("a\nb.png: é"), "a\\nb.png: é");
+        assert_eq!(one_line("x\u{1b}[2J\ty\r"), "x\\u{1b}[2J\\ty\\r");
+        assert!(matches!(one_line("plain"), std::borrow::Cow::Borrowed(_)));
     }
 }

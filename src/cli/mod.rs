@@ -272,10 +272,7 @@ pub fn report(tool: &str, result: anyhow::Result<()>) -> i32 {
         Err(e) if is_broken_pipe(&e) => EXIT_OK,
         Err(e) if e.downcast_ref::<AlreadyReported>().is_some() => EXIT_FAILURE,
         Err(e) => {
-            eprintln_or_drop!(
-                "{tool}: error: {}",
-                crate::text::shorten_long_numbers(&in_flag_words(&e))
-            );
+            print_error(tool, &e);
             if is_usage_error(&e) {
                 EXIT_USAGE
             } else {
@@ -283,6 +280,17 @@ pub fn report(tool: &str, result: anyhow::Result<()>) -> i32 {
             }
         }
     }
+}
+
+/// Prints an error as `TOOL: error: ...` on one line, the form every tool
+/// uses: by [`report`] as a run ends, and by `pat-info` for each file it
+/// cannot read before it goes on to the next.
+pub fn print_error(tool: &str, e: &anyhow::Error) {
+    let message = in_flag_words(e);
+    eprintln_or_drop!(
+        "{tool}: error: {}",
+        crate::text::one_line(&crate::text::shorten_long_numbers(&message))
+    );
 }
 
 /// Whether an error is the user's flags' fault (status 2): a
@@ -423,7 +431,7 @@ pub fn warn(tool: &str, message: impl fmt::Display) {
     let message = message.to_string();
     eprintln_or_drop!(
         "{tool}: warning: {}",
-        crate::text::shorten_long_numbers(&message)
+        crate::text::one_line(&crate::text::shorten_long_numbers(&message))
     );
 }
 

@@ -4,7 +4,7 @@
 //! examine commands).
 
 use super::{AlreadyReported, IntPair};
-use crate::cli::{eprintln_or_drop, usage_bail};
+use crate::cli::usage_bail;
 use crate::io::{display_name, read_input};
 use crate::pat::{Pattern, Seam};
 use crate::stream::{Item, Record};
@@ -155,7 +155,7 @@ pub fn run(args: Args) -> Result<()> {
                     let map = ModulationMap::parse(&b, name).map_err(anyhow::Error::new);
                     match map.and_then(|m| map_report(&m, name, &args, colour)) {
                         Err(e) => {
-                            eprintln_or_drop!("pat-info: error: {e:#}");
+                            super::print_error("pat-info", &e);
                             failures += 1;
                         }
                         Ok(Report::Json(j)) => reports.push(j),
@@ -181,7 +181,7 @@ pub fn run(args: Args) -> Result<()> {
         let (pattern, at) = match result {
             Ok(ok) => ok,
             Err(e) => {
-                eprintln_or_drop!("pat-info: error: {e:#}");
+                super::print_error("pat-info", &e);
                 failures += 1;
                 continue;
             }

@@ -1702,3 +1702,42 @@ clitest!(rayon_num_threads_is_bounded_as_threads_is, |dir| {
     );
     run(&["--threads", "2"]).assert().success();
 });
+
+/// A file name holding a newline and a terminal escape, echoed in an
+/// error: the message stays one line, the characters written as
+/// escapes (`text::one_line`), so that a script reading one line a message
+/// gets all of it and the terminal is not rewritten.
+#[test]
+fn a_name_with_control_characters_is_echoed_on_one_line() {
+    let d = crate::util::Dir::new("control_names");
+    let name = "no\nsuch\u{1b}[2J.json";
+    for (tool, args) in [
+        ("pat-from-image", vec![name, "-o", "out.pat"]),
+        ("pat-info", vec![name]),
+        ("pat-tile", vec![name, "--size", "8x8", "-o", "out.png"]),
+        ("polyfill3", vec![name]),
+        ("scene-render", vec![name, "-o", "out.png"]),
+    ] {
+        let out = d.cmd(tool).args(&args).output().unwrap();
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(out.status.code(), Some(1), "{tool}: {err}");
+        assert_eq!(err.lines().count(), 1, "{tool}: {err:?}");
+        assert!(err.contains(r"no\nsuch\u{1b}[2J.json"), "{tool}: {err:?}");
+        assert!(!err.contains('\u{1b}'), "{tool}: {err:?}");
+    }
+    // A name read from a record (a pattern file's, written with `\n` in
+    // its JSON string) is echoed the same way.
+    d.write(
+        "s.json",
+        br#"{"vertices":[[0,0,0],[4,0,0],[0,4,0]],"color":[1,2,3],"pattern":{"file":"a\nb.pat","incr":1}}"#,
+    );
+    let out = d
+        .cmd("scene-render")
+        .args(["s.json", "-o", "o.png"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err:?}");
+    assert!(err.contains(r"a\nb.pat"), "{err:?}");
+}
