@@ -6,6 +6,8 @@ use crate::error::OptionError;
 use std::io::{self, BufWriter, IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
 
+mod pnm_samples;
+
 /// Checks that `name` can be written, as [`Output::create`] would, and
 /// writes nothing: for tools to refuse a missing directory or a terminal
 /// before hours of work rather than after.
@@ -114,6 +116,22 @@ pub enum IoError {
         /// What is wrong, and where.
         #[source]
         error: PfmError,
+    },
+    /// A netpbm picture with a sample over its header's maxval.
+    #[error(
+        "{input}: the sample {value} at pixel ({x}, {y}) is over the header's maxval {maxval}"
+    )]
+    OverMaxval {
+        /// The input's name, as errors show it.
+        input: String,
+        /// The sample.
+        value: u32,
+        /// The header's maxval.
+        maxval: u32,
+        /// Its pixel (0-based, row 0 at the top).
+        x: u64,
+        /// Its row.
+        y: u64,
     },
     /// A floating-point picture with a sample that is not a finite number.
     #[error("{input}: the sample {value} at pixel ({x}, {y}) is not a finite number")]
@@ -1768,12 +1786,22 @@ fn jpeg_is_complete(bytes: &[u8]) -> bool {
 
 /// A decoder for `bytes`, its format guessed from the content, before any
 /// pixel is decoded (so sizes can be checked first). A JPEG cut short is
-/// refused here ([`jpeg_is_complete`]).
+/// refused here ([`jpeg_is_complete`]), and so is a netpbm picture with a
+/// sample over its maxval (`pnm_samples`).
 fn open_decoder<'a>(bytes: &'a [u8], name: &str) -> Result<impl image::ImageDecoder + 'a, IoError> {
     if image::guess_format(bytes).ok() == Some(image::ImageFormat::Jpeg) && !jpeg_is_complete(bytes)
     {
         return Err(IoError::TruncatedJpeg {
             input: name.to_string(),
+        });
+    }
+    if let Some(o) = pnm_samples::first_over_maxval(bytes) {
+        return Err(IoError::OverMaxval {
+            input: name.to_string(),
+            value: o.value,
+            maxval: o.maxval,
+            x: o.x,
+            y: o.y,
         });
     }
     let mut reader = image::ImageReader::new(io::Cursor::new(bytes))

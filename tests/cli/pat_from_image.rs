@@ -431,3 +431,33 @@ clitest!(
             .stderr("");
     }
 );
+
+/// A netpbm picture whose sample exceeds its header's maxval is refused,
+/// naming the sample, its pixel and the maxval, as netpbm's programs refuse
+/// it; the `image` crate saturated it to white. The same picture within its
+/// maxval is read, and a scene naming the bad one as a texture is refused
+/// the same way.
+#[test]
+fn a_netpbm_sample_over_its_maxval_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bad = b"P5\n16 16\n100\n".to_vec();
+    bad.extend(std::iter::repeat_n(50u8, 256));
+    bad[13 + 16 * 3 + 5] = 200;
+    std::fs::write(dir.path().join("bad.pgm"), &bad).unwrap();
+    tool()
+        .current_dir(dir.path())
+        .args(["bad.pgm", "-o", "out.pat"])
+        .assert()
+        .code(1)
+        .stderr(contains(
+            "bad.pgm: the sample 200 at pixel (5, 3) is over the header's maxval 100",
+        ));
+    assert!(!dir.path().join("out.pat").exists());
+    bad[13 + 16 * 3 + 5] = 100;
+    std::fs::write(dir.path().join("good.pgm"), &bad).unwrap();
+    tool()
+        .current_dir(dir.path())
+        .args(["good.pgm", "-o", "out.pat"])
+        .assert()
+        .success();
+}
