@@ -94,6 +94,15 @@ fn coord(p: DVec2, axis: Axis) -> f64 {
     }
 }
 
+/// A polygon's vertices as a ring to clip: vertex `i` tagged with its edge
+/// to vertex `i + 1`, whose crossings [`clip_tagged`] makes from `points`.
+pub fn tagged(points: &[DVec2]) -> impl Iterator<Item = TVertex> + '_ {
+    points.iter().enumerate().map(|(i, &p)| TVertex {
+        p,
+        tag: Tag::Edge(i as u32),
+    })
+}
+
 /// Clips `input` to the half-plane `coord >= c` (`keep_above`) or `coord <= c`,
 /// appending the result to `out` (cleared first). Points on the line are
 /// inside. Crossings of `Edge(i)` segments come from `orig[i]`–`orig[i+1]`;
@@ -449,16 +458,6 @@ mod tests {
     use super::*;
     use crate::geom::plane::signed_area;
 
-    fn tagged(p: &[DVec2]) -> Vec<TVertex> {
-        p.iter()
-            .enumerate()
-            .map(|(i, &p)| TVertex {
-                p,
-                tag: Tag::Edge(i as u32),
-            })
-            .collect()
-    }
-
     #[test]
     fn crossings_do_not_depend_on_direction() {
         let a = DVec2::new(0.1, 0.7);
@@ -481,13 +480,29 @@ mod tests {
             DVec2::new(0.0, 2.0),
         ];
         let mut out = Vec::new();
-        clip_tagged(&tagged(&sq), &sq, Axis::X, 0.5, true, (0.0, 2.0), &mut out);
+        clip_tagged(
+            &tagged(&sq).collect::<Vec<_>>(),
+            &sq,
+            Axis::X,
+            0.5,
+            true,
+            (0.0, 2.0),
+            &mut out,
+        );
         let pts: Vec<DVec2> = out.iter().map(|v| v.p).collect();
         assert_eq!(signed_area(&pts), 3.0);
         // The new edge along x = 0.5 is tagged as a grid line.
         assert!(out.iter().any(|v| v.tag == Tag::Vertical));
         // A line through a vertex adds no duplicate points.
-        clip_tagged(&tagged(&sq), &sq, Axis::X, 2.0, true, (0.0, 2.0), &mut out);
+        clip_tagged(
+            &tagged(&sq).collect::<Vec<_>>(),
+            &sq,
+            Axis::X,
+            2.0,
+            true,
+            (0.0, 2.0),
+            &mut out,
+        );
         assert_eq!(out.len(), 2);
     }
 

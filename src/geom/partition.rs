@@ -37,7 +37,7 @@
 mod reach;
 mod tidy;
 
-use super::clip::{clip_closed, clip_tagged, split_on_border, Axis, TVertex, Tag};
+use super::clip::{clip_closed, clip_tagged, split_on_border, tagged, Axis, TVertex, Tag};
 use super::plane::{newell_normal, signed_area, PlanePolygon};
 use glam::{DVec2, DVec3};
 use reach::{Reach, REACH_FROM_VERTICES};
@@ -335,11 +335,7 @@ impl Partitioner {
         let frame = &poly.frame;
         let orig = &poly.points;
         self.base.clear();
-        self.base
-            .extend(orig.iter().enumerate().map(|(i, &p)| TVertex {
-                p,
-                tag: Tag::Edge(i as u32),
-            }));
+        self.base.extend(tagged(orig));
         // ex * gx(k) for every column line: a corner is row_base + this.
         // gx(k), and ex * gx(k), for every column line: a corner is
         // row_base + ex * gx(k), the same bits as Frame::to_world gives.

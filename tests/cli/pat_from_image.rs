@@ -453,6 +453,20 @@ fn a_netpbm_sample_over_its_maxval_is_refused() {
             "bad.pgm: the sample 200 at pixel (5, 3) is over the header's maxval 100",
         ));
     assert!(!dir.path().join("out.pat").exists());
+    std::fs::write(
+        dir.path().join("s.json"),
+        r#"{"vertices":[[0,0,0],[8,0,0],[0,8,0]],"color":[1,2,3],"pattern":{"file":"bad.pgm","incr":1}}"#,
+    )
+    .unwrap();
+    Command::cargo_bin("scene-render")
+        .unwrap()
+        .current_dir(dir.path())
+        .args(["s.json", "--size", "8x8", "-o", "s.png"])
+        .assert()
+        .code(1)
+        .stderr(contains(
+            "bad.pgm: the sample 200 at pixel (5, 3) is over the header's maxval 100",
+        ));
     bad[13 + 16 * 3 + 5] = 100;
     std::fs::write(dir.path().join("good.pgm"), &bad).unwrap();
     tool()

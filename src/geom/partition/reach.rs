@@ -124,19 +124,9 @@ impl Reach {
 mod tests {
     use super::super::{clip_band, Grid, Placement};
     use super::*;
-    use crate::geom::clip::Tag;
+    use crate::geom::clip::tagged;
     use glam::DVec2;
     use proptest::prelude::*;
-
-    fn tagged(orig: &[DVec2]) -> Vec<TVertex> {
-        orig.iter()
-            .enumerate()
-            .map(|(i, &p)| TVertex {
-                p,
-                tag: Tag::Edge(i as u32),
-            })
-            .collect()
-    }
 
     /// Every row's strip from the whole ring and from the kept ring; then,
     /// in each strip, the slab of every run of `run` columns (and of the
@@ -157,7 +147,7 @@ mod tests {
         let Ok(grid) = Grid::new(orig, place) else {
             return Ok(0);
         };
-        let base = tagged(orig);
+        let base: Vec<TVertex> = tagged(orig).collect();
         let (mut rows, mut cols) = (Reach::default(), Reach::default());
         rows.start(&base, Axis::Y, |y| grid.row_of(y));
         let (mut tmp, mut whole, mut ring, mut strip) = (vec![], vec![], vec![], vec![]);
