@@ -62,14 +62,23 @@ pub(super) fn first_over_maxval(bytes: &[u8]) -> Option<OverMaxval> {
         depth: fields,
     };
     if raw {
-        // One whitespace character ends the header.
+        // One whitespace character ends the header; a comment there is
+        // read differently by netpbm and by the decoder, so such a file is
+        // left to the decoder.
+        if bytes.get(at) == Some(&b'#') {
+            return None;
+        }
         raw_over_maxval(bytes.get(at + 1..)?, samples, maxval, shape)
     } else {
-        (0..samples).find_map(|i| {
+        // Up to the first thing that is not a number: the decoder refuses
+        // it, or the data has ended.
+        for i in 0..samples {
             let v = number(bytes, &mut at)?;
-            let value = u32::try_from(v).unwrap_or(u32::MAX);
-            (v > u64::from(maxval)).then(|| shape.over(value, maxval, i))
-        })
+            if v > u64::from(maxval) {
+                return Some(shape.over(u32::try_from(v).unwrap_or(u32::MAX), maxval, i));
+            }
+        }
+        None
     }
 }
 
@@ -97,13 +106,18 @@ fn raw_over_maxval(data: &[u8], samples: u64, maxval: u32, shape: Shape) -> Opti
         })
 }
 
-/// A PAM's header (`WIDTH`, `HEIGHT`, `DEPTH`, `MAXVAL` lines up to
-/// `ENDHDR`), then its raw samples.
+/// A PAM's header (`WIDTH`, `HEIGHT`, `DEPTH`, `MAXVAL` lines up to the
+/// line `ENDHDR`, `#` lines being comments), then its raw samples.
 fn pam_over_maxval(bytes: &[u8]) -> Option<OverMaxval> {
-    let end = memchr::memmem::find(bytes, b"ENDHDR\n")?;
-    let header = std::str::from_utf8(&bytes[..end]).ok()?;
     let (mut width, mut height, mut depth, mut maxval) = (None, None, None, None);
-    for line in header.lines() {
+    let mut at = 0;
+    loop {
+        let len = memchr::memchr(b'\n', bytes.get(at..)?)?;
+        let line = std::str::from_utf8(&bytes[at..at + len]).ok()?;
+        at += len + 1;
+        if line.starts_with('#') {
+            continue;
+        }
         let mut words = line.split_ascii_whitespace();
         let key = words.next();
         let value = words.next().and_then(|w| w.parse::<u64>().ok());
@@ -112,6 +126,7 @@ fn pam_over_maxval(bytes: &[u8]) -> Option<OverMaxval> {
             Some("HEIGHT") => height = value,
             Some("DEPTH") => depth = value,
             Some("MAXVAL") => maxval = value,
+            Some("ENDHDR") => break,
             _ => {}
         }
     }
@@ -124,11 +139,12 @@ fn pam_over_maxval(bytes: &[u8]) -> Option<OverMaxval> {
         width: width.max(1),
         depth: depth.max(1),
     };
-    raw_over_maxval(&bytes[end + 7..], samples, maxval, shape)
+    raw_over_maxval(&bytes[at..], samples, maxval, shape)
 }
 
-/// The next decimal number from `at`, past whitespace and `#` comments (to
-/// the end of their line), as a netpbm header and a plain raster write them.
+/// The next decimal number from `at`, past whitespace (the decoder's: space,
+/// tab, CR, LF, VT, FF) and `#` comments (to the end of their line), as a
+/// netpbm header and a plain raster write them.
 fn number(bytes: &[u8], at: &mut usize) -> Option<u64> {
     loop {
         match bytes.get(*at)? {
@@ -137,7 +153,7 @@ fn number(bytes: &[u8], at: &mut usize) -> Option<u64> {
                     *at += 1;
                 }
             }
-            c if c.is_ascii_whitespace() => *at += 1,
+            b' ' | b'\t' | b'\r' | b'\n' | b'\x0b' | b'\x0c' => *at += 1,
             _ => break,
         }
     }
@@ -189,6 +205,16 @@ mod tests {
         // Full-range samples cannot be over; bitmaps have no maxval.
         assert_eq!(first_over_maxval(b"P5 1 1 255\n\xff"), None);
         assert_eq!(first_over_maxval(b"P4 8 1\n\xff"), None);
+        // Found by a review: a plain header promising 4e9 x 4e9 samples over
+        // no data is not scanned for them (it hung); a vertical tab
+        // separates samples as it does for the decoder.
+        assert_eq!(first_over_maxval(b"P2 4000000000 4000000000 100\n"), None);
+        assert_eq!(first_over_maxval(b"P2 2 1 15\n1\x0b99\n"), at(99, 15, 1, 0));
+        // A PAM comment naming ENDHDR is a comment; a comment right after
+        // a raw header's maxval is left to the decoder.
+        let pam = b"P7\nWIDTH 2\nHEIGHT 1\nDEPTH 1\nMAXVAL 15\n# ENDHDR\nTUPLTYPE GRAYSCALE\nENDHDR\n\x03\x0c";
+        assert_eq!(first_over_maxval(pam), None);
+        assert_eq!(first_over_maxval(b"P5 2 1 15#c\n \x03\x04"), None);
         // Not a header: left to the decoder.
         assert_eq!(first_over_maxval(b"P5 x"), None);
         assert_eq!(first_over_maxval(b"\x89PNG"), None);
