@@ -215,7 +215,8 @@ fn run_in_pool(args: Args) -> Result<()> {
             None => "n/a (no coloured texels)".to_string(),
         };
         eprintln_or_drop!(
-            "pat-from-image: {name}: {size}x{size}, {} colours, {transparent} transparent texels, PSNR {psnr}",
+            "pat-from-image: {}: {size}x{size}, {} colours, {transparent} transparent texels, PSNR {psnr}",
+            crate::text::one_line(name),
             pattern.palette().len()
         );
     }
