@@ -41,8 +41,8 @@
 //! found from an active-edge table: each edge is listed from the cell
 //! before its lowest point to the cell of its highest, and the exact test is
 //! made per band. Before this, a sliver 100,000 texels tall with 50,000
-//! vertices a side took 25.6 s, all of it clipping whole rings, and a comb
-//! of 16,000 teeth in one row 6.4 s (`bench/RESULTS-polyfill3-vertices.md`).
+//! vertices a side took 26.2 s, all of it clipping whole rings, and a comb
+//! of 16,000 teeth in one row 6.5 s (`bench/RESULTS-polyfill3-vertices.md`).
 
 use crate::geom::clip::{Axis, TVertex};
 
