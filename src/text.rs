@@ -614,20 +614,31 @@ pub fn shorten_long_numbers(message: &str) -> std::borrow::Cow<'_, str> {
 /// (`\n`, `\t`, `\u{1b}`): an error or a warning echoes the user's file
 /// names, and a name holding a newline split the message over two lines
 /// (a script reading one line a message lost the rest), one holding an
-/// escape sequence could rewrite the terminal.
+/// escape sequence could rewrite the terminal. The Unicode line and
+/// paragraph separators and the bidirectional embeddings, overrides and
+/// isolates, which are not control characters but break a line or reorder
+/// what a terminal shows, are written as `\u{...}` too.
 pub fn one_line(message: &str) -> std::borrow::Cow<'_, str> {
-    if !message.chars().any(char::is_control) {
+    if !message.chars().any(breaks_a_line) {
         return std::borrow::Cow::Borrowed(message);
     }
     let mut out = String::with_capacity(message.len() + 8);
     for c in message.chars() {
         if c.is_control() {
             out.extend(c.escape_debug());
+        } else if breaks_a_line(c) {
+            out.extend(c.escape_unicode());
         } else {
             out.push(c);
         }
     }
     std::borrow::Cow::Owned(out)
+}
+
+/// Whether [`one_line`] writes `c` as an escape.
+fn breaks_a_line(c: char) -> bool {
+    c.is_control()
+        || matches!(c, '\u{2028}' | '\u{2029}' | '\u{202A}'..='\u{202E}' | '\u{2066}'..='\u{2069}')
 }
 
 #[cfg(test)]
@@ -694,5 +705,11 @@ mod tests {
         assert_eq!(one_line("a\nb.png: é"), "a\\nb.png: é");
         assert_eq!(one_line("x\u{1b}[2J\ty\r"), "x\\u{1b}[2J\\ty\\r");
         assert!(matches!(one_line("plain"), std::borrow::Cow::Borrowed(_)));
+        // A right-to-left override and a line separator: not control
+        // characters, but they reorder or break what is shown.
+        assert_eq!(
+            one_line("a\u{202e}gnp.exe\u{2028}"),
+            "a\\u{202e}gnp.exe\\u{2028}"
+        );
     }
 }

@@ -257,12 +257,33 @@ fn exit_usage(tool: &str, e: clap::Error) -> ! {
         }
         ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => e.exit(),
         _ => {
-            let text = e.render().to_string();
+            let text = with_arguments_on_one_line(e.render().to_string());
             let text = text.strip_prefix("error: ").unwrap_or(&text);
             eprint_or_drop!("{tool}: error: {text}");
             std::process::exit(EXIT_USAGE)
         }
     }
+}
+
+/// Clap's error text with every argument (or `--flag=value`'s value) that
+/// holds a control character written as [`crate::text::one_line`] writes
+/// it: clap's message spans lines of its own (usage, a tip), so it cannot
+/// be put on one line whole, but a newline in an echoed value split the
+/// line that names it.
+fn with_arguments_on_one_line(mut text: String) -> String {
+    let args: Vec<String> = std::env::args_os()
+        .skip(1)
+        .filter_map(|a| a.into_string().ok())
+        .collect();
+    for arg in &args {
+        let value = arg.split_once('=').map(|(_, v)| v);
+        for echoed in [Some(arg.as_str()), value].into_iter().flatten() {
+            if echoed.chars().any(char::is_control) {
+                text = text.replace(echoed, &crate::text::one_line(echoed));
+            }
+        }
+    }
+    text
 }
 
 /// Maps a result to an exit status, printing the error if there is one.

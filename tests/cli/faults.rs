@@ -1725,6 +1725,18 @@ fn a_name_with_control_characters_is_echoed_on_one_line() {
         assert!(err.contains(r"no\nsuch\u{1b}[2J.json"), "{tool}: {err:?}");
         assert!(!err.contains('\u{1b}'), "{tool}: {err:?}");
     }
+    // A flag's value refused by the argument parser: its message keeps
+    // its own lines (usage, a tip), and the value is echoed escaped.
+    for args in [
+        &["--size", "1\n6", "in.png"][..],
+        &["--size=1\n6", "in.png"][..],
+    ] {
+        let out = d.cmd("pat-from-image").args(args).output().unwrap();
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains(r"1\n6"), "{err:?}");
+        assert!(!err.contains("1\n6"), "{err:?}");
+    }
     // A name read from a record (a pattern file's, written with `\n` in
     // its JSON string) is echoed the same way.
     d.write(
