@@ -12,7 +12,7 @@ use glam::DVec3;
 /// `v.length()` and `v / v.length()` lose nothing: false for components
 /// near 1e155 and above (the square overflows to infinity) or near 1e-154
 /// and below (it underflows to zero or loses digits).
-fn plain_length_is_exact(v: DVec3) -> bool {
+pub fn plain_length_is_exact(v: DVec3) -> bool {
     let sq = v.length_squared();
     sq.is_finite() && sq >= f64::MIN_POSITIVE
 }
@@ -56,14 +56,7 @@ pub fn length(v: DVec3) -> f64 {
 /// the square of `[1e200, 0, 0]` overflows (its length was infinite, so it
 /// had "no direction") and that of `[1e-200, 0, 0]` underflows to 0.
 pub fn direction(v: DVec3) -> Option<DVec3> {
-    if !v.is_finite() {
-        return None;
-    }
-    if plain_length_is_exact(v) {
-        return Some(v / v.length());
-    }
-    let w = tame(v);
-    (w != DVec3::ZERO).then(|| w / w.length())
+    to_unit(v, |w| w / w.length())
 }
 
 /// [`direction`] by glam's `normalize()` (`v` times the reciprocal of its
@@ -71,14 +64,20 @@ pub fn direction(v: DVec3) -> Option<DVec3> {
 /// normalized that way, whose ordinary vectors must keep their bits (the
 /// camera's axes: dividing moved a PFM of `bench/same_images.sh` by 7e-15).
 pub fn normalized(v: DVec3) -> Option<DVec3> {
+    to_unit(v, DVec3::normalize)
+}
+
+/// `unit(v)`, or `unit` of `v` [`tame`]d when its squared length would
+/// overflow or underflow; None for the zero vector and non-finite ones.
+fn to_unit(v: DVec3, unit: impl Fn(DVec3) -> DVec3) -> Option<DVec3> {
     if !v.is_finite() {
         return None;
     }
     if plain_length_is_exact(v) {
-        return Some(v.normalize());
+        return Some(unit(v));
     }
     let w = tame(v);
-    (w != DVec3::ZERO).then(|| w.normalize())
+    (w != DVec3::ZERO).then(|| unit(w))
 }
 
 #[cfg(test)]

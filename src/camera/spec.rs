@@ -375,8 +375,8 @@ fn coincide(a: f64, b: f64) -> bool {
 /// for a sine far below [`PARALLEL_SINE`].
 fn parallel(a: DVec3, b: DVec3) -> bool {
     let (a, b) = (crate::vector::tame(a), crate::vector::tame(b));
-    let c = a.cross(b).length_squared();
-    let (a, b) = if a.cross(b) == DVec3::ZERO || (c.is_finite() && c >= f64::MIN_POSITIVE) {
+    let cross = a.cross(b);
+    let (a, b) = if cross == DVec3::ZERO || crate::vector::plain_length_is_exact(cross) {
         (a, b)
     } else {
         (a / a.abs().max_element(), b / b.abs().max_element())
