@@ -25,6 +25,21 @@ struct Shape {
 }
 
 impl Shape {
+    /// A header's numbers as the shape and count of its samples and its
+    /// maxval; `None` for a maxval outside 1..=65535 (the decoder refuses
+    /// it) or more samples than a `u64` counts.
+    fn of(width: u64, height: u64, depth: u64, maxval: u64) -> Option<(Shape, u64, u32)> {
+        let maxval = u32::try_from(maxval)
+            .ok()
+            .filter(|&m| (1..=65535).contains(&m))?;
+        let samples = width.checked_mul(height)?.checked_mul(depth)?;
+        let shape = Shape {
+            width: width.max(1),
+            depth: depth.max(1),
+        };
+        Some((shape, samples, maxval))
+    }
+
     fn over(self, value: u32, maxval: u32, i: u64) -> OverMaxval {
         let pixel = i / self.depth;
         OverMaxval {
@@ -53,14 +68,7 @@ pub(super) fn first_over_maxval(bytes: &[u8]) -> Option<OverMaxval> {
         *value = number(bytes, &mut at)?;
     }
     let [width, height, maxval] = header;
-    let maxval = u32::try_from(maxval)
-        .ok()
-        .filter(|&m| (1..=65535).contains(&m))?;
-    let samples = width.checked_mul(height)?.checked_mul(fields)?;
-    let shape = Shape {
-        width: width.max(1),
-        depth: fields,
-    };
+    let (shape, samples, maxval) = Shape::of(width, height, fields, maxval)?;
     if raw {
         // One whitespace character ends the header; a comment there is
         // read differently by netpbm and by the decoder, so such a file is
@@ -130,15 +138,7 @@ fn pam_over_maxval(bytes: &[u8]) -> Option<OverMaxval> {
             _ => {}
         }
     }
-    let maxval = u32::try_from(maxval?)
-        .ok()
-        .filter(|&m| (1..=65535).contains(&m))?;
-    let (width, depth) = (width?, depth?);
-    let samples = width.checked_mul(height?)?.checked_mul(depth)?;
-    let shape = Shape {
-        width: width.max(1),
-        depth: depth.max(1),
-    };
+    let (shape, samples, maxval) = Shape::of(width?, height?, depth?, maxval?)?;
     raw_over_maxval(&bytes[at..], samples, maxval, shape)
 }
 
