@@ -266,8 +266,7 @@ fn exit_usage(tool: &str, e: clap::Error) -> ! {
 }
 
 /// Clap's error text with every argument (or `--flag=value`'s value) that
-/// holds a control character written as [`crate::text::one_line`] writes
-/// it: clap's message spans lines of its own (usage, a tip), so it cannot
+/// [`crate::text::one_line`] would escape written as it writes it: clap's message spans lines of its own (usage, a tip), so it cannot
 /// be put on one line whole, but a newline in an echoed value split the
 /// line that names it.
 fn with_arguments_on_one_line(mut text: String) -> String {
@@ -278,8 +277,8 @@ fn with_arguments_on_one_line(mut text: String) -> String {
     for arg in &args {
         let value = arg.split_once('=').map(|(_, v)| v);
         for echoed in [Some(arg.as_str()), value].into_iter().flatten() {
-            if echoed.chars().any(char::is_control) {
-                text = text.replace(echoed, &crate::text::one_line(echoed));
+            if let std::borrow::Cow::Owned(escaped) = crate::text::one_line(echoed) {
+                text = text.replace(echoed, &escaped);
             }
         }
     }

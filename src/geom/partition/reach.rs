@@ -46,8 +46,9 @@
 
 use crate::geom::clip::{Axis, TVertex};
 
-/// Below this many vertices a band clips the whole ring: a handful of
-/// comparisons per vertex, less than listing the edges that reach it.
+/// Below this many vertices a band clips the whole ring, as before: a
+/// handful of comparisons per vertex. The threshold is a choice, not a
+/// measured optimum: the polygons the table is for have thousands.
 pub(super) const REACH_FROM_VERTICES: usize = 16;
 
 /// The active-edge table of one ring over the grid lines of one axis.
@@ -316,6 +317,9 @@ mod tests {
         let mut orig: Vec<DVec2> = side(0.8, 0.9).collect();
         orig.extend(side(0.2, 0.7).collect::<Vec<_>>().into_iter().rev());
         let most = pieces_agree(&orig, 1.0, 0.0, 1).unwrap();
-        assert!(most <= 14, "a row kept {most} of {} vertices", orig.len());
+        // A closed band one row tall meets the edges between y = j - 0.5
+        // and j + 1.5: 5 vertices a side, and vertex 0 and the last one,
+        // which always stay (the last is also the last apart from vertex 0).
+        assert!(most <= 12, "a row kept {most} of {} vertices", orig.len());
     }
 }
