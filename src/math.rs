@@ -28,6 +28,50 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     libm::sincos(x)
 }
 
+/// Sine and cosine of `degrees`, for the angles users give in degrees
+/// (placement `rotate`, transforms, camera twist, stripe directions, arcs).
+///
+/// The angle is first reduced to [-180, 180] exactly (`%` is IEEE's exact
+/// remainder, and adding or taking 360 from a remainder beyond ±180 is
+/// exact by Sterbenz's lemma), so a turn more or less gives the same bits
+/// (`rotate` 450 is `rotate` 90; 1e20° was sin of a radian count whose
+/// every digit was rounding). At the multiples of 90° the values are the
+/// exact 0 and ±1 (the cosine of π/2 rounded is 6.1e-17, which left a
+/// point turned onto an axis that fraction of its distance off it: polyfill3
+/// printed `2.220446049250313e-16` where `0.0` belonged). Elsewhere it is
+/// [`sin_cos`] of the reduced angle's radians: within an ulp or so of the
+/// true values, the same bits as before for angles within ±180°. The zero
+/// angle's sine is +0 whatever the sign of the input. NaN and infinities
+/// give NaN.
+pub fn sin_cos_degrees(degrees: f64) -> (f64, f64) {
+    let mut r = degrees % 360.0;
+    if r > 180.0 {
+        r -= 360.0;
+    } else if r < -180.0 {
+        r += 360.0;
+    }
+    match r {
+        0.0 => (0.0, 1.0),
+        90.0 => (1.0, 0.0),
+        -90.0 => (-1.0, 0.0),
+        180.0 | -180.0 => (0.0, -1.0),
+        _ => sin_cos(r.to_radians()),
+    }
+}
+
+/// Tangent of `degrees` within (-90, 90), as for a field of view's half
+/// angle: exact (0, ±1) at 0 and ±45° (`fovy` 90 made `tan(π/4 rounded)` =
+/// 0.9999999999999999, a frustum an ulp wider than asked); [`tan`] of the
+/// radians elsewhere.
+pub fn tan_degrees(degrees: f64) -> f64 {
+    match degrees {
+        0.0 => 0.0,
+        45.0 => 1.0,
+        -45.0 => -1.0,
+        _ => tan(degrees.to_radians()),
+    }
+}
+
 /// Tangent of `x` radians.
 pub fn tan(x: f64) -> f64 {
     libm::tan(x)
@@ -402,6 +446,47 @@ mod tests {
                     .map_err(TestCaseError::fail)?;
             }
         }
+    }
+
+    #[test]
+    fn degrees_are_exact_at_quarter_turns_and_periodic_to_the_bit() {
+        for k in -12i32..=12 {
+            let d = 90.0 * k as f64;
+            let want = [(0.0, 1.0), (1.0, 0.0), (0.0, -1.0), (-1.0, 0.0)][k.rem_euclid(4) as usize];
+            assert_eq!(sin_cos_degrees(d), want, "{d}");
+        }
+        // 2^60 = 360·3202559735019019 + 136.
+        assert_eq!(sin_cos_degrees(2f64.powi(60)), sin_cos_degrees(136.0));
+        assert_eq!(sin_cos_degrees(1e20), sin_cos_degrees(280.0));
+        assert!(sin_cos_degrees(f64::INFINITY).0.is_nan());
+        assert!(sin_cos_degrees(f64::NAN).1.is_nan());
+        // Within ±180 away from the quarter turns: sin_cos of the radians,
+        // as before; a turn more or less, the same bits; sine odd and
+        // cosine even.
+        let mut x = 0.123_f64;
+        while x < 180.0 {
+            if x % 90.0 != 0.0 {
+                assert_eq!(sin_cos_degrees(x), sin_cos(x.to_radians()), "{x}");
+                let (s, c) = sin_cos_degrees(x);
+                assert_eq!(sin_cos_degrees(-x), (-s, c), "{x}");
+                for turns in [-3.0, -1.0, 1.0, 2.0, 1000.0] {
+                    let y = x + 360.0 * turns;
+                    if y - 360.0 * turns == x {
+                        assert_eq!(sin_cos_degrees(y), (s, c), "{x} + {turns} turns");
+                    }
+                }
+                // Within 4 ulps of 1 of the platform's sine and cosine.
+                let (ts, tc) = (x.to_radians().sin(), x.to_radians().cos());
+                assert!(
+                    (s - ts).abs() <= 4.0 * f64::EPSILON && (c - tc).abs() <= 4.0 * f64::EPSILON
+                );
+            }
+            x += 0.731;
+        }
+        assert_eq!(tan_degrees(45.0), 1.0);
+        assert_eq!(tan_degrees(-45.0), -1.0);
+        assert_eq!(tan_degrees(0.0), 0.0);
+        assert_eq!(tan_degrees(30.0), tan(30f64.to_radians()));
     }
 
     #[test]

@@ -16,7 +16,7 @@
 //! would meet first. The JSON reader interleaves its own type checks with the
 //! stage functions below (`checked_vpn` ... `checked_back`) in the same order.
 
-use glam::{DMat4, DVec3};
+use glam::{DMat4, DVec3, DVec4};
 
 use super::{
     eye_rotation, from_rows, ortho_matrix, view_matrix, Camera, CameraError, DEPTH_ROW,
@@ -484,7 +484,15 @@ impl LookAt {
             ));
         }
         let look = view_matrix(eye_rotation(sight, up), eye);
-        Ok(DMat4::from_rotation_z(-twist.to_radians()) * look)
+        // glam's from_rotation_z, with the sine and cosine of degrees.
+        let (sin, cos) = math::sin_cos_degrees(-twist);
+        let roll = DMat4::from_cols(
+            DVec4::new(cos, sin, 0.0, 0.0),
+            DVec4::new(-sin, cos, 0.0, 0.0),
+            DVec4::Z,
+            DVec4::W,
+        );
+        Ok(roll * look)
     }
 }
 
@@ -793,7 +801,7 @@ fn iris(s: &IrisSpec) -> Result<Camera, CameraError> {
                 ));
             }
             // gluPerspective: f = cot(fovy/2).
-            let f = 1.0 / math::tan(fovy.to_radians() / 2.0);
+            let f = 1.0 / math::tan_degrees(fovy / 2.0);
             let projection = from_rows([
                 [f / ratio, 0.0, 0.0, 0.0],
                 [0.0, f, 0.0, 0.0],
@@ -980,8 +988,8 @@ fn textbook(v: &ViewSpec) -> Result<Camera, CameraError> {
                 ObliqueKind::Cavalier => 1.0,
                 ObliqueKind::Cabinet => 2.0,
             };
-            let angle = angle.unwrap_or(DEFAULT_OBLIQUE_ANGLE).to_radians();
-            DVec3::new(math::cos(angle), math::sin(angle), receding)
+            let (sin, cos) = math::sin_cos_degrees(angle.unwrap_or(DEFAULT_OBLIQUE_ANGLE));
+            DVec3::new(cos, sin, receding)
         }
         // Isometric: projection along the view plane normal.
         ViewProjection::Isometric => DVec3::Z,
@@ -1019,7 +1027,7 @@ fn textbook(v: &ViewSpec) -> Result<Camera, CameraError> {
 mod tests {
     use super::super::test_support::*;
     use super::*;
-    use glam::{DMat3, DVec4};
+    use glam::DMat3;
     use proptest::prelude::*;
     use serde_json::json;
 

@@ -172,10 +172,12 @@ pub fn outline(shape: &Shape, tolerance: f64) -> Vec<DVec3> {
             let mut v = Vec::with_capacity(n + 2);
             v.push(DVec3::new(center[0], center[1], 0.0));
             for i in 0..=n {
-                let a = (start + sweep * i as f64 / n as f64).to_radians();
+                // Degrees to the end, so that an arc's ends on the axes
+                // (a quarter from 0 to 90) lie on them exactly.
+                let (sin, cos) = math::sin_cos_degrees(start + sweep * i as f64 / n as f64);
                 v.push(DVec3::new(
-                    center[0] + radius * math::cos(a),
-                    center[1] + radius * math::sin(a),
+                    center[0] + radius * cos,
+                    center[1] + radius * sin,
                     0.0,
                 ));
             }

@@ -250,7 +250,7 @@ pub fn map_to_plane(
         .find(|d| d.length() > ZERO_AREA_REL.sqrt() * size)
         .map(|d| d.normalize())
         .ok_or(PlaneError::ZeroArea { area, size })?;
-    let (s, c) = math::sin_cos(rotate_deg.to_radians());
+    let (s, c) = math::sin_cos_degrees(rotate_deg);
     let ex = if rotate_deg == 0.0 {
         ex0
     } else {

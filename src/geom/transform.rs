@@ -26,7 +26,7 @@
 //! such a transform is its frame 0.
 
 use crate::math;
-use glam::{DMat3, DMat4, DVec3};
+use glam::{DMat3, DMat4, DVec3, DVec4};
 use serde_json::Value;
 use std::fmt;
 
@@ -91,10 +91,7 @@ impl Transform {
                 axis.x, axis.y, axis.z
             )));
         };
-        Ok(Transform(DMat4::from_axis_angle(
-            unit,
-            degrees.to_radians(),
-        )))
+        Ok(Transform(axis_angle(unit, degrees)))
     }
 
     /// Rotation about the line through `point` along `axis`: translate the
@@ -371,6 +368,43 @@ fn parse_step(v: &Value, frame: u64) -> Result<Transform, String> {
     Transform::from_row_matrix(out).map_err(|e| e.to_string())
 }
 
+/// The rotation by `degrees` about the unit `axis`: glam's
+/// `DMat4::from_axis_angle` (Rodrigues' formula, the same operations in the
+/// same order), with the sine and cosine of [`math::sin_cos_degrees`], so
+/// that a quarter turn about a coordinate axis only swaps coordinates and
+/// their signs (a point turned onto an axis lands on it, not 6.1e-17 of its
+/// distance off) and a turn more or less changes nothing.
+fn axis_angle(axis: DVec3, degrees: f64) -> DMat4 {
+    let (sin, cos) = math::sin_cos_degrees(degrees);
+    let axis_sin = axis * sin;
+    let axis_sq = axis * axis;
+    let omc = 1.0 - cos;
+    let xyomc = axis.x * axis.y * omc;
+    let xzomc = axis.x * axis.z * omc;
+    let yzomc = axis.y * axis.z * omc;
+    DMat4::from_cols(
+        DVec4::new(
+            axis_sq.x * omc + cos,
+            xyomc + axis_sin.z,
+            xzomc - axis_sin.y,
+            0.0,
+        ),
+        DVec4::new(
+            xyomc - axis_sin.z,
+            axis_sq.y * omc + cos,
+            yzomc + axis_sin.x,
+            0.0,
+        ),
+        DVec4::new(
+            xzomc + axis_sin.y,
+            yzomc - axis_sin.x,
+            axis_sq.z * omc + cos,
+            0.0,
+        ),
+        DVec4::W,
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -406,6 +440,32 @@ mod tests {
         );
         assert!(r([0.0, 0.0, 0.0]).is_err());
         assert!(r([1e-310, 0.0, 0.0]).is_err(), "below MIN_AXIS_LENGTH");
+    }
+
+    #[test]
+    fn quarter_turns_are_exact_and_a_turn_more_changes_nothing() {
+        let m = |degrees: f64, axis: &str| {
+            Transform::from_json(&json!({"rotate": degrees, "axis": axis}))
+                .unwrap()
+                .0
+        };
+        // About y, 90 degrees: z to x, x to -z, to the bit.
+        let p = DVec3::new(100.0, 0.0, 100.0);
+        assert_eq!(
+            Transform(m(90.0, "y")).apply(p),
+            DVec3::new(100.0, 0.0, -100.0)
+        );
+        for axis in ["x", "y", "z"] {
+            for d in [90.0, 180.0, -90.0, 270.0] {
+                assert!(
+                    m(d, axis).to_cols_array().iter().all(|v| v.fract() == 0.0),
+                    "{d} about {axis}"
+                );
+            }
+            assert_eq!(m(450.0, axis), m(90.0, axis));
+            assert_eq!(m(-270.0, axis), m(90.0, axis));
+            assert_eq!(m(37.0 + 720.0, axis), m(37.0, axis));
+        }
     }
 
     #[test]

@@ -45,17 +45,11 @@ pub fn map_from_image(
     if !angle.is_finite() {
         return Err(FromImageError::Angle(angle));
     }
-    // Reduced to a turn first: the radians of a huge angle (1e20 degrees,
-    // exactly 280 mod 360) carry no fraction of a turn, so its map was not
-    // the map of its residue. Below a turn the angle is kept as given, its
-    // maps byte for byte as before.
-    let angle = if angle.abs() >= 360.0 {
-        angle.rem_euclid(360.0)
-    } else {
-        angle
-    };
+    // Reduced to a turn first (math::sin_cos_degrees): the radians of a
+    // huge angle (1e20 degrees, exactly 280 mod 360) carry no fraction of a
+    // turn, so its map was not the map of its residue.
     let (w, h) = img.dimensions();
-    let (s, c) = math::sin_cos(angle.to_radians());
+    let (s, c) = math::sin_cos_degrees(angle);
     let (cx, cy) = (w as f64 / 2.0, h as f64 / 2.0);
     // Position across the stripes of a pixel centre; the image rows go down.
     let t = |x: u32, y: u32| (x as f64 + 0.5 - cx) * c + (cy - (y as f64 + 0.5)) * s;

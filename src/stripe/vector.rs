@@ -147,12 +147,12 @@ impl Orientation {
     pub fn normal(self) -> DVec3 {
         match self {
             Orientation::YawPitch { yaw, pitch } => {
-                let (sy, cy) = math::sin_cos(yaw.to_radians());
-                let (sp, cp) = math::sin_cos(pitch.to_radians());
+                let (sy, cy) = math::sin_cos_degrees(yaw);
+                let (sp, cp) = math::sin_cos_degrees(pitch);
                 DVec3::new(cp * cy, sp, -cp * sy)
             }
             Orientation::Plane { plane, theta } => {
-                let (s, c) = math::sin_cos(theta.to_radians());
+                let (s, c) = math::sin_cos_degrees(theta);
                 match plane {
                     RefPlane::Zx => DVec3::new(s, 0.0, -c),
                     RefPlane::Yz => DVec3::new(0.0, c, -s),

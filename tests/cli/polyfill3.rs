@@ -1310,3 +1310,46 @@ fn tilted_comb_pieces_that_rounding_folds_are_written_simple() {
     vertices.push(format!("[1.1, {top}]"));
     every_mode_is_read_back(&solid_record(&vertices, 1.0));
 }
+
+#[test]
+fn quarter_turned_placements_cut_on_whole_numbers_and_a_turn_more_is_the_same() {
+    // A 4x4 square cut in unit texels: at 0, 90, 180 and 270 degrees every
+    // vertex is a whole number, as the exact sine and cosine of a quarter
+    // turn give (math::sin_cos_degrees; cos 90 was 6.1e-17, which printed
+    // 2.220446049250313e-16 and 0.9999999999999998 here). A turn more or
+    // less cuts the same bytes.
+    let dir = tempfile::tempdir().unwrap();
+    write_pat(&dir.path().join("p.pat"), 16, |_, _| false);
+    let square = r#"{"vertices":[[0,0,0],[4,0,0],[4,4,0],[0,4,0]],"color":[1,2,3]}"#;
+    std::fs::write(dir.path().join("sq.json"), format!("{square}\n")).unwrap();
+    let cut = |rotate: &str| {
+        polyfill3()
+            .current_dir(dir.path())
+            .args([
+                "--pattern",
+                "p.pat",
+                "--incr",
+                "1",
+                "--rotate",
+                rotate,
+                "sq.json",
+            ])
+            .ok_stdout()
+    };
+    for rotate in ["0", "90", "180", "270", "-90"] {
+        let out = cut(rotate);
+        let cells = lines(&out);
+        assert_eq!(cells.len(), 16, "{rotate}");
+        for c in &cells {
+            for v in c["vertices"].as_array().unwrap() {
+                for x in v.as_array().unwrap() {
+                    let x = x.as_f64().unwrap();
+                    assert_eq!(x, x.round(), "rotate {rotate}: {c}");
+                }
+            }
+        }
+    }
+    assert_eq!(cut("450"), cut("90"));
+    assert_eq!(cut("-270"), cut("90"));
+    assert_eq!(cut("1170"), cut("90"));
+}
