@@ -373,7 +373,10 @@ impl Quadric {
         // at angle 2πi/n from +y towards +x).
         let around = |s: f64| {
             let a = 2.0 * PI * s;
-            // Exact at the quarter turns, so the seam column matches column 0.
+            // Exact at the whole turn (s = 1), so the seam column matches
+            // column 0 bit for bit. Not at the quarter turns: the radians of
+            // a quarter give a cosine of 6.1e-17 (math::sin_cos_degrees is
+            // exact there, but moving to it would move every vertex a bit).
             let (sin, cos) = if s == 1.0 {
                 (0.0, 1.0)
             } else {
