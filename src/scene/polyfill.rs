@@ -500,18 +500,17 @@ impl<W: Write> Job<'_, W> {
 
     /// `rec` with the files it names rewritten for the output
     /// ([`PartitionOptions::refs`]); its typed view (the pattern the job
-    /// loads) keeps them as read. Records that name no file are not copied.
+    /// loads) keeps them as read. Rewritten in place: a copy of the fields
+    /// held every vertex twice more as JSON values while the record was cut
+    /// (a third of polyfill3's peak on a polygon of 100,000 vertices).
     fn forwarded(&mut self, mut rec: Record) -> Result<Record, CellsError> {
         if stream::names_files(&rec.fields) {
-            let mut fields = rec.fields.clone();
             let named = &mut self.summary.named;
-            stream::forward_file_refs(&mut fields, &self.base, &self.args.refs, named).map_err(
-                |error| CellsError::PatternPath {
+            stream::forward_file_refs(&mut rec.fields, &self.base, &self.args.refs, named)
+                .map_err(|error| CellsError::PatternPath {
                     path: self.base.clone(),
                     error,
-                },
-            )?;
-            rec.fields = fields;
+                })?;
         }
         Ok(rec)
     }
