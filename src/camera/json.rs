@@ -504,6 +504,13 @@ mod tests {
             view(json!({"cop": [1, 1, 0]})),
             &["view.cop", "is on the view plane"],
         );
+        // 1e200 away, on the viewer's side: its distance squared overflowed
+        // and made it "on" the plane; what is wrong is the depth range, which
+        // f64 cannot tell from zero that far out.
+        assert_err(
+            view(json!({"cop": [0, 0, 1e200], "front": 0, "back": 10})),
+            &["empty view volume: near 1000", "is not below far 1000"],
+        );
         assert_err(
             view(json!({"cop": [0, 0, 1], "front": -2})),
             &["view.front", "behind the centre of projection"],

@@ -908,7 +908,10 @@ fn textbook(v: &ViewSpec) -> Result<Camera, CameraError> {
             // MAKE-PERSPECTIVE-TRANSFORMATION (Alg. 8.21): the COP in view plane
             // coordinates must have ZC > 0.
             let c = r * (cop - plane_centre);
-            let tolerance = COINCIDENT_RELATIVE * (cop - plane_centre).length().max(1.0);
+            // vector::length: a COP 1e200 away squared its distance to
+            // infinity, and every point was then "on" the view plane.
+            let tolerance =
+                COINCIDENT_RELATIVE * crate::vector::length(cop - plane_centre).max(1.0);
             if c.z <= tolerance {
                 let (where_, book) = if c.z < -tolerance {
                     ("behind", " (CENTER OF PROJECTION BEHIND VIEW PLANE)")

@@ -108,6 +108,30 @@ impl ObjError {
     }
 }
 
+/// `bytes` of an OBJ or MTL file (`format`) as text: UTF-8, and not
+/// starting with a byte-order mark, which made the first statement's
+/// keyword `\u{feff}v` and so skipped it as an unknown statement: a mesh
+/// whose vertex 1 was its second `v` (a hostile-input review).
+fn text_of<'a>(bytes: &'a [u8], path: &Path, format: &str) -> Result<&'a str, ObjError> {
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        ObjError::at(
+            path,
+            0,
+            format!("not UTF-8 text ({e}): not an {format} file"),
+        )
+    })?;
+    if text.starts_with('\u{feff}') {
+        return Err(ObjError::at(
+            path,
+            1,
+            format!(
+                "starts with a UTF-8 byte-order mark (bytes EF BB BF): save the {format} file without one"
+            ),
+        ));
+    }
+    Ok(text)
+}
+
 /// The statements of OBJ or MTL text, one a line that has one: its line
 /// number (from 1), the line without its comment, its keyword and the
 /// words after it. The two formats share this syntax.
@@ -139,8 +163,7 @@ impl Mesh {
         read: &mut dyn FnMut(&Path) -> Result<Vec<u8>, String>,
     ) -> Result<Mesh, ObjError> {
         let err = |line: usize, message: String| ObjError::at(path, line, message);
-        let text = std::str::from_utf8(bytes)
-            .map_err(|e| err(0, format!("not UTF-8 text ({e}): not an OBJ file")))?;
+        let text = text_of(bytes, path, "OBJ")?;
         let dir = path.parent().unwrap_or(Path::new(""));
         let mut mesh = Mesh::default();
         let mut by_name: HashMap<String, usize> = HashMap::new();
@@ -316,8 +339,7 @@ fn numbers<const N: usize>(words: &[&str], what: &str) -> Result<[f64; N], Strin
 /// Adds the materials of MTL text `bytes` (file `path`) to `out`.
 fn parse_mtl(bytes: &[u8], path: &Path, out: &mut Vec<Material>) -> Result<(), ObjError> {
     let err = |line: usize, message: String| ObjError::at(path, line, message);
-    let text = std::str::from_utf8(bytes)
-        .map_err(|e| err(0, format!("not UTF-8 text ({e}): not an MTL file")))?;
+    let text = text_of(bytes, path, "MTL")?;
     let dir = path.parent().unwrap_or(Path::new(""));
     for (n, line, key, rest) in statements(text) {
         let here = || err(n, format!("{key}: before any newmtl"));
@@ -486,5 +508,24 @@ mod tests {
         })
         .unwrap_err();
         assert!(e.to_string().starts_with("b.obj: not UTF-8 text"), "{e}");
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_refused_not_read_as_a_statement() {
+        // It made the first `v` the unknown statement `\u{feff}v`, so the
+        // face below was drawn from the other three vertices.
+        let obj = "\u{feff}v 5 5 0\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        let e = parse(obj, "").unwrap_err();
+        assert!(
+            e.contains("m/x.obj:1: starts with a UTF-8 byte-order mark (bytes EF BB BF): save the OBJ file without one"),
+            "{e}"
+        );
+        let e = parse("mtllib x.mtl\n", "\u{feff}newmtl a\nKd 1 0 0\n").unwrap_err();
+        assert!(
+            e.contains("m/x.mtl:1: starts with a UTF-8 byte-order mark"),
+            "{e}"
+        );
+        // Elsewhere U+FEFF is only an unknown word.
+        assert!(parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 # \u{feff}\n", "").is_ok());
     }
 }
