@@ -186,10 +186,21 @@ impl Record {
                         ),
                     ));
                 }
+                let pair = |(i, p): (usize, &Value)| {
+                    let uv = number_array::<2>(p, &format!("uv[{i}]"))?;
+                    if uv[0].abs().max(uv[1].abs()) > MAX_UV {
+                        return Err(format!(
+                            "uv[{i}] {}: expected texture coordinates within ±{MAX_UV:e} texels \
+                             (the texture map's arithmetic would overflow)",
+                            short(p)
+                        ));
+                    }
+                    Ok(uv)
+                };
                 Some(
                     arr.iter()
                         .enumerate()
-                        .map(|(i, p)| number_array::<2>(p, &format!("uv[{i}]")))
+                        .map(pair)
                         .collect::<Result<Vec<_>, _>>()
                         .map_err(e)?,
                 )
@@ -583,6 +594,12 @@ fn number_array<const N: usize>(v: &Value, what: &str) -> Result<[f64; N], Strin
     Ok(out)
 }
 
+/// The largest texture coordinate a record's `"uv"` may give, in texels:
+/// [`MAX_REPEAT`](crate::geom::quadric::MAX_REPEAT)'s bound, for the same reason. Coordinates of 1e307 made
+/// the screen fit of the texture map infinite, and scene-render dropped
+/// the polygon as if it were edge-on, without an error.
+pub const MAX_UV: f64 = crate::geom::quadric::MAX_REPEAT;
+
 #[cfg(test)]
 mod tests {
     use super::super::testing::{err, read_all};
@@ -590,6 +607,17 @@ mod tests {
 
     #[test]
     fn a_quadric_repeat_whose_texture_coordinates_would_overflow_is_refused() {
+        assert_eq!(
+            err(
+                r#"{"vertices":[[0,0],[10,0],[10,10]],"color":[1,2,3],"uv":[[0,0],[1e307,0],[0,1]]}"#
+            ),
+            "s.json: record 0: uv[1] [1e+307,0]: expected texture coordinates within ±1e100 \
+             texels (the texture map's arithmetic would overflow)"
+        );
+        assert!(read_all(
+            r#"{"vertices":[[0,0],[10,0],[10,10]],"color":[1,2,3],"uv":[[0,0],[-1e100,0],[0,1e100]]}"#
+        )
+        .is_ok());
         assert_eq!(
             err(r#"{"sphere": {"radius": 10, "repeat": [1e308, 1e308]}, "color": [0,0,0]}"#),
             "s.json: record 0: sphere.repeat [1e+308,1e+308]: expected at most 1e100 copies \
