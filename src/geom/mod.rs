@@ -163,7 +163,12 @@ pub fn outline(shape: &Shape, tolerance: f64) -> Vec<DVec3> {
             start,
             end,
         } => {
-            let mut sweep = (end - start).rem_euclid(360.0);
+            // Start and end reduced exactly first (math::reduce_degrees), so
+            // that a turn more or less draws the same arc to the bit; and
+            // the ends taken as given, not as start plus sweep, so that an
+            // end on an axis (an arc from 29.86 to 90) lies on it exactly.
+            let (from, to) = (math::reduce_degrees(start), math::reduce_degrees(end));
+            let mut sweep = (to - from).rem_euclid(360.0);
             if sweep == 0.0 && end != start {
                 sweep = 360.0;
             }
@@ -172,9 +177,13 @@ pub fn outline(shape: &Shape, tolerance: f64) -> Vec<DVec3> {
             let mut v = Vec::with_capacity(n + 2);
             v.push(DVec3::new(center[0], center[1], 0.0));
             for i in 0..=n {
-                // Degrees to the end, so that an arc's ends on the axes
-                // (a quarter from 0 to 90) lie on them exactly.
-                let (sin, cos) = math::sin_cos_degrees(start + sweep * i as f64 / n as f64);
+                let at = match i {
+                    0 => from,
+                    _ if i == n && sweep < 360.0 => to,
+                    _ if i == n => from,
+                    _ => from + sweep * i as f64 / n as f64,
+                };
+                let (sin, cos) = math::sin_cos_degrees(at);
                 v.push(DVec3::new(
                     center[0] + radius * cos,
                     center[1] + radius * sin,
@@ -260,5 +269,38 @@ mod tests {
             1e-4,
         );
         assert!((signed_area_xy(&full) - PI).abs() < 1e-3);
+    }
+
+    #[test]
+    fn an_arc_a_turn_further_is_the_same_and_its_ends_on_axes_lie_on_them() {
+        let arc = |start: f64, end: f64| {
+            outline(
+                &Shape::Arc {
+                    center: [0.0, 0.0],
+                    radius: 10.0,
+                    start,
+                    end,
+                },
+                1e-3,
+            )
+        };
+        // Turns further, exactly: angles whose sum with 360 is exact
+        // (71.09 + 360 is not: 431.09 is a hair more than a turn past
+        // 71.09, in binary).
+        let (a, b) = (71.125, 128.8125);
+        assert_eq!((a + 360.0 - 360.0, b + 360.0 - 360.0), (a, b));
+        assert_eq!(arc(a, b), arc(a + 360.0, b + 360.0));
+        assert_eq!(arc(a, b), arc(a - 720.0, b + 1080.0));
+        assert_eq!(arc(-10.0, 20.0), arc(350.0, 380.0));
+        assert_eq!(arc(-180.0, 90.0), arc(180.0, 450.0));
+        // An end on an axis, reached from a start that start + sweep would
+        // not have brought back to it: (-1.608e-15, 10) before.
+        let v = arc(29.86, 90.0);
+        assert_eq!(v.last().unwrap().truncate(), glam::DVec2::new(0.0, 10.0));
+        let v = arc(-33.3, 180.0);
+        assert_eq!(v.last().unwrap().truncate(), glam::DVec2::new(-10.0, 0.0));
+        // A whole turn closes on its first point.
+        let v = arc(12.5, 372.5);
+        assert_eq!(v[1], *v.last().unwrap());
     }
 }

@@ -251,7 +251,8 @@ pub fn map_to_plane(
         .map(|d| d.normalize())
         .ok_or(PlaneError::ZeroArea { area, size })?;
     let (s, c) = math::sin_cos_degrees(rotate_deg);
-    let ex = if rotate_deg == 0.0 {
+    // No turn (0, or a whole number of turns: the same bits either way).
+    let ex = if (s, c) == (0.0, 1.0) {
         ex0
     } else {
         (ex0 * c + normal.cross(ex0) * s).normalize()

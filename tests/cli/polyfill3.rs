@@ -1352,4 +1352,11 @@ fn quarter_turned_placements_cut_on_whole_numbers_and_a_turn_more_is_the_same() 
     assert_eq!(cut("450"), cut("90"));
     assert_eq!(cut("-270"), cut("90"));
     assert_eq!(cut("1170"), cut("90"));
+    // No turn and whole turns, on an edge whose direction is not a unit
+    // vector to the bit: 360 normalized it once more than 0 did (a review).
+    let sloped = r#"{"vertices":[[0,0,0],[18,5,0],[10,20,0],[-5,10,0]],"color":[1,2,3]}"#;
+    std::fs::write(dir.path().join("sq.json"), format!("{sloped}\n")).unwrap();
+    for turns in ["360", "-360", "720", "-0"] {
+        assert_eq!(cut(turns), cut("0"), "{turns}");
+    }
 }
