@@ -143,7 +143,16 @@ impl Item {
             let records = object.take_records();
             let fields = object.into_fields();
             let name = object_name(&fields, "object", index, "a non-empty name")?;
-            no_geometry(&fields, index, &format!("object `{name}`: a definition"))?;
+            let what = format!("object `{name}`: a definition");
+            no_geometry(&fields, index, &what)?;
+            none_of(
+                &fields,
+                index,
+                &what,
+                &["transform"],
+                "to its records or its instances",
+            )?;
+            none_of(&fields, index, &what, DRAWING_KEYS, "to its records")?;
             let records = records.ok_or_else(|| {
                 field_err(
                     index,
@@ -177,10 +186,14 @@ impl Item {
         if object.contains_key("instance") {
             let fields = object.into_fields();
             let object = object_name(&fields, "instance", index, "an object name")?;
-            no_geometry(
+            let what = format!("instance of `{object}`: an instance");
+            no_geometry(&fields, index, &what)?;
+            none_of(
                 &fields,
                 index,
-                &format!("instance of `{object}`: an instance"),
+                &what,
+                DRAWING_KEYS,
+                "to the object's records",
             )?;
             let transform = fields
                 .get("transform")
@@ -219,6 +232,31 @@ fn no_geometry(fields: &Fields, index: usize, what: &str) -> Result<(), StreamEr
         Some(k) => Err(field_err(
             index,
             format!("{what} has no geometry of its own, found \"{k}\" beside it"),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// The keys that say how a record is drawn, which an instance and a
+/// definition do not take: they draw their records as those are.
+const DRAWING_KEYS: &[&str] = &["color", "pattern", "stripe", "shade", "uv", "normals"];
+
+/// An error unless the fields of element `index` have none of `keys`: such
+/// a key was kept as an unknown field and did nothing (an instance's
+/// `"color"`, a definition's `"transform"`; a stripe map named there was
+/// never opened), found by a hostile-input review. `what` begins the
+/// message; `give` says where the key belongs.
+fn none_of(
+    fields: &Fields,
+    index: usize,
+    what: &str,
+    keys: &[&str],
+    give: &str,
+) -> Result<(), StreamError> {
+    match keys.iter().find(|k| fields.contains_key(k)) {
+        Some(k) => Err(field_err(
+            index,
+            format!("{what} takes no \"{k}\": it would be dropped (give it {give})"),
         )),
         None => Ok(()),
     }
@@ -589,6 +627,29 @@ mod tests {
                 "record 0: object `a`: a definition has no geometry of its own, found \"vertices\""
             )
         );
+        // And so were the keys that say how a record is drawn, and a
+        // definition's transform (a hostile-input review).
+        for (stream, message) in [
+            (
+                r#"{"object": "a", "records": []} {"instance": "a", "color": [0,255,0]}"#,
+                "record 1: instance of `a`: an instance takes no \"color\": it would be dropped (give it to the object's records)",
+            ),
+            (
+                r#"{"object": "a", "records": []} {"instance": "a", "stripe": {"map": "missing.map"}}"#,
+                "an instance takes no \"stripe\"",
+            ),
+            (
+                r#"{"object": "a", "records": [], "transform": {"translate": [5,5,0]}}"#,
+                "record 0: object `a`: a definition takes no \"transform\": it would be dropped (give it to its records or its instances)",
+            ),
+            (
+                r#"{"object": "a", "records": [], "pattern": {"file": "p.pat"}}"#,
+                "a definition takes no \"pattern\"",
+            ),
+        ] {
+            let e = err(stream);
+            assert!(e.contains(message), "{stream}: {e}");
+        }
         assert!(err(r#"{"object": "a", "records": [{"instance": "a"}]}"#)
             .contains("record 0: object `a` places an instance of itself: a cycle"));
         assert!(
