@@ -131,17 +131,35 @@ impl Transform {
             .iter()
             .fold(0.0f64, |a, &x| a.max(x.abs()));
         let det = lin.determinant();
-        if !det.is_finite() || !scale.powi(3).is_finite() {
+        let cube = scale.powi(3);
+        if !det.is_finite() || !cube.is_finite() {
             return Err(TransformError(format!(
                 "overflows: entries up to {} make its determinant beyond the range of \
                  numbers (about 1e308), so no point it moves could be drawn",
                 crate::text::readable(scale)
             )));
         }
-        if scale == 0.0 || det.abs() <= SINGULAR_RELATIVE_DET * scale.powi(3) {
+        if scale == 0.0 || det.abs() <= SINGULAR_RELATIVE_DET * cube {
+            // Where the bound itself has left the normal numbers, a
+            // determinant at or under it may only have underflowed: a
+            // uniform scale of 1e-110 is no more singular than 1, and was
+            // called "determinant 0" (a hostile-input review).
+            if scale > 0.0 && SINGULAR_RELATIVE_DET * cube < f64::MIN_POSITIVE {
+                return Err(TransformError(format!(
+                    "underflows: entries no larger than {} put its determinant ({}) below \
+                     the range of numbers (about 1e-308), where whether it squashes space \
+                     flat cannot be told",
+                    crate::text::readable(scale),
+                    crate::text::readable(det)
+                )));
+            }
+            // The largest entry is said: a determinant of 1e100 is flat
+            // beside entries of 1e100 (a stretch of 1e100 along one axis).
             return Err(TransformError(format!(
-                "singular: determinant {} squashes space flat, so polygons would vanish",
-                crate::text::readable(det)
+                "singular: determinant {} squashes space flat (at most 1e-12 of the cube of \
+                 its largest entry, {}), so polygons would vanish",
+                crate::text::readable(det),
+                crate::text::readable(scale)
             )));
         }
         Ok(Transform(m))
@@ -586,7 +604,23 @@ mod tests {
         assert!(e(json!({"translate": [1, 2]})).contains("expected [x, y, z]"));
         assert!(e(json!({"spin": 3})).contains("expected one of"));
         assert!(e(json!({"translate": [1, 2, 3], "scale": 2})).contains("unexpected key"));
-        assert!(e(json!({"scale": 1e-200})).contains("singular"));
+        // Underflow is named as such, not as singular; a stretch says the
+        // entry its determinant is measured against.
+        let tiny = e(json!({"scale": 1e-110}));
+        assert!(
+            tiny.contains("underflows: entries no larger than 1e-110"),
+            "{tiny}"
+        );
+        assert!(e(json!({"scale": 1e-200})).contains("underflows"));
+        let stretch = e(json!({"scale": [1e100, 1, 1]}));
+        assert!(
+            stretch.contains(
+                "singular: determinant 1e100 squashes space flat (at most 1e-12 of the cube of its largest entry, 1e100)"
+            ),
+            "{stretch}"
+        );
+        // A uniform scale whose bound is still a normal number is taken.
+        assert!(Transform::from_json(&json!({"scale": 1e-100})).is_ok());
         // An overflowing scale is named as such, not as singular.
         let big = e(json!({"scale": 1e200}));
         assert!(big.contains("overflows: entries up to 1e200"), "{big}");
