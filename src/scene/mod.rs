@@ -63,7 +63,7 @@ use crate::texture::state::TextureState;
 use crate::texture::Texels;
 use crate::view::View;
 use glam::DVec3;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -515,6 +515,7 @@ impl Scene {
                 n => format!("{first} (and {n} more records alike)"),
             });
         }
+        warnings.append(&mut scene.warnings);
         scene.warnings = warnings;
         Ok(scene)
     }
@@ -742,6 +743,12 @@ fn read_items(
         Ok(())
     };
     let mut scene = Scene::default();
+    // Whether the stream places any polygon at all, and which objects hold
+    // one (their counts above are at least 1 a placement): a stream of
+    // instances of empty objects, or of meshes whose faces all have no
+    // area, gave a blank frame with no word (a hostile-input review).
+    let (mut elements, mut places_any) = (0u64, false);
+    let mut holds_any: HashSet<String> = HashSet::new();
     let place = |inst: Instance, objects: &HashMap<String, Arc<Vec<Part>>>| {
         Part::Place(Box::new(Placement {
             index: inst.index,
@@ -756,21 +763,30 @@ fn read_items(
         }))
     };
     for_each_item_in(reader, name, base, |item| {
+        elements += 1;
         match item {
             Item::Record(rec) => {
                 let index = rec.index;
                 let part = Part::Draw(each(rec)?);
                 count(&part, index, &sizes)?;
                 scene.push(part);
+                places_any = true;
             }
             Item::Object(def) => {
                 checks.define(def.skeleton()).map_err(|e| e.named(name))?;
                 scene.files.extend(def.files);
                 let mut parts = Vec::with_capacity(def.items.len());
+                let mut holds = false;
                 for it in def.items {
                     parts.push(match it {
-                        Item::Record(rec) => Part::Draw(each(rec)?),
-                        Item::Instance(inst) => place(inst, &objects),
+                        Item::Record(rec) => {
+                            holds = true;
+                            Part::Draw(each(rec)?)
+                        }
+                        Item::Instance(inst) => {
+                            holds |= holds_any.contains(&inst.object);
+                            place(inst, &objects)
+                        }
                         Item::Object(_) | Item::Light(_) => unreachable!(
                             "Objects::define rejects definitions and lights inside objects"
                         ),
@@ -780,12 +796,16 @@ fn read_items(
                     .iter()
                     .fold(0u64, |n, p| n.saturating_add(p.polygons(&sizes)));
                 sizes.insert(def.name.clone(), size);
+                if holds {
+                    holds_any.insert(def.name.clone());
+                }
                 objects.insert(def.name, Arc::new(parts));
             }
             Item::Light(light) => scene.lights.add(light.light),
             Item::Instance(inst) => {
                 checks.check_instance(&inst).map_err(|e| e.named(name))?;
                 let index = inst.index;
+                places_any |= holds_any.contains(&inst.object);
                 let part = place(inst, &objects);
                 count(&part, index, &sizes)?;
                 scene.push(part);
@@ -797,6 +817,13 @@ fn read_items(
         read: total,
         limit: limits.max_polygons,
     });
+    if elements > 0 && !places_any {
+        scene.warnings.push(format!(
+            "{name}: no frame draws anything: the stream places no polygon (lights and \
+             object definitions draw nothing themselves; an object may be empty, or a \
+             mesh's faces all without area)"
+        ));
+    }
     Ok(scene)
 }
 

@@ -934,6 +934,34 @@ clitest!(a_frame_that_draws_nothing_warns_with_the_reason, |dir| {
             "{err}"
         );
     }
+    // A stream that places no polygon in any frame: an instance of an
+    // empty object, a mesh whose one face has no area, definitions alone.
+    dir.write("d.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\n");
+    for (name, stream) in [
+        (
+            "inst.json",
+            r#"{"object":"a","records":[]} {"instance":"a"}"#,
+        ),
+        (
+            "mesh.json",
+            r#"{"mesh":{"obj":"d.obj"},"color":[255,255,255]}"#,
+        ),
+        (
+            "defs.json",
+            r#"{"object":"a","records":[{"rect":[0,0,4,4],"color":[1,2,3]}]}"#,
+        ),
+    ] {
+        dir.write(name, stream);
+        dir.cmd("scene-render")
+            .args([name, "-o", "x.png"])
+            .assert()
+            .success()
+            .stderr(format!(
+                "scene-render: warning: {name}: no frame draws anything: the stream places no \
+                 polygon (lights and object definitions draw nothing themselves; an object may \
+                 be empty, or a mesh's faces all without area)\n"
+            ));
+    }
     // No warning for a scene that draws, nor for an empty stream.
     dir.write("empty.json", "[]");
     dir.cmd("scene-render")
