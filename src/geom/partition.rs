@@ -300,8 +300,6 @@ pub struct Partitioner {
     cell_b: Vec<TVertex>,
     pts: Vec<DVec2>,
     world: Vec<DVec3>,
-    cols: Vec<DVec3>,
-    xs: Vec<f64>,
     ranges: Vec<(i64, i64)>,
     segs: Vec<(DVec2, DVec2)>,
     rings: Vec<Vec<DVec2>>,
@@ -336,14 +334,15 @@ impl Partitioner {
         let orig = &poly.points;
         self.base.clear();
         self.base.extend(tagged(orig));
-        // ex * gx(k) for every column line: a corner is row_base + this.
-        // gx(k), and ex * gx(k), for every column line: a corner is
+        // Column line k's x, gx(k), and ex * gx(k): a corner is
         // row_base + ex * gx(k), the same bits as Frame::to_world gives.
-        self.xs.clear();
-        self.xs.extend((grid.k0..=grid.k1 + 1).map(|k| grid.gx(k)));
-        self.cols.clear();
-        self.cols.extend(self.xs.iter().map(|&x| frame.ex * x));
-        let col = |k: i64| (k - grid.k0) as usize;
+        // Computed where used: a table of them for every column line took
+        // 32 bytes a column, 1.5 GB for a strip 49 million texels long (a
+        // hostile-input review).
+        let column = |k: i64| {
+            let x = grid.gx(k);
+            (frame.ex * x, x)
+        };
         // A convex polygon's strips and cells are single pieces without
         // bridges: the rebuild of `split_on_border` can be skipped.
         let convex = is_convex(orig);
@@ -435,10 +434,10 @@ impl Partitioner {
                     if inside_even_odd(&self.segs, DVec2::new(px, ym)) {
                         // Corners are shared along the run: each cell computes
                         // only its right-hand pair.
-                        let (c0, xl) = (self.cols[col(cursor)], self.xs[col(cursor)]);
+                        let (c0, xl) = column(cursor);
                         let (mut bl, mut tl, mut xl) = (rb_lo + c0, rb_hi + c0, xl);
                         for k in cursor..gap_end {
-                            let (c1, xr) = (self.cols[col(k + 1)], self.xs[col(k + 1)]);
+                            let (c1, xr) = column(k + 1);
                             let (br, tr) = (rb_lo + c1, rb_hi + c1);
                             if sink.wants(k, j) {
                                 let pl = [
@@ -579,7 +578,7 @@ impl Partitioner {
                         && (0..4).any(|r| (0..4).all(|i| self.pts[(i + r) % 4] == corners[i]));
                     self.world.clear();
                     if full {
-                        let (c0, c1) = (self.cols[col(k)], self.cols[col(k + 1)]);
+                        let (c0, c1) = (column(k).0, column(k + 1).0);
                         self.world
                             .extend([rb_lo + c0, rb_lo + c1, rb_hi + c1, rb_hi + c0]);
                     } else {

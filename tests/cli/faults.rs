@@ -812,6 +812,32 @@ clitest!(out_of_memory_is_an_error_line_and_leaves_nothing, |dir| {
     }
 });
 
+clitest!(
+    a_long_strip_is_cut_in_memory_that_does_not_grow_with_its_length,
+    |dir| {
+        // One row of 4,000,000 texels: polyfill3 kept a table of every column
+        // line (32 bytes each, a 91.6 MiB request here, 1.5 GB at 49 million)
+        // and failed under 64 MiB of address space; the columns are now
+        // computed where used. The cells still all come out.
+        dir.write(
+            "strip.json",
+            r#"{"vertices":[[0,0],[4000000,0],[4000000,1],[0,1]],"color":[1,2,3]}"#,
+        );
+        dir.write(
+            "p.pat",
+            "16 1\n200 100 50\n".to_string() + &"ffff\n".repeat(16),
+        );
+        let out = sh(
+        dir.path(),
+        "ulimit -v 65536; exec polyfill3 --threads 1 --pattern p.pat --json strip.json -o /dev/null",
+    );
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "{err}");
+        let summary: serde_json::Value = serde_json::from_str(&err).unwrap();
+        assert_eq!(summary["polygons"], 4_000_000, "{err}");
+    }
+);
+
 clitest!(too_little_address_space_for_threads_is_no_panic, |dir| {
     // Under 8 MB of address space a worker thread's stack does not fit:
     // each tool that starts threads (the signal watcher, the pool) says so
