@@ -154,8 +154,12 @@ pub fn faces(
                 let k = face.material.expect("a material's map");
                 if sizes[k].is_none() {
                     sizes[k] = Some(texture_size(map).map_err(|m| {
+                        let (mtl, line) = material
+                            .and_then(|m| m.map_kd_at.clone())
+                            .expect("a map_Kd read from an .mtl");
                         e(format!(
-                            "mesh.obj: {}:{}: map_Kd: {m}",
+                            "mesh.obj: {}:{line}: map_Kd: {m} (for the face at {}:{})",
+                            mtl.display(),
                             path.display(),
                             face.line
                         ))

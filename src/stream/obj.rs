@@ -62,6 +62,9 @@ pub struct Material {
     /// `map_Kd FILE`: the diffuse texture, resolved against the `.mtl`'s
     /// directory.
     pub map_kd: Option<PathBuf>,
+    /// Where that `map_Kd` is: its `.mtl` file and line, which an error
+    /// reading the texture names (it named the first face using it).
+    pub map_kd_at: Option<(PathBuf, usize)>,
 }
 
 /// An OBJ file read.
@@ -372,7 +375,9 @@ fn parse_mtl(bytes: &[u8], path: &Path, out: &mut Vec<Material>) -> Result<(), O
                 let file = rest
                     .last()
                     .ok_or_else(|| err(n, "map_Kd: expected a file name".into()))?;
-                out.last_mut().ok_or_else(here)?.map_kd = Some(dir.join(file));
+                let material = out.last_mut().ok_or_else(here)?;
+                material.map_kd = Some(dir.join(file));
+                material.map_kd_at = Some((path.to_path_buf(), n));
             }
             _ => {}
         }

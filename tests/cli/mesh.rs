@@ -177,7 +177,8 @@ clitest!(bad_meshes_are_refused_naming_the_file_and_line, |dir| {
         (
             "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl t\nf 1 2 3\n",
             r#"{"mesh": {"obj": "bad.obj"}}"#,
-            "record 0: mesh.obj: ./bad.obj:6: map_Kd: ./nothing.png: No such file",
+            // The map_Kd's own line, in the .mtl (it named the face).
+            "record 0: mesh.obj: ./m.mtl:2: map_Kd: ./nothing.png: No such file",
         ),
         (
             "v 0 0 0\nf 1 1 1\n",
