@@ -196,12 +196,13 @@ impl fmt::Display for SceneError {
                 limit,
             } => {
                 let polygons = match *polygons {
-                    u64::MAX => "more than 2^64".to_string(),
-                    n => n.to_string(),
+                    u64::MAX => "more than 2^64 polygons".to_string(),
+                    1 => "1 polygon".to_string(),
+                    n => format!("{n} polygons"),
                 };
                 write!(
                     f,
-                    "record {index}: the scene expands to {polygons} polygons in a frame \
+                    "record {index}: the scene expands to {polygons} in a frame \
                      by here (instances times their objects' polygons, an empty one's counting \
                      one, quadrics their \
                      triangles, at most slices x stacks x 2, given or as fine as the view \
