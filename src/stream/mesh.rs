@@ -154,15 +154,15 @@ pub fn faces(
                 let k = face.material.expect("a material's map");
                 if sizes[k].is_none() {
                     sizes[k] = Some(texture_size(map).map_err(|m| {
-                        let (mtl, line) = material
-                            .and_then(|m| m.map_kd_at.clone())
-                            .expect("a map_Kd read from an .mtl");
-                        e(format!(
-                            "mesh.obj: {}:{line}: map_Kd: {m} (for the face at {}:{})",
-                            mtl.display(),
-                            path.display(),
-                            face.line
-                        ))
+                        let face_at = format!("{}:{}", path.display(), face.line);
+                        e(match material.and_then(|m| m.map_kd_at.as_ref()) {
+                            Some((mtl, line)) => format!(
+                                "mesh.obj: {}:{line}: map_Kd: {m} (for the face at {face_at})",
+                                mtl.display()
+                            ),
+                            // A material made by hand, not read from an .mtl.
+                            None => format!("mesh.obj: {face_at}: map_Kd: {m}"),
+                        })
                     })?);
                 }
                 let file = absolute(map);
