@@ -111,10 +111,7 @@ impl ObjError {
     }
 }
 
-/// `bytes` of an OBJ or MTL file (`format`) as text: UTF-8, and not
-/// starting with a byte-order mark, which made the first statement's
-/// keyword `\u{feff}v` and so skipped it as an unknown statement: a mesh
-/// whose vertex 1 was its second `v` (a hostile-input review).
+/// `bytes` of an OBJ or MTL file (`format`) as text: UTF-8.
 fn text_of<'a>(bytes: &'a [u8], path: &Path, format: &str) -> Result<&'a str, ObjError> {
     let text = std::str::from_utf8(bytes).map_err(|e| {
         ObjError::at(
@@ -123,16 +120,25 @@ fn text_of<'a>(bytes: &'a [u8], path: &Path, format: &str) -> Result<&'a str, Ob
             format!("not UTF-8 text ({e}): not an {format} file"),
         )
     })?;
-    if text.starts_with('\u{feff}') {
+    Ok(text)
+}
+
+/// An error if the statement at `line` begins with a byte-order mark,
+/// which made its keyword `\u{feff}v` and so skipped it as an unknown
+/// statement: at the start of a file, or of one joined after another (a
+/// hostile-input review, then a review of its fix).
+fn no_mark(path: &Path, line: usize, key: &str, format: &str) -> Result<(), ObjError> {
+    if key.starts_with('\u{feff}') {
         return Err(ObjError::at(
             path,
-            1,
+            line,
             format!(
-                "starts with a UTF-8 byte-order mark (bytes EF BB BF): save the {format} file without one"
+                "a UTF-8 byte-order mark (bytes EF BB BF) begins the line: save the {format} \
+                 file without one"
             ),
         ));
     }
-    Ok(text)
+    Ok(())
 }
 
 /// The statements of OBJ or MTL text, one a line that has one: its line
@@ -173,6 +179,7 @@ impl Mesh {
         let mut current = None;
         let mut triangles = 0u64;
         for (n, line, key, rest) in statements(text) {
+            no_mark(path, n, key, "OBJ")?;
             let most = || {
                 mesh.positions
                     .len()
@@ -345,6 +352,7 @@ fn parse_mtl(bytes: &[u8], path: &Path, out: &mut Vec<Material>) -> Result<(), O
     let text = text_of(bytes, path, "MTL")?;
     let dir = path.parent().unwrap_or(Path::new(""));
     for (n, line, key, rest) in statements(text) {
+        no_mark(path, n, key, "MTL")?;
         let here = || err(n, format!("{key}: before any newmtl"));
         match key {
             "newmtl" => out.push(Material {
@@ -522,15 +530,23 @@ mod tests {
         let obj = "\u{feff}v 5 5 0\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
         let e = parse(obj, "").unwrap_err();
         assert!(
-            e.contains("m/x.obj:1: starts with a UTF-8 byte-order mark (bytes EF BB BF): save the OBJ file without one"),
+            e.contains("m/x.obj:1: a UTF-8 byte-order mark (bytes EF BB BF) begins the line: save the OBJ file without one"),
             "{e}"
         );
         let e = parse("mtllib x.mtl\n", "\u{feff}newmtl a\nKd 1 0 0\n").unwrap_err();
-        assert!(
-            e.contains("m/x.mtl:1: starts with a UTF-8 byte-order mark"),
-            "{e}"
-        );
-        // Elsewhere U+FEFF is only an unknown word.
+        assert!(e.contains("m/x.mtl:1: a UTF-8 byte-order mark"), "{e}");
+        // Files joined after another: the mark begins a later line.
+        let joined = "# exported\n\u{feff}v 5 5 0\nv 0 0 0\nv 10 0 0\nv 0 10 0\nf 1 2 3\n";
+        assert!(parse(joined, "")
+            .unwrap_err()
+            .contains("m/x.obj:2: a UTF-8 byte-order mark"));
+        let e = parse(
+            "mtllib x.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+            "newmtl a\n\u{feff}Kd 1 0 0\n",
+        )
+        .unwrap_err();
+        assert!(e.contains("m/x.mtl:2: a UTF-8 byte-order mark"), "{e}");
+        // Elsewhere in a line U+FEFF is only an unknown word.
         assert!(parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 # \u{feff}\n", "").is_ok());
     }
 }
