@@ -144,7 +144,10 @@ impl Transform {
             // determinant at or under it may only have underflowed: a
             // uniform scale of 1e-110 is no more singular than 1, and was
             // called "determinant 0" (a hostile-input review).
-            if scale > 0.0 && SINGULAR_RELATIVE_DET * cube < f64::MIN_POSITIVE {
+            if scale > 0.0
+                && SINGULAR_RELATIVE_DET * cube < f64::MIN_POSITIVE
+                && !flat_when_scaled(&lin, scale)
+            {
                 return Err(TransformError(format!(
                     "underflows: entries no larger than {} put its determinant ({}) below \
                      the range of numbers (about 1e-308), where whether it squashes space \
@@ -386,6 +389,22 @@ fn parse_step(v: &Value, frame: u64) -> Result<Transform, String> {
     Transform::from_row_matrix(out).map_err(|e| e.to_string())
 }
 
+/// Whether the linear part `lin` (largest entry `scale`) squashes space
+/// flat by the relative rule, measured on `lin` scaled by the power of two
+/// at or below `scale` (exact), where its determinant neither underflows
+/// nor overflows: [`Transform::checked`] tells a genuinely flat tiny
+/// transform (`scale [1e-99, 1e-99, 0]`) from one whose determinant only
+/// underflowed (`scale 1e-110`). Entries that the scaling makes subnormal
+/// are below 2^-1022 of the largest, too small to matter to the rule.
+fn flat_when_scaled(lin: &DMat3, scale: f64) -> bool {
+    if scale < f64::MIN_POSITIVE {
+        return false; // Subnormal entries alone: nothing can be told.
+    }
+    let pow2 = f64::from_bits(scale.to_bits() & 0x7FF0_0000_0000_0000);
+    let scaled = *lin * (1.0 / pow2);
+    scaled.determinant().abs() <= SINGULAR_RELATIVE_DET * (scale / pow2).powi(3)
+}
+
 /// The rotation by `degrees` about the unit `axis`: glam's
 /// `DMat4::from_axis_angle` (Rodrigues' formula, the same operations in the
 /// same order), with the sine and cosine of [`math::sin_cos_degrees`], so
@@ -612,6 +631,12 @@ mod tests {
             "{tiny}"
         );
         assert!(e(json!({"scale": 1e-200})).contains("underflows"));
+        // Tiny and flat is flat (a review): a zero axis.
+        let flat = e(json!({"scale": [1e-99, 1e-99, 0]}));
+        assert!(
+            flat.contains("singular: determinant 0 squashes space flat"),
+            "{flat}"
+        );
         let stretch = e(json!({"scale": [1e100, 1, 1]}));
         assert!(
             stretch.contains(
