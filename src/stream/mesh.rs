@@ -39,6 +39,10 @@ pub const KEYS: [&str; 1] = ["obj"];
 /// instance that places it.
 const FACE_KEYS: [&str; 3] = ["color", "pattern", "shade"];
 
+/// Keys a mesh record may not have besides its geometry, "uv" and
+/// "normals": what another kind of element is made of, and a stripe.
+const NOT_MESH_KEYS: [&str; 5] = ["stripe", "instance", "object", "records", "light"];
+
 /// A top-level mesh element: the object of its faces and the instance that
 /// places it.
 pub fn top_level(index: usize, fields: Fields, base: &Path) -> Result<[Item; 2], StreamError> {
@@ -114,6 +118,16 @@ pub fn faces(
         return Err(e(
             "mesh: \"uv\" and \"normals\" come from the OBJ file's vt and vn".into(),
         ));
+    }
+    // Kept as unknown fields, these did nothing (a stripe map named there
+    // was never opened), and a mesh's "instance" replaced the instance
+    // polyfill3 writes for it: the two tools drew different scenes (a
+    // review of the hostile-input fixes).
+    if let Some(k) = NOT_MESH_KEYS.iter().find(|k| fields.contains_key(k)) {
+        return Err(e(format!(
+            "mesh: a mesh takes no \"{k}\": it would be dropped (its faces take \"color\", \
+             \"pattern\" and \"shade\", and a top-level mesh \"transform\")"
+        )));
     }
     let path = super::resolve(base, file);
     let mesh = Mesh::read_file(&path).map_err(|o| e(format!("mesh.obj: {o}")))?;
@@ -196,6 +210,24 @@ pub fn faces(
                             })
                         })
                         .collect();
+                    // Said of the vt the user wrote, before the texels it
+                    // scales to overflow (1e306 x 1024 was "null").
+                    let far = tri.iter().find_map(|&i| {
+                        let t = face.corners[i].vt?;
+                        let [u, v] = mesh.texcoords[t];
+                        let texels = (u * w as f64).abs().max((v * h as f64).abs());
+                        (texels.is_nan() || texels > super::record::MAX_UV).then_some([u, v])
+                    });
+                    if let Some([u, v]) = far {
+                        return Err(e(format!(
+                            "mesh.obj: {}:{}: f: vt {u} {v}, times the texture's {w}x{h} \
+                             texels, is beyond ±{:e} texels (the texture map's arithmetic \
+                             would overflow)",
+                            path.display(),
+                            face.line,
+                            super::record::MAX_UV
+                        )));
+                    }
                     if let Some(uv) = uv {
                         f.insert("uv", json!(uv));
                     }

@@ -153,6 +153,13 @@ impl Item {
                 "to its records or its instances",
             )?;
             none_of(&fields, index, &what, DRAWING_KEYS, "to its records")?;
+            none_of(
+                &fields,
+                index,
+                &what,
+                &["instance", "light"],
+                "its own element",
+            )?;
             let records = records.ok_or_else(|| {
                 field_err(
                     index,
@@ -167,11 +174,21 @@ impl Item {
                     field_err(index, format!("object `{name}` records[{i}]: {m}"))
                 };
                 match e {
-                    // A mesh inside an object: its faces are the object's records.
-                    Element::Object(o) if o.contains_key("mesh") => items.extend(
-                        super::mesh::faces(index, &o.into_fields(), base, &mut files)
-                            .map_err(inner)?,
-                    ),
+                    // A mesh inside an object: its faces are the object's
+                    // records; it is placed by the object's instances.
+                    Element::Object(o) if o.contains_key("mesh") => {
+                        let fields = o.into_fields();
+                        if fields.contains_key("transform") {
+                            return Err(inner(field_err(
+                                index,
+                                "mesh: a mesh inside an object takes no \"transform\": it \
+                                 would be dropped (give it to the object's instances)",
+                            )));
+                        }
+                        items.extend(
+                            super::mesh::faces(index, &fields, base, &mut files).map_err(inner)?,
+                        )
+                    }
                     e => items.push(Item::from_element(index, e, base).map_err(inner)?),
                 }
             }
@@ -195,6 +212,7 @@ impl Item {
                 DRAWING_KEYS,
                 "to the object's records",
             )?;
+            none_of(&fields, index, &what, &["light"], "its own element")?;
             let transform = fields
                 .get("transform")
                 .map(Transform::from_json)
@@ -645,6 +663,14 @@ mod tests {
             (
                 r#"{"object": "a", "records": [], "pattern": {"file": "p.pat"}}"#,
                 "a definition takes no \"pattern\"",
+            ),
+            (
+                r#"{"object": "a", "records": []} {"instance": "a", "light": {"ambient": 0.1}}"#,
+                "an instance takes no \"light\": it would be dropped (give it its own element)",
+            ),
+            (
+                r#"{"object": "a", "records": [], "instance": "b"}"#,
+                "a definition takes no \"instance\"",
             ),
         ] {
             let e = err(stream);

@@ -205,9 +205,33 @@ clitest!(bad_meshes_are_refused_naming_the_file_and_line, |dir| {
             r#"{"object": "o", "records": [{"mesh": {"obj": "bad.obj"}}]}"#,
             "record 0: object `o` records[0]: mesh.obj: ./bad.obj: no faces",
         ),
+        // Kept as unknown fields, these did nothing; a mesh's "instance"
+        // made polyfill3 write an instance of another object.
+        (
+            "",
+            r#"{"mesh": {"obj": "ok.obj"}, "stripe": {"map": "missing.map", "spacing": 1, "yaw": 0}}"#,
+            "record 0: mesh: a mesh takes no \"stripe\": it would be dropped",
+        ),
+        (
+            "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1e306 0\nvt 0 1\nusemtl t\nf 1/1 2/2 3/3\n",
+            r#"{"mesh": {"obj": "bad.obj"}}"#,
+            "record 0: mesh.obj: ./bad.obj:9: f: vt 1e306 0, times the texture's 2x2 texels, is beyond ±1e100 texels",
+        ),
+        (
+            "",
+            r#"{"mesh": {"obj": "ok.obj"}, "instance": "b"}"#,
+            "record 0: mesh: a mesh takes no \"instance\"",
+        ),
+        (
+            "",
+            r#"{"object": "o", "records": [{"mesh": {"obj": "ok.obj"}, "transform": {"translate": [1, 0, 0]}}]}"#,
+            "record 0: object `o` records[0]: mesh: a mesh inside an object takes no \"transform\"",
+        ),
     ] {
         dir.write("bad.obj", obj);
         dir.write("m.mtl", "newmtl t\nmap_Kd nothing.png\n");
+        dir.write("t.mtl", "newmtl t\nmap_Kd t.ppm\n");
+        dir.write("t.ppm", "P3 2 2 255 0 0 0 0 0 0 0 0 0 0 0 0\n");
         dir.write("s.json", record);
         for tool in ["scene-render", "polyfill3"] {
             dir.cmd(tool)
