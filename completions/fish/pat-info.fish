@@ -6,6 +6,6 @@ never\t'Never'"
 complete -c pat-info -l preview-size -d 'Widest preview in texels; larger patterns are shown subsampled' -r
 complete -c pat-info -l check -d 'Validate only: print nothing on success, one error per invalid file, and exit 1 if any file is invalid'
 complete -c pat-info -l json -d 'Print one JSON object instead of text: {"version": 1, "tool": "pat-info", "files": [...]} with an object per file, or with --record "records": [...] (docs/json.md)'
-complete -c pat-info -l preview -d 'Draw the pattern in the terminal with 24-bit colour, two texels per character cell; transparent texels show as a grey checker. Without colour (--color), one character per texel names its palette index (`.` transparent), with a legend'
+complete -c pat-info -l preview -d 'Draw the pattern in the terminal with 24-bit colour, two texels per character cell; transparent texels show as a grey checker. Without colour (--color), one character per texel names its colour as the table numbers them (1-9, A-Z, a-z; `?` beyond 61, `.` transparent), with a legend'
 complete -c pat-info -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c pat-info -s V -l version -d 'Print version'

@@ -68,8 +68,9 @@ pub struct Args {
 
     /// Draw the pattern in the terminal with 24-bit colour, two texels per
     /// character cell; transparent texels show as a grey checker. Without
-    /// colour (--color), one character per texel names its palette index
-    /// (`.` transparent), with a legend.
+    /// colour (--color), one character per texel names its colour as the
+    /// table numbers them (1-9, A-Z, a-z; `?` beyond 61, `.` transparent),
+    /// with a legend.
     #[arg(long, conflicts_with_all = ["check", "json"])]
     pub preview: bool,
 
@@ -735,11 +736,16 @@ fn write_preview(p: &Pattern, max: u32, out: &mut dyn std::io::Write) -> std::io
 }
 
 /// Characters naming palette indices 0, 1, ... in a preview without colour.
-const INDEX_CHARS: &[u8] = b"0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz";
+/// The characters of colours 1 to 61 in a preview without colour: the
+/// numbers the colour table, `--at` and `--json` give (it drew index 0 as
+/// `0`, so the table's colour 3 was the preview's `2`: a hostile-input
+/// review).
+const COLOUR_CHARS: &[u8] = b"123456789ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz";
 
-/// Preview without colour: one character per texel, its palette index
-/// ([`INDEX_CHARS`]; `.` transparent, `?` beyond them), top row first, then
-/// a legend of the indices shown. Subsampled like [`preview`].
+/// Preview without colour: one character per texel, its colour's number
+/// ([`COLOUR_CHARS`]; `.` transparent, `?` beyond them), top row first,
+/// then a legend of the characters, `?` included. Subsampled like
+/// [`preview`].
 fn plain_preview(p: &Pattern, max: u32) -> String {
     use std::fmt::Write;
     let size = p.size();
@@ -750,13 +756,22 @@ fn plain_preview(p: &Pattern, max: u32) -> String {
         for x in 0..cells {
             s.push(match p.index_at(x * step, y * step) {
                 None => '.',
-                Some(i) => INDEX_CHARS.get(i as usize).map_or('?', |&c| c as char),
+                Some(i) => COLOUR_CHARS.get(i as usize).map_or('?', |&c| c as char),
             });
         }
         s.push('\n');
     }
-    for (i, c) in p.palette().iter().enumerate().take(INDEX_CHARS.len()) {
-        let _ = writeln!(s, "  {} {}", INDEX_CHARS[i] as char, c.hex());
+    let palette = p.palette();
+    for (i, c) in palette.iter().enumerate().take(COLOUR_CHARS.len()) {
+        let _ = writeln!(s, "  {} {}", COLOUR_CHARS[i] as char, c.hex());
+    }
+    if palette.len() > COLOUR_CHARS.len() {
+        let _ = writeln!(
+            s,
+            "  ? colours {} to {} (see the table)",
+            COLOUR_CHARS.len() + 1,
+            palette.len()
+        );
     }
     s
 }
@@ -812,6 +827,26 @@ mod tests {
         let small = preview(&p, 8);
         assert_eq!(small.lines().count(), 4);
         assert_eq!(small.matches('▀').count(), 32);
+    }
+
+    #[test]
+    fn the_plain_preview_numbers_colours_as_the_table_does() {
+        // Texel (0, 0) of colour index 2 is the table's colour 3, and so
+        // the preview's `3`; beyond 61 colours, `?`, explained.
+        let palette: Vec<Rgb8> = (0..70).map(|i| Rgb8([i as u8, 0, 0])).collect();
+        let mut texels = vec![TRANSPARENT; 256];
+        texels[0] = 2;
+        texels[1] = 69;
+        let p = Pattern::new(16, palette, texels).unwrap();
+        let out = plain_preview(&p, 16);
+        let bottom = out.lines().nth(15).unwrap();
+        assert!(bottom.starts_with("3?."), "{bottom}");
+        assert!(out.contains("\n  3 #020000\n"), "{out}");
+        assert!(out.contains("\n  z #3c0000\n"), "{out}");
+        assert!(
+            out.ends_with("  ? colours 62 to 70 (see the table)\n"),
+            "{out}"
+        );
     }
 
     #[test]

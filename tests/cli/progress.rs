@@ -123,9 +123,10 @@ clitest!(preview_colour_obeys_color_and_no_color, |dir| {
     );
     assert!(!esc(&preview(&dir, Some("never"), None)));
     assert!(!esc(&preview(&dir, Some("auto"), Some("1"))));
-    // The plain preview names palette indices, with a legend.
+    // The plain preview names colours as the table numbers them (from 1),
+    // with a legend.
     let plain = preview(&dir, Some("never"), None);
-    assert!(plain.contains("  0 #"), "{plain}");
+    assert!(plain.contains("  1 #") && !plain.contains("  0 #"), "{plain}");
     // Under a terminal, colour by default unless NO_COLOR is set.
     let bin = assert_cmd::cargo::cargo_bin("pat-info");
     let pat = repo("fixtures/patterns/brick.pat");
