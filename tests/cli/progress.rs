@@ -126,7 +126,10 @@ clitest!(preview_colour_obeys_color_and_no_color, |dir| {
     // The plain preview names colours as the table numbers them (from 1),
     // with a legend.
     let plain = preview(&dir, Some("never"), None);
-    assert!(plain.contains("  1 #") && !plain.contains("  0 #"), "{plain}");
+    assert!(
+        plain.contains("  1 #") && !plain.contains("  0 #"),
+        "{plain}"
+    );
     // Under a terminal, colour by default unless NO_COLOR is set.
     let bin = assert_cmd::cargo::cargo_bin("pat-info");
     let pat = repo("fixtures/patterns/brick.pat");
