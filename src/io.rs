@@ -506,6 +506,14 @@ impl InputKind {
             )),
         };
         let image = || image::guess_format(start).is_ok();
+        if start.is_empty() && matches!(self, InputKind::Image | InputKind::ImageOrPfm) {
+            // Said as such: "it does not start as PNG, ..." left the user to
+            // find out that it does not start at all (a hostile-input review).
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidData,
+                "empty file: not an image",
+            ));
+        }
         match self {
             InputKind::Text => text().map(|()| MAX_NAMED_FILE_BYTES),
             InputKind::Stream => text().map(|()| u64::MAX),

@@ -627,9 +627,10 @@ impl<'a> Parser<'a> {
                 for j in 0..words_per_row {
                     let what = || {
                         format!(
-                            "hex word {} of row {row} of colour {n} ({} words per row, {s} rows)",
+                            "hex word {} of row {row} of colour {n} ({words_per_row} {} per \
+                             row, {s} rows)",
                             j + 1,
-                            words_per_row
+                            if words_per_row == 1 { "word" } else { "words" }
                         )
                     };
                     let (word, w) = self.hex_word(&what)?;
@@ -928,7 +929,7 @@ mod tests {
         let e = err(&one_colour(&vec!["0"; 15].join(" ")));
         assert_eq!(
             e,
-            "t.pat:3: unexpected end of file: expected hex word 1 of row 15 of colour 1 (1 words per row, 16 rows)"
+            "t.pat:3: unexpected end of file: expected hex word 1 of row 15 of colour 1 (1 word per row, 16 rows)"
         );
     }
 

@@ -599,8 +599,21 @@ impl FromStr for Size {
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         let bad = || format!("invalid size `{s}`: expected WxH, e.g. 1024x768");
         let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-        let w: u32 = w.trim().parse().map_err(|_| bad())?;
-        let h: u32 = h.trim().parse().map_err(|_| bad())?;
+        // A side of digits past u32 is too large, not malformed.
+        let side = |t: &str| {
+            let t = t.trim();
+            t.parse::<u32>().map_err(|_| {
+                if !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit()) {
+                    format!(
+                        "image size {s} is too large: each side at most {}",
+                        crate::io::MAX_IMAGE_SIDE
+                    )
+                } else {
+                    bad()
+                }
+            })
+        };
+        let (w, h) = (side(w)?, side(h)?);
         crate::io::Image::check_size(w, h).map_err(|e| e.to_string())?;
         Ok(Size {
             width: w,
@@ -1074,6 +1087,14 @@ mod tests {
             assert!(
                 e.contains(bad) || e.contains("too large") || e.contains("empty"),
                 "{e}"
+            );
+        }
+        // Past u32 is too large too, with the value as given (it was
+        // "expected WxH").
+        for big in ["4294967297x1", "1x18446744073709551632"] {
+            assert_eq!(
+                big.parse::<Size>().unwrap_err(),
+                format!("image size {big} is too large: each side at most 65535")
             );
         }
     }

@@ -214,10 +214,12 @@ fn run_in_pool(args: Args) -> Result<()> {
             Some(p) => format!("{p:.2} dB"),
             None => "n/a (no coloured texels)".to_string(),
         };
+        let n = pattern.palette().len();
         eprintln_or_drop!(
-            "pat-from-image: {}: {size}x{size}, {} colours, {transparent} transparent texels, PSNR {psnr}",
+            "pat-from-image: {}: {size}x{size}, {n} {}, {transparent} transparent {}, PSNR {psnr}",
             crate::text::one_line(name),
-            pattern.palette().len()
+            if n == 1 { "colour" } else { "colours" },
+            if transparent == 1 { "texel" } else { "texels" },
         );
     }
     Ok(())

@@ -224,7 +224,20 @@ fn bad_inputs_fail_with_the_right_status_and_leave_no_output() {
         1,
         "standard input: not an image",
     );
-    fails(&["-"], Some(Vec::new()), 1, "standard input: not an image");
+    fails(
+        &["-"],
+        Some(Vec::new()),
+        1,
+        "standard input: empty file: not an image",
+    );
+    let empty = dir.path().join("empty.png");
+    std::fs::write(&empty, b"").unwrap();
+    fails(
+        &[empty.to_str().unwrap()],
+        None,
+        1,
+        "empty.png: empty file: not an image",
+    );
     for size in ["0", "17", "8192"] {
         fails(&["--size", size, png], None, 2, &format!("--size `{size}`"));
     }
