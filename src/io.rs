@@ -1759,6 +1759,9 @@ pub struct Photo {
     /// Whether the file embeds an ICC colour profile. It is not applied:
     /// the tools take every pixel as sRGB (and the profile is not kept).
     pub has_icc_profile: bool,
+    /// The frames of an animated GIF or PNG (APNG), when it has more than
+    /// one: only the first is decoded ([`animation_frames`]).
+    pub frames: Option<u32>,
 }
 
 /// The error of a file that is not an image this tool reads.
@@ -1904,6 +1907,65 @@ fn png_has_icc_profile(bytes: &[u8]) -> bool {
     false
 }
 
+/// How many frames an animated GIF or PNG holds, when more than one; found
+/// by walking its blocks or chunks without decoding them. The decoders
+/// give the first frame, and the rest were dropped without a word (a
+/// hostile-input review): the caller warns.
+pub fn animation_frames(bytes: &[u8]) -> Option<u32> {
+    let frames = if let Some(mut rest) = bytes.strip_prefix(b"\x89PNG\r\n\x1a\n".as_slice()) {
+        // APNG: an acTL chunk before the pixel data says how many.
+        let mut n = None;
+        while rest.len() >= 12 {
+            let len = u32::from_be_bytes([rest[0], rest[1], rest[2], rest[3]]) as usize;
+            match &rest[4..8] {
+                b"acTL" => {
+                    n = Some(u32::from_be_bytes([rest[8], rest[9], rest[10], rest[11]]));
+                    break;
+                }
+                b"IDAT" | b"IEND" => break,
+                _ => rest = rest.get(len.saturating_add(12)..).unwrap_or_default(),
+            }
+        }
+        n?
+    } else if bytes.starts_with(b"GIF8") && bytes.len() >= 13 {
+        // GIF: count the image descriptors, skipping each block's data.
+        let colours = |flags: u8| {
+            if flags & 0x80 != 0 {
+                3usize << ((flags & 7) + 1)
+            } else {
+                0
+            }
+        };
+        let skip_blocks = |mut at: usize| {
+            while let Some(&n) = bytes.get(at) {
+                at += 1 + n as usize;
+                if n == 0 {
+                    break;
+                }
+            }
+            at
+        };
+        let mut at = 13 + colours(bytes[10]);
+        let mut n = 0u32;
+        while let Some(&b) = bytes.get(at) {
+            match b {
+                0x21 => at = skip_blocks(at + 2),
+                0x2C => {
+                    n += 1;
+                    let flags = *bytes.get(at + 9)?;
+                    // Descriptor, local colours, LZW code size, data.
+                    at = skip_blocks(at + 10 + colours(flags) + 1);
+                }
+                _ => break,
+            }
+        }
+        n
+    } else {
+        return None;
+    };
+    (frames > 1).then_some(frames)
+}
+
 /// A PNG's width and height as its header (IHDR, the first chunk) gives
 /// them, or `None` for bytes that do not start as one.
 fn png_size(bytes: &[u8]) -> Option<(u32, u32)> {
@@ -1951,6 +2013,7 @@ pub fn decode_photo(bytes: &[u8], name: &str) -> Result<Photo, IoError> {
         image: img.into_rgba8(),
         orientation,
         has_icc_profile,
+        frames: animation_frames(bytes),
     })
 }
 
@@ -2288,6 +2351,48 @@ mod tests {
         enc.write_image(&[9; 12], 2, 2, image::ExtendedColorType::Rgb8)
             .unwrap();
         png
+    }
+
+    #[test]
+    fn animated_gifs_and_pngs_are_counted_without_decoding() {
+        let frame = |v: u8| {
+            image::Frame::new(image::RgbaImage::from_pixel(
+                4,
+                4,
+                image::Rgba([v, 0, 0, 255]),
+            ))
+        };
+        // A GIF of three frames, and one of one.
+        let gif = |n: u8| {
+            let mut out = Vec::new();
+            let mut enc = image::codecs::gif::GifEncoder::new(&mut out);
+            enc.encode_frames((0..n).map(|i| frame(i * 80))).unwrap();
+            drop(enc);
+            out
+        };
+        assert_eq!(animation_frames(&gif(3)), Some(3));
+        assert_eq!(animation_frames(&gif(1)), None);
+        let three = decode_photo(&gif(3), "a.gif").unwrap();
+        assert_eq!(three.frames, Some(3));
+        assert_eq!(three.image.get_pixel(0, 0).0[0], 0, "the first frame");
+        // An APNG of two frames; a plain PNG; a PNG whose chunks lie.
+        let mut apng = Vec::new();
+        {
+            let mut enc = png::Encoder::new(&mut apng, 2, 2);
+            enc.set_color(png::ColorType::Rgb);
+            enc.set_animated(2, 0).unwrap();
+            let mut w = enc.write_header().unwrap();
+            w.write_image_data(&[1; 12]).unwrap();
+            w.write_image_data(&[2; 12]).unwrap();
+            w.finish().unwrap();
+        }
+        assert_eq!(animation_frames(&apng), Some(2));
+        let plain = png_with_profile(10);
+        assert_eq!(animation_frames(&plain), None);
+        let mut lying = plain.clone();
+        lying[8..12].copy_from_slice(&u32::MAX.to_be_bytes());
+        assert_eq!(animation_frames(&lying), None);
+        assert_eq!(animation_frames(&gif(3)[..20]), None);
     }
 
     #[test]

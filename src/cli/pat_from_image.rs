@@ -40,7 +40,8 @@ canonical .pat texture pattern: resample it to SIZE x SIZE texels, choose a pale
 of K colours (median cut refined by k-means, deterministic) and map every pixel to \
 one of them.\n\nA photo is first turned upright by its EXIF orientation (as \
 phones store pictures taken sideways). An embedded ICC colour profile is not \
-applied: the pixels are taken as sRGB, with a warning.\n\nResampling averages in linear light with premultiplied alpha: an \
+applied: the pixels are taken as sRGB, with a warning. Of an animated GIF or \
+PNG only the first frame is used, with a warning.\n\nResampling averages in linear light with premultiplied alpha: an \
 exact area average (box filter) when shrinking, a Mitchell filter when enlarging. \
 A non-square image is cut to its centred largest square first (the left and right, \
 or top and bottom, margins are dropped) unless --crop is given. Pixels more \
@@ -231,6 +232,12 @@ fn run_in_pool(args: Args) -> Result<()> {
 fn read_photo(input: &str) -> Result<image::RgbaImage> {
     let name = display_name(input);
     let photo = io::decode_photo(&io::read_input(input, io::InputKind::Image)?, name)?;
+    if let Some(n) = photo.frames {
+        super::warn(
+            "pat-from-image",
+            format!("{name}: is animated ({n} frames): only the first is used"),
+        );
+    }
     if photo.has_icc_profile {
         super::warn(
             "pat-from-image",
