@@ -29,6 +29,18 @@ pub enum PaletteError {
     /// The file looks like a pattern and is not a valid one.
     #[error(transparent)]
     Pattern(#[from] ParseError),
+    /// The file is text that is neither a `.pat` nor a colour list, and
+    /// says why it looks like neither (a colour list with spaces, a GIMP
+    /// palette, a byte-order mark, a byte that is not UTF-8).
+    #[error("{file}:{line}: not a palette: {why}")]
+    Unlike {
+        /// The file's name.
+        file: String,
+        /// The line, from 1.
+        line: usize,
+        /// What it looks like, and what to write instead.
+        why: String,
+    },
     /// The file holds no colour.
     #[error("{0}: the palette has no colours")]
     Empty(String),
@@ -57,8 +69,35 @@ pub enum LineError {
 /// colour per line as `r,g,b` or `#rrggbb`, blank lines and `#` comments allowed.
 /// A file whose first meaningful line holds a comma or starts with `#` is a list.
 pub fn parse_palette_file(bytes: &[u8], name: &str) -> Result<Vec<Rgb8>, PaletteError> {
-    let text =
-        std::str::from_utf8(bytes).map_err(|_| PaletteError::NotAPalette(name.to_string()))?;
+    let unlike = |line: usize, why: String| PaletteError::Unlike {
+        file: name.to_string(),
+        line,
+        why,
+    };
+    let text = match std::str::from_utf8(bytes) {
+        Ok(text) => text,
+        // A .pat with a stray byte is the .pat reader's to name.
+        Err(_) if palette_is_pattern(bytes) => {
+            return checked(Pattern::parse(bytes, name)?.palette().to_vec(), name)
+        }
+        Err(e) => {
+            let at = e.valid_up_to();
+            let line = 1 + bytes[..at].iter().filter(|&&b| b == b'\n').count();
+            return Err(unlike(
+                line,
+                format!(
+                    "byte 0x{:02x} is not UTF-8 text (a palette is text)",
+                    bytes[at]
+                ),
+            ));
+        }
+    };
+    if text.starts_with('\u{feff}') {
+        return Err(unlike(
+            1,
+            "it starts with a UTF-8 byte-order mark (bytes EF BB BF): save it without one".into(),
+        ));
+    }
     let first = text.lines().map(str::trim).find(|l| !l.is_empty());
     let is_list = first.is_some_and(|l| l.contains(',') || l.starts_with('#'));
     let palette = if is_list {
@@ -75,7 +114,24 @@ pub fn parse_palette_file(bytes: &[u8], name: &str) -> Result<Vec<Rgb8>, Palette
         }
         out
     } else {
-        Pattern::parse(bytes, name)?.palette().to_vec()
+        let pattern = Pattern::parse(bytes, name);
+        // Colours written `R G B`, or a GIMP palette: say what to write.
+        let (line, first) = text
+            .lines()
+            .enumerate()
+            .find(|(_, l)| !l.trim().is_empty())
+            .unwrap_or((0, ""));
+        let words: Vec<&str> = first.split_whitespace().collect();
+        let rgb = words.len() >= 3 && words[..3].iter().all(|w| w.parse::<u8>().is_ok());
+        if pattern.is_err() && (rgb || first.starts_with("GIMP Palette")) {
+            return Err(unlike(
+                line + 1,
+                "neither a .pat file nor a list of colours: write one colour a line as \
+                 `r,g,b` (with commas) or `#rrggbb`"
+                    .into(),
+            ));
+        }
+        pattern?.palette().to_vec()
     };
     checked(palette, name)
 }
@@ -180,5 +236,23 @@ mod tests {
         }
         let e = chain(&parse_palette_file(b"#ff0000 junk\n", "j").unwrap_err());
         assert!(e.contains("j:1") && e.contains("junk"), "{e}");
+    }
+
+    #[test]
+    fn text_that_is_neither_says_what_it_looks_like() {
+        // They got the .pat reader's words ("pattern size 255 is not a
+        // multiple of 16"), or no place at all (a hostile-input review).
+        let err = |bytes: &[u8]| chain(&parse_palette_file(bytes, "p.txt").unwrap_err());
+        for (bytes, want) in [
+            (&b"255 0 0\n0 255 0\n"[..], "p.txt:1: not a palette: neither a .pat file nor a list of colours: write one colour a line as `r,g,b` (with commas) or `#rrggbb`"),
+            (b"GIMP Palette\n255 0 0 red\n", "p.txt:1: not a palette: neither a .pat file"),
+            (b"\xef\xbb\xbf255,0,0\n", "p.txt:1: not a palette: it starts with a UTF-8 byte-order mark"),
+            (b"255,0,0\n0,0,255 # caf\xe9\n", "p.txt:2: not a palette: byte 0xe9 is not UTF-8 text"),
+        ] {
+            let e = err(bytes);
+            assert!(e.contains(want), "{e}");
+        }
+        // A .pat keeps the .pat reader's words.
+        assert!(err(b"16 1\n1 2 3\n\xff\n").contains("p.txt:3"));
     }
 }
