@@ -12,9 +12,6 @@ use crate::text::ParseError;
 /// Why a forced palette file cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum PaletteError {
-    /// The file is neither UTF-8 text nor a pattern.
-    #[error("{0}: not a palette: neither a .pat file nor a text list of colours")]
-    NotAPalette(String),
     /// A line of a colour list is not a colour.
     #[error("{file}:{line}")]
     Line {
