@@ -116,6 +116,13 @@ pub struct ModulationMap {
     fade: Fade,
 }
 
+/// `bytes` past a UTF-8 byte-order mark, if they start with one.
+fn without_mark(bytes: &[u8]) -> &[u8] {
+    bytes
+        .strip_prefix(b"\xef\xbb\xbf".as_slice())
+        .unwrap_or(bytes)
+}
+
 impl ModulationMap {
     /// A map of `values` (sRGB-coded intensities, 0 darkest) and its fade;
     /// refused unless the length is a power of two from 1 to [`MAX_LEN`].
@@ -150,10 +157,14 @@ impl ModulationMap {
     }
 
     /// Whether bytes look like a map file: their first word (after blank
-    /// lines and `#` comments) is [`MAGIC`].
+    /// lines and `#` comments) is [`MAGIC`], in any case, after a
+    /// byte-order mark if there is one. Such a map that is not a valid one
+    /// is then refused in the map's words (`expected `STRIPE``, the mark
+    /// named), where the `.pat` reader's words were (a hostile-input
+    /// review).
     pub fn sniff(bytes: &[u8]) -> bool {
-        let mut w = Words::new(bytes, "", "");
-        matches!(w.next(), Ok(Some(word)) if word.text == MAGIC)
+        let mut w = Words::new(without_mark(bytes), "", "");
+        matches!(w.next(), Ok(Some(word)) if word.text.eq_ignore_ascii_case(MAGIC))
     }
 
     /// Whether a file whose first bytes are `start` may be a map, for a
@@ -162,9 +173,17 @@ impl ModulationMap {
     /// `start` is all whitespace (a map may have any number of blank
     /// lines and comments before [`MAGIC`]).
     pub fn may_start(start: &[u8]) -> bool {
-        match start.iter().find(|b| !b.is_ascii_whitespace()) {
+        let start = without_mark(start);
+        match start.iter().position(|b| !b.is_ascii_whitespace()) {
             None => true,
-            Some(&b) => b == b'#' || b == MAGIC.as_bytes()[0],
+            Some(i) => {
+                let word = &start[i..];
+                word[0] == b'#'
+                    || word[0] == MAGIC.as_bytes()[0]
+                    || word
+                        .get(..MAGIC.len())
+                        .is_some_and(|w| w.eq_ignore_ascii_case(MAGIC.as_bytes()))
+            }
         }
     }
 
@@ -394,6 +413,19 @@ mod tests {
         assert!(!ModulationMap::sniff(b"16 1\n"));
         assert!(!ModulationMap::sniff(b"STRIPED"));
         assert!(!ModulationMap::sniff(b""));
+        // A mark or a lowercase header is a map, refused in its words.
+        for bytes in [&b"\xef\xbb\xbfSTRIPE 1\n1\n"[..], b"stripe 1\n1\n"] {
+            assert!(ModulationMap::sniff(bytes) && ModulationMap::may_start(bytes));
+        }
+        let e = ModulationMap::parse(b"\xef\xbb\xbfSTRIPE 1\n1\n", "b.map")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("byte-order mark"), "{e}");
+        let e = ModulationMap::parse(b"stripe 1\n1\n", "l.map")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("expected `STRIPE`"), "{e}");
+        assert!(!ModulationMap::may_start(b"sss"));
     }
 
     #[test]
