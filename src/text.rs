@@ -16,6 +16,21 @@ use std::fmt;
 /// editors put at the start of a text file: none of the formats has one.
 pub(crate) const BOM_FIRST: u8 = 0xEF;
 
+/// The UTF-8 byte-order mark itself, as text.
+pub(crate) const BOM: char = '\u{feff}';
+
+/// How an error names a byte-order mark, so that every format says it alike.
+pub(crate) const BOM_NAMED: &str = "a UTF-8 byte-order mark (bytes EF BB BF)";
+
+/// `bytes` past a UTF-8 byte-order mark, if they start with one: for a
+/// reader that sniffs a format past the mark, to refuse it then in that
+/// format's words.
+pub(crate) fn without_bom(bytes: &[u8]) -> &[u8] {
+    let mut mark = [0; 3];
+    BOM.encode_utf8(&mut mark);
+    bytes.strip_prefix(mark.as_slice()).unwrap_or(bytes)
+}
+
 /// Said after an error at a file's first byte when it is [`BOM_FIRST`]:
 /// "byte 0xef is not text" alone left the user to guess (a hostile-input
 /// review).

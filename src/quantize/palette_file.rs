@@ -7,7 +7,7 @@ use super::MAX_QUANT_COLORS;
 use crate::color::ColorParseError;
 use crate::color::Rgb8;
 use crate::pat::Pattern;
-use crate::text::ParseError;
+use crate::text::{ParseError, BOM, BOM_NAMED};
 
 /// Why a forced palette file cannot be used.
 #[derive(Debug, thiserror::Error)]
@@ -89,10 +89,10 @@ pub fn parse_palette_file(bytes: &[u8], name: &str) -> Result<Vec<Rgb8>, Palette
             ));
         }
     };
-    if text.starts_with('\u{feff}') {
+    if text.starts_with(BOM) {
         return Err(unlike(
             1,
-            "it starts with a UTF-8 byte-order mark (bytes EF BB BF): save it without one".into(),
+            format!("it starts with {BOM_NAMED}: save it without one"),
         ));
     }
     let first = text.lines().map(str::trim).find(|l| !l.is_empty());

@@ -12,6 +12,7 @@
 //! [`crate::io::MAX_NAMED_FILE_BYTES`]), and everything kept is a fixed
 //! size per statement read, so memory is bounded by the file's size.
 
+use crate::text::{BOM, BOM_NAMED};
 use glam::DVec3;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -128,14 +129,11 @@ fn text_of<'a>(bytes: &'a [u8], path: &Path, format: &str) -> Result<&'a str, Ob
 /// statement: at the start of a file, or of one joined after another (a
 /// hostile-input review, then a review of its fix).
 fn no_mark(path: &Path, line: usize, key: &str, format: &str) -> Result<(), ObjError> {
-    if key.starts_with('\u{feff}') {
+    if key.starts_with(BOM) {
         return Err(ObjError::at(
             path,
             line,
-            format!(
-                "a UTF-8 byte-order mark (bytes EF BB BF) begins the line: save the {format} \
-                 file without one"
-            ),
+            format!("{BOM_NAMED} begins the line: save the {format} file without one"),
         ));
     }
     Ok(())

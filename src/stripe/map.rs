@@ -41,7 +41,7 @@
 
 use crate::color::{linear_to_srgb_f64, srgb8_to_linear_f64};
 use crate::pat::ParseError;
-use crate::text::Words;
+use crate::text::{without_bom, Words};
 use std::fmt;
 use std::io::{self, Write};
 use std::path::Path;
@@ -116,13 +116,6 @@ pub struct ModulationMap {
     fade: Fade,
 }
 
-/// `bytes` past a UTF-8 byte-order mark, if they start with one.
-fn without_mark(bytes: &[u8]) -> &[u8] {
-    bytes
-        .strip_prefix(b"\xef\xbb\xbf".as_slice())
-        .unwrap_or(bytes)
-}
-
 impl ModulationMap {
     /// A map of `values` (sRGB-coded intensities, 0 darkest) and its fade;
     /// refused unless the length is a power of two from 1 to [`MAX_LEN`].
@@ -163,7 +156,7 @@ impl ModulationMap {
     /// named), where the `.pat` reader's words were (a hostile-input
     /// review).
     pub fn sniff(bytes: &[u8]) -> bool {
-        let mut w = Words::new(without_mark(bytes), "", "");
+        let mut w = Words::new(without_bom(bytes), "", "");
         matches!(w.next(), Ok(Some(word)) if word.text.eq_ignore_ascii_case(MAGIC))
     }
 
@@ -173,7 +166,7 @@ impl ModulationMap {
     /// `start` is all whitespace (a map may have any number of blank
     /// lines and comments before [`MAGIC`]).
     pub fn may_start(start: &[u8]) -> bool {
-        let start = without_mark(start);
+        let start = without_bom(start);
         match start.iter().position(|b| !b.is_ascii_whitespace()) {
             None => true,
             Some(i) => {
