@@ -1888,23 +1888,32 @@ fn decode_pixels(
     Ok(img)
 }
 
+/// The eight bytes every PNG starts with.
+const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
+
+/// The chunks of a PNG before its pixel data (`IDAT`) or its end, as
+/// (type, data), walked without decoding anything; `None` for bytes that
+/// do not start as a PNG. A chunk whose length runs past the bytes gives
+/// what data there is, and ends the walk.
+fn png_header_chunks(bytes: &[u8]) -> Option<impl Iterator<Item = (&[u8], &[u8])>> {
+    let mut rest = bytes.strip_prefix(PNG_SIGNATURE)?;
+    Some(std::iter::from_fn(move || {
+        let (len, kind) = (rest.get(..4)?, rest.get(4..8)?);
+        if kind == b"IDAT" || kind == b"IEND" {
+            return None;
+        }
+        let len = u32::from_be_bytes([len[0], len[1], len[2], len[3]]) as usize;
+        let data = &rest[8..rest.len().min(len.saturating_add(8))];
+        rest = rest.get(len.saturating_add(12)..).unwrap_or_default();
+        Some((kind, data))
+    }))
+}
+
 /// Whether a PNG has an ICC profile chunk (`iCCP`) before its pixel data,
 /// found by walking the chunk list without inflating the profile: the
 /// decoder drops a profile past [`PNG_METADATA_BYTES`] without a word.
 fn png_has_icc_profile(bytes: &[u8]) -> bool {
-    const SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
-    let Some(mut rest) = bytes.strip_prefix(SIGNATURE) else {
-        return false;
-    };
-    while rest.len() >= 8 {
-        let len = u32::from_be_bytes([rest[0], rest[1], rest[2], rest[3]]) as usize;
-        match &rest[4..8] {
-            b"iCCP" => return true,
-            b"IDAT" | b"IEND" => return false,
-            _ => rest = rest.get(len.saturating_add(12)..).unwrap_or_default(),
-        }
-    }
-    false
+    png_header_chunks(bytes).is_some_and(|mut chunks| chunks.any(|(kind, _)| kind == b"iCCP"))
 }
 
 /// How many frames an animated GIF or PNG holds, when more than one; found
@@ -1912,21 +1921,11 @@ fn png_has_icc_profile(bytes: &[u8]) -> bool {
 /// give the first frame, and the rest were dropped without a word (a
 /// hostile-input review): the caller warns.
 pub fn animation_frames(bytes: &[u8]) -> Option<u32> {
-    let frames = if let Some(mut rest) = bytes.strip_prefix(b"\x89PNG\r\n\x1a\n".as_slice()) {
+    let frames = if let Some(mut chunks) = png_header_chunks(bytes) {
         // APNG: an acTL chunk before the pixel data says how many.
-        let mut n = None;
-        while rest.len() >= 12 {
-            let len = u32::from_be_bytes([rest[0], rest[1], rest[2], rest[3]]) as usize;
-            match &rest[4..8] {
-                b"acTL" => {
-                    n = Some(u32::from_be_bytes([rest[8], rest[9], rest[10], rest[11]]));
-                    break;
-                }
-                b"IDAT" | b"IEND" => break,
-                _ => rest = rest.get(len.saturating_add(12)..).unwrap_or_default(),
-            }
-        }
-        n?
+        let (_, data) = chunks.find(|(kind, _)| *kind == b"acTL")?;
+        let n = data.get(..4)?;
+        u32::from_be_bytes([n[0], n[1], n[2], n[3]])
     } else if bytes.starts_with(b"GIF8") && bytes.len() >= 13 {
         // GIF: count the image descriptors, skipping each block's data.
         let colours = |flags: u8| {
@@ -1969,13 +1968,10 @@ pub fn animation_frames(bytes: &[u8]) -> Option<u32> {
 /// A PNG's width and height as its header (IHDR, the first chunk) gives
 /// them, or `None` for bytes that do not start as one.
 fn png_size(bytes: &[u8]) -> Option<(u32, u32)> {
-    const SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
-    let ihdr = bytes.strip_prefix(SIGNATURE)?.get(4..16)?;
-    let (kind, dims) = ihdr.split_at(4);
-    (kind == b"IHDR").then(|| {
-        let be = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
-        (be(&dims[..4]), be(&dims[4..8]))
-    })
+    let (kind, data) = png_header_chunks(bytes)?.next()?;
+    let dims = data.get(..8).filter(|_| kind == b"IHDR")?;
+    let be = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
+    Some((be(&dims[..4]), be(&dims[4..8])))
 }
 
 /// [`open_decoder`] for a picture to decode whole: refused, from its header,
