@@ -6,6 +6,7 @@ use crate::error::OptionError;
 use std::io::{self, BufWriter, IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
 
+mod png_palette;
 mod pnm_samples;
 
 /// Checks that `name` can be written, as [`Output::create`] would, and
@@ -132,6 +133,23 @@ pub enum IoError {
         x: u64,
         /// Its row.
         y: u64,
+    },
+    /// An indexed PNG with a pixel whose index is past its palette.
+    #[error(
+        "{input}: the palette index {index} at pixel ({x}, {y}) is past the palette \
+         ({colours} colours)"
+    )]
+    PastPalette {
+        /// The input's name, as errors show it.
+        input: String,
+        /// The index.
+        index: u8,
+        /// Entries in the palette (`PLTE`).
+        colours: usize,
+        /// Its pixel (0-based, row 0 at the top).
+        x: u32,
+        /// Its row.
+        y: u32,
     },
     /// A floating-point picture with a sample that is not a finite number.
     #[error("{input}: the sample {value} at pixel ({x}, {y}) is not a finite number")]
@@ -1860,15 +1878,26 @@ const DECODE_WORK_BYTES: u64 = 512 << 20;
 /// for everything, a 12000x12000 RGBA TIFF, within the tools' limits, was
 /// refused as "Memory limit exceeded"). Samples that are not finite
 /// numbers (a floating-point TIFF's NaN or infinity) are refused: 8-bit
-/// conversion made NaN white.
+/// conversion made NaN white; and so is an indexed PNG's index past its
+/// palette (`bytes`, [`png_palette`]): it was drawn black.
 fn decode_pixels(
     mut decoder: impl image::ImageDecoder,
+    bytes: &[u8],
     name: &str,
 ) -> Result<image::DynamicImage, IoError> {
     let mut limits = image::Limits::default();
     limits.max_alloc = Some(decoder.total_bytes().saturating_add(DECODE_WORK_BYTES));
     decoder.set_limits(limits).map_err(not_an_image(name))?;
     let img = image::DynamicImage::from_decoder(decoder).map_err(not_an_image(name))?;
+    if let Some(p) = png_palette::first_past_palette(bytes) {
+        return Err(IoError::PastPalette {
+            input: name.to_string(),
+            index: p.index,
+            colours: p.colours,
+            x: p.x,
+            y: p.y,
+        });
+    }
     let samples: &[f32] = match &img {
         image::DynamicImage::ImageRgb32F(i) => i.as_raw(),
         image::DynamicImage::ImageRgba32F(i) => i.as_raw(),
@@ -2003,7 +2032,7 @@ pub fn decode_photo(bytes: &[u8], name: &str) -> Result<Photo, IoError> {
     } else {
         decoder.icc_profile().ok().flatten().is_some()
     };
-    let mut img = decode_pixels(decoder, name)?;
+    let mut img = decode_pixels(decoder, bytes, name)?;
     img.apply_orientation(orientation);
     Ok(Photo {
         image: img.into_rgba8(),
@@ -2066,7 +2095,7 @@ pub fn decode_texture(
     let orientation = decoder
         .orientation()
         .unwrap_or(image::metadata::Orientation::NoTransforms);
-    let mut img = decode_pixels(decoder, name)?;
+    let mut img = decode_pixels(decoder, bytes, name)?;
     img.apply_orientation(orientation);
     let (width, height) = (img.width(), img.height());
     let deep = img.color().bytes_per_pixel() / img.color().channel_count() > 1;
@@ -2259,7 +2288,7 @@ pub fn decode_any(bytes: &[u8], name: &str) -> Result<AnyImage, IoError> {
                 error,
             });
     }
-    let img = decode_pixels(open_picture(bytes, name)?, name)?;
+    let img = decode_pixels(open_picture(bytes, name)?, bytes, name)?;
     let (width, height) = (img.width(), img.height());
     let deep = img.color().bytes_per_pixel() / img.color().channel_count() > 1;
     Ok(if deep {
@@ -2282,7 +2311,7 @@ pub fn decode_any(bytes: &[u8], name: &str) -> Result<AnyImage, IoError> {
 /// Decodes any image the `image` crate reads (PNG, JPEG, GIF, BMP, TIFF, WebP,
 /// PNM/PAM) into RGBA8, as stored (no EXIF orientation: see [`decode_photo`]).
 pub fn decode_image(bytes: &[u8], name: &str) -> Result<image::RgbaImage, IoError> {
-    let img = decode_pixels(open_picture(bytes, name)?, name)?;
+    let img = decode_pixels(open_picture(bytes, name)?, bytes, name)?;
     Ok(img.into_rgba8())
 }
 

@@ -488,3 +488,50 @@ fn a_netpbm_sample_over_its_maxval_is_refused() {
         .assert()
         .success();
 }
+
+/// An indexed PNG with a pixel whose index is past its palette is refused,
+/// naming the index, its pixel and the palette's size; the decoder drew it
+/// black. A scene naming it as a texture is refused the same way, and the
+/// same picture with the index in range is read.
+#[test]
+fn a_png_palette_index_past_its_palette_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let indexed = |last: u8| {
+        let mut out = Vec::new();
+        let mut e = png::Encoder::new(&mut out, 4, 2);
+        e.set_color(png::ColorType::Indexed);
+        e.set_palette(vec![255, 0, 0, 0, 255, 0]);
+        e.write_header()
+            .unwrap()
+            .write_image_data(&[0, 1, 1, 0, 1, 0, 0, last])
+            .unwrap();
+        out
+    };
+    std::fs::write(dir.path().join("bad.png"), indexed(5)).unwrap();
+    let said = "bad.png: the palette index 5 at pixel (3, 1) is past the palette (2 colours)";
+    tool()
+        .current_dir(dir.path())
+        .args(["bad.png", "-o", "out.pat"])
+        .assert()
+        .code(1)
+        .stderr(contains(said));
+    assert!(!dir.path().join("out.pat").exists());
+    std::fs::write(
+        dir.path().join("s.json"),
+        r#"{"vertices":[[0,0,0],[8,0,0],[0,8,0]],"color":[1,2,3],"pattern":{"file":"bad.png"}}"#,
+    )
+    .unwrap();
+    Command::cargo_bin("scene-render")
+        .unwrap()
+        .current_dir(dir.path())
+        .args(["s.json", "--size", "8x8", "-o", "s.png"])
+        .assert()
+        .code(1)
+        .stderr(contains(said));
+    std::fs::write(dir.path().join("good.png"), indexed(1)).unwrap();
+    tool()
+        .current_dir(dir.path())
+        .args(["good.png", "-o", "out.pat"])
+        .assert()
+        .success();
+}
