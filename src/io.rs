@@ -367,9 +367,12 @@ impl Opened {
     pub fn past_blank_start(mut self) -> Result<Opened, IoError> {
         let mut skipped = 0u64;
         let mut step = || -> io::Result<()> {
+            // Whether the skipped bytes end in a CR.
+            let mut cr = false;
             while !self.start.is_empty() && self.start.iter().all(u8::is_ascii_whitespace) {
-                let newlines = self.start.iter().filter(|&&b| b == b'\n').count();
-                self.blank_lines += newlines as u64;
+                let ends = crate::text::line_ends(&self.start, cr);
+                self.blank_lines += ends as u64;
+                cr = self.start.last() == Some(&b'\r');
                 skipped += self.start.len() as u64;
                 if skipped > self.limit {
                     return Err(too_large(self.limit, self.limit_says));
@@ -378,6 +381,11 @@ impl Opened {
                 (&mut self.rest)
                     .take(SNIFF_BYTES as u64)
                     .read_to_end(&mut self.start)?;
+            }
+            if cr && self.start.first() == Some(&b'\n') {
+                // A CR LF split between the skipped bytes and `start`: one
+                // line end, which the reader counts at the LF.
+                self.blank_lines -= 1;
             }
             Ok(())
         };
@@ -520,7 +528,10 @@ impl InputKind {
             None => Ok(()),
             Some(at) => Err(io::Error::new(
                 io::ErrorKind::InvalidData,
-                format!("byte 0x00 at offset {at} is not text (a text format is expected)"),
+                format!(
+                    "byte 0x00 on line {} (offset {at}) is not text (a text format is expected)",
+                    1 + crate::text::line_ends(&start[..at], false)
+                ),
             )),
         };
         let image = || image::guess_format(start).is_ok();

@@ -36,6 +36,40 @@ pub(crate) fn without_bom(bytes: &[u8]) -> &[u8] {
 /// review).
 pub(crate) const BOM_HINT: &str = " (a UTF-8 byte-order mark starts so: save the file without one)";
 
+/// The lines of `text` without their ends, as [`str::lines`] gives them,
+/// but a line may also end in a bare CR (classic Mac OS text): there
+/// `str::lines` saw one line, so every error said line 1 and a `#`
+/// comment hid the rest of the file (a hostile-input review). CR LF is
+/// one end, as there.
+pub(crate) fn lines(text: &str) -> impl Iterator<Item = &str> {
+    let mut rest = text;
+    std::iter::from_fn(move || {
+        if rest.is_empty() {
+            return None;
+        }
+        let end = rest.find(['\n', '\r']).unwrap_or(rest.len());
+        let line = &rest[..end];
+        let after = &rest[end..];
+        rest = after
+            .strip_prefix("\r\n")
+            .or_else(|| after.get(1..))
+            .unwrap_or_default();
+        Some(line)
+    })
+}
+
+/// How many lines end in `bytes` (in LF, CR LF or a bare CR, as
+/// [`lines`] has it), the byte before them being a CR when `after_cr`.
+pub(crate) fn line_ends(bytes: &[u8], after_cr: bool) -> usize {
+    let mut cr = after_cr;
+    let mut ends = 0;
+    for &b in bytes {
+        ends += usize::from(b == b'\r' || (b == b'\n' && !cr));
+        cr = b == b'\r';
+    }
+    ends
+}
+
 /// Longest word echoed back in an error message (as in `pat.rs`).
 const MAX_ECHO: usize = 24;
 
@@ -196,6 +230,9 @@ struct Cursor {
     last_line: usize,
     /// Inside a comment that the bytes so far did not end.
     in_comment: bool,
+    /// The last byte looked at was a CR, so an LF now ends no new line: a
+    /// line ends in LF, CR LF or a bare CR, as [`lines`] has it.
+    after_cr: bool,
 }
 
 impl Cursor {
@@ -207,6 +244,7 @@ impl Cursor {
             count: 0,
             last_line: 1,
             in_comment: false,
+            after_cr: false,
         }
     }
 
@@ -218,7 +256,7 @@ impl Cursor {
     fn scan(&mut self, b: &[u8], at_eof: bool) -> Result<Scan, u8> {
         loop {
             if self.in_comment {
-                match b[self.pos..].iter().position(|&c| c == b'\n') {
+                match memchr::memchr2(b'\n', b'\r', &b[self.pos..]) {
                     Some(n) => {
                         self.pos += n;
                         self.in_comment = false;
@@ -230,13 +268,16 @@ impl Cursor {
                 }
             }
             while self.pos < b.len() && b[self.pos].is_ascii_whitespace() {
-                if b[self.pos] == b'\n' {
+                let c = b[self.pos];
+                if c == b'\r' || (c == b'\n' && !self.after_cr) {
                     self.line += 1;
                 }
+                self.after_cr = c == b'\r';
                 self.pos += 1;
             }
             if self.comments && self.pos < b.len() && b[self.pos] == b'#' {
                 self.in_comment = true;
+                self.after_cr = false;
                 continue;
             }
             break;
@@ -257,6 +298,7 @@ impl Cursor {
             return Ok(Scan::More);
         }
         self.pos = end;
+        self.after_cr = false;
         self.count += 1;
         self.last_line = self.line;
         Ok(Scan::Word(start, end))
@@ -658,7 +700,68 @@ fn breaks_a_line(c: char) -> bool {
 
 #[cfg(test)]
 mod tests {
-    use super::{one_line, readable, shorten_long_numbers};
+    use super::{line_ends, lines, one_line, readable, shorten_long_numbers, ReadWords, Words};
+
+    /// A reader that gives one byte a read, so that every CR LF is split
+    /// between two chunks.
+    struct ByteAtATime<'a>(&'a [u8]);
+
+    impl std::io::Read for ByteAtATime<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            let Some((first, rest)) = self.0.split_first() else {
+                return Ok(0);
+            };
+            buf[0] = *first;
+            self.0 = rest;
+            Ok(1)
+        }
+    }
+
+    /// LF, CR LF and a bare CR each end one line, in the line splitter, the
+    /// line counter and both tokenizers, however the bytes are read; a `#`
+    /// comment ends at a bare CR. The lines are counted by hand here.
+    #[test]
+    fn a_bare_cr_ends_a_line_and_cr_lf_is_one_end() {
+        let text = "a\rb\r\nc\n\r\rd # x\re\r";
+        assert_eq!(
+            lines(text).collect::<Vec<_>>(),
+            ["a", "b", "c", "", "", "d # x", "e"]
+        );
+        assert_eq!(lines("a\r\n").collect::<Vec<_>>(), ["a"]);
+        assert_eq!(lines("").count(), 0);
+        assert_eq!(line_ends(text.as_bytes(), false), 7);
+        // A CR before the bytes makes their first LF no new end.
+        assert_eq!(line_ends(b"\nx\n", true), 1);
+        let want = [("a", 1), ("b", 2), ("c", 3), ("d", 6), ("e", 7)];
+        let mut w = Words::new(text.as_bytes(), "t", "");
+        let mut got = Vec::new();
+        while let Some(word) = w.next().unwrap() {
+            got.push((word.text, word.line));
+        }
+        assert_eq!(got, want);
+        // Without comments, as a `.pat` is read, a chunk at a time.
+        for chunked in [false, true] {
+            let mut whole = text.as_bytes();
+            let mut bytes = ByteAtATime(text.as_bytes());
+            let reader: &mut dyn std::io::Read = if chunked { &mut bytes } else { &mut whole };
+            let mut r = ReadWords::new(reader, "t", "");
+            let mut got = Vec::new();
+            while let Some(span) = r.next().ok().flatten() {
+                got.push((r.text(&span).to_string(), span.line));
+            }
+            let at = |w: &str, line| (w.to_string(), line);
+            let want = [
+                at("a", 1),
+                at("b", 2),
+                at("c", 3),
+                at("d", 6),
+                at("#", 6),
+                at("x", 6),
+                at("e", 7),
+            ];
+            assert_eq!(got, want, "chunked {chunked}");
+        }
+    }
 
     #[test]
     fn long_numbers_in_messages_get_an_exponent() {

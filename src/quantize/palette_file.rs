@@ -79,7 +79,7 @@ pub fn parse_palette_file(bytes: &[u8], name: &str) -> Result<Vec<Rgb8>, Palette
         }
         Err(e) => {
             let at = e.valid_up_to();
-            let line = 1 + bytes[..at].iter().filter(|&&b| b == b'\n').count();
+            let line = 1 + crate::text::line_ends(&bytes[..at], false);
             return Err(unlike(
                 line,
                 format!(
@@ -95,11 +95,13 @@ pub fn parse_palette_file(bytes: &[u8], name: &str) -> Result<Vec<Rgb8>, Palette
             format!("it starts with {BOM_NAMED}: save it without one"),
         ));
     }
-    let first = text.lines().map(str::trim).find(|l| !l.is_empty());
+    let first = crate::text::lines(text)
+        .map(str::trim)
+        .find(|l| !l.is_empty());
     let is_list = first.is_some_and(|l| l.contains(',') || l.starts_with('#'));
     let palette = if is_list {
         let mut out = Vec::new();
-        for (i, line) in text.lines().enumerate() {
+        for (i, line) in crate::text::lines(text).enumerate() {
             let colour = parse_list_line(line).map_err(|error| PaletteError::Line {
                 file: name.to_string(),
                 line: i + 1,
@@ -113,8 +115,7 @@ pub fn parse_palette_file(bytes: &[u8], name: &str) -> Result<Vec<Rgb8>, Palette
     } else {
         let pattern = Pattern::parse(bytes, name);
         // Colours written `R G B`, or a GIMP palette: say what to write.
-        let (line, first) = text
-            .lines()
+        let (line, first) = crate::text::lines(text)
             .enumerate()
             .find(|(_, l)| !l.trim().is_empty())
             .unwrap_or((0, ""));
@@ -233,6 +234,16 @@ mod tests {
         }
         let e = chain(&parse_palette_file(b"#ff0000 junk\n", "j").unwrap_err());
         assert!(e.contains("j:1") && e.contains("junk"), "{e}");
+        // Lines ended by a bare CR (classic Mac OS): a comment ends at one,
+        // and a line number counts them. It read "no colours" (a
+        // hostile-input review).
+        let cr = b"# my colours\r255,0,0\r\n0,255,0\r";
+        assert_eq!(
+            parse_palette_file(cr, "cr").unwrap(),
+            vec![Rgb8([255, 0, 0]), Rgb8([0, 255, 0])]
+        );
+        let e = chain(&parse_palette_file(b"1,2,3\r\r1,2\r", "cr").unwrap_err());
+        assert!(e.contains("cr:3"), "{e}");
     }
 
     #[test]

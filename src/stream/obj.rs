@@ -143,7 +143,7 @@ fn no_mark(path: &Path, line: usize, key: &str, format: &str) -> Result<(), ObjE
 /// number (from 1), the line without its comment, its keyword and the
 /// words after it. The two formats share this syntax.
 fn statements(text: &str) -> impl Iterator<Item = (usize, &str, &str, Vec<&str>)> {
-    text.lines().enumerate().filter_map(|(i, raw)| {
+    crate::text::lines(text).enumerate().filter_map(|(i, raw)| {
         let line = raw.split('#').next().unwrap_or("").trim();
         let mut words = line.split_whitespace();
         let key = words.next()?;
@@ -405,6 +405,21 @@ mod tests {
             }
         })
         .map_err(|e| e.to_string())
+    }
+
+    /// Lines ended by a bare CR (classic Mac OS) are lines: the file was
+    /// one line, its first comment hid the rest, and errors said line 1.
+    #[test]
+    fn a_bare_cr_ends_a_statement() {
+        let m = parse(
+            "# made on a Mac\rmtllib x.mtl\rv 0 0 0\rv 1 0 0\r\nv 0 1 0\rusemtl red\rf 1 2 3\r",
+            "newmtl red\rKd 1 0 0\r",
+        )
+        .unwrap();
+        assert_eq!((m.positions.len(), m.faces.len()), (3, 1));
+        assert_eq!(m.materials.len(), 1);
+        let e = parse("v 0 0 0\rv 1 0 0\r\rf 1 2 9\r", "").unwrap_err();
+        assert!(e.starts_with("m/x.obj:4:"), "{e}");
     }
 
     #[test]

@@ -869,7 +869,10 @@ clitest!(
             r#"{"vertices":[[0,0],[1,0],[1,1]],"color":[1,1,1]}"#,
         );
         for (cmd, says) in [
-            ("pat-info /dev/zero", "byte 0x00 at offset 0 is not text"),
+            (
+                "pat-info /dev/zero",
+                "byte 0x00 on line 1 (offset 0) is not text",
+            ),
             ("pat-info --record 0 /dev/zero", "is not text"),
             ("pat-tile /dev/zero -o z.png", "is not text"),
             (
@@ -1025,7 +1028,7 @@ clitest!(a_camera_file_is_read_only_to_its_limit, |dir| {
     for (cmd, want) in [
         (
             "scene-render --camera /dev/zero --size 8x8 tri.json -o t.png",
-            "/dev/zero: cannot read camera: byte 0x00 at offset 0 is not text",
+            "/dev/zero: cannot read camera: byte 0x00 on line 1 (offset 0) is not text",
         ),
         (
             "yes | polyfill3 --camera - --cull tri.json -o t.ndjson",

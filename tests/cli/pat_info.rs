@@ -123,7 +123,7 @@ clitest!(reports_the_good_files_even_when_one_is_bad, |dir| {
         .code(1)
         .stdout(predicate::str::contains("good.pat: 16x16"))
         .stderr(predicate::str::contains(
-            "bad.pat: byte 0x00 at offset 0 is not text",
+            "bad.pat: byte 0x00 on line 1 (offset 0) is not text",
         ));
 });
 
@@ -224,4 +224,40 @@ clitest!(a_number_past_u64_is_echoed_as_written, |dir| {
         .stderr(predicate::str::contains(
             "pattern size 18446744073709551615 is not a multiple of 16",
         ));
+});
+
+// Lines ended by a bare CR (classic Mac OS) are counted as lines, also in
+// blank lines read past before the format is known (more than the first
+// read) and where a CR LF is split between two reads; in a map a `#`
+// comment ends at a CR. Errors said line 1, and the map's comment hid its
+// values (a hostile-input review).
+clitest!(a_bare_cr_ends_a_line_in_every_text_format, |dir| {
+    let mut pat = "16 1\r1 2 3\r".to_string();
+    pat.push_str(&"ffff\r".repeat(14));
+    pat.push_str("zz\r");
+    dir.write("cr.pat", &pat);
+    dir.cmd("pat-info")
+        .args(["--check", "cr.pat"])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("cr.pat:17: word 20 `zz`"));
+    // The first read is 4096 bytes: after " ", the 2048th CR LF is split.
+    for blank in [
+        "\r".repeat(5000),
+        format!(" {}", "\r\n".repeat(5000)),
+        "\n".repeat(5000),
+    ] {
+        dir.write("late.pat", format!("{blank}{pat}"));
+        dir.cmd("pat-info")
+            .args(["--check", "late.pat"])
+            .assert()
+            .code(1)
+            .stderr(predicate::str::contains("late.pat:5017: word 20 `zz`"));
+    }
+    dir.write("cr.map", "STRIPE 4\r# fade: default\r10 20 30 40\r");
+    dir.cmd("pat-info")
+        .arg("cr.map")
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("modulation map, 4 entries"));
 });
