@@ -6,7 +6,7 @@ use crate::error::OptionError;
 use std::io::{self, BufWriter, IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
 
-mod png_palette;
+mod palette_index;
 mod pnm_samples;
 
 /// Checks that `name` can be written, as [`Output::create`] would, and
@@ -134,7 +134,7 @@ pub enum IoError {
         /// Its row.
         y: u64,
     },
-    /// An indexed PNG with a pixel whose index is past its palette.
+    /// An indexed PNG, GIF or BMP with a pixel whose index is past its palette.
     #[error(
         "{input}: the palette index {index} at pixel ({x}, {y}) is past the palette \
          ({colours} colours)"
@@ -1889,8 +1889,8 @@ const DECODE_WORK_BYTES: u64 = 512 << 20;
 /// for everything, a 12000x12000 RGBA TIFF, within the tools' limits, was
 /// refused as "Memory limit exceeded"). Samples that are not finite
 /// numbers (a floating-point TIFF's NaN or infinity) are refused: 8-bit
-/// conversion made NaN white; and so is an indexed PNG's index past its
-/// palette (`bytes`, [`png_palette`]): it was drawn black.
+/// conversion made NaN white; and so is an indexed picture's index past
+/// its palette (`bytes`, [`palette_index`]): it was drawn black or clear.
 fn decode_pixels(
     mut decoder: impl image::ImageDecoder,
     bytes: &[u8],
@@ -1900,7 +1900,7 @@ fn decode_pixels(
     limits.max_alloc = Some(decoder.total_bytes().saturating_add(DECODE_WORK_BYTES));
     decoder.set_limits(limits).map_err(not_an_image(name))?;
     let img = image::DynamicImage::from_decoder(decoder).map_err(not_an_image(name))?;
-    if let Some(p) = png_palette::first_past_palette(bytes) {
+    if let Some(p) = palette_index::first_past_palette(bytes) {
         return Err(IoError::PastPalette {
             input: name.to_string(),
             index: p.index,
