@@ -550,15 +550,24 @@ impl<'a> Parser<'a> {
     /// blocks ([`read_limit`]), raised block by block: a header that
     /// promises 65,535 colours of 4096x4096 (687 GB) and then sends
     /// whitespace without end is refused after 256 MiB, not 1.4 TB.
-    fn bound(&mut self, size: u32, blocks: usize) {
+    /// `ncolors` is the header's count, named when `blocks` is fewer ("13
+    /// colour blocks" of a header of 16 read as a miscount: a
+    /// hostile-input review).
+    fn bound(&mut self, size: u32, blocks: usize, ncolors: usize) {
         if self.bounded {
+            let what = match blocks {
+                0 => "the header".to_string(),
+                _ if blocks == ncolors => format!(
+                    "the header and {blocks} colour block{}",
+                    if blocks == 1 { "" } else { "s" }
+                ),
+                _ => format!("the header and the first {blocks} of its {ncolors} colour blocks"),
+            };
             self.words.set_limit(
                 read_limit(size, blocks),
                 format!(
-                    "the header and {blocks} colour block{} of a {size}x{size} pattern may take \
-                     (twice their canonical length and 1 MiB, or the {} bytes of any .pat read \
-                     whole, whichever is more)",
-                    if blocks == 1 { "" } else { "s" },
+                    "{what} of a {size}x{size} pattern may take (twice their canonical length \
+                     and 1 MiB, or the {} bytes of any .pat read whole, whichever is more)",
                     crate::io::MAX_NAMED_FILE_BYTES
                 ),
             );
@@ -606,7 +615,7 @@ impl<'a> Parser<'a> {
             &format!("the number of colours, 0 to {MAX_COLORS}"),
             MAX_COLORS as u64,
         )? as usize;
-        self.bound(size, 0);
+        self.bound(size, 0, ncolors);
 
         let s = size as usize;
         let words_per_row = s / WORD_BITS as usize;
@@ -614,7 +623,7 @@ impl<'a> Parser<'a> {
         let mut palette = Vec::with_capacity(ncolors.min(256));
         for k in 0..ncolors {
             let n = k + 1;
-            self.bound(size, n);
+            self.bound(size, n, ncolors);
             let mut rgb = [0u8; 3];
             for (ch, name) in rgb.iter_mut().zip(["red", "green", "blue"]) {
                 *ch = self
@@ -1225,7 +1234,10 @@ mod tests {
         let bound = read_limit(4096, 1);
         assert_eq!(bound, crate::io::MAX_NAMED_FILE_BYTES);
         assert!(
-            e.starts_with(&format!("-: is longer than the {bound} bytes")),
+            e.starts_with(&format!(
+                "-: is longer than the {bound} bytes the header and the first 1 of its 65535 \
+                 colour blocks of a 4096x4096 pattern may take"
+            )),
             "{e}"
         );
         // The largest pattern pat-from-image writes is well within its bound.
