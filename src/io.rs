@@ -126,7 +126,7 @@ pub enum IoError {
         /// The input's name, as errors show it.
         input: String,
         /// The sample.
-        value: u32,
+        value: u64,
         /// The header's maxval.
         maxval: u32,
         /// Its pixel (0-based, row 0 at the top).

@@ -9,7 +9,8 @@
 /// The first sample over its maxval, and where it is.
 #[derive(Debug, PartialEq, Eq)]
 pub(super) struct OverMaxval {
-    pub(super) value: u32,
+    /// As written (a plain sample past `u32` was said as 4294967295).
+    pub(super) value: u64,
     pub(super) maxval: u32,
     /// Its pixel (0-based, row 0 at the top).
     pub(super) x: u64,
@@ -40,7 +41,7 @@ impl Shape {
         Some((shape, samples, maxval))
     }
 
-    fn over(self, value: u32, maxval: u32, i: u64) -> OverMaxval {
+    fn over(self, value: u64, maxval: u32, i: u64) -> OverMaxval {
         let pixel = i / self.depth;
         OverMaxval {
             value,
@@ -83,7 +84,7 @@ pub(super) fn first_over_maxval(bytes: &[u8]) -> Option<OverMaxval> {
         for i in 0..samples {
             let v = number(bytes, &mut at)?;
             if v > u64::from(maxval) {
-                return Some(shape.over(u32::try_from(v).unwrap_or(u32::MAX), maxval, i));
+                return Some(shape.over(v, maxval, i));
             }
         }
         None
@@ -110,7 +111,7 @@ fn raw_over_maxval(data: &[u8], samples: u64, maxval: u32, shape: Shape) -> Opti
             } else {
                 u32::from(s[0])
             };
-            (v > maxval).then(|| shape.over(v, maxval, i as u64))
+            (v > maxval).then(|| shape.over(u64::from(v), maxval, i as u64))
         })
 }
 
@@ -198,6 +199,11 @@ mod tests {
         assert_eq!(first_over_maxval(b"P2\n2 1\n15\n3 16\n"), at(16, 15, 1, 0));
         assert_eq!(first_over_maxval(b"P3 1 1 255 255 0 7\n"), None);
         assert_eq!(first_over_maxval(b"P3 1 1 7 0 8 7\n"), at(8, 7, 0, 0));
+        // A plain sample past u32 is said as written, not as 4294967295.
+        assert_eq!(
+            first_over_maxval(b"P2 2 2 255 1 2 3 4294967296\n"),
+            at(4294967296, 255, 1, 1)
+        );
         // PAM.
         let pam =
             b"P7\nWIDTH 1\nHEIGHT 1\nDEPTH 2\nMAXVAL 3\nTUPLTYPE GRAYSCALE_ALPHA\nENDHDR\n\x03\x04";
