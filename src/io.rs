@@ -100,6 +100,17 @@ pub enum IoError {
         /// The input's name, as errors show it.
         input: String,
     },
+    /// A JPEG whose segments do not walk to a scan: a segment length under
+    /// 2, a byte where a marker belongs, or an end-of-image marker before
+    /// any scan. Called truncated before, though the data had its end (a
+    /// hostile-input review).
+    #[error("{input}: malformed JPEG: {what}")]
+    MalformedJpeg {
+        /// The input's name, as errors show it.
+        input: String,
+        /// What is wrong, and at which byte.
+        what: String,
+    },
     /// An input picture larger than any tool makes one ([`Image::check_size`]),
     /// refused from its header, before its pixels are decoded.
     #[error("{input}: {error}")]
@@ -1802,38 +1813,58 @@ fn not_an_image(name: &str) -> impl Fn(image::ImageError) -> IoError + '_ {
 }
 
 /// Whether a JPEG's data reaches an end-of-image marker (`FF D9`) after its
-/// first scan. The header segments are walked by their lengths (an EXIF
-/// thumbnail inside one has markers of its own); within scan data a `FF` is
-/// always followed by a stuffed `00` or a restart marker, so the first
-/// `FF D9` after the first start-of-scan is the image's end. The `image`
-/// crate's decoder fills a truncated scan with grey without a word (the
-/// first 1,000 bytes of a photo made a grey pattern, "PSNR inf").
-fn jpeg_is_complete(bytes: &[u8]) -> bool {
+/// first scan: `Ok`, or the error saying where it does not. The header
+/// segments are walked by their lengths (an EXIF thumbnail inside one has
+/// markers of its own); within scan data a `FF` is always followed by a
+/// stuffed `00` or a restart marker, so the first `FF D9` after the first
+/// start-of-scan is the image's end. The `image` crate's decoder fills a
+/// truncated scan with grey without a word (the first 1,000 bytes of a
+/// photo made a grey pattern, "PSNR inf").
+fn check_jpeg(bytes: &[u8], name: &str) -> Result<(), IoError> {
+    let malformed = |what: String| {
+        Err(IoError::MalformedJpeg {
+            input: name.to_string(),
+            what,
+        })
+    };
     let mut at = 2; // after SOI
     while at + 4 <= bytes.len() {
         if bytes[at] != 0xFF {
-            return false;
+            return malformed(format!(
+                "byte 0x{:02x} at offset {at}, where a marker (FF) belongs",
+                bytes[at]
+            ));
         }
         match bytes[at + 1] {
             0xFF => at += 1, // fill byte
-            0xDA => return memchr::memmem::find(&bytes[at..], &[0xFF, 0xD9]).is_some(),
+            0xDA if memchr::memmem::find(&bytes[at..], &[0xFF, 0xD9]).is_some() => return Ok(()),
+            0xDA => break,
+            0xD9 => return malformed(format!("it ends (FF D9 at offset {at}) before any scan")),
             0x01 | 0xD0..=0xD7 => at += 2, // markers without a length
-            _ => at += 2 + u16::from_be_bytes([bytes[at + 2], bytes[at + 3]]) as usize,
+            marker => {
+                let len = u16::from_be_bytes([bytes[at + 2], bytes[at + 3]]) as usize;
+                if len < 2 {
+                    return malformed(format!(
+                        "the segment FF {marker:02X} at offset {at} has length {len} (it counts \
+                         its own 2 bytes)"
+                    ));
+                }
+                at += 2 + len;
+            }
         }
     }
-    false
+    Err(IoError::TruncatedJpeg {
+        input: name.to_string(),
+    })
 }
 
 /// A decoder for `bytes`, its format guessed from the content, before any
 /// pixel is decoded (so sizes can be checked first). A JPEG cut short is
-/// refused here ([`jpeg_is_complete`]), and so is a netpbm picture with a
+/// refused here ([`check_jpeg`]), and so is a netpbm picture with a
 /// sample over its maxval (`pnm_samples`).
 fn open_decoder<'a>(bytes: &'a [u8], name: &str) -> Result<impl image::ImageDecoder + 'a, IoError> {
-    if image::guess_format(bytes).ok() == Some(image::ImageFormat::Jpeg) && !jpeg_is_complete(bytes)
-    {
-        return Err(IoError::TruncatedJpeg {
-            input: name.to_string(),
-        });
+    if image::guess_format(bytes).ok() == Some(image::ImageFormat::Jpeg) {
+        check_jpeg(bytes, name)?;
     }
     if let Some(o) = pnm_samples::first_over_maxval(bytes) {
         return Err(IoError::OverMaxval {
@@ -2631,7 +2662,29 @@ mod tests {
                 );
             }
         }
-        assert!(jpeg_is_complete(&fixture("moon-usgs.jpg")));
+        assert!(check_jpeg(&fixture("moon-usgs.jpg"), "moon.jpg").is_ok());
+        // Ends that are there, around faults that are not truncation: a
+        // segment of length 0, an end before any scan, a stray byte.
+        let mut zero = earth[..2].to_vec();
+        zero.extend_from_slice(&[0xFF, 0xE2, 0, 0]);
+        zero.extend_from_slice(&earth[2..]);
+        let mut stray = earth[..2].to_vec();
+        stray.extend_from_slice(&[0xFF, 0xE0, 0, 4, 0, 0, 0x42]);
+        stray.extend_from_slice(&earth[2..]);
+        for (bytes, said) in [
+            (
+                &zero[..],
+                "the segment FF E2 at offset 2 has length 0 (it counts its own 2 bytes)",
+            ),
+            (
+                b"\xff\xd8\xff\xd9\0\0",
+                "it ends (FF D9 at offset 2) before any scan",
+            ),
+            (&stray, "byte 0x42 at offset 8, where a marker (FF) belongs"),
+        ] {
+            let err = decode_image(bytes, "bad.jpg").unwrap_err();
+            assert_eq!(err.to_string(), format!("bad.jpg: malformed JPEG: {said}"));
+        }
     }
 
     /// A picture's header that declares more than any tool makes is refused
