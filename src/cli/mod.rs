@@ -110,12 +110,34 @@ pub fn main<A: clap::Parser>(run: fn(A) -> anyhow::Result<()>) -> ! {
     alloc::set_tool_name(&tool);
     clean_up_on_signals();
     widen_pipes();
-    let words = values_after_optional_flags(&A::command(), std::env::args_os().collect());
+    let words: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    if let Some(said) = not_utf8(&words) {
+        eprint_or_drop!("{tool}: error: {said}\n");
+        std::process::exit(EXIT_USAGE)
+    }
+    let words = values_after_optional_flags(&A::command(), words);
     let args = match A::try_parse_from(words) {
         Ok(args) => args,
         Err(e) => exit_usage(&tool, e),
     };
     std::process::exit(report(&tool, run(args)))
+}
+
+/// The error for the first argument (after the program's name) that is not
+/// UTF-8, naming it with its bytes escaped. The tools take every file name
+/// and value as text: a file name that is not UTF-8 is refused here, where
+/// clap said "invalid UTF-8 was detected in one or more arguments" and left
+/// the user to find which (a hostile-input review). README, "Limits".
+fn not_utf8(words: &[std::ffi::OsString]) -> Option<String> {
+    let (i, word) = words
+        .iter()
+        .enumerate()
+        .skip(1)
+        .find(|(_, w)| w.to_str().is_none())?;
+    Some(format!(
+        "argument {i}, {word:?}, is not UTF-8: file names and values are read as UTF-8 text \
+         (rename the file, or give it as `-`, standard input or output)"
+    ))
 }
 
 /// `--flag VALUE` joined into `--flag=VALUE` for a flag whose value is

@@ -328,3 +328,31 @@ clitest!(every_cell_holds, |dir| {
         }
     }
 });
+
+// An argument that is not UTF-8 (a file name in Latin-1) is refused by
+// every tool before anything is read or written, naming it with its bytes
+// escaped; clap said "invalid UTF-8 was detected in one or more
+// arguments". The same file read as `-` is read.
+clitest!(an_argument_that_is_not_utf8_is_named, |dir| {
+    use std::os::unix::ffi::OsStrExt as _;
+    let name = std::ffi::OsStr::from_bytes(b"caf\xe9.pat");
+    std::fs::write(dir.path().join(name), checker16()).unwrap();
+    for tool in TOOLS {
+        dir.cmd(tool)
+            .arg(name)
+            .assert()
+            .code(2)
+            .stdout("")
+            .stderr(format!(
+                "{tool}: error: argument 1, \"caf\\xE9.pat\", is not UTF-8: file names and values \
+                 are read as UTF-8 text (rename the file, or give it as `-`, standard input or \
+                 output)\n"
+            ));
+    }
+    dir.cmd("pat-info")
+        .args(["--check", "-"])
+        .pipe_stdin(dir.path().join(name))
+        .unwrap()
+        .assert()
+        .success();
+});
