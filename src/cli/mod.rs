@@ -116,7 +116,14 @@ pub fn main<A: clap::Parser>(run: fn(A) -> anyhow::Result<()>) -> ! {
         std::process::exit(EXIT_USAGE)
     }
     let words = values_after_optional_flags(&A::command(), words);
-    let args = match A::try_parse_from(words) {
+    // A negative number is a value, not a cluster of short flags: `--size
+    // -16` said "unexpected argument '-1'", not what is wrong with -16 (a
+    // hostile-input review).
+    let parsed = A::command()
+        .allow_negative_numbers(true)
+        .try_get_matches_from(words)
+        .and_then(|mut m| A::from_arg_matches_mut(&mut m));
+    let args = match parsed {
         Ok(args) => args,
         Err(e) => exit_usage(&tool, e),
     };

@@ -356,3 +356,44 @@ clitest!(an_argument_that_is_not_utf8_is_named, |dir| {
         .assert()
         .success();
 });
+
+// A negative value is read as the flag's value and refused for what it is:
+// clap took `-16` for the short flags `-1 -6` and said "unexpected
+// argument '-1'" (a hostile-input review).
+clitest!(a_negative_value_is_named_as_typed, |dir| {
+    for (tool, args, said) in [
+        (
+            "pat-from-image",
+            &["--size", "-16"][..],
+            "invalid value '-16' for '--size <N>'",
+        ),
+        (
+            "pat-from-image",
+            &["--colors", "-3"],
+            "invalid value '-3' for '--colors <K>'",
+        ),
+        (
+            "pat-tile",
+            &["--size", "-1x5"],
+            "invalid value '-1x5' for '--size <SIZE>'",
+        ),
+        (
+            "scene-render",
+            &["--size", "-5x5"],
+            "invalid value '-5x5' for '--size <SIZE>'",
+        ),
+    ] {
+        let out = dir
+            .cmd(tool)
+            .args(args)
+            .assert()
+            .code(2)
+            .get_output()
+            .clone();
+        let stderr = String::from_utf8(out.stderr).unwrap();
+        assert!(
+            stderr.starts_with(&format!("{tool}: error: {said}")),
+            "{stderr}"
+        );
+    }
+});
