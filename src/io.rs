@@ -1987,11 +1987,78 @@ fn png_has_icc_profile(bytes: &[u8]) -> bool {
     png_header_chunks(bytes).is_some_and(|mut chunks| chunks.any(|(kind, _)| kind == b"iCCP"))
 }
 
-/// How many frames an animated GIF or PNG holds, when more than one; found
-/// by walking its blocks or chunks without decoding them. The decoders
-/// give the first frame, and the rest were dropped without a word (a
-/// hostile-input review): the caller warns.
+/// How many frames an animated GIF, PNG or WebP holds, or pages a TIFF,
+/// when more than one; found by walking its blocks, chunks or directories
+/// without decoding them. The decoders give the first frame, and the rest
+/// were dropped without a word (hostile-input reviews, GIF and APNG first,
+/// then WebP and TIFF): the caller warns.
 pub fn animation_frames(bytes: &[u8]) -> Option<u32> {
+    let frames = match bytes.get(..4)? {
+        b"RIFF" => webp_frames(bytes)?,
+        b"II*\0" | b"MM\0*" => tiff_pages(bytes)?,
+        _ => return gif_or_png_frames(bytes),
+    };
+    (frames > 1).then_some(frames)
+}
+
+/// The `ANMF` (frame) chunks of an animated WebP (RIFF chunks: a four-byte
+/// type, a little-endian length, the data padded to an even length).
+fn webp_frames(bytes: &[u8]) -> Option<u32> {
+    if bytes.get(8..12)? != b"WEBP" {
+        return None;
+    }
+    let (mut at, mut frames) = (12, 0u32);
+    while let Some(head) = bytes.get(at..at + 8) {
+        let len = u32::from_le_bytes([head[4], head[5], head[6], head[7]]) as usize;
+        frames += u32::from(&head[..4] == b"ANMF");
+        at = at
+            .saturating_add(8)
+            .saturating_add(len)
+            .saturating_add(len % 2);
+    }
+    Some(frames)
+}
+
+/// The image file directories a TIFF chains from its header (TIFF 6.0,
+/// section 2), each a page; a chain that loops, leaves the file or passes
+/// [`MAX_TIFF_PAGES`] ends the count there.
+fn tiff_pages(bytes: &[u8]) -> Option<u32> {
+    /// Pages counted at most: a warning needs no more.
+    const MAX_TIFF_PAGES: u32 = 65_536;
+    let big = bytes[0] == b'M';
+    let u16_at = |at: usize| {
+        let b: [u8; 2] = bytes.get(at..at.checked_add(2)?)?.try_into().ok()?;
+        Some(if big {
+            u16::from_be_bytes(b)
+        } else {
+            u16::from_le_bytes(b)
+        })
+    };
+    let u32_at = |at: usize| {
+        let b: [u8; 4] = bytes.get(at..at.checked_add(4)?)?.try_into().ok()?;
+        Some(if big {
+            u32::from_be_bytes(b)
+        } else {
+            u32::from_le_bytes(b)
+        } as usize)
+    };
+    let (mut at, mut pages) = (u32_at(4)?, 0u32);
+    // Offsets must rise, which ends any loop; writers put pages in order.
+    let mut last = 0;
+    while at > last && pages < MAX_TIFF_PAGES {
+        let entries = usize::from(u16_at(at)?);
+        pages += 1;
+        last = at;
+        match u32_at(at + 2 + 12 * entries) {
+            Some(next) => at = next,
+            None => break,
+        }
+    }
+    Some(pages)
+}
+
+/// [`animation_frames`] of a GIF or an APNG.
+fn gif_or_png_frames(bytes: &[u8]) -> Option<u32> {
     let frames = if let Some(mut chunks) = png_header_chunks(bytes) {
         // APNG: an acTL chunk before the pixel data says how many.
         let (_, data) = chunks.find(|(kind, _)| *kind == b"acTL")?;
@@ -2421,7 +2488,7 @@ mod tests {
     }
 
     #[test]
-    fn animated_gifs_and_pngs_are_counted_without_decoding() {
+    fn animated_gifs_pngs_webps_and_tiff_pages_are_counted_without_decoding() {
         let frame = |v: u8| {
             image::Frame::new(image::RgbaImage::from_pixel(
                 4,
@@ -2460,6 +2527,48 @@ mod tests {
         lying[8..12].copy_from_slice(&u32::MAX.to_be_bytes());
         assert_eq!(animation_frames(&lying), None);
         assert_eq!(animation_frames(&gif(3)[..20]), None);
+        // An animated WebP's frame chunks, after others (one of odd length,
+        // padded), laid out by hand.
+        let chunk = |kind: &[u8], len: u32| {
+            let mut c = kind.to_vec();
+            c.extend(len.to_le_bytes());
+            c.extend(vec![0; (len + len % 2) as usize]);
+            c
+        };
+        let mut webp = b"RIFF\0\0\0\0WEBP".to_vec();
+        webp.extend(chunk(b"VP8X", 10));
+        webp.extend(chunk(b"ANIM", 5));
+        for _ in 0..3 {
+            webp.extend(chunk(b"ANMF", 16));
+        }
+        assert_eq!(animation_frames(&webp), Some(3));
+        assert_eq!(animation_frames(&webp[..webp.len() - 40]), Some(2));
+        // A TIFF's directories, big- and little-endian, each with no entry;
+        // a chain pointing back ends there.
+        let tiff = |big: bool, next: [u32; 2]| {
+            let u32b = |v: u32| {
+                if big {
+                    v.to_be_bytes()
+                } else {
+                    v.to_le_bytes()
+                }
+            };
+            let mut t = if big {
+                b"MM\0*".to_vec()
+            } else {
+                b"II*\0".to_vec()
+            };
+            t.extend(u32b(8));
+            for n in next {
+                t.extend([0, 0]);
+                t.extend(u32b(n));
+            }
+            t
+        };
+        assert_eq!(animation_frames(&tiff(false, [14, 0])), Some(2));
+        assert_eq!(animation_frames(&tiff(true, [14, 0])), Some(2));
+        assert_eq!(animation_frames(&tiff(false, [14, 8])), Some(2));
+        assert_eq!(animation_frames(&tiff(false, [0, 0])), None);
     }
 
     #[test]

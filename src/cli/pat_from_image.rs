@@ -40,8 +40,9 @@ canonical .pat texture pattern: resample it to SIZE x SIZE texels, choose a pale
 of K colours (median cut refined by k-means, deterministic) and map every pixel to \
 one of them.\n\nA photo is first turned upright by its EXIF orientation (as \
 phones store pictures taken sideways). An embedded ICC colour profile is not \
-applied: the pixels are taken as sRGB, with a warning. Of an animated GIF or \
-PNG only the first frame is used, with a warning.\n\nResampling averages in linear light with premultiplied alpha: an \
+applied: the pixels are taken as sRGB, with a warning. Of an animated GIF, \
+PNG or WebP only the first frame is used, and of a TIFF of several pages the \
+first page, with a warning.\n\nResampling averages in linear light with premultiplied alpha: an \
 exact area average (box filter) when shrinking, a Mitchell filter when enlarging. \
 A non-square image is cut to its centred largest square first (the left and right, \
 or top and bottom, margins are dropped) unless --crop is given. Pixels more \
@@ -235,7 +236,7 @@ fn read_photo(input: &str) -> Result<image::RgbaImage> {
     if let Some(n) = photo.frames {
         super::warn(
             "pat-from-image",
-            format!("{name}: is animated ({n} frames): only the first is used"),
+            format!("{name}: has {n} frames or pages: only the first is used"),
         );
     }
     if photo.has_icc_profile {
