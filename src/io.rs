@@ -1799,9 +1799,15 @@ pub struct Photo {
     /// Whether the file embeds an ICC colour profile. It is not applied:
     /// the tools take every pixel as sRGB (and the profile is not kept).
     pub has_icc_profile: bool,
-    /// The frames of an animated GIF or PNG (APNG), when it has more than
-    /// one: only the first is decoded ([`animation_frames`]).
+    /// The frames of an animated GIF, PNG (APNG) or WebP, or the pages of a
+    /// TIFF, when it has more than one: only the first is decoded
+    /// ([`animation_frames`]).
     pub frames: Option<u32>,
+    /// The gamma a PNG's `gAMA` chunk gives, when it is not sRGB's (and no
+    /// `sRGB` or `iCCP` chunk overrides it): [`png_foreign_gamma`]. It is
+    /// not applied either; a linear PNG (gamma 1.0) read as sRGB came out
+    /// dark without a word (a hostile-input review).
+    pub foreign_gamma: Option<f64>,
 }
 
 /// The error of a file that is not an image this tool reads.
@@ -1980,6 +1986,29 @@ fn png_header_chunks(bytes: &[u8]) -> Option<impl Iterator<Item = (&[u8], &[u8])
     }))
 }
 
+/// The image gamma a PNG's `gAMA` chunk states (the exponent that decodes
+/// its samples, so the inverse of the chunk's value / 100,000), when it is
+/// not sRGB's and no `sRGB` or `iCCP` chunk comes before the pixel data
+/// (either overrides `gAMA`: PNG 3rd edition, 11.3.2.5). sRGB's is taken
+/// as the chunk values 45,000 to 46,000 (gamma 2.17 to 2.22): encoders
+/// write 45,455 for it, and the sRGB curve is about gamma 2.2.
+fn png_foreign_gamma(bytes: &[u8]) -> Option<f64> {
+    const SRGB_GAMA: std::ops::RangeInclusive<u32> = 45_000..=46_000;
+    let mut gama = None;
+    for (kind, data) in png_header_chunks(bytes)? {
+        match kind {
+            b"sRGB" | b"iCCP" => return None,
+            b"gAMA" => {
+                let v = data.get(..4)?;
+                gama = Some(u32::from_be_bytes([v[0], v[1], v[2], v[3]]));
+            }
+            _ => {}
+        }
+    }
+    let gama = gama.filter(|g| *g != 0 && !SRGB_GAMA.contains(g))?;
+    Some(100_000.0 / f64::from(gama))
+}
+
 /// Whether a PNG has an ICC profile chunk (`iCCP`) before its pixel data,
 /// found by walking the chunk list without inflating the profile: the
 /// decoder drops a profile past [`PNG_METADATA_BYTES`] without a word.
@@ -2148,6 +2177,7 @@ pub fn decode_photo(bytes: &[u8], name: &str) -> Result<Photo, IoError> {
         orientation,
         has_icc_profile,
         frames: animation_frames(bytes),
+        foreign_gamma: png_foreign_gamma(bytes),
     })
 }
 
@@ -2485,6 +2515,32 @@ mod tests {
         enc.write_image(&[9; 12], 2, 2, image::ExtendedColorType::Rgb8)
             .unwrap();
         png
+    }
+
+    /// A PNG's gAMA other than sRGB's is reported (to be warned of), with
+    /// the gamma it decodes by; sRGB's, or one an sRGB chunk overrides, is
+    /// not.
+    #[test]
+    fn a_png_gamma_other_than_srgbs_is_reported() {
+        let png = |gama: Option<u32>, srgb: bool| {
+            let mut out = Vec::new();
+            let mut e = png::Encoder::new(&mut out, 1, 1);
+            e.set_color(png::ColorType::Rgb);
+            if let Some(g) = gama {
+                e.set_source_gamma(png::ScaledFloat::from_scaled(g));
+            }
+            if srgb {
+                e.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+            }
+            e.write_header().unwrap().write_image_data(&[9; 3]).unwrap();
+            out
+        };
+        let gamma = |bytes: &[u8]| decode_photo(bytes, "g.png").unwrap().foreign_gamma;
+        assert_eq!(gamma(&png(Some(100_000), false)), Some(1.0));
+        assert_eq!(gamma(&png(Some(50_000), false)), Some(2.0));
+        assert_eq!(gamma(&png(Some(45_455), false)), None);
+        assert_eq!(gamma(&png(None, false)), None);
+        assert_eq!(gamma(&png(None, true)), None);
     }
 
     #[test]

@@ -39,8 +39,9 @@ Examples:
 canonical .pat texture pattern: resample it to SIZE x SIZE texels, choose a palette \
 of K colours (median cut refined by k-means, deterministic) and map every pixel to \
 one of them.\n\nA photo is first turned upright by its EXIF orientation (as \
-phones store pictures taken sideways). An embedded ICC colour profile is not \
-applied: the pixels are taken as sRGB, with a warning. Of an animated GIF, \
+phones store pictures taken sideways). An embedded ICC colour profile, or a \
+PNG gAMA chunk other than sRGB's, is not applied: the pixels are taken as sRGB, \
+with a warning. Of an animated GIF, \
 PNG or WebP only the first frame is used, and of a TIFF of several pages the \
 first page, with a warning.\n\nResampling averages in linear light with premultiplied alpha: an \
 exact area average (box filter) when shrinking, a Mitchell filter when enlarging. \
@@ -245,6 +246,16 @@ fn read_photo(input: &str) -> Result<image::RgbaImage> {
             format!(
                 "{name}: has an ICC colour profile, which is not applied: its colours are taken \
                  as sRGB (convert it to sRGB first if they look wrong)"
+            ),
+        );
+    }
+    if let Some(gamma) = photo.foreign_gamma {
+        super::warn(
+            "pat-from-image",
+            format!(
+                "{name}: its gAMA chunk gives gamma {}, which is not applied: its colours are \
+                 taken as sRGB (about gamma 2.2; convert it to sRGB first if they look wrong)",
+                crate::text::readable(gamma)
             ),
         );
     }
