@@ -420,9 +420,25 @@ impl Opened {
         bytes.reserve(expected.saturating_sub(bytes.len()));
         // Bounded even if the file grows while it is read.
         let rest = self.limit.saturating_sub(bytes.len() as u64);
-        self.rest
-            .take(rest.saturating_add(1))
-            .read_to_end(&mut bytes)?;
+        let mut rest = self.rest.take(rest.saturating_add(1));
+        if self.known_len.is_none() && bytes.starts_with(PNG_SIGNATURE) {
+            // A PNG from a pipe is read to its end (IEND) and no further: a
+            // 64x64 PNG followed by endless zeros took 2 GiB before the
+            // limit refused it (a hostile-input review). A file's size is
+            // known, and what follows IEND is read and ignored, as here.
+            let mut at = PNG_SIGNATURE.len();
+            loop {
+                if let Some(end) = png_end(&bytes, &mut at) {
+                    bytes.truncate(end);
+                    return Ok(bytes);
+                }
+                let read = (&mut rest).take(1 << 16).read_to_end(&mut bytes)?;
+                if read == 0 {
+                    break;
+                }
+            }
+        }
+        rest.read_to_end(&mut bytes)?;
         if bytes.len() as u64 > self.limit {
             return Err(too_large(self.limit, self.limit_says));
         }
@@ -444,6 +460,22 @@ impl Opened {
             .chain(io::Cursor::new(self.start))
             .chain(self.rest)
     }
+}
+
+/// The offset just past a PNG's `IEND` chunk, once `bytes` reach it;
+/// `at`, the offset of the next chunk to look at, is kept across calls as
+/// more bytes come (a chunk is its length, type, data and CRC: 12 bytes
+/// and its data).
+fn png_end(bytes: &[u8], at: &mut usize) -> Option<usize> {
+    while let Some(head) = bytes.get(*at..*at + 8) {
+        let len = u32::from_be_bytes([head[0], head[1], head[2], head[3]]) as usize;
+        let end = at.saturating_add(12).saturating_add(len);
+        if &head[4..8] == b"IEND" {
+            return (bytes.len() >= end).then_some(end);
+        }
+        *at = end;
+    }
+    None
 }
 
 /// The error of an input past its `limit` (`says`: whose limit it is).
