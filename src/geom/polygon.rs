@@ -108,7 +108,9 @@ pub fn clip_against<T: Copy, D: SignedDistance>(
     }
     let mut db = d(poly[0]);
     for i in 0..n {
-        let j = (i + 1) % n;
+        // Not `(i + 1) % n`: a division per edge, on the render's hottest
+        // path (fragments are cut into rows and pixels by this).
+        let j = if i + 1 == n { 0 } else { i + 1 };
         let (a, b, da) = (poly[i], poly[j], db);
         db = d(b);
         let (ra, rb) = (da.rounded(), db.rounded());
@@ -126,10 +128,29 @@ pub fn clip_against<T: Copy, D: SignedDistance>(
 /// Clips a 2D polygon to `coord(p) >= value` (`keep_above`) or `<= value`,
 /// where `coord` is x (`axis = 0`) or y (`axis = 1`). New vertices get exactly
 /// `value` on that axis, so the pieces of a pixel grid meet without gaps.
+///
+/// Inlined so that callers' constant `axis` and `keep_above` pick one of
+/// four copies with the choice made at compile time ([`clip_axis_as`]):
+/// the exact sweep cuts every fragment into a row and a pixel this way.
+#[inline]
 pub fn clip_axis(poly: &[DVec2], axis: usize, value: f64, keep_above: bool, out: &mut Vec<DVec2>) {
+    match (axis == 0, keep_above) {
+        (true, true) => clip_axis_as::<0, true>(poly, value, out),
+        (true, false) => clip_axis_as::<0, false>(poly, value, out),
+        (false, true) => clip_axis_as::<1, true>(poly, value, out),
+        (false, false) => clip_axis_as::<1, false>(poly, value, out),
+    }
+}
+
+/// [`clip_axis`] for one axis and side.
+fn clip_axis_as<const AXIS: usize, const KEEP_ABOVE: bool>(
+    poly: &[DVec2],
+    value: f64,
+    out: &mut Vec<DVec2>,
+) {
     let d = |p: DVec2| {
-        let c = if axis == 0 { p.x } else { p.y };
-        if keep_above {
+        let c = if AXIS == 0 { p.x } else { p.y };
+        if KEEP_ABOVE {
             c - value
         } else {
             value - c
@@ -137,7 +158,7 @@ pub fn clip_axis(poly: &[DVec2], axis: usize, value: f64, keep_above: bool, out:
     };
     clip_against(poly, d, out, |a, b, t| {
         let mut p = a + (b - a) * t;
-        if axis == 0 {
+        if AXIS == 0 {
             p.x = value;
         } else {
             p.y = value;

@@ -933,7 +933,7 @@ fn disjoint(a: &[DVec2], b: &[DVec2]) -> bool {
     let separated = |p: &[DVec2], q: &[DVec2]| {
         let n = p.len();
         (0..n).any(|i| {
-            let (s, e) = (p[i], p[(i + 1) % n]);
+            let (s, e) = (p[i], p[if i + 1 == n { 0 } else { i + 1 }]);
             let dir = e - s;
             let len = dir.length();
             len > EDGE_EPS
@@ -1018,7 +1018,7 @@ pub(super) fn subtract(
     };
     let n = o.len();
     let edges = (0..n)
-        .filter(|&i| (o[(i + 1) % n] - o[i]).length_squared() > EDGE_EPS * EDGE_EPS)
+        .filter(|&i| (o[if i + 1 == n { 0 } else { i + 1 }] - o[i]).length_squared() > EDGE_EPS * EDGE_EPS)
         .count();
     if edges < 3 {
         return None;
@@ -1031,7 +1031,7 @@ pub(super) fn subtract(
         if cur.len() < 3 {
             return Some(0.0);
         }
-        let (a, b) = (o[i], o[(i + 1) % n]);
+        let (a, b) = (o[i], o[if i + 1 == n { 0 } else { i + 1 }]);
         // Left of a->b: (b - a) x (p - a) >= 0, as a*x + b*y + c.
         let e = b - a;
         if e.length_squared() <= EDGE_EPS * EDGE_EPS
