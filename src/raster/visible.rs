@@ -971,13 +971,19 @@ const SPLIT_MAX: usize = 32;
 /// each crossing is made from the same endpoint as there).
 fn split(poly: &[DVec2], sides: &[f64], inside: &mut Vec<DVec2>, outside: &mut Vec<DVec2>) {
     let n = poly.len();
-    for i in 0..n {
-        let j = if i + 1 == n { 0 } else { i + 1 };
-        let (a, b) = (poly[i], poly[j]);
-        let (da, db) = (sides[i], sides[j]);
+    if n == 0 {
+        return;
+    }
+    let mut step = |a: DVec2, b: DVec2, da: f64, db: f64| {
         clip_step(a, b, da, db, inside);
         clip_step(a, b, -da, -db, outside);
+    };
+    // The edges in order, the closing one last: by pairs, with no index
+    // wrapping round (that and the bounds checks were a third of this).
+    for (v, d) in poly.windows(2).zip(sides.windows(2)) {
+        step(v[0], v[1], d[0], d[1]);
     }
+    step(poly[n - 1], poly[0], sides[n - 1], sides[0]);
 }
 
 /// One edge `a -> b` of a Sutherland–Hodgman pass keeping `d >= 0` (`da`,
@@ -1023,43 +1029,30 @@ pub(super) struct Cutter {
 }
 
 impl Cutter {
-    /// Makes this the cutter of `o` in the pixel `[x0, y0, x1, y1]`.
-    fn prepare(&mut self, o: &[DVec2], pixel: [f64; 4]) {
+    /// Makes this the cutter of `o` in the pixel `[x0, y0, x1, y1]`: the
+    /// line of each edge of `o`, but for those no longer than [`EDGE_EPS`]
+    /// (counted: fewer than three such edges leave `o` no interior) and
+    /// those along a side of the pixel.
+    fn prepare(&mut self, o: &[DVec2], [x0, y0, x1, y1]: [f64; 4]) {
         self.lines.clear();
+        let n = o.len();
         let mut edges = 0;
-        for i in 0..o.len() {
-            if long_edge(o, i).is_some() {
-                edges += 1;
-                if let Some(line) = cutting_line(o, i, pixel) {
-                    self.lines.push(line);
-                }
+        for i in 0..n {
+            let (a, b) = (o[i], o[if i + 1 == n { 0 } else { i + 1 }]);
+            let e = b - a;
+            if e.length_squared() <= EDGE_EPS * EDGE_EPS {
+                continue;
             }
+            edges += 1;
+            if (e.x == 0.0 && (a.x == x0 || a.x == x1)) || (e.y == 0.0 && (a.y == y0 || a.y == y1))
+            {
+                continue;
+            }
+            // Left of a->b: (b - a) x (p - a) >= 0, as a*x + b*y + c.
+            self.lines.push([-e.y, e.x, e.y * a.x - e.x * a.y]);
         }
         self.thin = edges < 3;
     }
-}
-
-/// Edge `i` of `o` as its start and direction, if longer than [`EDGE_EPS`].
-#[inline(always)]
-fn long_edge(o: &[DVec2], i: usize) -> Option<(DVec2, DVec2)> {
-    let n = o.len();
-    let (a, b) = (o[i], o[if i + 1 == n { 0 } else { i + 1 }]);
-    let e = b - a;
-    (e.length_squared() > EDGE_EPS * EDGE_EPS).then_some((a, e))
-}
-
-/// The line of edge `i` of `o` that [`subtract_with`] cuts by,
-/// `a*x + b*y + c` (positive left of it, inside `o`), or `None` where it
-/// skips the edge: no longer than [`EDGE_EPS`], or along a side of the
-/// pixel `[x0, y0, x1, y1]`.
-#[inline(always)]
-fn cutting_line(o: &[DVec2], i: usize, [x0, y0, x1, y1]: [f64; 4]) -> Option<[f64; 3]> {
-    let (a, e) = long_edge(o, i)?;
-    if (e.x == 0.0 && (a.x == x0 || a.x == x1)) || (e.y == 0.0 && (a.y == y0 || a.y == y1)) {
-        return None;
-    }
-    // Left of a->b: (b - a) x (p - a) >= 0, as a*x + b*y + c.
-    Some([-e.y, e.x, e.y * a.x - e.x * a.y])
 }
 
 /// Appends the convex pieces of `p \ o` (both convex, counter-clockwise;
@@ -1107,15 +1100,15 @@ fn subtract_with(
     cur.extend_from_slice(p);
     // Whether `cur` is no longer `p`.
     let mut cut = false;
+    // Each vertex's side of a line, computed once (kept for the split when
+    // the piece fits on the stack); only those of `cur` are read.
+    let mut sides = [0.0f64; SPLIT_MAX];
     for &line in &cutter.lines {
         if cur.len() < 3 {
             return Some(0.0);
         }
         let side = |v: &DVec2| line[0] * v.x + line[1] * v.y + line[2];
         let m = cur.len();
-        // Each vertex's side, computed once (kept for the split when the
-        // piece fits on the stack).
-        let mut sides = [0.0f64; SPLIT_MAX];
         let (inside, outside) = if m > SPLIT_MAX {
             (
                 cur.iter().all(|v| side(v) > 0.0),
