@@ -60,6 +60,9 @@ pub fn orient2d(a: DVec2, b: DVec2, c: DVec2) -> f64 {
 /// count as an area above [`AREA_EPS`] and, as an occluder, erase a
 /// whole texel piece behind it (regression test
 /// `raster::coverage::tests::a_sliver_occluder_far_from_the_origin_hides_nothing`).
+///
+/// Inlined: the exact sweep calls it for each piece a subtraction keeps.
+#[inline]
 pub fn area2(v: &[DVec2]) -> f64 {
     let Some(&o) = v.first() else {
         return 0.0;

@@ -1009,7 +1009,9 @@ fn colours(pixels: &PixelStates, bg: &Background, tile: [u32; 4]) -> Vec<[f32; 3
 struct BandRow {
     start: u32,
     len: u32,
-    bb: [f64; 4],
+    /// Found when an open pixel first takes the band for its fragment:
+    /// most bands never stand for one.
+    bb: Option<[f64; 4]>,
     span: RowSpan,
     local: u32,
     py: u32,
@@ -1136,7 +1138,7 @@ fn render_square_by_pixel(
             rows.push(BandRow {
                 start: arena.len() as u32,
                 len: c.band.len() as u32,
-                bb: bounds(&c.band),
+                bb: None,
                 span,
                 local: r.local,
                 py,
@@ -1146,7 +1148,7 @@ fn render_square_by_pixel(
     }
     by_pixel_order(waiting, n, queue, starts);
     for w in queue.iter() {
-        let row = &rows[w.row as usize];
+        let row = &mut rows[w.row as usize];
         let l = &locals[row.local as usize];
         let (x, py) = (w.x, row.py);
         if l.cullable && pixels.hides(w.pixel, l, x as f64 + 0.5, py as f64 + 0.5) {
@@ -1161,7 +1163,8 @@ fn render_square_by_pixel(
                 len: row.len,
                 color: POLY_COLOR,
             });
-            Some(row.bb)
+            let band = &arena[row.start as usize..(row.start + row.len) as usize];
+            Some(*row.bb.get_or_insert_with(|| bounds(band)))
         } else {
             let band = &arena[row.start as usize..(row.start + row.len) as usize];
             let Some(verts) = pixel_cell(band, &row.span, x, &mut c.tmp2, &mut c.cell) else {
