@@ -1064,21 +1064,26 @@ impl Cutter {
     /// those along a side of the pixel.
     fn prepare(&mut self, o: &[DVec2], [x0, y0, x1, y1]: [f64; 4]) {
         self.lines.clear();
-        let n = o.len();
         let mut edges = 0;
-        for i in 0..n {
-            let (a, b) = (o[i], o[if i + 1 == n { 0 } else { i + 1 }]);
+        let mut edge = |a: DVec2, b: DVec2| {
             let e = b - a;
             if e.length_squared() <= EDGE_EPS * EDGE_EPS {
-                continue;
+                return;
             }
             edges += 1;
             if (e.x == 0.0 && (a.x == x0 || a.x == x1)) || (e.y == 0.0 && (a.y == y0 || a.y == y1))
             {
-                continue;
+                return;
             }
             // Left of a->b: (b - a) x (p - a) >= 0, as a*x + b*y + c.
             self.lines.push([-e.y, e.x, e.y * a.x - e.x * a.y]);
+        };
+        // The edges in `o`'s order, the closing one last.
+        for w in o.windows(2) {
+            edge(w[0], w[1]);
+        }
+        if let (Some(&first), Some(&last)) = (o.first(), o.last()) {
+            edge(last, first);
         }
         self.thin = edges < 3;
     }
