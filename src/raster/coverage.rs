@@ -397,9 +397,11 @@ fn pixel_range(bb: &[f64; 4], [tx0, ty0, tx1, ty1]: [u32; 4]) -> [u32; 4] {
     ]
 }
 
-/// The band of the convex `piece` in pixel row `py` (into `band`, `tmp`
-/// scratch) and where it lies in the row, or `None` where the piece meets
-/// the row with no area.
+/// The band of the convex `piece` in pixel row `py` (appended to `band`,
+/// `tmp` scratch) and where it lies in the row, or `None` (and nothing
+/// appended) where the piece meets the row with no area. Appended, so that
+/// the pixel sweep clips it straight into the tile's arena, not into a
+/// buffer to be copied there.
 fn row_band(
     piece: &[DVec2],
     py: u32,
@@ -410,11 +412,13 @@ fn row_band(
     let (yb, yt) = (py as f64, py as f64 + 1.0);
     tmp.clear();
     clip_axis(piece, 1, yb, true, tmp);
-    band.clear();
+    let at = band.len();
     clip_axis(tmp, 1, yt, false, band);
-    if band.len() < 3 {
+    if band.len() - at < 3 {
+        band.truncate(at);
         return None;
     }
+    let band = &band[at..];
     let (mut bx0, mut bx1) = (f64::MAX, f64::MIN);
     // Spans of the band on its bottom and top lines: the pixel
     // [x, x+1] is full iff it lies within both (convexity).
@@ -452,15 +456,32 @@ fn pixel_cell<'a>(
     if r.is_full(x) {
         return Some(&[]);
     }
-    let (xl, xr) = (x as f64, x as f64 + 1.0);
-    tmp.clear();
-    clip_axis(band, 0, xl, true, tmp);
+    cell_left(band, x, tmp);
     cell.clear();
-    clip_axis(tmp, 0, xr, false, cell);
+    cell_right(tmp, x, cell).then_some(&cell[..])
+}
+
+/// The first half of [`pixel_cell`]'s clip: the part of `band` right of
+/// `x`, into `tmp`.
+#[inline]
+fn cell_left(band: &[DVec2], x: u32, tmp: &mut Vec<DVec2>) {
+    tmp.clear();
+    clip_axis(band, 0, x as f64, true, tmp);
+}
+
+/// The second half: the part of `tmp` left of `x + 1`, appended to `out`
+/// (the pixel sweep's arena, so that the cell need not be copied there),
+/// and whether it has area (if not, nothing is left appended).
+#[inline]
+fn cell_right(tmp: &[DVec2], x: u32, out: &mut Vec<DVec2>) -> bool {
+    let at = out.len();
+    clip_axis(tmp, 0, x as f64 + 1.0, false, out);
+    let cell = &out[at..];
     if cell.len() < 3 || area2(cell) <= 2.0 * AREA_EPS {
-        return None;
+        out.truncate(at);
+        return false;
     }
-    Some(cell)
+    true
 }
 
 /// Buffers of [`render_tile`], kept from tile to tile by each thread: a
@@ -893,6 +914,7 @@ fn render_tile(
             if (rx0..rx1).all(|x| hidden(pixels, x)) {
                 continue; // Behind every pixel the row could touch.
             }
+            c.band.clear();
             let Some(r) = row_band(piece, py, (tx0, tx1), &mut c.tmp, &mut c.band) else {
                 continue;
             };
@@ -1122,7 +1144,8 @@ fn render_square_by_pixel(
         let piece = piece_in_tile(polys, geom, r, &tile_box, &mut c.tmp, &mut c.large);
         let [_, ry0, _, ry1] = pixel_range(&r.bb, tile);
         for py in ry0..ry1 {
-            let Some(span) = row_band(piece, py, (tx0, tx1), &mut c.tmp, &mut c.band) else {
+            let start = arena.len();
+            let Some(span) = row_band(piece, py, (tx0, tx1), &mut c.tmp, arena) else {
                 continue;
             };
             let row = rows.len() as u32;
@@ -1136,14 +1159,13 @@ fn render_square_by_pixel(
                 });
             }
             rows.push(BandRow {
-                start: arena.len() as u32,
-                len: c.band.len() as u32,
+                start: start as u32,
+                len: (arena.len() - start) as u32,
                 bb: None,
                 span,
                 local: r.local,
                 py,
             });
-            arena.extend_from_slice(&c.band);
         }
     }
     by_pixel_order(waiting, n, queue, starts);
@@ -1165,12 +1187,24 @@ fn render_square_by_pixel(
             });
             let band = &arena[row.start as usize..(row.start + row.len) as usize];
             Some(*row.bb.get_or_insert_with(|| bounds(band)))
+        } else if row.span.is_full(x) {
+            push_piece(frags, arena, w.pixel, row.local, &[], POLY_COLOR);
+            None
         } else {
+            // `pixel_cell`, clipped straight into the arena.
             let band = &arena[row.start as usize..(row.start + row.len) as usize];
-            let Some(verts) = pixel_cell(band, &row.span, x, &mut c.tmp2, &mut c.cell) else {
+            cell_left(band, x, &mut c.tmp2);
+            let start = arena.len();
+            if !cell_right(&c.tmp2, x, arena) {
                 continue;
-            };
-            push_piece(frags, arena, w.pixel, row.local, verts, POLY_COLOR);
+            }
+            frags.push(Frag {
+                pixel: w.pixel,
+                poly: row.local,
+                start: start as u32,
+                len: (arena.len() - start) as u32,
+                color: POLY_COLOR,
+            });
             None
         };
         let shown = Shown {
