@@ -1836,7 +1836,7 @@ pub struct Photo {
     /// ([`animation_frames`]).
     pub frames: Option<u32>,
     /// The gamma a PNG's `gAMA` chunk gives, when it is not sRGB's (and no
-    /// `sRGB` or `iCCP` chunk overrides it): [`png_foreign_gamma`]. It is
+    /// `sRGB` or `iCCP` chunk overrides it), found by `png_foreign_gamma`. It is
     /// not applied either; a linear PNG (gamma 1.0) read as sRGB came out
     /// dark without a word (a hostile-input review).
     pub foreign_gamma: Option<f64>,
@@ -2082,7 +2082,7 @@ fn webp_frames(bytes: &[u8]) -> Option<u32> {
 
 /// The image file directories a TIFF chains from its header (TIFF 6.0,
 /// section 2), each a page; a chain that loops, leaves the file or passes
-/// [`MAX_TIFF_PAGES`] ends the count there.
+/// `MAX_TIFF_PAGES` ends the count there.
 fn tiff_pages(bytes: &[u8]) -> Option<u32> {
     /// Pages counted at most: a warning needs no more.
     const MAX_TIFF_PAGES: u32 = 65_536;

@@ -133,7 +133,7 @@ pub fn clip_against<T: Copy, D: SignedDistance>(
 /// `value` on that axis, so the pieces of a pixel grid meet without gaps.
 ///
 /// Inlined so that callers' constant `axis` and `keep_above` pick one of
-/// four copies with the choice made at compile time ([`clip_axis_as`]):
+/// four copies with the choice made at compile time (`clip_axis_as`):
 /// the exact sweep cuts every fragment into a row and a pixel this way.
 #[inline]
 pub fn clip_axis(poly: &[DVec2], axis: usize, value: f64, keep_above: bool, out: &mut Vec<DVec2>) {

@@ -1090,7 +1090,7 @@ impl Cutter {
 }
 
 /// Appends the convex pieces of `p \ o` (both convex, counter-clockwise;
-/// `cutter` is `o`'s in the pixel, [`Cutter::new`]) to `out`: for each
+/// `cutter` is `o`'s in the pixel, [`Cutter::prepare`]) to `out`: for each
 /// edge of `o`, the part of `p` to its right is outside `o` and kept; the
 /// rest goes on to the next edge, and what is left at the end lies in `o`
 /// and is dropped. New pieces take their vertex lists from `pool`.
