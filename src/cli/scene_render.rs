@@ -968,8 +968,15 @@ fn render_frames(
         } else {
             scene.as_ref().expect(kept).project_tallied(view, how, k)
         };
-        let (polys, tally) = projected
-            .map_err(|e| scene_error(args, e, Stage::Project).context(format!("frame {k}")))?;
+        let (polys, tally) = projected.map_err(|e| {
+            // Named once: a transform's error already says "at frame k".
+            let e = scene_error(args, e, Stage::Project);
+            if format!("{e:#}").contains(&format!("at frame {k}")) {
+                e
+            } else {
+                e.context(format!("frame {k}"))
+            }
+        })?;
         warn_if_blank(args, (view, camera_given), k, &tally);
         let t1 = std::time::Instant::now();
         let rendered = scene::render_encoded(

@@ -680,8 +680,9 @@ clitest!(frame_options_are_checked_before_anything_is_drawn, |dir| {
         ])
         .assert()
         .code(1)
-        .stderr(predicate::str::contains(
-            "shrink.json: record 1: instance of `a` at frame 2: transform step 0: scale: singular",
+        .stderr(predicate::str::starts_with(
+            "scene-render: error: shrink.json: record 1: instance of `a` at frame 2: transform \
+             step 0: scale: singular",
         ));
     // A frame name over NAME_MAX (as `-o f%0255d.png` makes with its prefix
     // and suffix): refused by name before the first frame is drawn, not by
