@@ -1846,8 +1846,41 @@ pub struct Photo {
 fn not_an_image(name: &str) -> impl Fn(image::ImageError) -> IoError + '_ {
     move |error| IoError::NotAnImage {
         input: name.to_string(),
-        error,
+        error: plain_chunk_names(error),
     }
+}
+
+/// `error` with each PNG chunk named by its type: the `png` crate writes a
+/// chunk's debug form into some messages ("CRC error: ... while decoding
+/// ChunkType { type: IDAT, critical: true, private: false, reserved:
+/// false, safecopy: false } chunk", a hostile-input review).
+fn plain_chunk_names(error: image::ImageError) -> image::ImageError {
+    use std::error::Error as _;
+    const DEBUG_FORM: &str = "ChunkType { type: ";
+    let image::ImageError::Decoding(decoding) = &error else {
+        return error;
+    };
+    let Some(mut rest) = decoding.source().map(|s| s.to_string()) else {
+        return error;
+    };
+    if !rest.contains(DEBUG_FORM) {
+        return error;
+    }
+    let mut text = String::new();
+    while let Some(at) = rest.find(DEBUG_FORM) {
+        let after = &rest[at + DEBUG_FORM.len()..];
+        let (Some(comma), Some(close)) = (after.find(','), after.find('}')) else {
+            break;
+        };
+        text.push_str(&rest[..at]);
+        text.push_str(&after[..comma.min(close)]);
+        rest = after[close + 1..].to_string();
+    }
+    text.push_str(&rest);
+    image::ImageError::Decoding(image::error::DecodingError::new(
+        decoding.format_hint(),
+        text,
+    ))
 }
 
 /// Whether a JPEG's data reaches an end-of-image marker (`FF D9`) after its
@@ -2547,6 +2580,26 @@ mod tests {
         enc.write_image(&[9; 12], 2, 2, image::ExtendedColorType::Rgb8)
             .unwrap();
         png
+    }
+
+    /// A PNG chunk is named by its type in a decoder's message, not by
+    /// the `png` crate's debug form.
+    #[test]
+    fn a_png_chunk_is_named_by_its_type() {
+        let mut png = Vec::new();
+        let mut e = png::Encoder::new(&mut png, 1, 1);
+        e.set_color(png::ColorType::Rgb);
+        e.write_header().unwrap().write_image_data(&[9; 3]).unwrap();
+        // The IDAT chunk's CRC, 12 bytes before the end (IEND's 12 bytes).
+        let at = png.len() - 13;
+        png[at] ^= 1;
+        let said = crate::text::one_line(&format!(
+            "{:#}",
+            anyhow::Error::new(decode_image(&png, "crc.png").unwrap_err())
+        ))
+        .into_owned();
+        assert!(said.contains("while decoding IDAT chunk"), "{said}");
+        assert!(!said.contains("ChunkType"), "{said}");
     }
 
     /// A PNG's gAMA other than sRGB's is reported (to be warned of), with
