@@ -2053,8 +2053,8 @@ fn png_header_chunks(bytes: &[u8]) -> Option<impl Iterator<Item = (&[u8], &[u8])
 
 /// The image gamma a PNG's `gAMA` chunk states (the exponent that decodes
 /// its samples, so the inverse of the chunk's value / 100,000), when it is
-/// not sRGB's and no `sRGB` or `iCCP` chunk comes before the pixel data
-/// (either overrides `gAMA`: PNG 3rd edition, 11.3.2.5). sRGB's is taken
+/// not sRGB's and no `sRGB`, `iCCP` or `cICP` chunk comes before the pixel
+/// data (each overrides `gAMA`: PNG 3rd edition, 11.3.2.5 and 11.3.2.6). sRGB's is taken
 /// as the chunk values 45,000 to 46,000 (gamma 2.17 to 2.22): encoders
 /// write 45,455 for it, and the sRGB curve is about gamma 2.2.
 fn png_foreign_gamma(bytes: &[u8]) -> Option<f64> {
@@ -2062,7 +2062,7 @@ fn png_foreign_gamma(bytes: &[u8]) -> Option<f64> {
     let mut gama = None;
     for (kind, data) in png_header_chunks(bytes)? {
         match kind {
-            b"sRGB" | b"iCCP" => return None,
+            b"sRGB" | b"iCCP" | b"cICP" => return None,
             b"gAMA" => {
                 let v = data.get(..4)?;
                 gama = Some(u32::from_be_bytes([v[0], v[1], v[2], v[3]]));
@@ -2114,8 +2114,8 @@ fn webp_frames(bytes: &[u8]) -> Option<u32> {
 }
 
 /// The image file directories a TIFF chains from its header (TIFF 6.0,
-/// section 2), each a page; a chain that loops, leaves the file or passes
-/// `MAX_TIFF_PAGES` ends the count there.
+/// section 2), each a page, wherever in the file they lie; the count ends
+/// where the chain loops, leaves the file or passes `MAX_TIFF_PAGES`.
 fn tiff_pages(bytes: &[u8]) -> Option<u32> {
     /// Pages counted at most: a warning needs no more.
     const MAX_TIFF_PAGES: u32 = 65_536;
@@ -2136,19 +2136,20 @@ fn tiff_pages(bytes: &[u8]) -> Option<u32> {
             u32::from_le_bytes(b)
         } as usize)
     };
-    let (mut at, mut pages) = (u32_at(4)?, 0u32);
-    // Offsets must rise, which ends any loop; writers put pages in order.
-    let mut last = 0;
-    while at > last && pages < MAX_TIFF_PAGES {
-        let entries = usize::from(u16_at(at)?);
-        pages += 1;
-        last = at;
-        match u32_at(at + 2 + 12 * entries) {
+    let mut seen = std::collections::HashSet::new();
+    let mut at = u32_at(4)?;
+    while at != 0 && (seen.len() as u32) < MAX_TIFF_PAGES && seen.insert(at) {
+        // A directory: its entry count, 12 bytes an entry, the next's offset.
+        let Some(entries) = u16_at(at) else {
+            seen.remove(&at); // Not in the file: no page.
+            break;
+        };
+        match u32_at(at + 2 + 12 * usize::from(entries)) {
             Some(next) => at = next,
             None => break,
         }
     }
-    Some(pages)
+    Some(seen.len() as u32)
 }
 
 /// [`animation_frames`] of a GIF or an APNG.
@@ -2626,6 +2627,13 @@ mod tests {
         assert_eq!(gamma(&png(Some(45_455), false)), None);
         assert_eq!(gamma(&png(None, false)), None);
         assert_eq!(gamma(&png(None, true)), None);
+        // A cICP chunk overrides gAMA too (its CRC is not read here).
+        let mut cicp = png(Some(100_000), false);
+        let ihdr_end = 8 + 12 + 13;
+        let chunk = [&[0, 0, 0, 4][..], b"cICP", &[1, 13, 0, 1], &[0; 4]].concat();
+        cicp.splice(ihdr_end..ihdr_end, chunk);
+        assert_eq!(png_foreign_gamma(&cicp), None);
+        assert_eq!(png_foreign_gamma(&png(Some(100_000), false)), Some(1.0));
     }
 
     #[test]
@@ -2710,6 +2718,12 @@ mod tests {
         assert_eq!(animation_frames(&tiff(true, [14, 0])), Some(2));
         assert_eq!(animation_frames(&tiff(false, [14, 8])), Some(2));
         assert_eq!(animation_frames(&tiff(false, [0, 0])), None);
+        // Directories out of order, and a chain whose last link leaves the
+        // file: two pages each (a review).
+        let mut reordered = tiff(false, [0, 8]);
+        reordered[4] = 14;
+        assert_eq!(animation_frames(&reordered), Some(2));
+        assert_eq!(animation_frames(&tiff(false, [14, 1000])), Some(2));
     }
 
     #[test]

@@ -92,19 +92,34 @@ fn unpack(row: &[u8], x: usize, depth: usize) -> u8 {
 fn gif_past_palette(bytes: &[u8]) -> Option<PastPalette> {
     let mut options = gif::DecodeOptions::new();
     options.set_color_output(gif::ColorOutput::Indexed);
+    // One byte a pixel of a picture within the tools' limit: the crate's
+    // default of 50 MB left an 8000x8000 frame unchecked (a review).
+    let limit = std::num::NonZeroU64::new(super::MAX_IMAGE_PIXELS).expect("not zero");
+    options.set_memory_limit(gif::MemoryLimit::Bytes(limit));
     let mut decoder = options.read_info(bytes).ok()?;
     let global = decoder.global_palette().map(<[u8]>::len);
+    let screen = (usize::from(decoder.width()), usize::from(decoder.height()));
     let frame = decoder.read_next_frame().ok()??;
     let colours = frame.palette.as_ref().map(Vec::len).or(global)? / 3;
     if colours >= 256 {
         return None;
     }
-    let at = (
-        u32::from(frame.left),
-        u32::from(frame.top),
-        u32::from(frame.width),
+    let (left, top, width) = (
+        usize::from(frame.left),
+        usize::from(frame.top),
+        usize::from(frame.width).max(1),
     );
-    first_past(frame.buffer.iter().copied(), colours, frame.transparent, at)
+    // Only what lands on the screen is drawn: an index off it is no fault
+    // (a review found one refused).
+    let on_screen = |i: usize| left + i % width < screen.0 && top + i / width < screen.1;
+    let indices =
+        (frame.buffer.iter().enumerate()).map(|(i, &index)| if on_screen(i) { index } else { 0 });
+    first_past(
+        indices,
+        colours,
+        frame.transparent,
+        (left as u32, top as u32, width as u32),
+    )
 }
 
 /// [`first_past_palette`] of a BMP with a palette shorter than its bit
@@ -128,7 +143,9 @@ fn bmp_past_palette(bytes: &[u8]) -> Option<PastPalette> {
     // The picture's row of stored row `r`.
     let y = |r: usize| if height > 0 { h - 1 - r } else { r } as u32;
     let past = |index: u8, x: usize, r: usize| {
-        (usize::from(index) >= used && x < w && r < h).then_some(PastPalette {
+        // `then`, not `then_some`: `y(r)` overflows for a row past the
+        // picture (RLE data may run on past it; a review's debug build).
+        (usize::from(index) >= used && x < w && r < h).then(|| PastPalette {
             index,
             colours: used,
             x: x as u32,
@@ -318,6 +335,10 @@ mod other_formats {
         assert_eq!(found(&bmp(3, 2, 8, 0, 6, &[0, 5, 1, 0, 1, 1, 0, 0])), None);
         assert_eq!(found(&bmp(3, 2, 8, 0, 0, &[0, 5, 1, 0, 1, 1, 0, 0])), None);
         assert_eq!(found(&bmp(2, 1, 8, 1, 2, &[2, 1, 1, 9, 0, 1])), None);
+        // RLE data running on past the last row, in range: no fault, and no
+        // overflow working out the row of what is not drawn (a review).
+        let extra = bmp(2, 2, 8, 1, 2, &[2, 0, 0, 0, 2, 1, 0, 0, 2, 5, 0, 1]);
+        assert_eq!(found(&extra), None);
     }
 
     /// A GIF's first frame against its colour table, transparency apart;
@@ -343,5 +364,19 @@ mod other_formats {
         image::load_from_memory(&gif(None)).expect("a GIF the decoder reads");
         assert_eq!(found(&gif(None)), Some((3, 2, 2)));
         assert_eq!(found(&gif(Some(3))), None);
+        // Off the 2x2 screen nothing is drawn, so nothing is past (a review).
+        let mut out = Vec::new();
+        let mut e = gif::Encoder::new(&mut out, 2, 2, &[255, 0, 0, 0, 255, 0]).unwrap();
+        let frame = gif::Frame {
+            left: 1,
+            top: 1,
+            width: 2,
+            height: 2,
+            buffer: vec![0, 1, 1, 3].into(),
+            ..gif::Frame::default()
+        };
+        e.write_frame(&frame).unwrap();
+        drop(e);
+        assert_eq!(found(&out), None);
     }
 }
