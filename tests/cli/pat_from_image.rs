@@ -452,39 +452,44 @@ clitest!(
 /// the same way.
 #[test]
 fn a_netpbm_sample_over_its_maxval_is_refused() {
-    let dir = tempfile::tempdir().unwrap();
-    let mut bad = b"P5\n16 16\n100\n".to_vec();
-    bad.extend(std::iter::repeat_n(50u8, 256));
+    let mut good = b"P5\n16 16\n100\n".to_vec();
+    good.extend(std::iter::repeat_n(50u8, 256));
+    good[13 + 16 * 3 + 5] = 100;
+    let mut bad = good.clone();
     bad[13 + 16 * 3 + 5] = 200;
-    std::fs::write(dir.path().join("bad.pgm"), &bad).unwrap();
+    refused_by_both_routes(
+        ("bad.pgm", &bad),
+        ("good.pgm", &good),
+        "bad.pgm: the sample 200 at pixel (5, 3) is over the header's maxval 100",
+    );
+}
+
+/// `bad` (name, bytes) refused, saying `said`, by pat-from-image (which
+/// leaves no output) and by scene-render naming it as a pattern; `good`
+/// read by pat-from-image.
+fn refused_by_both_routes(bad: (&str, &[u8]), good: (&str, &[u8]), said: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join(bad.0), bad.1).unwrap();
+    std::fs::write(dir.path().join(good.0), good.1).unwrap();
     tool()
         .current_dir(dir.path())
-        .args(["bad.pgm", "-o", "out.pat"])
+        .args([bad.0, "-o", "out.pat"])
         .assert()
         .code(1)
-        .stderr(contains(
-            "bad.pgm: the sample 200 at pixel (5, 3) is over the header's maxval 100",
-        ));
+        .stderr(contains(said));
     assert!(!dir.path().join("out.pat").exists());
-    std::fs::write(
-        dir.path().join("s.json"),
-        r#"{"vertices":[[0,0,0],[8,0,0],[0,8,0]],"color":[1,2,3],"pattern":{"file":"bad.pgm","incr":1}}"#,
-    )
-    .unwrap();
+    let scene = r#"{"vertices":[[0,0,0],[8,0,0],[0,8,0]],"color":[1,2,3],"pattern":{"file":"BAD","incr":1}}"#;
+    std::fs::write(dir.path().join("s.json"), scene.replace("BAD", bad.0)).unwrap();
     Command::cargo_bin("scene-render")
         .unwrap()
         .current_dir(dir.path())
         .args(["s.json", "--size", "8x8", "-o", "s.png"])
         .assert()
         .code(1)
-        .stderr(contains(
-            "bad.pgm: the sample 200 at pixel (5, 3) is over the header's maxval 100",
-        ));
-    bad[13 + 16 * 3 + 5] = 100;
-    std::fs::write(dir.path().join("good.pgm"), &bad).unwrap();
+        .stderr(contains(said));
     tool()
         .current_dir(dir.path())
-        .args(["good.pgm", "-o", "out.pat"])
+        .args([good.0, "-o", "out.pat"])
         .assert()
         .success();
 }
@@ -495,7 +500,6 @@ fn a_netpbm_sample_over_its_maxval_is_refused() {
 /// same picture with the index in range is read.
 #[test]
 fn a_png_palette_index_past_its_palette_is_refused() {
-    let dir = tempfile::tempdir().unwrap();
     let indexed = |last: u8| {
         let mut out = Vec::new();
         let mut e = png::Encoder::new(&mut out, 4, 2);
@@ -507,33 +511,11 @@ fn a_png_palette_index_past_its_palette_is_refused() {
             .unwrap();
         out
     };
-    std::fs::write(dir.path().join("bad.png"), indexed(5)).unwrap();
-    let said = "bad.png: the palette index 5 at pixel (3, 1) is past the palette (2 colours)";
-    tool()
-        .current_dir(dir.path())
-        .args(["bad.png", "-o", "out.pat"])
-        .assert()
-        .code(1)
-        .stderr(contains(said));
-    assert!(!dir.path().join("out.pat").exists());
-    std::fs::write(
-        dir.path().join("s.json"),
-        r#"{"vertices":[[0,0,0],[8,0,0],[0,8,0]],"color":[1,2,3],"pattern":{"file":"bad.png"}}"#,
-    )
-    .unwrap();
-    Command::cargo_bin("scene-render")
-        .unwrap()
-        .current_dir(dir.path())
-        .args(["s.json", "--size", "8x8", "-o", "s.png"])
-        .assert()
-        .code(1)
-        .stderr(contains(said));
-    std::fs::write(dir.path().join("good.png"), indexed(1)).unwrap();
-    tool()
-        .current_dir(dir.path())
-        .args(["good.png", "-o", "out.pat"])
-        .assert()
-        .success();
+    refused_by_both_routes(
+        ("bad.png", &indexed(5)),
+        ("good.png", &indexed(1)),
+        "bad.png: the palette index 5 at pixel (3, 1) is past the palette (2 colours)",
+    );
 }
 
 /// A PNG from a pipe is read to its end (IEND) and no further: followed by
