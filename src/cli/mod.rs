@@ -111,30 +111,32 @@ pub fn main<A: clap::Parser>(run: fn(A) -> anyhow::Result<()>) -> ! {
     clean_up_on_signals();
     widen_pipes();
     let words: Vec<std::ffi::OsString> = std::env::args_os().collect();
-    if let Some(said) = not_utf8(&words) {
-        eprint_or_drop!("{tool}: error: {said}\n");
-        std::process::exit(EXIT_USAGE)
-    }
-    let words = values_after_optional_flags(&A::command(), words);
     // A negative number is a value, not a cluster of short flags: `--size
     // -16` said "unexpected argument '-1'", not what is wrong with -16 (a
     // hostile-input review).
     let parsed = A::command()
         .allow_negative_numbers(true)
-        .try_get_matches_from(words)
+        .try_get_matches_from(values_after_flags(&A::command(), words.clone()))
         .and_then(|mut m| A::from_arg_matches_mut(&mut m));
     let args = match parsed {
         Ok(args) => args,
+        Err(e) if e.kind() == clap::error::ErrorKind::InvalidUtf8 => match not_utf8(&words) {
+            Some(said) => {
+                eprint_or_drop!("{tool}: error: {said}\n");
+                std::process::exit(EXIT_USAGE)
+            }
+            None => exit_usage(&tool, e),
+        },
         Err(e) => exit_usage(&tool, e),
     };
     std::process::exit(report(&tool, run(args)))
 }
 
 /// The error for the first argument (after the program's name) that is not
-/// UTF-8, naming it with its bytes escaped. The tools take every file name
-/// and value as text: a file name that is not UTF-8 is refused here, where
-/// clap said "invalid UTF-8 was detected in one or more arguments" and left
-/// the user to find which (a hostile-input review). README, "Limits".
+/// UTF-8, naming it with its bytes escaped, for clap's "invalid UTF-8 was
+/// detected in one or more arguments", which left the user to find which
+/// (a hostile-input review). The tools take their file names as text,
+/// but for `polyfill3 --pattern`. README, "Limits".
 fn not_utf8(words: &[std::ffi::OsString]) -> Option<String> {
     let (i, word) = words
         .iter()
@@ -143,7 +145,7 @@ fn not_utf8(words: &[std::ffi::OsString]) -> Option<String> {
         .find(|(_, w)| w.to_str().is_none())?;
     Some(format!(
         "argument {i}, {word:?}, is not UTF-8: file names and values are read as UTF-8 text \
-         (rename the file, or give it as `-`, standard input or output)"
+         (rename the file, or link it under a UTF-8 name)"
     ))
 }
 
@@ -155,10 +157,22 @@ fn not_utf8(words: &[std::ffi::OsString]) -> Option<String> {
 /// it, read a file named `back`. Any other word after the flag stays an
 /// argument of its own (`--cull scene.json`); a file named like a value is
 /// given as `./back`. Words after `--` are left alone.
-fn values_after_optional_flags(
+///
+/// And `--flag VALUE` joined into `--flag=VALUE` for a flag that takes a
+/// value when VALUE starts with `-` and a digit (`--size -1x5`): clap
+/// read it as short flags and said "unexpected argument '-1'" (a
+/// hostile-input review). Negative numbers alone clap takes as values
+/// (`allow_negative_numbers`); marking `--size` as taking any hyphen value
+/// swallowed the next flag (`--size -o x.png`, a review).
+fn values_after_flags(
     command: &clap::Command,
     words: Vec<std::ffi::OsString>,
 ) -> Vec<std::ffi::OsString> {
+    let valued: Vec<String> = command
+        .get_arguments()
+        .filter(|a| a.get_action().takes_values() && !a.is_require_equals_set())
+        .filter_map(|a| Some(format!("--{}", a.get_long()?)))
+        .collect();
     let optional: Vec<(String, Vec<String>)> = command
         .get_arguments()
         .filter(|a| a.is_require_equals_set())
@@ -176,11 +190,21 @@ fn values_after_optional_flags(
             out.extend(words);
             break;
         }
-        let joined = optional.iter().find_map(|(flag, values)| {
-            let next = words.peek()?.to_str()?;
-            (word == flag.as_str() && values.iter().any(|v| v == next))
-                .then(|| format!("{flag}={next}"))
-        });
+        let joined = optional
+            .iter()
+            .find_map(|(flag, values)| {
+                let next = words.peek()?.to_str()?;
+                (word == flag.as_str() && values.iter().any(|v| v == next))
+                    .then(|| format!("{flag}={next}"))
+            })
+            .or_else(|| {
+                let next = words.peek()?.to_str()?;
+                let negative = next
+                    .strip_prefix('-')?
+                    .starts_with(|c: char| c.is_ascii_digit());
+                let flag = valued.iter().find(|f| word == f.as_str())?;
+                negative.then(|| format!("{flag}={next}"))
+            });
         match joined {
             Some(j) => {
                 words.next();
@@ -1079,7 +1103,7 @@ mod tests {
         let command = polyfill3::Args::command();
         let join = |words: &[&str]| -> Vec<String> {
             let words = words.iter().map(std::ffi::OsString::from).collect();
-            values_after_optional_flags(&command, words)
+            values_after_flags(&command, words)
                 .into_iter()
                 .map(|w| w.into_string().unwrap())
                 .collect()

@@ -39,7 +39,7 @@ pub struct Args {
     /// Image size (WxH); default 1024x768. With --pat the new pattern's
     /// size, NxN (square, a multiple of 16 up to 4096), which --pat needs:
     /// the default is not square.
-    #[arg(long, value_name = "SIZE", allow_hyphen_values = true)]
+    #[arg(long, value_name = "SIZE")]
     pub size: Option<Size>,
 
     /// Each texel becomes an N x N block of pixels.

@@ -81,7 +81,7 @@ pub struct Args {
     pub depth: Option<Depth>,
 
     /// Image size (WxH). The default is the IRIS screen.
-    #[arg(long, default_value = "1024x768", allow_hyphen_values = true)]
+    #[arg(long, default_value = "1024x768")]
     pub size: Size,
 
     /// Background colour (`r,g,b` or `#rrggbb`), or `none`: what polygons

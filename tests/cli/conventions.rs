@@ -332,7 +332,8 @@ clitest!(every_cell_holds, |dir| {
 // An argument that is not UTF-8 (a file name in Latin-1) is refused by
 // every tool before anything is read or written, naming it with its bytes
 // escaped; clap said "invalid UTF-8 was detected in one or more
-// arguments". The same file read as `-` is read.
+// arguments". The same file read as `-` is read, and `polyfill3 --pattern`
+// takes such a name.
 clitest!(an_argument_that_is_not_utf8_is_named, |dir| {
     use std::os::unix::ffi::OsStrExt as _;
     let name = std::ffi::OsStr::from_bytes(b"caf\xe9.pat");
@@ -345,14 +346,23 @@ clitest!(an_argument_that_is_not_utf8_is_named, |dir| {
             .stdout("")
             .stderr(format!(
                 "{tool}: error: argument 1, \"caf\\xE9.pat\", is not UTF-8: file names and values \
-                 are read as UTF-8 text (rename the file, or give it as `-`, standard input or \
-                 output)\n"
+                 are read as UTF-8 text (rename the file, or link it under a UTF-8 name)\n"
             ));
     }
     dir.cmd("pat-info")
         .args(["--check", "-"])
         .pipe_stdin(dir.path().join(name))
         .unwrap()
+        .assert()
+        .success();
+    dir.write(
+        "one.json",
+        r#"{"vertices":[[0,0,0],[32,0,0],[0,32,0]],"color":[1,2,3]}"#,
+    );
+    dir.cmd("polyfill3")
+        .arg("--pattern")
+        .arg(name)
+        .arg("one.json")
         .assert()
         .success();
 });
@@ -381,6 +391,12 @@ clitest!(a_negative_value_is_named_as_typed, |dir| {
             "scene-render",
             &["--size", "-5x5"],
             "invalid value '-5x5' for '--size <SIZE>'",
+        ),
+        // A flag after one that wants its value is not taken for it.
+        (
+            "pat-tile",
+            &["--size", "-o", "x.png"],
+            "a value is required for '--size <SIZE>'",
         ),
     ] {
         let out = dir
