@@ -421,6 +421,7 @@ impl Opened {
         // Bounded even if the file grows while it is read.
         let rest = self.limit.saturating_sub(bytes.len() as u64);
         let mut rest = self.rest.take(rest.saturating_add(1));
+        let mut at_end = false;
         if self.known_len.is_none() && bytes.starts_with(PNG_SIGNATURE) {
             // A PNG from a pipe is read to its end (IEND) and no further: a
             // 64x64 PNG followed by endless zeros took 2 GiB before the
@@ -430,7 +431,8 @@ impl Opened {
             loop {
                 if let Some(end) = png_end(&bytes, &mut at) {
                     bytes.truncate(end);
-                    return Ok(bytes);
+                    at_end = true;
+                    break;
                 }
                 let read = (&mut rest).take(1 << 16).read_to_end(&mut bytes)?;
                 if read == 0 {
@@ -438,7 +440,9 @@ impl Opened {
                 }
             }
         }
-        rest.read_to_end(&mut bytes)?;
+        if !at_end {
+            rest.read_to_end(&mut bytes)?;
+        }
         if bytes.len() as u64 > self.limit {
             return Err(too_large(self.limit, self.limit_says));
         }
