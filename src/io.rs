@@ -471,15 +471,23 @@ impl Opened {
 /// more bytes come (a chunk is its length, type, data and CRC: 12 bytes
 /// and its data).
 fn png_end(bytes: &[u8], at: &mut usize) -> Option<usize> {
-    while let Some(head) = bytes.get(*at..*at + 8) {
-        let len = u32::from_be_bytes([head[0], head[1], head[2], head[3]]) as usize;
+    while let Some((kind, len)) = png_chunk_head(bytes, *at) {
         let end = at.saturating_add(12).saturating_add(len);
-        if &head[4..8] == b"IEND" {
+        if kind == b"IEND" {
             return (bytes.len() >= end).then_some(end);
         }
         *at = end;
     }
     None
+}
+
+/// The type and data length of the PNG chunk at offset `at`, once its
+/// 8-byte head (length, type) lies within `bytes`: what [`png_end`] and
+/// [`png_header_chunks`] walk by.
+fn png_chunk_head(bytes: &[u8], at: usize) -> Option<(&[u8], usize)> {
+    let head = bytes.get(at..at.checked_add(8)?)?;
+    let len = u32::from_be_bytes([head[0], head[1], head[2], head[3]]) as usize;
+    Some((&head[4..8], len))
 }
 
 /// The error of an input past its `limit` (`says`: whose limit it is).
@@ -2042,15 +2050,16 @@ const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
 /// do not start as a PNG. A chunk whose length runs past the bytes gives
 /// what data there is, and ends the walk.
 fn png_header_chunks(bytes: &[u8]) -> Option<impl Iterator<Item = (&[u8], &[u8])>> {
-    let mut rest = bytes.strip_prefix(PNG_SIGNATURE)?;
+    let mut at = bytes
+        .starts_with(PNG_SIGNATURE)
+        .then_some(PNG_SIGNATURE.len())?;
     Some(std::iter::from_fn(move || {
-        let (len, kind) = (rest.get(..4)?, rest.get(4..8)?);
+        let (kind, len) = png_chunk_head(bytes, at)?;
         if kind == b"IDAT" || kind == b"IEND" {
             return None;
         }
-        let len = u32::from_be_bytes([len[0], len[1], len[2], len[3]]) as usize;
-        let data = &rest[8..rest.len().min(len.saturating_add(8))];
-        rest = rest.get(len.saturating_add(12)..).unwrap_or_default();
+        let data = &bytes[at + 8..bytes.len().min(at.saturating_add(8).saturating_add(len))];
+        at = at.saturating_add(12).saturating_add(len);
         Some((kind, data))
     }))
 }
