@@ -345,38 +345,33 @@ mod other_formats {
     /// written by the `gif` encoder.
     #[test]
     fn gif_indices_past_the_colour_table_are_found_on_the_screen() {
-        let gif = |transparent: Option<u8>| {
+        // A GIF of a two-colour table: a screen, and one frame of
+        // (width, height) at (1, 1).
+        let gif = |screen: (u16, u16), size: (u16, u16), indices: &[u8], transparent| {
             let mut out = Vec::new();
-            let mut e = gif::Encoder::new(&mut out, 4, 3, &[255, 0, 0, 0, 255, 0]).unwrap();
+            let mut e =
+                gif::Encoder::new(&mut out, screen.0, screen.1, &[255, 0, 0, 0, 255, 0]).unwrap();
             let frame = gif::Frame {
                 left: 1,
                 top: 1,
-                width: 3,
-                height: 2,
+                width: size.0,
+                height: size.1,
                 transparent,
-                buffer: vec![0, 1, 1, 1, 3, 0].into(),
+                buffer: indices.to_vec().into(),
                 ..gif::Frame::default()
             };
             e.write_frame(&frame).unwrap();
             drop(e);
             out
         };
-        image::load_from_memory(&gif(None)).expect("a GIF the decoder reads");
-        assert_eq!(found(&gif(None)), Some((3, 2, 2)));
-        assert_eq!(found(&gif(Some(3))), None);
+        let past = gif((4, 3), (3, 2), &[0, 1, 1, 1, 3, 0], None);
+        image::load_from_memory(&past).expect("a GIF the decoder reads");
+        assert_eq!(found(&past), Some((3, 2, 2)));
+        assert_eq!(
+            found(&gif((4, 3), (3, 2), &[0, 1, 1, 1, 3, 0], Some(3))),
+            None
+        );
         // Off the 2x2 screen nothing is drawn, so nothing is past (a review).
-        let mut out = Vec::new();
-        let mut e = gif::Encoder::new(&mut out, 2, 2, &[255, 0, 0, 0, 255, 0]).unwrap();
-        let frame = gif::Frame {
-            left: 1,
-            top: 1,
-            width: 2,
-            height: 2,
-            buffer: vec![0, 1, 1, 3].into(),
-            ..gif::Frame::default()
-        };
-        e.write_frame(&frame).unwrap();
-        drop(e);
-        assert_eq!(found(&out), None);
+        assert_eq!(found(&gif((2, 2), (2, 2), &[0, 1, 1, 3], None)), None);
     }
 }
