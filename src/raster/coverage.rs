@@ -1815,11 +1815,27 @@ mod sweep {
         colors: &[[f64; 3]],
         order: &[usize],
     ) -> ([f64; 4], u32) {
+        let (acc, overtaken, _) = swept_with(at, &[], locals, frags, arena, colors, order);
+        (acc, overtaken)
+    }
+
+    /// [`swept`], the fragments' polygons given (`polys`, as their locals'
+    /// `global` index them: the hub index reads their outlines); also how
+    /// many hub indexes were built.
+    fn swept_with(
+        at: (u32, u32),
+        polys: &[ScreenPoly],
+        locals: &[Local],
+        frags: &[Frag],
+        arena: &[DVec2],
+        colors: &[[f64; 3]],
+        order: &[usize],
+    ) -> ([f64; 4], u32, u32) {
         let mut pixels = PixelStates::default();
         let mut work = Scratch::default();
         pixels.reset(1, &mut work.pool);
         let shown = Shown {
-            polys: &[],
+            polys,
             locals,
             arena,
             colors,
@@ -1827,7 +1843,74 @@ mod sweep {
         for &k in order {
             pixels.sweep(&frags[k], at, None, &shown, &mut work);
         }
-        (pixels.acc[0], pixels.overtaken)
+        (pixels.acc[0], pixels.overtaken, pixels.hubs_built)
+    }
+
+    /// A fan of 200 triangles over half a turn round a vertex inside the
+    /// pixel, each its own polygon at its own tilt, and one triangle beside
+    /// them that shares no vertex with them (the index's `others`), in a
+    /// shuffled order; then, last, nothing, or a triangle from the hub
+    /// across twenty of the fan's, in front of them or behind them, which
+    /// only the index's candidates can show it overlaps. Checked through the
+    /// hub index (`super::hub`) the sweep gives the pixel bit for bit what
+    /// it gives testing every shower, and what pairwise subtraction gives.
+    /// (A fan of 40,000 triangles took 24.7 s to render before the index,
+    /// 1.5 s with it: `bench/fan.sh`.)
+    #[test]
+    fn a_fan_round_a_vertex_is_checked_through_its_hub_as_shower_by_shower() {
+        let hub = DVec2::new(0.4375, 0.5625);
+        let n = 200;
+        let rim = |k: usize| {
+            let (sin, cos) = crate::math::sin_cos(std::f64::consts::PI * k as f64 / n as f64);
+            hub + 3.0 * DVec2::new(cos, sin)
+        };
+        let mut r = Lcg(5);
+        let mut fan: Vec<(Vec<DVec2>, [f64; 3])> = (0..n)
+            .map(|k| {
+                let plane = [r.unit() - 0.5, r.unit() - 0.5, r.unit()];
+                (vec![hub, rim(k), rim(k + 1)], plane)
+            })
+            .collect();
+        let beside = vec![
+            DVec2::new(-1.0, -1.0),
+            DVec2::new(2.0, -1.0),
+            DVec2::new(0.5, 0.25),
+        ];
+        fan.push((beside, [0.0, 0.0, -5.0]));
+        let keys: Vec<f64> = fan.iter().map(|_| r.unit()).collect();
+        let mut shuffled: Vec<usize> = (0..fan.len()).collect();
+        shuffled.sort_by(|&a, &b| keys[a].total_cmp(&keys[b]));
+        let across = |c: f64| (vec![hub, rim(90), rim(110)], [0.0, 0.0, c]);
+        for (last, overtakes) in [
+            (None, false),
+            (Some(across(5.0)), true),
+            (Some(across(-5.0)), false),
+        ] {
+            let shapes: Vec<_> = fan.iter().cloned().chain(last).collect();
+            let (locals, mut frags, arena) = frags_at((0, 0), &shapes, 1e-12);
+            assert_eq!(frags.len(), shapes.len());
+            let polys: Vec<ScreenPoly> = shapes
+                .iter()
+                .enumerate()
+                .map(|(k, (v, plane))| ScreenPoly::new(v, *plane, [0.5; 3], k as u32))
+                .collect();
+            let order: Vec<usize> = shuffled
+                .iter()
+                .copied()
+                .chain(fan.len()..shapes.len())
+                .collect();
+            let overtaken =
+                agrees_with_pairwise((0, 0), &locals, &mut frags, &arena, &order, 1e-9).unwrap();
+            assert_eq!(overtaken > 0, overtakes);
+            let colors: Vec<[f64; 3]> = (0..frags.len())
+                .map(|k| [(k as f64 * 0.618).fract(), 0.25, 0.75])
+                .collect();
+            let (by_hub, _, built) =
+                swept_with((0, 0), &polys, &locals, &frags, &arena, &colors, &order);
+            let (one_by_one, _) = swept((0, 0), &locals, &frags, &arena, &colors, &order);
+            assert_eq!(built, 1);
+            assert_eq!(by_hub.map(f64::to_bits), one_by_one.map(f64::to_bits));
+        }
     }
 
     proptest! {

@@ -44,6 +44,7 @@ pub mod compare;
 pub mod coverage;
 mod frame;
 pub mod gather;
+mod hub;
 mod outline;
 mod project;
 pub mod reference;

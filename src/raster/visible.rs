@@ -9,6 +9,7 @@ use super::coverage::{
     SEPARATION_EPS,
 };
 use super::gather::Local;
+use super::hub::{cone_at, HubIndex, HUB_MIN_SHOWERS, HUB_RETRY_FACTOR};
 use super::{tie_tolerance, Background, ScreenPoly};
 use crate::geom::polygon::{area2, clip_axis, clip_line, pixel_square, AREA_EPS};
 use glam::DVec2;
@@ -122,8 +123,17 @@ pub(super) struct PixelStates {
     /// pixel under k pieces of one polygon O(k²): a concave polygon of a
     /// million vertices drawn on a few pixels has thousands per pixel.
     mixed: Vec<bool>,
+    /// A crowded [`Status::Disjoint`] or [`Status::Covered`] pixel's showers
+    /// indexed by their cones at a vertex most of their polygons share
+    /// (`super::hub`): a fan's hub pixel is then checked in O(log n) a
+    /// fragment, not O(n).
+    hubs: Vec<Option<Box<HubIndex>>>,
+    /// How many showers a pixel must have for the next attempt at its hub.
+    hub_due: Vec<u32>,
     /// How many fragments overtook a shower (a count for the tests).
     pub(super) overtaken: u32,
+    /// How many hub indexes were built (a count for the tests).
+    pub(super) hubs_built: u32,
 }
 
 /// A convex piece of a pixel where one shower shows: a piece of the
@@ -194,6 +204,10 @@ impl PixelStates {
         }
         self.mixed.clear();
         self.mixed.resize(n, false);
+        self.hubs.clear();
+        self.hubs.resize_with(n, || None);
+        self.hub_due.clear();
+        self.hub_due.resize(n, HUB_MIN_SHOWERS as u32);
         self.status.clear();
         self.status.resize(n, Status::Disjoint);
         self.acc.clear();
@@ -274,7 +288,9 @@ impl PixelStates {
             }
             return;
         }
-        let (in_order, overlaps) = self.check(p, &n, &square, t);
+        let cone = self.hub_cone(p, &n, t, &mut work.candidates);
+        let candidates = cone.is_some().then_some(&work.candidates[..]);
+        let (in_order, overlaps) = self.check(p, &n, &square, t, candidates);
         if !in_order {
             self.overtake(p, &n, (px, py), &square, t, work);
             return;
@@ -306,6 +322,9 @@ impl PixelStates {
             if let Some(c) = c {
                 self.show(p, &n, area, c);
                 let shower = self.showers[p].len() as u32 - 1;
+                if let Some(hub) = self.hubs[p].as_mut() {
+                    hub.insert(shower, cone);
+                }
                 let owned = hits.drain(..).map(|verts| Owned { shower, verts });
                 self.map[p].extend(owned);
             }
@@ -321,7 +340,18 @@ impl PixelStates {
     /// overlap; and, for a [`Status::Disjoint`] pixel, whether it overlaps
     /// any shower. In a pixel with a map only the quick tests are made,
     /// and `false` means that they did not settle it.
-    fn check(&self, p: usize, n: &Newcomer, square: &[DVec2; 4], t: &Shown) -> (bool, bool) {
+    ///
+    /// `candidates`, from the pixel's hub index, are the only showers `n`
+    /// can overlap (any other is apart from it, so it settles nothing):
+    /// only they are tested.
+    fn check(
+        &self,
+        p: usize,
+        n: &Newcomer,
+        square: &[DVec2; 4],
+        t: &Shown,
+        candidates: Option<&[u32]>,
+    ) -> (bool, bool) {
         let track = self.status[p] == Status::Disjoint;
         let (l, qc) = (n.l, n.qc);
         let q_hi = qc + l.half_spread();
@@ -343,9 +373,10 @@ impl PixelStates {
             return (false, true);
         }
         let mut overlaps = false;
-        for c in &self.showers[p] {
+        // Whether `n` is in front of `c` somewhere they overlap.
+        let mut in_front = |c: &Shower| {
             if own(c) {
-                continue; // One polygon's pieces never overlap.
+                return false; // One polygon's pieces never overlap.
             }
             let cv = shape(c.start, c.len, t.arena, square);
             let apart = || boxes_apart(&n.bb, &c.bb) || disjoint(cv, n.verts);
@@ -356,14 +387,67 @@ impl PixelStates {
             };
             if behind {
                 overlaps = overlaps || (track && !apart());
-                continue;
+                return false;
             }
-            if apart() {
-                continue;
-            }
+            !apart()
+        };
+        let showers = &self.showers[p];
+        let found = match candidates {
+            Some(some) => some.iter().any(|&i| in_front(&showers[i as usize])),
+            None => showers.iter().any(in_front),
+        };
+        if found {
             return (false, true);
         }
         (true, overlaps)
+    }
+
+    /// For a [`Status::Disjoint`] or [`Status::Covered`] pixel with a hub
+    /// index (built here once it is due): `n`'s cone at the hub, with the
+    /// showers it must be checked against in `candidates`. `None` where
+    /// every shower must be (no index, or `n`'s polygon has no cone there).
+    fn hub_cone(
+        &mut self,
+        p: usize,
+        n: &Newcomer,
+        t: &Shown,
+        candidates: &mut Vec<u32>,
+    ) -> Option<(f64, f64)> {
+        if !matches!(self.status[p], Status::Disjoint | Status::Covered) {
+            return None;
+        }
+        let showers = &self.showers[p];
+        let outline = |local: u32| {
+            let g = t.polys.get(t.locals[local as usize].global as usize)?;
+            // Only a convex polygon lies in its cone.
+            g.pieces().is_empty().then(|| g.verts())
+        };
+        let cone_of = |local: u32, hub: DVec2| outline(local).and_then(|v| cone_at(v, hub));
+        if self.hubs[p].is_none() && showers.len() >= self.hub_due[p] as usize {
+            self.hub_due[p] = self.hub_due[p].saturating_mul(HUB_RETRY_FACTOR as u32);
+            // The vertex of `n`'s polygon that most showers' polygons share.
+            let shared = |hub: &DVec2| {
+                let at_hub = |c: &&Shower| outline(c.poly).is_some_and(|v| v.contains(hub));
+                showers.iter().filter(at_hub).count()
+            };
+            let best = outline(n.f.poly)
+                .filter(|v| v.len() <= super::hub::HUB_MAX_VERTICES)
+                .and_then(|v| v.iter().map(|h| (shared(h), *h)).max_by_key(|m| m.0));
+            if let Some((count, hub)) = best.filter(|b| 2 * b.0 >= showers.len()) {
+                let mut index = HubIndex::new(hub);
+                for (i, c) in showers.iter().enumerate() {
+                    index.insert(i as u32, cone_of(c.poly, hub));
+                }
+                debug_assert!(count >= showers.len() - index.others.len());
+                self.hubs[p] = Some(Box::new(index));
+                self.hubs_built = self.hubs_built.saturating_add(1);
+            }
+        }
+        let hub = self.hubs[p].as_ref()?;
+        let cone = cone_of(n.f.poly, hub.at)?;
+        candidates.clear();
+        hub.candidates(cone, candidates);
+        Some(cone)
     }
 
     /// Builds the uncovered part and the map of a [`Status::Disjoint`] or
@@ -393,6 +477,8 @@ impl PixelStates {
         } else {
             Status::Open
         };
+        // Checked no more: a pixel with a map is not.
+        self.hubs[p] = None;
     }
 
     /// Cuts `n` out of the uncovered part of an [`Status::Open`] pixel;
@@ -708,6 +794,9 @@ pub(super) struct Scratch {
     /// What a fragment's cut removed from the uncovered part (and took from
     /// the showers, when it overtakes): the convex pieces of it that show.
     hits: Vec<Vec<DVec2>>,
+    /// The showers a fragment is checked against, from the pixel's hub
+    /// index.
+    candidates: Vec<u32>,
     /// Buffers of the texel cut of [`CUT_LATER`] fragments, and the count
     /// of those estimated.
     pub(super) texels: crate::texture::cells::Scratch,
