@@ -71,12 +71,14 @@ def main():
         if len(builds) > 1:
             t = [measured[b][1]["render"] if b in measured else None for b, _ in builds]
             cells.append(f"{t[1] / t[0]:.1f}" if None not in t else "-")
-        rows.append((n, measured.get("this build")))
+        rows.append((n, measured))
         print(f"| {n} | " + " | ".join(cells) + " |")
-    (n0, m0), (n1, m1) = rows[0], rows[-1]
-    exp = math.log(m1[1]["render"] / m0[1]["render"]) / math.log(n1 / n0)
     print()
-    print(f"- this build: render time ~ N^{exp:.2f} from N = {n0} to {n1}.")
+    (n0, m0), (n1, m1) = rows[0], rows[-1]
+    for b, _ in builds:
+        if b in m0 and b in m1:
+            exp = math.log(m1[b][1]["render"] / m0[b][1]["render"]) / math.log(n1 / n0)
+            print(f"- {b}: render time ~ N^{exp:.2f} from N = {n0} to {n1}.")
 
 
 if __name__ == "__main__":

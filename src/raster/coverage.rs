@@ -1854,8 +1854,8 @@ mod sweep {
     /// only the index's candidates can show it overlaps. Checked through the
     /// hub index (`super::hub`) the sweep gives the pixel bit for bit what
     /// it gives testing every shower, and what pairwise subtraction gives.
-    /// (A fan of 40,000 triangles took 24.7 s to render before the index,
-    /// 1.5 s with it: `bench/fan.sh`.)
+    /// (A fan of 40,000 triangles took 23.9 s to render before the index,
+    /// 1.4 s with it: `bench/RESULTS-fan.md`.)
     #[test]
     fn a_fan_round_a_vertex_is_checked_through_its_hub_as_shower_by_shower() {
         let hub = DVec2::new(0.4375, 0.5625);
