@@ -42,9 +42,9 @@
 
 pub mod compare;
 pub mod coverage;
+mod crowd;
 mod frame;
 pub mod gather;
-mod hub;
 mod outline;
 mod project;
 pub mod reference;

@@ -8,8 +8,11 @@ use super::coverage::{
     deferred_filter, shade_factor, shaded, Frag, CUT_LATER, EDGE_EPS, FILTER_LATER, POLY_COLOR,
     SEPARATION_EPS,
 };
+use super::crowd::{
+    cone_at, span, AxisIndex, Crowd, HubIndex, AXIS_MAX_WIDTH, CROWD_MIN_SHOWERS,
+    CROWD_RETRY_FACTOR, HUB_MAX_VERTICES,
+};
 use super::gather::Local;
-use super::hub::{cone_at, HubIndex, HUB_MIN_SHOWERS, HUB_RETRY_FACTOR};
 use super::{tie_tolerance, Background, ScreenPoly};
 use crate::geom::polygon::{area2, clip_axis, clip_line, pixel_square, AREA_EPS};
 use glam::DVec2;
@@ -124,16 +127,16 @@ pub(super) struct PixelStates {
     /// million vertices drawn on a few pixels has thousands per pixel.
     mixed: Vec<bool>,
     /// A crowded [`Status::Disjoint`] or [`Status::Covered`] pixel's showers
-    /// indexed by their cones at a vertex most of their polygons share
-    /// (`super::hub`): a fan's hub pixel is then checked in O(log n) a
-    /// fragment, not O(n).
-    hubs: Vec<Option<Box<HubIndex>>>,
-    /// How many showers a pixel must have for the next attempt at its hub.
-    hub_due: Vec<u32>,
+    /// indexed by their cones at a vertex most of their polygons share, or
+    /// by their spans across a strip (`super::crowd`): such a pixel is then
+    /// checked in O(log n) a fragment, not O(n).
+    crowds: Vec<Option<Box<Crowd>>>,
+    /// How many showers a pixel must have for the next attempt at an index.
+    crowd_due: Vec<u32>,
     /// How many fragments overtook a shower (a count for the tests).
     pub(super) overtaken: u32,
-    /// How many hub indexes were built (a count for the tests).
-    pub(super) hubs_built: u32,
+    /// How many indexes were built (a count for the tests).
+    pub(super) crowds_built: u32,
 }
 
 /// A convex piece of a pixel where one shower shows: a piece of the
@@ -204,10 +207,10 @@ impl PixelStates {
         }
         self.mixed.clear();
         self.mixed.resize(n, false);
-        self.hubs.clear();
-        self.hubs.resize_with(n, || None);
-        self.hub_due.clear();
-        self.hub_due.resize(n, HUB_MIN_SHOWERS as u32);
+        self.crowds.clear();
+        self.crowds.resize_with(n, || None);
+        self.crowd_due.clear();
+        self.crowd_due.resize(n, CROWD_MIN_SHOWERS as u32);
         self.status.clear();
         self.status.resize(n, Status::Disjoint);
         self.acc.clear();
@@ -288,8 +291,8 @@ impl PixelStates {
             }
             return;
         }
-        let cone = self.hub_cone(p, &n, t, &mut work.candidates);
-        let candidates = cone.is_some().then_some(&work.candidates[..]);
+        let key = self.crowd_key(p, &n, &square, t, &mut work.candidates);
+        let candidates = key.is_some().then_some(&work.candidates[..]);
         let (in_order, overlaps) = self.check(p, &n, &square, t, candidates);
         if !in_order {
             self.overtake(p, &n, (px, py), &square, t, work);
@@ -322,8 +325,8 @@ impl PixelStates {
             if let Some(c) = c {
                 self.show(p, &n, area, c);
                 let shower = self.showers[p].len() as u32 - 1;
-                if let Some(hub) = self.hubs[p].as_mut() {
-                    hub.insert(shower, cone);
+                if let Some(crowd) = self.crowds[p].as_mut() {
+                    crowd.insert(shower, key);
                 }
                 let owned = hits.drain(..).map(|verts| Owned { shower, verts });
                 self.map[p].extend(owned);
@@ -341,7 +344,7 @@ impl PixelStates {
     /// any shower. In a pixel with a map only the quick tests are made,
     /// and `false` means that they did not settle it.
     ///
-    /// `candidates`, from the pixel's hub index, are the only showers `n`
+    /// `candidates`, from the pixel's index, are the only showers `n`
     /// can overlap (any other is apart from it, so it settles nothing):
     /// only they are tested.
     fn check(
@@ -402,52 +405,43 @@ impl PixelStates {
         (true, overlaps)
     }
 
-    /// For a [`Status::Disjoint`] or [`Status::Covered`] pixel with a hub
-    /// index (built here once it is due): `n`'s cone at the hub, with the
-    /// showers it must be checked against in `candidates`. `None` where
-    /// every shower must be (no index, or `n`'s polygon has no cone there).
-    fn hub_cone(
+    /// For a [`Status::Disjoint`] or [`Status::Covered`] pixel with an index
+    /// (built here once it is due: `super::crowd`): `n`'s key in it, with
+    /// the showers it must be checked against in `candidates`. `None` where
+    /// every shower must be (no index, or `n` has no key in it).
+    fn crowd_key(
         &mut self,
         p: usize,
         n: &Newcomer,
+        square: &[DVec2; 4],
         t: &Shown,
         candidates: &mut Vec<u32>,
     ) -> Option<(f64, f64)> {
         if !matches!(self.status[p], Status::Disjoint | Status::Covered) {
             return None;
         }
-        let showers = &self.showers[p];
+        // A polygon's outline, for the cones of the hub index (which hold
+        // its vertices' hull, so any polygon: `crowd::cone_at`).
         let outline = |local: u32| {
             let g = t.polys.get(t.locals[local as usize].global as usize)?;
-            // Only a convex polygon lies in its cone.
-            g.pieces().is_empty().then(|| g.verts())
+            Some(g.verts())
         };
-        let cone_of = |local: u32, hub: DVec2| outline(local).and_then(|v| cone_at(v, hub));
-        if self.hubs[p].is_none() && showers.len() >= self.hub_due[p] as usize {
-            self.hub_due[p] = self.hub_due[p].saturating_mul(HUB_RETRY_FACTOR as u32);
-            // The vertex of `n`'s polygon that most showers' polygons share.
-            let shared = |hub: &DVec2| {
-                let at_hub = |c: &&Shower| outline(c.poly).is_some_and(|v| v.contains(hub));
-                showers.iter().filter(at_hub).count()
-            };
-            let best = outline(n.f.poly)
-                .filter(|v| v.len() <= super::hub::HUB_MAX_VERTICES)
-                .and_then(|v| v.iter().map(|h| (shared(h), *h)).max_by_key(|m| m.0));
-            if let Some((count, hub)) = best.filter(|b| 2 * b.0 >= showers.len()) {
-                let mut index = HubIndex::new(hub);
-                for (i, c) in showers.iter().enumerate() {
-                    index.insert(i as u32, cone_of(c.poly, hub));
-                }
-                debug_assert!(count >= showers.len() - index.others.len());
-                self.hubs[p] = Some(Box::new(index));
-                self.hubs_built = self.hubs_built.saturating_add(1);
+        let showers = &self.showers[p];
+        if self.crowds[p].is_none() && showers.len() >= self.crowd_due[p] as usize {
+            self.crowd_due[p] = self.crowd_due[p].saturating_mul(CROWD_RETRY_FACTOR as u32);
+            let frag = |c: &Shower| shape(c.start, c.len, t.arena, square);
+            let built = hub_of(showers, outline(n.f.poly), outline)
+                .or_else(|| axis_of(showers, outline(n.f.poly).unwrap_or(n.verts), frag));
+            if let Some(crowd) = built {
+                self.crowds[p] = Some(Box::new(crowd));
+                self.crowds_built = self.crowds_built.saturating_add(1);
             }
         }
-        let hub = self.hubs[p].as_ref()?;
-        let cone = cone_of(n.f.poly, hub.at)?;
+        let crowd = self.crowds[p].as_ref()?;
+        let key = crowd.key(outline(n.f.poly), n.verts)?;
         candidates.clear();
-        hub.candidates(cone, candidates);
-        Some(cone)
+        crowd.candidates(key, candidates);
+        Some(key)
     }
 
     /// Builds the uncovered part and the map of a [`Status::Disjoint`] or
@@ -478,7 +472,7 @@ impl PixelStates {
             Status::Open
         };
         // Checked no more: a pixel with a map is not.
-        self.hubs[p] = None;
+        self.crowds[p] = None;
     }
 
     /// Cuts `n` out of the uncovered part of an [`Status::Open`] pixel;
@@ -794,8 +788,8 @@ pub(super) struct Scratch {
     /// What a fragment's cut removed from the uncovered part (and took from
     /// the showers, when it overtakes): the convex pieces of it that show.
     hits: Vec<Vec<DVec2>>,
-    /// The showers a fragment is checked against, from the pixel's hub
-    /// index.
+    /// The showers a fragment is checked against, from the pixel's index
+    /// (`super::crowd`).
     candidates: Vec<u32>,
     /// Buffers of the texel cut of [`CUT_LATER`] fragments, and the count
     /// of those estimated.
@@ -1036,6 +1030,70 @@ pub(super) fn clip_to_box(
 }
 
 /// The box `[x0, y0, x1, y1]` of a pixel square.
+/// The index of `showers` by their cones at the vertex of `outline` (the
+/// newcomer's polygon) that most of their polygons share, if at least half
+/// of them do. `outline_of` gives a shower's polygon.
+fn hub_of<'a>(
+    showers: &[Shower],
+    outline: Option<&[DVec2]>,
+    outline_of: impl Fn(u32) -> Option<&'a [DVec2]>,
+) -> Option<Crowd> {
+    let shared = |hub: &DVec2| {
+        let at_hub = |c: &&Shower| outline_of(c.poly).is_some_and(|v| v.contains(hub));
+        showers.iter().filter(at_hub).count()
+    };
+    let (count, hub) = outline
+        .filter(|v| v.len() <= HUB_MAX_VERTICES)?
+        .iter()
+        .map(|h| (shared(h), *h))
+        .max_by_key(|m| m.0)?;
+    if 2 * count < showers.len() {
+        return None;
+    }
+    let mut index = HubIndex::new(hub);
+    for (i, c) in showers.iter().enumerate() {
+        index.insert(i as u32, outline_of(c.poly).and_then(|v| cone_at(v, hub)));
+    }
+    Some(Crowd::Hub(index))
+}
+
+/// The index of `showers` by their fragments' spans (`frag_of`) on the
+/// axis, of x, y and the normal to the longest edge of `outline` (the
+/// newcomer's polygon, or its fragment), on which the most are at most
+/// [`AXIS_MAX_WIDTH`] wide, if at least half of them are.
+fn axis_of<'a>(
+    showers: &[Shower],
+    outline: &[DVec2],
+    frag_of: impl Fn(&Shower) -> &'a [DVec2],
+) -> Option<Crowd> {
+    let edges = outline.iter().zip(outline.iter().cycle().skip(1));
+    let longest = edges
+        .map(|(a, b)| *b - *a)
+        .max_by(|a, b| a.length_squared().total_cmp(&b.length_squared()))?;
+    let across = longest.perp().normalize_or_zero();
+    let narrow = |axis: DVec2| {
+        let fits = |c: &&Shower| {
+            let (lo, hi) = span(frag_of(c), axis);
+            hi - lo <= AXIS_MAX_WIDTH
+        };
+        showers.iter().filter(fits).count()
+    };
+    let axes = [DVec2::X, DVec2::Y, across];
+    let (count, axis) = axes
+        .into_iter()
+        .filter(|a| *a != DVec2::ZERO)
+        .map(|a| (narrow(a), a))
+        .max_by_key(|m| m.0)?;
+    if 2 * count < showers.len() {
+        return None;
+    }
+    let mut index = AxisIndex::new(axis);
+    for (i, c) in showers.iter().enumerate() {
+        index.insert(i as u32, Some(span(frag_of(c), axis)));
+    }
+    Some(Crowd::Axis(index))
+}
+
 fn box_of(square: &[DVec2; 4]) -> [f64; 4] {
     [square[0].x, square[0].y, square[2].x, square[2].y]
 }
