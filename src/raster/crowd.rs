@@ -189,19 +189,30 @@ pub(super) fn cone_at(verts: &[DVec2], hub: DVec2) -> Option<(f64, f64)> {
     if !(3..=HUB_MAX_VERTICES).contains(&verts.len()) || !verts.contains(&hub) {
         return None;
     }
-    let dirs = || verts.iter().filter(|&&v| v != hub).map(move |&v| v - hub);
-    // A direction the polygon does not take: against the mean of its
-    // vertices' directions. Angles are measured counter-clockwise from it.
-    let mean: DVec2 = dirs().map(|d| d.normalize_or_zero()).sum();
-    let away = pseudo_angle(-mean);
-    let turned = |d: DVec2| (pseudo_angle(d) - away).rem_euclid(4.0);
-    let first = dirs().min_by(|a, b| turned(*a).total_cmp(&turned(*b)))?;
-    let last = dirs().max_by(|a, b| turned(*a).total_cmp(&turned(*b)))?;
+    // Angles are measured counter-clockwise from a direction against the
+    // sum of the vertices' directions, outside the cone if it is under
+    // half a turn. (Any direction would do for what follows: the cone
+    // found holds every vertex's direction by construction; a poor one only
+    // makes it too wide, and `None`.)
+    let away = pseudo_angle(-verts.iter().map(|&v| v - hub).sum::<DVec2>());
+    // (Angle from `away`, angle) of the most clockwise and the most
+    // counter-clockwise vertex.
+    let (mut first, mut last) = ((f64::INFINITY, 0.0), (f64::NEG_INFINITY, 0.0));
+    for &v in verts.iter().filter(|&&v| v != hub) {
+        let angle = pseudo_angle(v - hub);
+        let turned = angle - away;
+        let turned = if turned < 0.0 { turned + 4.0 } else { turned };
+        if turned < first.0 {
+            first = (turned, angle);
+        }
+        if turned > last.0 {
+            last = (turned, angle);
+        }
+    }
     // The angles themselves, not `away` plus the turns, so that neighbours
     // sharing an edge meet exactly. Half a turn is 2.
-    let (from, to) = (pseudo_angle(first), pseudo_angle(last));
-    let wide = turned(last) - turned(first);
-    (from.is_finite() && to.is_finite() && wide > 0.0 && wide < 1.99).then_some((from, to))
+    let wide = last.0 - first.0;
+    (wide > 0.0 && wide < 1.99).then_some((first.1, last.1))
 }
 
 /// The cones of the showers of one pixel at its hub, pairwise apart, and
