@@ -1847,17 +1847,20 @@ mod sweep {
     }
 
     /// `crowd` (each shape its own polygon at its own plane) in a shuffled
-    /// order, then nothing, or `across` in front of the crowd or behind it:
+    /// order, then nothing, or one of `lasts` in front of the crowd or
+    /// behind it:
     /// the sweep, with its pixel's index (`super::crowd`) built once, gives
     /// the pixel bit for bit what it gives testing every shower, and what
     /// pairwise subtraction gives; only the one in front overtakes.
-    fn indexed_as_one_by_one(crowd: &[(Vec<DVec2>, [f64; 3])], across: &[DVec2], r: &mut Lcg) {
+    fn indexed_as_one_by_one(crowd: &[(Vec<DVec2>, [f64; 3])], lasts: &[&[DVec2]], r: &mut Lcg) {
         let keys: Vec<f64> = crowd.iter().map(|_| r.unit()).collect();
         let mut shuffled: Vec<usize> = (0..crowd.len()).collect();
         shuffled.sort_by(|&a, &b| keys[a].total_cmp(&keys[b]));
-        let lasts = [(None, false), (Some(5.0), true), (Some(-5.0), false)];
-        for (depth, overtakes) in lasts {
-            let last = depth.map(|c| (across.to_vec(), [0.0, 0.0, c]));
+        let ends = lasts
+            .iter()
+            .flat_map(|&last| [(Some(last), 10.0, true), (Some(last), -10.0, false)]);
+        for (last, depth, overtakes) in [(None, 0.0, false)].into_iter().chain(ends) {
+            let last = last.map(|v| (v.to_vec(), [0.0, 0.0, depth]));
             let shapes: Vec<_> = crowd.iter().cloned().chain(last).collect();
             let (locals, mut frags, arena) = frags_at((0, 0), &shapes, 1e-12);
             assert_eq!(frags.len(), shapes.len());
@@ -1888,10 +1891,8 @@ mod sweep {
     /// A fan of 200 triangles over half a turn round a vertex inside the
     /// pixel, at random tilts, and one triangle beside them that shares no
     /// vertex with them (the hub index's `others`); last, a triangle from
-    /// the hub across twenty of the fan's, which only the index's
-    /// candidates can show it overlaps. (A fan of 40,000 triangles took
-    /// 23.9 s to render before the index, 1.4 s with it:
-    /// `bench/RESULTS-fan.md`.)
+    /// the hub that only the index's candidates can show it overlaps. (Fans rendered before and with the
+    /// index: `bench/RESULTS-crowded-pixels.md`.)
     #[test]
     fn a_fan_round_a_vertex_is_checked_through_its_hub_as_shower_by_shower() {
         let hub = DVec2::new(0.4375, 0.5625);
@@ -1913,7 +1914,27 @@ mod sweep {
             DVec2::new(0.5, 0.25),
         ];
         fan.push((beside, [0.0, 0.0, -5.0]));
-        indexed_as_one_by_one(&fan, &[hub, rim(90), rim(110)], &mut r);
+        let (sin, cos) = crate::math::sin_cos(std::f64::consts::PI * 50.5 / n as f64);
+        let mid = hub + DVec2::new(cos, sin);
+        let lasts: [&[DVec2]; 3] = [
+            // Across twenty of the fan's.
+            &[hub, rim(90), rim(110)],
+            // Within one triangle's cone: only that cone, which starts
+            // before it, meets it.
+            &[
+                hub,
+                mid - 0.003 * (mid - hub).perp(),
+                mid + 0.003 * (mid - hub).perp(),
+            ],
+            // Down from the hub over the triangle beside, which only the
+            // index's `others` hold.
+            &[
+                hub,
+                hub + DVec2::new(-0.5, -2.0),
+                hub + DVec2::new(0.5, -2.0),
+            ],
+        ];
+        indexed_as_one_by_one(&fan, &lasts, &mut r);
     }
 
     /// Regression (a review of the hub index): a quad whose first edge from
@@ -1941,14 +1962,14 @@ mod sweep {
             rim(-0.1) - (rim(-0.1) - hub) * 0.25,
             hub + DVec2::new(0.0, 3.0),
         ];
-        indexed_as_one_by_one(&fan, &quad, &mut Lcg(9));
+        indexed_as_one_by_one(&fan, &[&quad], &mut Lcg(9));
     }
 
     /// A strip of 200 thin triangles side by side crossing the pixel
     /// slantwise, sharing edges and no one vertex, at random tilts, and one
     /// wide triangle beside them (the axis index's `others`); last, a
-    /// triangle across twenty of them. (A strip of 8,000 such triangles took
-    /// 21 s to render before the index, 0.1 s with it: `bench/RESULTS-fan.md`.)
+    /// triangle that only the index's candidates can show it overlaps. (Strips rendered before and with the
+    /// index: `bench/RESULTS-crowded-pixels.md`.)
     #[test]
     fn a_strip_across_a_pixel_is_checked_by_its_axis_as_shower_by_shower() {
         let n = 100;
@@ -1974,8 +1995,29 @@ mod sweep {
             DVec2::new(-0.5, 1.2),
         ];
         strip.push((beside, [0.0, 0.0, -5.0]));
-        let across = [at(40, base), at(60, base), at(50, top)];
-        indexed_as_one_by_one(&strip, &across, &mut r);
+        // In quad 50, a fifth of the way across, where only its left
+        // triangle is (its diagonal crosses the pixel about half way).
+        let mid = (base + top) * 0.5 + step * 50.2;
+        let quarter = step.x * 0.1;
+        let lasts: [&[DVec2]; 3] = [
+            // Across twenty of the strip's.
+            &[at(40, base), at(60, base), at(50, top)],
+            // Within one triangle: only it, whose span starts before its
+            // own, meets it (found by looking back).
+            &[
+                mid - DVec2::new(quarter, 0.0),
+                mid + DVec2::new(quarter, 0.0),
+                mid + DVec2::new(0.0, quarter),
+            ],
+            // Over the triangle beside alone, which only the index's
+            // `others` hold.
+            &[
+                DVec2::new(-0.3, 0.6),
+                DVec2::new(0.05, 0.6),
+                DVec2::new(-0.3, 1.1),
+            ],
+        ];
+        indexed_as_one_by_one(&strip, &lasts, &mut r);
     }
 
     proptest! {

@@ -430,7 +430,7 @@ impl PixelStates {
         if self.crowds[p].is_none() && showers.len() >= self.crowd_due[p] as usize {
             self.crowd_due[p] = self.crowd_due[p].saturating_mul(CROWD_RETRY_FACTOR as u32);
             let frag = |c: &Shower| shape(c.start, c.len, t.arena, square);
-            let built = hub_of(showers, outline(n.f.poly), outline)
+            let built = hub_of(showers, outline(n.f.poly), outline, frag)
                 .or_else(|| axis_of(showers, outline(n.f.poly).unwrap_or(n.verts), frag));
             if let Some(crowd) = built {
                 self.crowds[p] = Some(Box::new(crowd));
@@ -438,6 +438,9 @@ impl PixelStates {
             }
         }
         let crowd = self.crowds[p].as_ref()?;
+        if !indexable(n.verts) {
+            return None;
+        }
         let key = crowd.key(outline(n.f.poly), n.verts)?;
         candidates.clear();
         crowd.candidates(key, candidates);
@@ -1030,13 +1033,28 @@ pub(super) fn clip_to_box(
 }
 
 /// The box `[x0, y0, x1, y1]` of a pixel square.
+/// Whether a fragment may be left out of a check by an index: none of its
+/// edges is shorter than [`EDGE_EPS`]. The separating-axis test skips
+/// such an edge, so without the index two fragments apart only across one
+/// were taken as overlapping, and cut, which removes nothing but can move
+/// the last bit of a sum (a review built two polygons rounding their
+/// corners at a hub with chains of 0.7e-9 pixel edges: one float32 step of
+/// one pixel's PFM). Such a fragment is tested, not indexed, so the
+/// check's decisions are those it made without the index.
+fn indexable(frag: &[DVec2]) -> bool {
+    let n = frag.len();
+    (0..n).all(|i| (frag[(i + 1) % n] - frag[i]).length() > EDGE_EPS)
+}
+
 /// The index of `showers` by their cones at the vertex of `outline` (the
 /// newcomer's polygon) that most of their polygons share, if at least half
-/// of them do. `outline_of` gives a shower's polygon.
+/// of them do. `outline_of` gives a shower's polygon, `frag_of` its
+/// fragment.
 fn hub_of<'a>(
     showers: &[Shower],
     outline: Option<&[DVec2]>,
     outline_of: impl Fn(u32) -> Option<&'a [DVec2]>,
+    frag_of: impl Fn(&Shower) -> &'a [DVec2],
 ) -> Option<Crowd> {
     let shared = |hub: &DVec2| {
         let at_hub = |c: &&Shower| outline_of(c.poly).is_some_and(|v| v.contains(hub));
@@ -1052,7 +1070,8 @@ fn hub_of<'a>(
     }
     let mut index = HubIndex::new(hub);
     for (i, c) in showers.iter().enumerate() {
-        index.insert(i as u32, outline_of(c.poly).and_then(|v| cone_at(v, hub)));
+        let cone = outline_of(c.poly).and_then(|v| cone_at(v, hub));
+        index.insert(i as u32, cone.filter(|_| indexable(frag_of(c))));
     }
     Some(Crowd::Hub(index))
 }
@@ -1089,7 +1108,8 @@ fn axis_of<'a>(
     }
     let mut index = AxisIndex::new(axis);
     for (i, c) in showers.iter().enumerate() {
-        index.insert(i as u32, Some(span(frag_of(c), axis)));
+        let frag = frag_of(c);
+        index.insert(i as u32, indexable(frag).then(|| span(frag, axis)));
     }
     Some(Crowd::Axis(index))
 }
