@@ -6,10 +6,11 @@
 //! - **A hub** ([`HubIndex`]). A fan of triangles round one vertex (a
 //!   sphere's pole seen down its axis, an OBJ face of many corners drawn as
 //!   a fan, a triangle fan) puts every triangle in the pixels round that
-//!   vertex. A convex polygon lies in its *cone* at each of its vertices:
-//!   the angle between its two edges there. Two convex polygons with a
-//!   vertex at the same point whose cones share no interior share no
-//!   interior either, so neither do their fragments in any pixel.
+//!   vertex. A polygon lies in its *cone* at each of its vertices: the
+//!   angle, seen from there, that holds all its other vertices (so their
+//!   hull, so the polygon; [`cone_at`]). Two polygons with a vertex at the
+//!   same point whose cones share no interior share no interior either, so
+//!   neither do their fragments in any pixel.
 //! - **An axis** ([`AxisIndex`]). A strip of thin polygons side by side
 //!   (a mesh's long triangles, a sphere's slices) crossing one pixel shares
 //!   no one vertex, but each fragment projects onto the axis across the
@@ -19,9 +20,13 @@
 //! Either way a newcomer is tested only against the showers its key meets
 //! ([`Crowd::candidates`]) and those not indexed, in O(log n) plus what they
 //! return. Every shower left out is apart from the newcomer by more than a
-//! pad, which the check's separating-axis test (`visible::disjoint`, exact
-//! for convex polygons in 2D, with [`super::coverage::SEPARATION_EPS`] more)
-//! finds apart too: the index spares tests, it decides nothing.
+//! pad, which the check's separating-axis test (`visible::disjoint`,
+//! complete for convex polygons in 2D, with
+//! [`super::coverage::SEPARATION_EPS`] more) finds apart too, but for edges
+//! shorter than [`super::coverage::EDGE_EPS`], which it skips: fragments
+//! with one are never indexed or left out (`visible::indexable`). So the
+//! index spares tests and decides nothing (docs/rendering.md, *Crowds by an
+//! index*, says how far that has been checked).
 
 use glam::DVec2;
 use std::collections::BTreeMap;
@@ -62,7 +67,7 @@ pub(super) enum Crowd {
 
 impl Crowd {
     /// A fragment's key in this index: its polygon's cone at the hub
-    /// (`outline`, the polygon's vertices if it is convex), or its span on
+    /// (`outline`, the polygon's vertices), or its span on
     /// the axis (`frag`, its vertices in the pixel). `None`: it has none,
     /// and is tested against every shower.
     pub(super) fn key(&self, outline: Option<&[DVec2]>, frag: &[DVec2]) -> Option<(f64, f64)> {

@@ -1032,7 +1032,6 @@ pub(super) fn clip_to_box(
     clip_axis(tmp, 0, *x1, false, out);
 }
 
-/// The box `[x0, y0, x1, y1]` of a pixel square.
 /// Whether a fragment may be left out of a check by an index: none of its
 /// edges is shorter than [`EDGE_EPS`]. The separating-axis test skips
 /// such an edge, so without the index two fragments apart only across one
@@ -1114,6 +1113,7 @@ fn axis_of<'a>(
     Some(Crowd::Axis(index))
 }
 
+/// The box `[x0, y0, x1, y1]` of a pixel square.
 fn box_of(square: &[DVec2; 4]) -> [f64; 4] {
     [square[0].x, square[0].y, square[2].x, square[2].y]
 }
