@@ -375,15 +375,11 @@ fn floor(x: f64) -> f64 {
     (if t > x { t - 1.0 } else { t }).copysign(x)
 }
 
-/// `x.ceil()`, as [`floor`] (`ceil(-0.5)` is `-0.0`, as `f64::ceil`'s).
+/// `x.ceil()` as `-floor(-x)`, both negations exact (`ceil(-0.5)` is
+/// `-0.0`, as `f64::ceil`'s; a NaN comes back a NaN).
 #[inline(always)]
-#[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN is let through as it is.
 fn ceil(x: f64) -> f64 {
-    if !(x.abs() < 4_503_599_627_370_496.0) {
-        return x;
-    }
-    let t = x as i64 as f64;
-    (if t < x { t + 1.0 } else { t }).copysign(x)
+    -floor(-x)
 }
 
 /// The pixel rows `y0..y1` and columns `x0..x1` of the tile that a box
