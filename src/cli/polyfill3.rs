@@ -56,9 +56,9 @@ as serde_json writes them (docs/polyfill3.md, \"Unknown fields\").\n\n\
 --pattern FILE gives every polygon record (vertices, rect, circle or arc) that \
 has neither a \"pattern\" nor a \"stripe\" of its own the pattern FILE in \
 \"object\" mode, placed by --incr, --rotate, --horz and --vert, inside objects \
-too; records with a pattern of their own keep it (the flags fill in only the \
-\"file\" and placement fields it leaves out), stripes and quadrics are left \
-as they are. Without --pattern, records without a pattern pass through \
+too (such a record needs no \"color\" then); records with a pattern of their \
+own keep it (the flags fill in only the \"file\" and placement fields it \
+leaves out), stripes and quadrics are left as they are. Without --pattern, records without a pattern pass through \
 unchanged.\n\n\
 Objects and instances (docs/objects.md) stay intact: an object definition is \
 written back with its records partitioned, once however many instances place \

@@ -202,7 +202,12 @@ pub fn partition_stream<W: Write>(
     // Objects and instances are kept as they are (Fig. 5.1: a face is
     // partitioned once and placed four times), not expanded into copies.
     let mut objects = Objects::default();
-    stream::for_each_item_in(reader, source, base, |item| match item {
+    // With --pattern, a polygon record needs no colour of its own: it
+    // takes the pattern (`record`).
+    let options = stream::ReadOptions {
+        bare_records: job.args.pattern.is_some(),
+    };
+    stream::for_each_item_with(reader, source, base, &options, |item| match item {
         Item::Record(rec) => {
             let index = rec.index;
             job.record(rec)

@@ -26,7 +26,8 @@
 //! - `paths.rs`: resolving the file names records hold ([`base_dir`],
 //!   [`resolve`]).
 //!
-//! This file keeps what they all share: [`StreamError`] and [`MAX_VERTICES`].
+//! This file keeps what they all share: [`StreamError`], [`ReadOptions`] and
+//! [`MAX_VERTICES`].
 
 use std::fmt;
 
@@ -47,7 +48,9 @@ pub use objects::{
     MAX_OBJECT_DEPTH,
 };
 pub use paths::{base_dir, forward_file_refs, names_files, resolve, RefTarget};
-pub use read::{for_each_item, for_each_item_in, for_each_record, nth_item, MAX_NTH_RECORDS};
+pub use read::{
+    for_each_item, for_each_item_in, for_each_item_with, for_each_record, nth_item, MAX_NTH_RECORDS,
+};
 pub use record::{parse_color, PatternMode, PatternRef, Record, PATTERN_KEYS, QUADRIC_KEYS};
 pub use triangles::{for_each_quadric_triangle, quadric_triangle_bound};
 pub use write::write_ndjson;
@@ -93,6 +96,19 @@ impl StreamError {
         }
         self
     }
+}
+
+/// What a reader accepts beyond the stream format's own rules
+/// ([`for_each_item_with`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ReadOptions {
+    /// Whether a polygon record (vertices, rect, circle or arc) may come
+    /// with no `"color"`, `"pattern"` or `"stripe"`: a *bare* record, which
+    /// the caller colours itself, as `polyfill3 --pattern` gives it the
+    /// pattern. Quadrics still need one.
+    ///
+    /// Default value: `false` (a bare record is an error naming it).
+    pub bare_records: bool,
 }
 
 /// The most vertices one polygon may have: 2^24 (16.7 million). Past that a

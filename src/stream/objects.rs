@@ -6,7 +6,7 @@
 
 use super::fields::{Element, Fields};
 use super::record::{field_err, not_an_object, short, PatternMode, Record, GEOMETRY_KEYS};
-use super::StreamError;
+use super::{ReadOptions, StreamError};
 use crate::geom::transform::Transform;
 use crate::geom::Shape;
 use crate::light::LightRecord;
@@ -123,7 +123,12 @@ impl Item {
     /// keeps them as written.
     /// A mesh record's OBJ file resolves against the current directory.
     pub fn from_value(index: usize, value: Value) -> Result<Item, StreamError> {
-        Item::from_element(index, Element::from(value), std::path::Path::new("."))
+        Item::from_element(
+            index,
+            Element::from(value),
+            std::path::Path::new("."),
+            &ReadOptions::default(),
+        )
     }
 
     /// Builds the typed view of one stream element as read; files that mesh
@@ -133,6 +138,7 @@ impl Item {
         index: usize,
         element: Element,
         base: &std::path::Path,
+        options: &ReadOptions,
     ) -> Result<Item, StreamError> {
         let object = match element {
             Element::Object(o) => o,
@@ -189,7 +195,7 @@ impl Item {
                             super::mesh::faces(index, &fields, base, &mut files).map_err(inner)?,
                         )
                     }
-                    e => items.push(Item::from_element(index, e, base).map_err(inner)?),
+                    e => items.push(Item::from_element(index, e, base, options).map_err(inner)?),
                 }
             }
             return Ok(Item::Object(ObjectDef {
@@ -237,7 +243,7 @@ impl Item {
                 fields,
             }));
         }
-        Record::from_fields(index, object.into_fields()).map(Item::Record)
+        Record::from_fields_with(index, object.into_fields(), options).map(Item::Record)
     }
 }
 

@@ -286,7 +286,8 @@ mod tests {
         index: usize,
         e: super::super::fields::Element,
     ) -> Result<Record, super::super::StreamError> {
-        match super::super::Item::from_element(index, e, std::path::Path::new("."))? {
+        let options = super::super::ReadOptions::default();
+        match super::super::Item::from_element(index, e, std::path::Path::new("."), &options)? {
             super::super::Item::Record(r) => Ok(r),
             other => panic!("not a record: {other:?}"),
         }

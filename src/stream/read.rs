@@ -8,7 +8,7 @@
 use super::fields::Element;
 use super::objects::{Instance, Item, Objects};
 use super::record::Record;
-use super::{plain, StreamError};
+use super::{plain, ReadOptions, StreamError};
 use crate::geom::transform::Transform;
 use crate::text::{BOM_FIRST, BOM_HINT};
 use serde::de::{Deserializer as _, SeqAccess, Visitor};
@@ -162,9 +162,21 @@ pub fn for_each_item<R: BufRead + Send, E: From<StreamError>>(
 /// read from elsewhere than the file `source` names (a library caller's
 /// buffer, say, given its own folder).
 pub fn for_each_item_in<R: BufRead + Send, E: From<StreamError>>(
+    reader: R,
+    source: &str,
+    base: &std::path::Path,
+    each: impl FnMut(Item) -> Result<(), E>,
+) -> Result<(), E> {
+    for_each_item_with(reader, source, base, &ReadOptions::default(), each)
+}
+
+/// [`for_each_item_in`], accepting what `options` allow beyond the format's
+/// own rules (bare records for a caller that colours them).
+pub fn for_each_item_with<R: BufRead + Send, E: From<StreamError>>(
     mut reader: R,
     source: &str,
     base: &std::path::Path,
+    options: &ReadOptions,
     mut each: impl FnMut(Item) -> Result<(), E>,
 ) -> Result<(), E> {
     let stream_err = |record: Option<usize>, message: String| StreamError {
@@ -203,7 +215,7 @@ pub fn for_each_item_in<R: BufRead + Send, E: From<StreamError>>(
                 inst
             }
             Parsed::Element(e) => {
-                Item::from_element(*index, e, base).map_err(|e| e.named(source))?
+                Item::from_element(*index, e, base, options).map_err(|e| e.named(source))?
             }
             Parsed::Item(item) => item,
         };

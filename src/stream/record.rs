@@ -5,7 +5,7 @@
 //! whichever form (array, NDJSON, object definition) the record came in.
 
 use super::fields::Fields;
-use super::{StreamError, MAX_VERTICES};
+use super::{ReadOptions, StreamError, MAX_VERTICES};
 use crate::color::Rgb8;
 use crate::geom::transform::Transform;
 use crate::geom::Shape;
@@ -90,6 +90,16 @@ impl Record {
 
     /// Builds the typed view of a record's JSON object.
     pub fn from_fields(index: usize, fields: Fields) -> Result<Record, StreamError> {
+        Record::from_fields_with(index, fields, &ReadOptions::default())
+    }
+
+    /// [`Record::from_fields`] as `options` ask: with
+    /// [`ReadOptions::bare_records`], a polygon record needs no colour.
+    pub fn from_fields_with(
+        index: usize,
+        fields: Fields,
+        options: &ReadOptions,
+    ) -> Result<Record, StreamError> {
         let e = |m: String| field_err(index, m);
         let present: Vec<&str> = GEOMETRY_KEYS
             .iter()
@@ -236,8 +246,12 @@ impl Record {
             }
         }
         // A stripe texture (crate::stripe::record) may carry its own colour
-        // code, so it counts as colouring the record.
-        if color.is_none() && pattern.is_none() && !fields.contains_key("stripe") {
+        // code, so it counts as colouring the record. A bare polygon is
+        // coloured by the caller where it asked for one (`polyfill3
+        // --pattern`); a quadric never is.
+        let caller_colours = options.bare_records && !matches!(shape, Shape::Quadric(_));
+        if color.is_none() && pattern.is_none() && !fields.contains_key("stripe") && !caller_colours
+        {
             return Err(field_err(
                 index,
                 "no \"color\" and no \"pattern\": expected at least one",
@@ -637,6 +651,28 @@ mod tests {
         let recs = read_all(r#"{"vertices":[[0,0],[1,0],[0,1]],"stripe":{"code":3}}"#).unwrap();
         assert_eq!(recs[0].color, None);
         assert!(recs[0].fields.contains_key("stripe"));
+    }
+
+    #[test]
+    fn bare_records_are_read_only_where_the_caller_colours_them() {
+        let fields = |text: &str| {
+            Fields::from(serde_json::from_str::<serde_json::Map<String, Value>>(text).unwrap())
+        };
+        let bare = ReadOptions { bare_records: true };
+        let polygon = r#"{"vertices":[[0,0],[1,0],[0,1]]}"#;
+        let rec = Record::from_fields_with(0, fields(polygon), &bare).unwrap();
+        assert_eq!((rec.color, rec.pattern), (None, None));
+        assert!(Record::from_fields_with(0, fields(r#"{"rect":[0,0,1,1]}"#), &bare).is_ok());
+        let refused = |r: Result<Record, StreamError>| r.unwrap_err().message;
+        let sphere = r#"{"sphere":{"radius":1}}"#;
+        assert_eq!(
+            refused(Record::from_fields_with(0, fields(sphere), &bare)),
+            "no \"color\" and no \"pattern\": expected at least one"
+        );
+        assert_eq!(
+            refused(Record::from_fields(0, fields(polygon))),
+            "no \"color\" and no \"pattern\": expected at least one"
+        );
     }
 
     #[test]

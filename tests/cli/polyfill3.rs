@@ -721,6 +721,58 @@ clitest!(pattern_flag_partitions_polygons_without_a_pattern, |dir| {
     assert_eq!(out, dir.read("faces.ndjson"));
 });
 
+clitest!(pattern_flag_colours_bare_records, |dir| {
+    // `--pattern FILE` gives every polygon record without a texture the
+    // pattern, so a record of bare geometry (no "color" either) is one it
+    // colours: it was refused by the reader ("no \"color\" and no
+    // \"pattern\"") before --pattern was looked at. Inside an object too; a
+    // quadric, which --pattern leaves alone, still needs a colour.
+    write_pat(&dir.path().join("p.pat"), 16, |c, r| c == 1 && r == 0);
+    dir.write(
+        "bare.ndjson",
+        "{\"id\":1,\"vertices\":[[0,0],[2,0],[2,2],[0,2]]}\n\
+         {\"object\":\"o\",\"records\":[{\"id\":2,\"rect\":[10,0,12,2]}]}\n\
+         {\"instance\":\"o\"}\n",
+    );
+    let out = dir
+        .cmd("polyfill3")
+        .args(["--pattern", "p.pat", "bare.ndjson"])
+        .ok_stdout();
+    let recs = lines(&out);
+    let cells: Vec<&Value> = recs.iter().filter(|r| r.get("texel").is_some()).collect();
+    // 4 cells each, texel (1, 0) transparent; the object's kept whole,
+    // its instance passed on.
+    assert_eq!(cells.len(), 3, "{recs:?}");
+    assert!(cells
+        .iter()
+        .all(|r| r["id"] == 1 && r["color"] == serde_json::json!([200, 100, 50])));
+    let object = recs.iter().find(|r| r.get("object").is_some()).unwrap();
+    let inner = object["records"].as_array().unwrap();
+    assert_eq!(inner.len(), 3, "{object}");
+    assert!(inner
+        .iter()
+        .all(|r| r["id"] == 2 && r["color"] == serde_json::json!([200, 100, 50])));
+    assert!(recs.iter().any(|r| r["instance"] == "o"));
+
+    let refused = "polyfill3: error: s.ndjson: record 0: no \"color\" and no \"pattern\": \
+                   expected at least one\n";
+    dir.write("s.ndjson", "{\"sphere\":{\"radius\":1}}\n");
+    dir.cmd("polyfill3")
+        .args(["--pattern", "p.pat", "s.ndjson"])
+        .assert()
+        .code(1)
+        .stdout("")
+        .stderr(refused);
+    // Without --pattern a bare record is refused as before.
+    dir.write("s.ndjson", "{\"vertices\":[[0,0],[2,0],[2,2]]}\n");
+    dir.cmd("polyfill3")
+        .arg("s.ndjson")
+        .assert()
+        .code(1)
+        .stdout("")
+        .stderr(refused);
+});
+
 clitest!(pattern_flag_refuses_stdin, |dir| {
     // A hostile-input review: `--pattern -` was looked up as a file named
     // `-`, and the first record that needed it failed with "-: No such file
