@@ -1218,7 +1218,7 @@ pub(super) fn subtract(
 /// of their own (3.8 million subtractions over 200,000 random triangles).
 #[derive(Default)]
 pub(super) struct Cutter {
-    /// The lines of `o`'s edges that are not skipped, in `o`'s order.
+    /// The lines of `o`'s edges that are not skipped, longest edge first.
     lines: Vec<[f64; 3]>,
     /// Fewer than three edges longer than [`EDGE_EPS`]: no interior.
     thin: bool,
@@ -1253,12 +1253,25 @@ impl Cutter {
             edge(last, first);
         }
         self.thin = edges < 3;
+        // Longest edge first (a line's (a, b) is its edge turned a quarter,
+        // so its squared length is the edge's). `subtract_with` keeps what
+        // lies beyond each line across all of the piece still being cut, so
+        // a short edge's line, taken first, splits the whole piece; taken
+        // after the long ones, only the narrow part between them. In a fan
+        // of 2,748 interpenetrating slivers in two pixels the open pieces
+        // otherwise multiply: 98 s to render, 23.5 s this way, the same
+        // PNG (a hostile-input fuzz; test
+        // `a_short_edge_cuts_only_what_the_long_ones_leave`). The pieces
+        // cover the same region either way; their rounding differs, in
+        // bench/same_images.sh at most 2.98e-8 in a PFM, no 8-bit byte.
+        self.lines
+            .sort_by(|a, b| (b[0] * b[0] + b[1] * b[1]).total_cmp(&(a[0] * a[0] + a[1] * a[1])));
     }
 }
 
 /// Appends the convex pieces of `p \ o` (both convex, counter-clockwise;
 /// `cutter` is `o`'s in the pixel, [`Cutter::prepare`]) to `out`: for each
-/// edge of `o`, the part of `p` to its right is outside `o` and kept; the
+/// edge of `o`, longest first, the part of `p` to its right is outside `o` and kept; the
 /// rest goes on to the next edge, and what is left at the end lies in `o`
 /// and is dropped. New pieces take their vertex lists from `pool`.
 /// Returns twice the area of what was dropped, `p ∩ o`; or `None`, with
@@ -1406,5 +1419,35 @@ mod debris {
         let cut = subtract(&tri, &tri, wide, &mut out, &mut a, &mut b, &mut pool);
         assert!(cut.is_some());
         assert!(out.iter().map(|p| area2(p)).sum::<f64>().abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_short_edge_cuts_only_what_the_long_ones_leave() {
+        // A sliver whose short edge comes first in its own order. Cut by
+        // that edge's line first, the square's whole far side would be one
+        // piece (area 0.4) and the sliver's long edges would cut the rest;
+        // longest first, the short edge cuts only the wedge between them.
+        let sliver = [v(0.9, 0.5), v(0.88, 0.52), v(0.1, 0.1)];
+        let square = pixel_square(0, 0);
+        let (mut out, mut a, mut b, mut pool) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let pixel = [0.0, 0.0, 1.0, 1.0];
+        let cut = subtract(&square, &sliver, pixel, &mut out, &mut a, &mut b, &mut pool);
+        let hidden2 = cut.expect("the sliver lies in the square");
+        let sliver2 = area2(&sliver);
+        assert!((hidden2 - sliver2).abs() < 1e-15, "{hidden2} {sliver2}");
+        let left2: f64 = out.iter().map(|p| area2(p)).sum();
+        assert!((left2 + hidden2 - 2.0).abs() < 1e-15, "{left2}");
+        // Wholly beyond the short edge's line (to its right, or on it):
+        // one piece, a sliver of the wedge.
+        let [ax, ay] = [0.9, 0.5];
+        let beyond = |p: &DVec2| (0.88 - ax) * (p.y - ay) - (0.52 - ay) * (p.x - ax) <= 1e-12;
+        let far: Vec<_> = out.iter().filter(|p| p.iter().all(beyond)).collect();
+        assert_eq!(far.len(), 1, "{out:?}");
+        assert!(
+            area2(far[0]) < 0.01,
+            "{:?}: area {}",
+            far[0],
+            area2(far[0]) / 2.0
+        );
     }
 }
