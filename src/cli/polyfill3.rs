@@ -58,8 +58,8 @@ has neither a \"pattern\" nor a \"stripe\" of its own the pattern FILE in \
 \"object\" mode, placed by --incr, --rotate, --horz and --vert, inside objects \
 too (such a record needs no \"color\" then); records with a pattern of their \
 own keep it (the flags fill in only the \"file\" and placement fields it \
-leaves out), stripes and quadrics are left as they are. Without --pattern, records without a pattern pass through \
-unchanged.\n\n\
+leaves out), stripes and quadrics are left as they are. Without --pattern, \
+records without a pattern pass through unchanged.\n\n\
 Objects and instances (docs/objects.md) stay intact: an object definition is \
 written back with its records partitioned, once however many instances place \
 it (the thesis's Fig. 5.1), and instances pass through unchanged. --cull does \

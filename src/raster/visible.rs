@@ -1042,7 +1042,15 @@ pub(super) fn clip_to_box(
 /// check's decisions are those it made without the index.
 fn indexable(frag: &[DVec2]) -> bool {
     let n = frag.len();
-    (0..n).all(|i| (frag[(i + 1) % n] - frag[i]).length() > EDGE_EPS)
+    (0..n).all(|i| separates((frag[if i + 1 == n { 0 } else { i + 1 }] - frag[i]).length()))
+}
+
+/// Whether [`disjoint`] tries an edge of length `len` as a separating
+/// axis: one no longer than [`EDGE_EPS`] has a direction that is noise.
+/// [`indexable`] asks the same question, so what the index leaves out is
+/// what this test would find apart.
+fn separates(len: f64) -> bool {
+    len > EDGE_EPS
 }
 
 /// The index of `showers` by their cones at the vertex of `outline` (the
@@ -1133,7 +1141,7 @@ fn disjoint(a: &[DVec2], b: &[DVec2]) -> bool {
             let (s, e) = (p[i], p[if i + 1 == n { 0 } else { i + 1 }]);
             let dir = e - s;
             let len = dir.length();
-            len > EDGE_EPS
+            separates(len)
                 && q.iter()
                     .all(|&v| dir.perp_dot(v - s) <= SEPARATION_EPS * len)
         })
@@ -1245,7 +1253,7 @@ impl Cutter {
             // Left of a->b: (b - a) x (p - a) >= 0, as a*x + b*y + c.
             self.lines.push([-e.y, e.x, e.y * a.x - e.x * a.y]);
         };
-        // The edges in `o`'s order, the closing one last.
+        // Every edge, the closing one last (sorted below).
         for w in o.windows(2) {
             edge(w[0], w[1]);
         }
@@ -1271,9 +1279,10 @@ impl Cutter {
 
 /// Appends the convex pieces of `p \ o` (both convex, counter-clockwise;
 /// `cutter` is `o`'s in the pixel, [`Cutter::prepare`]) to `out`: for each
-/// edge of `o`, longest first, the part of `p` to its right is outside `o` and kept; the
-/// rest goes on to the next edge, and what is left at the end lies in `o`
-/// and is dropped. New pieces take their vertex lists from `pool`.
+/// edge of `o`, longest first, the part of `p` to its right is outside
+/// `o` and kept; the rest goes on to the next edge, and what is left at the
+/// end lies in `o` and is dropped. New pieces take their vertex lists from
+/// `pool`.
 /// Returns twice the area of what was dropped, `p ∩ o`; or `None`, with
 /// nothing appended, where `p` lies wholly outside `o` (or `o` has no
 /// interior): `p \ o` is then `p` itself, which the caller keeps without a
@@ -1424,9 +1433,10 @@ mod debris {
     #[test]
     fn a_short_edge_cuts_only_what_the_long_ones_leave() {
         // A sliver whose short edge comes first in its own order. Cut by
-        // that edge's line first, the square's whole far side would be one
-        // piece (area 0.4) and the sliver's long edges would cut the rest;
-        // longest first, the short edge cuts only the wedge between them.
+        // that edge's line (x + y = 1.4) first, the square's whole corner
+        // beyond it would be one piece (area 0.18) and the sliver's long
+        // edges would cut the rest; longest first, the short edge cuts
+        // only the wedge between them.
         let sliver = [v(0.9, 0.5), v(0.88, 0.52), v(0.1, 0.1)];
         let square = pixel_square(0, 0);
         let (mut out, mut a, mut b, mut pool) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
