@@ -423,10 +423,11 @@ impl Opened {
         let mut rest = self.rest.take(rest.saturating_add(1));
         let mut at_end = false;
         if self.known_len.is_none() && bytes.starts_with(PNG_SIGNATURE) {
-            // A PNG from a pipe is read to its end (IEND) and no further: a
-            // 64x64 PNG followed by endless zeros took 2 GiB before the
-            // limit refused it (a hostile-input review). A file's size is
-            // known, and what follows IEND is read and ignored, as here.
+            // A PNG from a pipe is read to its end (IEND, or the first
+            // chunk that is not one: `png_end`) and no further: a 64x64
+            // PNG followed by endless zeros took 2 GiB before the limit
+            // refused it (a hostile-input review). A file's size is known,
+            // and what follows is read and ignored, as here.
             let mut at = PNG_SIGNATURE.len();
             loop {
                 if let Some(end) = png_end(&bytes, &mut at) {
@@ -466,12 +467,21 @@ impl Opened {
     }
 }
 
-/// The offset just past a PNG's `IEND` chunk, once `bytes` reach it;
-/// `at`, the offset of the next chunk to look at, is kept across calls as
-/// more bytes come (a chunk is its length, type, data and CRC: 12 bytes
-/// and its data).
+/// The offset just past a PNG's `IEND` chunk, once `bytes` reach it, or
+/// of the first chunk head that is not one (a type not four ASCII
+/// letters, or a length past 2^31 - 1: PNG 1.2, section 5.3): what follows
+/// that is not PNG, and a PNG cut before its `IEND` and followed by zeros
+/// (or any other bytes) was read to the 2 GiB limit from a pipe (a
+/// hostile-input review; the decoder reads no further than it does from a
+/// file). `at`, the offset of the next chunk to look at, is kept across
+/// calls as more bytes come (a chunk is its length, type, data and CRC: 12
+/// bytes and its data).
 fn png_end(bytes: &[u8], at: &mut usize) -> Option<usize> {
+    const MAX_CHUNK_LEN: usize = (1 << 31) - 1;
     while let Some((kind, len)) = png_chunk_head(bytes, *at) {
+        if len > MAX_CHUNK_LEN || !kind.iter().all(u8::is_ascii_alphabetic) {
+            return Some(*at);
+        }
         let end = at.saturating_add(12).saturating_add(len);
         if kind == b"IEND" {
             return (bytes.len() >= end).then_some(end);
