@@ -532,13 +532,18 @@ fn is_broken_pipe(e: &anyhow::Error) -> bool {
     })
 }
 
-/// Refuses two inputs that both name standard input (`-`): it can be read
-/// once, and the second reader would silently get nothing (`--camera -` with
-/// the stream on `-` rendered an empty scene with exit status 0); and an
-/// input on a standard input that was closed when the tool started
-/// (`tool <&-`; status 1). `inputs` are (what the user wrote, the value
-/// given).
-pub fn check_stdin_inputs(inputs: &[(&str, Option<&str>)]) -> anyhow::Result<()> {
+/// Refuses, before anything is read: an input named by the empty string, a
+/// bad argument like `-o ''` (status 2; it was status 1, found when opened,
+/// and `pat-info '' a.pat` reported it among the files); two inputs that
+/// both name standard input (`-`): it can be read once, and the second
+/// reader would silently get nothing (`--camera -` with the stream on `-`
+/// rendered an empty scene with exit status 0); and an input on a standard
+/// input that was closed when the tool started (`tool <&-`; status 1).
+/// `inputs` are (what the user wrote, the value given).
+pub fn check_inputs(inputs: &[(&str, Option<&str>)]) -> anyhow::Result<()> {
+    if let Some((what, _)) = inputs.iter().find(|(_, v)| *v == Some("")) {
+        usage_bail!("{what}: an empty input name: expected a file name, or - for standard input");
+    }
     let dashes: Vec<&str> = inputs
         .iter()
         .filter(|(_, v)| *v == Some(crate::io::STDIO))

@@ -150,7 +150,7 @@ fn run_in_pool(args: Args) -> Result<()> {
         ("the picture", Some(args.input.as_str())),
         ("--palette", args.palette.as_deref()),
     ];
-    super::check_stdin_inputs(&inputs)?;
+    super::check_inputs(&inputs)?;
     super::refuse_replacing_inputs(&[("-o", Some(args.output.as_str()))], &inputs)?;
     if args.stripe {
         return run_stripe(&args);

@@ -129,7 +129,7 @@ pub fn run(args: Args) -> Result<()> {
         .zip(&args.files)
         .map(|(place, f)| (place.as_str(), Some(f.as_str())))
         .collect();
-    super::check_stdin_inputs(&named)?;
+    super::check_inputs(&named)?;
     if let Some(n) = args.record {
         if args.files.len() != 1 {
             usage_bail!("--record takes exactly one polygon stream file");

@@ -77,7 +77,7 @@ pub fn run(args: Args) -> Result<()> {
         super::check_stdout(super::USE_OUTPUT_FILE)?;
     }
     let inputs = [("the pattern", Some(args.input.as_str()))];
-    super::check_stdin_inputs(&inputs)?;
+    super::check_inputs(&inputs)?;
     super::refuse_replacing_inputs(&[("-o", Some(args.output.as_str()))], &inputs)?;
     let tiling = ScreenTiling {
         scale: args.scale,

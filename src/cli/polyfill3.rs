@@ -234,7 +234,7 @@ fn run_in_pool(args: Args) -> Result<()> {
         ("--camera", args.camera.camera.as_deref()),
         ("--pattern", pattern.as_deref()),
     ];
-    super::check_stdin_inputs(&inputs)?;
+    super::check_inputs(&inputs)?;
     let outputs = [
         ("-o", Some(args.output.as_str())),
         ("--depfile", args.depfile.as_deref()),

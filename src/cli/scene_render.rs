@@ -280,7 +280,7 @@ fn run_in_pool(args: Args) -> Result<()> {
         ("--camera", args.camera.camera.as_deref()),
         ("--background-pattern", args.background_pattern.as_deref()),
     ];
-    super::check_stdin_inputs(&inputs)?;
+    super::check_inputs(&inputs)?;
     let animation = args.frames > 1 || args.frame.is_some();
     if let Some(k) = args.frame {
         if k >= args.frames {

@@ -1116,22 +1116,26 @@ clitest!(an_empty_input_name_is_said_so_by_every_tool, |dir| {
     // A hostile-input review found `pat-tile ''` (and scene-render,
     // polyfill3, pat-from-image, --background-pattern '', --palette '')
     // saying only "No such file or directory (os error 2)": the name the
-    // error shows was the empty string. An empty output name was already
-    // "an empty output name".
+    // error shows was the empty string. It is a bad argument, as `-o ''`
+    // is: status 2, said before anything is read, naming the input (it was
+    // status 1, and `pat-info '' a.pat` reported it among the files).
     dir.write(
         "tri.json",
         r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3]}"#,
     );
     let photo = repo("fixtures/images/earth-nasa.jpg");
     let photo = photo.to_str().unwrap();
+    let brick = repo("fixtures/patterns/brick.pat");
+    let brick = brick.to_str().unwrap();
     let said = "an empty input name: expected a file name, or - for standard input";
-    for (args, context) in [
-        (vec!["pat-tile", "--size", "8x8", ""], ""),
-        (vec!["pat-info", ""], ""),
-        (vec!["pat-info", "--record", "0", ""], ""),
-        (vec!["scene-render", "-o", "s.png", ""], ""),
-        (vec!["polyfill3", ""], ""),
-        (vec!["pat-from-image", "-o", "p.pat", ""], ""),
+    for (args, what) in [
+        (vec!["pat-tile", "--size", "8x8", ""], "the pattern"),
+        (vec!["pat-info", ""], "file 1"),
+        (vec!["pat-info", brick, ""], "file 2"),
+        (vec!["pat-info", "--record", "0", ""], "file 1"),
+        (vec!["scene-render", "-o", "s.png", ""], "the stream"),
+        (vec!["polyfill3", ""], "the stream"),
+        (vec!["pat-from-image", "-o", "p.pat", ""], "the picture"),
         (
             vec![
                 "scene-render",
@@ -1141,28 +1145,28 @@ clitest!(an_empty_input_name_is_said_so_by_every_tool, |dir| {
                 "s.png",
                 "tri.json",
             ],
-            "",
+            "--background-pattern",
+        ),
+        (
+            vec!["scene-render", "--camera", "", "-o", "s.png", "tri.json"],
+            "--camera",
+        ),
+        (
+            vec!["scene-render", "--compare", "", "-o", "s.png", "tri.json"],
+            "--compare",
         ),
         (
             vec!["pat-from-image", "--palette", "", "-o", "p.pat", photo],
-            "reading the --palette file: ",
+            "--palette",
         ),
     ] {
         dir.cmd(args[0])
             .args(&args[1..])
             .assert()
-            .code(1)
+            .code(2)
             .stdout("")
-            .stderr(format!("{}: error: {context}{said}\n", args[0]));
+            .stderr(format!("{}: error: {what}: {said}\n", args[0]));
     }
-    dir.cmd("scene-render")
-        .args(["--camera", "", "-o", "s.png", "tri.json"])
-        .assert()
-        .code(1)
-        .stderr(
-            "scene-render: error: an empty camera file name: expected a file name, or - for \
-             standard input\n",
-        );
     assert_eq!(dir.files(), ["tri.json"]);
 });
 
