@@ -994,6 +994,14 @@ impl Output {
                     .into_inner()
                     .map_err(|e| without_temp_name(e.into_error()))
                     .map_err(write_error(shown.clone(), WriteStep::Write))?;
+                // On the disk before it takes the name: renamed first, a
+                // power loss could leave the name on a file of zeros or of
+                // nothing (ext4 flushes a file that replaces another at the
+                // rename, but not a new one), which `make` then takes for
+                // an output made.
+                tmp.as_file()
+                    .sync_data()
+                    .map_err(write_error(shown.clone(), WriteStep::Write))?;
                 let persisted = tmp.persist(&path);
                 unfinished(&tmp_path, false);
                 persisted
