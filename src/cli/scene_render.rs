@@ -256,9 +256,17 @@ pub fn run(args: Args) -> Result<()> {
     };
     if to_stdout {
         super::check_stdout(super::USE_OUTPUT_FILE)?;
+    } else if args.compare.is_some() || args.json {
+        // The report's place, checked before the work: found closed after
+        // the render, it failed the run with the image already in place
+        // of the old one (a hostile-input review).
+        super::check_stdout(REPORT_ON_STDOUT)?;
     }
     args.threads.install(|| run_in_pool(args))?
 }
+
+/// [`super::check_stdout`]'s hint where the report goes to standard output.
+const REPORT_ON_STDOUT: &str = "the report goes there: redirect it to a file";
 
 /// The most frames one run renders: a day of film at 24 frames a second,
 /// far more than a batch needs, and a bound that catches a mistyped count.
@@ -712,10 +720,9 @@ fn finish(
     if let (Some(d), Some(name)) = (diff, &args.diff) {
         write(d, name, super::output_format_8bit(None, name)?)?;
     }
-    for out in written {
-        out.commit()?;
-    }
-    // Reports go to standard output unless the image does.
+    // Reports go to standard output unless the image does, and before the
+    // files take their names: a report that cannot be written (`>/dev/full`)
+    // fails the run with the old files in place.
     let mut text = String::new();
     if args.json {
         let mut obj = super::json_head(TOOL);
@@ -743,6 +750,9 @@ fn finish(
     }
     if !text.is_empty() {
         print_report(&text, image_on_stdout)?;
+    }
+    for out in written {
+        out.commit()?;
     }
     Ok(())
 }
@@ -1058,8 +1068,8 @@ fn print_report(text: &str, image_on_stdout: bool) -> Result<()> {
         eprint_or_drop!("{text}");
         return Ok(());
     }
-    // The image has its file already: -o is no way round.
-    super::check_stdout("the report goes there: redirect it to a file")?;
+    // The image has its file (to be) already: -o is no way round.
+    super::check_stdout(REPORT_ON_STDOUT)?;
     let mut out = std::io::stdout().lock();
     out.write_all(text.as_bytes())
         .and_then(|()| out.flush())

@@ -206,6 +206,55 @@ clitest!(a_closed_standard_output_is_fine_where_nothing_goes, |dir| {
     }
 });
 
+clitest!(
+    a_report_that_cannot_be_written_leaves_the_old_output,
+    |dir| {
+        // A hostile-input review: `--compare` or `--reference --json` with
+        // standard output closed or full failed (status 1) only after the
+        // render and with the new image already in place of the old one. A
+        // closed one is refused before the work now, and the report is written
+        // before the files take their names.
+        dir.write(
+            "tri.json",
+            r#"{"vertices":[[0,0],[10,0],[0,10]],"color":[200,1,2]}"#,
+        );
+        dir.cmd("scene-render")
+            .args(["--size", "8x8", "-o", "ref.png", "tri.json"])
+            .assert()
+            .success();
+        let run = "scene-render --size 8x8 -o out.png --diff diff.png tri.json";
+        for (flags, to) in [
+            ("--compare ref.png", ">&-"),
+            ("--compare ref.png", ">/dev/full"),
+            ("--compare ref.png --json", ">/dev/full"),
+            ("--reference --json", ">&-"),
+            ("--reference --json", ">/dev/full"),
+        ] {
+            let run = if flags.starts_with("--reference") {
+                run.replace(" --diff diff.png", "")
+            } else {
+                run.to_string()
+            };
+            dir.write("out.png", "old");
+            dir.write("diff.png", "old diff");
+            let err = sh_fails(dir.path(), &format!("{run} {flags} {to}"));
+            let said = if to == ">&-" {
+                "scene-render: error: standard output is closed: nothing could be written (the \
+             report goes there: redirect it to a file)\n"
+            } else {
+                "scene-render: error: writing standard output: No space left on device (os error \
+             28)\n"
+            };
+            assert_eq!(err, said, "{flags} {to}");
+            assert_eq!(dir.read("out.png"), b"old", "{flags} {to}");
+            assert_eq!(dir.read("diff.png"), b"old diff", "{flags} {to}");
+            let mut left = dir.files();
+            left.retain(|f| !["ref.png", "tri.json", "out.png", "diff.png"].contains(&f.as_str()));
+            assert!(left.is_empty(), "{flags} {to}: {left:?}");
+        }
+    }
+);
+
 clitest!(a_closed_standard_input_is_an_error, |dir| {
     // `tool <&-`: it read as empty (Rust puts /dev/null in its place), and
     // scene-render drew a blank image with status 0. `< /dev/null` is an
