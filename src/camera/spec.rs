@@ -579,6 +579,8 @@ pub(super) fn checked_window(window: Option<Window>) -> Result<Window, CameraErr
             format!("zero height: vmin {vmin} equals vmax {vmax}"),
         ));
     }
+    checked_span("view.window", umin, umax, "umin")?;
+    checked_span("view.window", vmin, vmax, "vmin")?;
     Ok(w)
 }
 
@@ -604,15 +606,32 @@ pub(super) fn checked_back(front: f64, back: Option<f64>) -> Result<f64, CameraE
             format!("{back} equals front: the view volume is empty"),
         ));
     }
+    checked_span("view.back", front, back, "front")?;
     Ok(back)
 }
 
-/// A non-empty extent `lo..hi` (reversed is allowed: it mirrors, as in GL).
+/// A non-empty extent `lo..hi` (reversed is allowed: it mirrors, as in GL)
+/// whose size is a finite f64 ([`checked_span`]).
 fn checked_extent(field: &str, lo: f64, hi: f64, lo_key: &str) -> Result<(), CameraError> {
     if coincide(lo, hi) {
         return Err(CameraError::invalid(
             field,
             format!("{hi} equals {lo_key} {lo}: zero-size"),
+        ));
+    }
+    checked_span(field, lo, hi, lo_key)
+}
+
+/// An extent `lo..hi` whose size `hi - lo` is a finite f64. Past f64's
+/// largest (`--ortho2 -9e307,9e307,...`) the scale `2/(hi - lo)` of the
+/// window's map was 0, every matrix entry still finite: the frame came out
+/// blank, with a warning that each polygon was edge-on (a hostile-input
+/// review).
+fn checked_span(field: &str, lo: f64, hi: f64, lo_key: &str) -> Result<(), CameraError> {
+    if !(hi - lo).is_finite() {
+        return Err(CameraError::invalid(
+            field,
+            format!("{hi} is too far from {lo_key} {lo}: the size overflows a 64-bit float"),
         ));
     }
     Ok(())
@@ -833,6 +852,7 @@ fn iris(s: &IrisSpec) -> Result<Camera, CameraError> {
                     format!("{far} is not beyond near {near}"),
                 ));
             }
+            checked_span("ortho.far", near, far, "near")?;
             Ok(Camera {
                 view,
                 projection: ortho_matrix(l, r, b, t),
@@ -860,6 +880,8 @@ fn iris(s: &IrisSpec) -> Result<Camera, CameraError> {
                     format!("bottom {b} equals top {t}: zero-height"),
                 ));
             }
+            checked_span("ortho2", l, r, "left")?;
+            checked_span("ortho2", b, t, "bottom")?;
             Ok(Camera {
                 view,
                 projection: ortho_matrix(l, r, b, t),
@@ -1054,6 +1076,66 @@ mod tests {
         );
         let p = ndc(&c, DVec3::new(2.0, 3.0, 4.0));
         assert!((p - DVec3::new(1.0, 1.0, -4.0)).length() < CLOSE, "{p}");
+    }
+
+    #[test]
+    fn extents_whose_size_overflows_are_refused() {
+        // 9e307 - (-9e307) is past f64's largest: the window's scale
+        // 2/(r - l) was 0, every entry finite, and the frame came out blank.
+        let view = |window: [f64; 4], front: f64, back: f64| {
+            json!({"view": {"vrp": [0, 0, 0], "vpn": [0, 0, 1], "view_up": [0, 1, 0],
+                            "window": window, "dop": [0, 0, 1], "front": front, "back": back}})
+        };
+        let said = "the size overflows a 64-bit float";
+        for (spec, field, values) in [
+            (
+                json!({"ortho2": [-9e307, 9e307, -1, 1]}),
+                "ortho2",
+                "9e307 is too far from left -9e307",
+            ),
+            (
+                json!({"ortho2": [-1, 1, 9e307, -9e307]}),
+                "ortho2",
+                "-9e307 is too far from bottom 9e307",
+            ),
+            (
+                json!({"ortho": {"left": -1.7e308, "right": 1.7e308, "bottom": -1, "top": 1,
+                                 "near": -1, "far": 1}}),
+                "ortho.right",
+                "1.7e308 is too far from left -1.7e308",
+            ),
+            (
+                json!({"ortho": {"left": -1, "right": 1, "bottom": -1, "top": 1,
+                                 "near": -1e308, "far": 1e308}}),
+                "ortho.far",
+                "1e308 is too far from near -1e308",
+            ),
+            (
+                view([-1e308, 1e308, -1.0, 1.0], 0.0, 1.0),
+                "view.window",
+                "1e308 is too far from umin -1e308",
+            ),
+            (
+                view([-1.0, 1.0, -1e308, 1e308], 0.0, 1.0),
+                "view.window",
+                "1e308 is too far from vmin -1e308",
+            ),
+            (
+                view([-1.0, 1.0, -1.0, 1.0], -1e308, 1e308),
+                "view.back",
+                "1e308 is too far from front -1e308",
+            ),
+        ] {
+            // As the tools print it (`cli::print_error`).
+            let e = crate::text::shorten_long_numbers(&err(spec.clone())).into_owned();
+            assert!(
+                e.contains(&format!("{field}: {values}: {said}")),
+                "{spec}: {e}"
+            );
+        }
+        // Just inside f64's range the same windows are cameras.
+        cam(json!({"ortho2": [-8e307, 8e307, -1, 1]}));
+        cam(view([-8e307, 8e307, -1.0, 1.0], -8e307, 8e307));
     }
 
     #[test]
