@@ -293,10 +293,10 @@ fn exit_usage(tool: &str, e: clap::Error) -> ! {
     match e.kind() {
         ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
             use std::io::Write as _;
-            if STDOUT_CLOSED.load(std::sync::atomic::Ordering::Relaxed) {
+            if let Some(why) = stdout_unusable() {
                 // Rust's standard output takes a closed descriptor's writes
                 // as done.
-                eprint_or_drop!("{tool}: error: standard output is closed\n");
+                eprint_or_drop!("{tool}: error: standard output is {why}\n");
                 std::process::exit(EXIT_FAILURE)
             }
             let printed = e.print().and_then(|()| std::io::stdout().flush());
@@ -433,27 +433,60 @@ pub extern "C" fn pow(x: f64, y: f64) -> f64 {
     libm::pow(x, y)
 }
 
-/// Whether standard output was closed when the tool started (`tool >&-`).
-/// Rust's runtime opens /dev/null in its place before `main`, after which a
-/// closed output and `> /dev/null` cannot be told apart, so this is read
-/// earlier, by a constructor the loader runs (Linux).
-static STDOUT_CLOSED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-/// The same for standard input (`tool <&-`): it read as empty, and
-/// `scene-render` drew a blank image with status 0 (a hostile-input review).
-static STDIN_CLOSED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+/// How standard input and output stood when the tool started: usable, or
+/// why not. Rust's runtime opens /dev/null in place of a closed one before
+/// `main`, after which a closed output and `> /dev/null` cannot be told
+/// apart, and it takes a descriptor's EBADF as the end of the input or a
+/// write done, so one open the wrong way (`tool 0>file`, `tool 1<file`)
+/// read as empty or swallowed the output with status 0 (a hostile-input
+/// review). So this is read earlier, by a constructor the loader runs
+/// (Linux).
+static STDIN_STATE: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(USABLE);
+/// The same for standard output.
+static STDOUT_STATE: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(USABLE);
+/// [`STDIN_STATE`]'s and [`STDOUT_STATE`]'s values.
+const USABLE: u8 = 0;
+const CLOSED: u8 = 1;
+const WRONG_WAY: u8 = 2;
 
 #[cfg(target_os = "linux")]
 #[used]
 #[link_section = ".init_array"]
 static NOTE_CLOSED_STDIO: extern "C" fn() = {
     extern "C" fn note() {
-        // SAFETY: fcntl(F_GETFD) only reads the descriptor's flags.
-        let closed = |fd| unsafe { libc::fcntl(fd, libc::F_GETFD) } == -1;
-        STDIN_CLOSED.store(closed(0), std::sync::atomic::Ordering::Relaxed);
-        STDOUT_CLOSED.store(closed(1), std::sync::atomic::Ordering::Relaxed);
+        let state = |fd, wrong_way| {
+            // SAFETY: fcntl(F_GETFL) only reads the descriptor's flags.
+            let flags = unsafe { libc::fcntl(fd, libc::F_GETFL) };
+            match flags {
+                -1 => CLOSED,
+                f if f & libc::O_ACCMODE == wrong_way => WRONG_WAY,
+                _ => USABLE,
+            }
+        };
+        let relaxed = std::sync::atomic::Ordering::Relaxed;
+        STDIN_STATE.store(state(0, libc::O_WRONLY), relaxed);
+        STDOUT_STATE.store(state(1, libc::O_RDONLY), relaxed);
     }
     note
 };
+
+/// Why standard input cannot be read, if it cannot.
+fn stdin_unusable() -> Option<&'static str> {
+    match STDIN_STATE.load(std::sync::atomic::Ordering::Relaxed) {
+        CLOSED => Some("closed"),
+        WRONG_WAY => Some("open for writing only"),
+        _ => None,
+    }
+}
+
+/// Why standard output cannot be written, if it cannot.
+fn stdout_unusable() -> Option<&'static str> {
+    match STDOUT_STATE.load(std::sync::atomic::Ordering::Relaxed) {
+        CLOSED => Some("closed"),
+        WRONG_WAY => Some("open for reading only"),
+        _ => None,
+    }
+}
 
 /// An error unless standard output can be written: output to a closed
 /// standard output would vanish while the tool reported success. A tool
@@ -462,8 +495,8 @@ static NOTE_CLOSED_STDIO: extern "C" fn() = {
 /// an -o): the one message for all suggested `-o FILE` to pat-info, which
 /// has none.
 pub fn check_stdout(hint: &str) -> anyhow::Result<()> {
-    if STDOUT_CLOSED.load(std::sync::atomic::Ordering::Relaxed) {
-        anyhow::bail!("standard output is closed: nothing could be written ({hint})");
+    if let Some(why) = stdout_unusable() {
+        anyhow::bail!("standard output is {why}: nothing could be written ({hint})");
     }
     Ok(())
 }
@@ -538,7 +571,8 @@ fn is_broken_pipe(e: &anyhow::Error) -> bool {
 /// both name standard input (`-`): it can be read once, and the second
 /// reader would silently get nothing (`--camera -` with the stream on `-`
 /// rendered an empty scene with exit status 0); and an input on a standard
-/// input that was closed when the tool started (`tool <&-`; status 1).
+/// input that was closed when the tool started (`tool <&-`), or open for
+/// writing only (`tool 0>>file`; status 1).
 /// `inputs` are (what the user wrote, the value given).
 pub fn check_inputs(inputs: &[(&str, Option<&str>)]) -> anyhow::Result<()> {
     if let Some((what, _)) = inputs.iter().find(|(_, v)| *v == Some("")) {
@@ -549,12 +583,9 @@ pub fn check_inputs(inputs: &[(&str, Option<&str>)]) -> anyhow::Result<()> {
         .filter(|(_, v)| *v == Some(crate::io::STDIO))
         .map(|(what, _)| *what)
         .collect();
-    if let ([what, ..], true) = (
-        &dashes[..],
-        STDIN_CLOSED.load(std::sync::atomic::Ordering::Relaxed),
-    ) {
+    if let ([what, ..], Some(why)) = (&dashes[..], stdin_unusable()) {
         anyhow::bail!(
-            "{what} is standard input, which is closed: nothing could be read (give a file)"
+            "{what} is standard input, which is {why}: nothing could be read (give a file)"
         );
     }
     if let [first, second, ..] = dashes[..] {

@@ -255,6 +255,61 @@ clitest!(
     }
 );
 
+clitest!(standard_streams_open_the_wrong_way_are_errors, |dir| {
+    // A hostile-input review: standard input open for writing only
+    // (`tool 0>>file`) read as empty, and `polyfill3` and `scene-render`
+    // went on with status 0; standard output open for reading only
+    // (`tool 1<file`) took the whole output with status 0 and kept none of
+    // it. Rust takes the descriptor's EBADF as the end of the input and as
+    // a write done.
+    dir.write("file", "untouched");
+    let brick = repo("fixtures/patterns/brick.pat");
+    let scene = repo("fixtures/scenes/demo2-faces.json");
+    for (tool, what) in [
+        ("scene-render --size 8x8 -o out.png", "the stream"),
+        ("polyfill3", "the stream"),
+        ("pat-tile --size 8x8 -o out.png", "the pattern"),
+        ("pat-info", "file 1"),
+        ("pat-from-image --size 16 -o out.pat", "the picture"),
+    ] {
+        let err = sh_fails(dir.path(), &format!("{tool} 0>>file"));
+        assert_eq!(
+            err,
+            format!(
+                "{}: error: {what} is standard input, which is open for writing only: nothing \
+                 could be read (give a file)\n",
+                tool.split(' ').next().unwrap()
+            )
+        );
+    }
+    for cmd in [
+        format!("pat-info {}", brick.display()),
+        format!("polyfill3 {}", scene.display()),
+        format!("pat-tile --size 8x8 {}", brick.display()),
+        format!("scene-render --size 8x8 {}", scene.display()),
+        format!(
+            "pat-from-image --size 16 {}",
+            repo("fixtures/images/earth.png").display()
+        ),
+    ] {
+        let err = sh_fails(dir.path(), &format!("{cmd} 1<file"));
+        assert!(
+            err.contains(
+                "error: standard output is open for reading only: nothing could be written"
+            ),
+            "{cmd}: {err}"
+        );
+    }
+    let out = sh(dir.path(), "pat-tile --help 1<file");
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "pat-tile: error: standard output is open for reading only\n"
+    );
+    assert_eq!(dir.read("file"), b"untouched");
+    assert_eq!(dir.files(), ["file"]);
+});
+
 clitest!(a_closed_standard_input_is_an_error, |dir| {
     // `tool <&-`: it read as empty (Rust puts /dev/null in its place), and
     // scene-render drew a blank image with status 0. `< /dev/null` is an
