@@ -427,6 +427,18 @@ impl PixelStates {
             Some(g.verts())
         };
         let showers = &self.showers[p];
+        if self.crowds[p].is_none()
+            && !self.mixed[p]
+            && showers.first().is_none_or(|c| c.poly == n.f.poly)
+        {
+            // The check skips every shower of the newcomer's own polygon,
+            // so an index would serve nothing yet: built here, each of the
+            // polygon's fragments asked it for candidates, and a comb of
+            // 8,000 teeth (one polygon) took 3.3 s, 80% in the index,
+            // growing as the square of its teeth (a hostile-input review).
+            // It is built once another polygon comes, from all the showers.
+            return None;
+        }
         if self.crowds[p].is_none() && showers.len() >= self.crowd_due[p] as usize {
             self.crowd_due[p] = self.crowd_due[p].saturating_mul(CROWD_RETRY_FACTOR as u32);
             let frag = |c: &Shower| shape(c.start, c.len, t.arena, square);
