@@ -894,8 +894,20 @@ mod tests {
             err("\nsixteen 1"),
             "t.pat:2: word 1: expected the pattern size, a multiple of 16 from 16 to 4096"
         );
-        assert!(err("-16 1")
-            .ends_with("word 1: expected the pattern size, a multiple of 16 from 16 to 4096"));
+        // A word written as a number is echoed: the user must see it to
+        // mend it (a hostile-input review).
+        for (first, echoed) in [("-16", true), ("+16", true), ("nan", true), ("-Inf", true)]
+            .into_iter()
+            .chain([("1e3x", false), ("e", false), ("-", false), ("0x10", false)])
+        {
+            let e = err(&format!("{first} 1"));
+            let said = if echoed {
+                format!("t.pat:1: word 1 `{first}`: expected the pattern size")
+            } else {
+                "t.pat:1: word 1: expected the pattern size".to_string()
+            };
+            assert!(e.starts_with(&said), "{first}: {e}");
+        }
         assert!(!err("root:x:0:0:root:/root 1").contains("root"));
     }
 

@@ -133,13 +133,32 @@ pub(crate) struct Word<'a> {
 }
 
 /// The error at word `index` (`text`, on `line`) of `file`. The first word
-/// is not echoed (`FIRST_WORD`), a long one is cut at `MAX_ECHO`.
+/// is not echoed (`FIRST_WORD`) unless it is written as a number (a sign,
+/// digits, a point, an exponent, or NaN or infinity: `-16`, `1.5`, `nan`),
+/// which is nobody's secret and which the user must see to mend (`-16 1`
+/// and `nan 1` both said only "word 1: expected the pattern size", a
+/// hostile-input review); a long one is cut at `MAX_ECHO`.
 fn word_error(file: &str, text: &str, line: usize, index: usize, message: String) -> ParseError {
     let mut error = number_error(file, text, line, index, message);
-    if index == FIRST_WORD {
+    if index == FIRST_WORD && !written_as_number(text) {
         error.word = Some((index, String::new()));
     }
     error
+}
+
+/// Whether `text` is a number as some language writes one: a sign, digits,
+/// a point and an exponent, or NaN or infinity (`-16`, `+1.5e3`, `nan`,
+/// `-Infinity`).
+fn written_as_number(text: &str) -> bool {
+    let unsigned = text.strip_prefix(['+', '-']).unwrap_or(text);
+    let named = ["nan", "inf", "infinity"]
+        .iter()
+        .any(|n| unsigned.eq_ignore_ascii_case(n));
+    named
+        || (unsigned.bytes().any(|b| b.is_ascii_digit())
+            && unsigned
+                .bytes()
+                .all(|b| b.is_ascii_digit() || matches!(b, b'.' | b'e' | b'E' | b'+' | b'-')))
 }
 
 /// [`word_error`] for a word of digits that is out of range, echoed even
