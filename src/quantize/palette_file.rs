@@ -98,7 +98,12 @@ pub fn parse_palette_file(bytes: &[u8], name: &str) -> Result<Vec<Rgb8>, Palette
     let first = crate::text::lines(text)
         .map(str::trim)
         .find(|l| !l.is_empty());
-    let is_list = first.is_some_and(|l| l.contains(',') || l.starts_with('#'));
+    let Some(first) = first else {
+        // Nothing but blanks: no colours, as a list of comments has none
+        // (it said `.pat`'s "empty file: expected `SIZE NCOLORS`...").
+        return Err(PaletteError::Empty(name.to_string()));
+    };
+    let is_list = first.contains(',') || first.starts_with('#');
     let palette = if is_list {
         let mut out = Vec::new();
         for (i, line) in crate::text::lines(text).enumerate() {
@@ -231,6 +236,12 @@ mod tests {
         for bad in [&b""[..], b"# nothing\n", b"16 1\n", b"\xff\xfe", b"1,2\n"] {
             let e = chain(&parse_palette_file(bad, "bad.pal").unwrap_err());
             assert!(e.contains("bad.pal"), "{e}");
+        }
+        // Nothing but blanks has no colours, as comments alone have none
+        // (it said the .pat reader's "empty file: expected `SIZE NCOLORS`").
+        for blank in [&b""[..], b" \n\t\n", b"# nothing\n"] {
+            let e = chain(&parse_palette_file(blank, "b.pal").unwrap_err());
+            assert_eq!(e, "b.pal: the palette has no colours", "{blank:?}");
         }
         let e = chain(&parse_palette_file(b"#ff0000 junk\n", "j").unwrap_err());
         assert!(e.contains("j:1") && e.contains("junk"), "{e}");
