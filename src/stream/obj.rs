@@ -1,7 +1,8 @@
 //! Wavefront OBJ meshes and their MTL materials, read for the stream's
 //! `{"mesh": {"obj": FILE}}` records ([`super::mesh`]).
 //!
-//! What is read: `v` (positions; a fourth `w` is refused), `vt` (texture
+//! What is read: `v` (positions; a fourth `w` only as 1, and vertex
+//! colours `x y z r g b` checked and not drawn: [`position`]), `vt` (texture
 //! coordinates, `u v`, a third ignored), `vn` (normals), `f` (faces of any
 //! number of vertices, each `v`, `v/vt`, `v//vn` or `v/vt/vn`, indices from
 //! 1 or negative from the end), `mtllib` and `usemtl`; from a `.mtl`,
@@ -192,14 +193,7 @@ impl Mesh {
             }
             match key {
                 "v" => {
-                    if rest.len() != 3 {
-                        return Err(err(
-                            n,
-                            format!("v: expected x y z, found {} numbers", rest.len()),
-                        ));
-                    }
-                    let p = numbers::<3>(&rest, "v").map_err(|m| err(n, m))?;
-                    mesh.positions.push(DVec3::from_array(p));
+                    mesh.positions.push(position(&rest).map_err(|m| err(n, m))?);
                 }
                 "vt" => {
                     if !(1..=3).contains(&rest.len()) {
@@ -336,6 +330,36 @@ fn number(w: &str, what: &str) -> Result<f64, String> {
     }
 }
 
+/// A `v` statement's position: `x y z`; `x y z w` with w = 1, the
+/// default weight (another w weights a rational curve or surface, which a
+/// polygon mesh has not: refused rather than guessed at); or `x y z r g b`,
+/// the vertex colours MeshLab and Blender write, checked as numbers and not
+/// drawn (a face takes its material's colour: docs/stream-format.md). Both
+/// were refused as "expected x y z" (a hostile-input review).
+fn position(rest: &[&str]) -> Result<DVec3, String> {
+    match rest.len() {
+        3 | 6 => {
+            numbers::<6>(rest, "v")?;
+        }
+        4 => {
+            let w = number(rest[3], "v")?;
+            if w != 1.0 {
+                return Err(format!(
+                    "v: weight w `{}` is not 1: a rational weight belongs to curves and \
+                     surfaces, not to a polygon mesh",
+                    rest[3]
+                ));
+            }
+        }
+        k => {
+            return Err(format!(
+                "v: expected x y z (or x y z w, or x y z r g b), found {k} numbers"
+            ))
+        }
+    }
+    Ok(DVec3::from_array(numbers::<3>(rest, "v")?))
+}
+
 fn numbers<const N: usize>(words: &[&str], what: &str) -> Result<[f64; N], String> {
     let mut out = [0.0; N];
     for (o, w) in out.iter_mut().zip(words) {
@@ -467,13 +491,40 @@ mod tests {
     }
 
     #[test]
+    fn a_unit_weight_and_vertex_colours_are_read_as_plain_positions() {
+        let faces = "f 1 2 3\n";
+        let plain = parse(&format!("v 0 0 0\nv 1 0 0\nv 0 1 2.5\n{faces}"), "").unwrap();
+        for extra in [
+            "v 0 0 0 1\nv 1 0 0 1.0\nv 0 1 2.5 1e0\n",
+            "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 2.5 0.2 0.4 0.6\n",
+        ] {
+            let m = parse(&format!("{extra}{faces}"), "").unwrap();
+            assert_eq!(m.positions, plain.positions, "{extra}");
+            assert_eq!(m.faces, plain.faces, "{extra}");
+        }
+    }
+
+    #[test]
     fn bad_input_names_the_file_and_line() {
         for (obj, needle) in [
             (
                 "v 0 0 0\nv 1 0 0\nf 1 2 3\n",
                 "m/x.obj:3: f: `3`: vertex index 3 out of range: 2 vertices defined",
             ),
-            ("v 0 0\n", "m/x.obj:1: v: expected x y z, found 2 numbers"),
+            (
+                "v 0 0\n",
+                "m/x.obj:1: v: expected x y z (or x y z w, or x y z r g b), found 2 numbers",
+            ),
+            (
+                "v 0 0 0 0.5\n",
+                "m/x.obj:1: v: weight w `0.5` is not 1: a rational weight belongs to curves \
+                 and surfaces, not to a polygon mesh",
+            ),
+            ("v 0 0 0 1 2\n", "found 5 numbers"),
+            (
+                "v 0 0 0 1 nan 1\n",
+                "m/x.obj:1: v: `nan` is not a finite number",
+            ),
             ("v 0 0 NaN\n", "m/x.obj:1: v: `NaN` is not a finite number"),
             (
                 "v 0 0 1e999\n",
