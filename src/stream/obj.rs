@@ -2,7 +2,7 @@
 //! `{"mesh": {"obj": FILE}}` records ([`super::mesh`]).
 //!
 //! What is read: `v` (positions; a fourth `w` only as 1, and vertex
-//! colours `x y z r g b` checked and not drawn: [`position`]), `vt` (texture
+//! colours `x y z r g b` checked and not drawn: `position`), `vt` (texture
 //! coordinates, `u v`, a third ignored), `vn` (normals), `f` (faces of any
 //! number of vertices, each `v`, `v/vt`, `v//vn` or `v/vt/vn`, indices from
 //! 1 or negative from the end), `mtllib` and `usemtl`; from a `.mtl`,
