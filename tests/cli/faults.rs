@@ -255,6 +255,16 @@ clitest!(
     }
 );
 
+/// A command of each tool that reads standard input, and what its error
+/// calls that input.
+const STDIN_READERS: [(&str, &str); 5] = [
+    ("scene-render --size 8x8 -o out.png", "the stream"),
+    ("polyfill3", "the stream"),
+    ("pat-tile --size 8x8 -o out.png", "the pattern"),
+    ("pat-info", "file 1"),
+    ("pat-from-image --size 16 -o out.pat", "the picture"),
+];
+
 clitest!(standard_streams_open_the_wrong_way_are_errors, |dir| {
     // A hostile-input review: standard input open for writing only
     // (`tool 0>>file`) read as empty, and `polyfill3` and `scene-render`
@@ -265,13 +275,7 @@ clitest!(standard_streams_open_the_wrong_way_are_errors, |dir| {
     dir.write("file", "untouched");
     let brick = repo("fixtures/patterns/brick.pat");
     let scene = repo("fixtures/scenes/demo2-faces.json");
-    for (tool, what) in [
-        ("scene-render --size 8x8 -o out.png", "the stream"),
-        ("polyfill3", "the stream"),
-        ("pat-tile --size 8x8 -o out.png", "the pattern"),
-        ("pat-info", "file 1"),
-        ("pat-from-image --size 16 -o out.pat", "the picture"),
-    ] {
+    for (tool, what) in STDIN_READERS {
         let err = sh_fails(dir.path(), &format!("{tool} 0>>file"));
         assert_eq!(
             err,
@@ -315,13 +319,7 @@ clitest!(a_closed_standard_input_is_an_error, |dir| {
     // scene-render drew a blank image with status 0. `< /dev/null` is an
     // empty input, as before, and a file needs no standard input.
     let scene = repo("fixtures/scenes/demo2-faces.json");
-    for (tool, what) in [
-        ("scene-render --size 8x8 -o out.png", "the stream"),
-        ("polyfill3", "the stream"),
-        ("pat-tile --size 8x8 -o out.png", "the pattern"),
-        ("pat-info", "file 1"),
-        ("pat-from-image --size 16 -o out.pat", "the picture"),
-    ] {
+    for (tool, what) in STDIN_READERS {
         let out = sh(dir.path(), &format!("{tool} <&-"));
         assert_eq!(out.status.code(), Some(1), "{tool}");
         assert_eq!(
