@@ -999,9 +999,17 @@ impl Output {
                 // nothing (ext4 flushes a file that replaces another at the
                 // rename, but not a new one), which `make` then takes for
                 // an output made.
-                tmp.as_file()
-                    .sync_data()
-                    .map_err(write_error(shown.clone(), WriteStep::Write))?;
+                // A filesystem that cannot sync (EINVAL, EOPNOTSUPP: some
+                // FUSE and special ones) is no error: the output is as safe
+                // there as it can be made; a failed sync (EIO) is one.
+                match tmp.as_file().sync_data() {
+                    Err(e)
+                        if matches!(
+                            e.kind(),
+                            io::ErrorKind::InvalidInput | io::ErrorKind::Unsupported
+                        ) => {}
+                    synced => synced.map_err(write_error(shown.clone(), WriteStep::Write))?,
+                }
                 let persisted = tmp.persist(&path);
                 unfinished(&tmp_path, false);
                 persisted
