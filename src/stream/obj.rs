@@ -337,27 +337,24 @@ fn number(w: &str, what: &str) -> Result<f64, String> {
 /// drawn (a face takes its material's colour: docs/stream-format.md). Both
 /// were refused as "expected x y z" (a hostile-input review).
 fn position(rest: &[&str]) -> Result<DVec3, String> {
-    match rest.len() {
-        3 | 6 => {
-            numbers::<6>(rest, "v")?;
-        }
-        4 => {
-            let w = number(rest[3], "v")?;
-            if w != 1.0 {
-                return Err(format!(
-                    "v: weight w `{}` is not 1: a rational weight belongs to curves and \
-                     surfaces, not to a polygon mesh",
-                    rest[3]
-                ));
-            }
-        }
-        k => {
-            return Err(format!(
-                "v: expected x y z (or x y z w, or x y z r g b), found {k} numbers"
-            ))
-        }
+    if !matches!(rest.len(), 3 | 4 | 6) {
+        return Err(format!(
+            "v: expected x y z (or x y z w, or x y z r g b), found {} numbers",
+            rest.len()
+        ));
     }
-    Ok(DVec3::from_array(numbers::<3>(rest, "v")?))
+    let mut x = [0.0; 6];
+    for (o, w) in x.iter_mut().zip(rest) {
+        *o = number(w, "v")?;
+    }
+    if rest.len() == 4 && x[3] != 1.0 {
+        return Err(format!(
+            "v: weight w `{}` is not 1: a rational weight belongs to curves and surfaces, \
+             not to a polygon mesh",
+            rest[3]
+        ));
+    }
+    Ok(DVec3::new(x[0], x[1], x[2]))
 }
 
 fn numbers<const N: usize>(words: &[&str], what: &str) -> Result<[f64; N], String> {
