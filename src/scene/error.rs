@@ -331,9 +331,6 @@ pub enum CellsError {
     Grid(crate::geom::partition::GridError),
     /// The texture coordinates of a `uv` record cannot be made.
     Uv(crate::texture::map::ObjectUvError),
-    /// A pattern cannot be placed as the record asks: `"mode": "uv"`
-    /// without `"uv"` coordinates, which the renderer refuses too.
-    Place(crate::texture::place::PlaceError),
     /// A texture state key of the record's `"pattern"` is wrong
     /// ([`crate::texture::state`]): the message names it.
     TextureState(String),
@@ -351,7 +348,6 @@ impl CellsError {
             CellsError::Plane(e) => e,
             CellsError::Grid(e) => e,
             CellsError::Uv(e) => e,
-            CellsError::Place(e) => e,
             CellsError::Write(e) => e,
             CellsError::Pattern(_)
             | CellsError::PatternPath { .. }

@@ -17,7 +17,6 @@ use crate::pat::Pattern;
 use crate::raster::Cull;
 use crate::stream::{self, Instance, Item, ObjectDef, Objects, PatternMode, Record};
 use crate::texture::map::object_uv;
-use crate::texture::place::PlaceError;
 use crate::texture::state::{TextureState, KEYS as STATE_KEYS};
 use crate::view::ViewVolume;
 use glam::DVec3;
@@ -561,11 +560,6 @@ impl<W: Write> Job<'_, W> {
         } else {
             PatternMode::Object
         });
-        if mode == PatternMode::Uv && rec.uv.is_none() {
-            // Passed on, `scene-render` refused it after the pipe had run
-            // (a hostile-input review).
-            return Err(CellsError::Place(PlaceError::MissingUv));
-        }
         if mode != PatternMode::Object || (own && rec.uv.is_some()) {
             // With `uv` nothing is partitioned: no surprise to warn about.
             if !self.warned_mode && !self.args.uv {

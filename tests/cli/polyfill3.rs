@@ -773,43 +773,6 @@ clitest!(pattern_flag_colours_bare_records, |dir| {
         .stderr(refused);
 });
 
-clitest!(
-    uv_mode_without_uv_is_refused_as_the_renderer_refuses_it,
-    |dir| {
-        // A hostile-input review: polyfill3 passed `"mode": "uv"` without
-        // `"uv"` on with a warning and status 0, and `polyfill3 | scene-render`
-        // then failed downstream. Both tools now refuse it with one message;
-        // with `"uv"` it still passes through.
-        write_pat(&dir.path().join("p.pat"), 16, |c, r| c == 1 && r == 0);
-        let tri = r#""vertices":[[0,0,0],[10,0,0],[0,10,0]],"color":[1,2,3]"#;
-        let pattern = r#""pattern":{"file":"p.pat","mode":"uv"}"#;
-        dir.write("no-uv.json", format!("{{{tri},{pattern}}}\n"));
-        let said = "error: no-uv.json: record 0: pattern.mode is \"uv\" but the record has no \
-                \"uv\" coordinates\n";
-        for (tool, args) in [
-            ("polyfill3", vec!["no-uv.json"]),
-            (
-                "scene-render",
-                vec!["--size", "8x8", "-o", "u.png", "no-uv.json"],
-            ),
-        ] {
-            dir.cmd(tool)
-                .args(args)
-                .assert()
-                .code(1)
-                .stdout("")
-                .stderr(format!("{tool}: {said}"));
-        }
-        dir.write(
-            "uv.json",
-            format!("{{{tri},{pattern},\"uv\":[[0,0],[1,0],[0,1]]}}\n"),
-        );
-        let out = dir.cmd("polyfill3").arg("uv.json").ok_stdout();
-        assert_eq!(lines(&out).len(), 1);
-        assert!(!dir.path().join("u.png").exists());
-    }
-);
-
 clitest!(pattern_flag_refuses_stdin, |dir| {
     // A hostile-input review: `--pattern -` was looked up as a file named
     // `-`, and the first record that needed it failed with "-: No such file
