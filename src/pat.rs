@@ -898,7 +898,14 @@ mod tests {
         // mend it (a hostile-input review).
         for (first, echoed) in [("-16", true), ("+16", true), ("nan", true), ("-Inf", true)]
             .into_iter()
+            .chain([("1.5e-3", true), (".5", true), ("7.", true)])
             .chain([("1e3x", false), ("e", false), ("-", false), ("0x10", false)])
+            .chain([
+                ("078-05-1120", false),
+                ("192.168.1.10", false),
+                ("2024-01-01", false),
+            ])
+            .chain([("1+2", false), ("...5", false), (".", false), ("1e", false)])
         {
             let e = err(&format!("{first} 1"));
             let said = if echoed {
