@@ -665,7 +665,12 @@ impl Estimated {
     }
 }
 
-/// Writes the image and the reports, in that order, once everything is computed.
+/// Writes the image and the difference to their temporary files, then the
+/// reports, then moves the files into place, once everything is computed: a
+/// report that cannot be written leaves the old files. (An animation's
+/// frames take their names as each is done, and its `--json` report comes
+/// after the last: a full standard output then fails the run with the
+/// frames written.)
 fn finish(
     args: &Args,
     output: Option<(String, ImageFormat)>,
