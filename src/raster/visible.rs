@@ -364,7 +364,7 @@ impl PixelStates {
             return (true, false);
         }
         let own = |c: &Shower| c.poly == n.f.poly;
-        if !self.mixed[p] && self.showers[p].first().is_none_or(own) {
+        if self.only_pieces_of(p, n.f.poly) {
             return (true, false); // What the loop gives when it skips them all.
         }
         if matches!(self.status[p], Status::Open | Status::Closed) {
@@ -427,10 +427,7 @@ impl PixelStates {
             Some(g.verts())
         };
         let showers = &self.showers[p];
-        if self.crowds[p].is_none()
-            && !self.mixed[p]
-            && showers.first().is_none_or(|c| c.poly == n.f.poly)
-        {
+        if self.crowds[p].is_none() && self.only_pieces_of(p, n.f.poly) {
             // The check skips every shower of the newcomer's own polygon,
             // so an index would serve nothing yet: built here, each of the
             // polygon's fragments asked it for candidates, and a comb of
@@ -457,6 +454,12 @@ impl PixelStates {
         candidates.clear();
         crowd.candidates(key, candidates);
         Some(key)
+    }
+
+    /// Whether every shower of pixel `p` (if any) is a piece of polygon
+    /// `poly`: a fragment of `poly` then needs no check, and no index.
+    fn only_pieces_of(&self, p: usize, poly: u32) -> bool {
+        !self.mixed[p] && self.showers[p].first().is_none_or(|c| c.poly == poly)
     }
 
     /// Builds the uncovered part and the map of a [`Status::Disjoint`] or
