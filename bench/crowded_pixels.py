@@ -11,7 +11,13 @@ it), time against N, this build and a baseline's in one run, as a table.
   src/raster/crowd.rs);
 - strip: N thin triangles side by side, N/2 quads 0.5/(N/2) pixel wide and
   19.6 long, turned 0.6 rad, sharing edges and no one vertex, all crossing
-  the same few pixels of an 8x24 frame (the axis index).
+  the same few pixels of an 8x24 frame (the axis index);
+- star-under, star-over: one concave polygon, a star of N vertices
+  alternating between radii 7 and 5 round (8, 8) (the stress tests' star),
+  and one triangle over most of a 16x16 frame, in front of the star (z 0.5:
+  the star under it) or behind it (z -0.5: the star over it): a pixel's map
+  and uncovered part under thousands of the star's pieces
+  (`PixelStates::overtake`, `cut_out`).
 
 Times: the render phase (`--timings`) of bench/timing.py's
 `measure_in_turns` (the builds taking turns, median of 3 after a warm-up);
@@ -31,6 +37,8 @@ from timing import measure_in_turns  # noqa: E402
 SETS = {
     "fan": ((5_000, 10_000, 20_000, 40_000), "256x256"),
     "strip": ((1_000, 2_000, 4_000, 8_000), "8x24"),
+    "star-under": ((10_000, 20_000, 30_000, 50_000), "16x16"),
+    "star-over": ((10_000, 20_000, 30_000, 50_000), "16x16"),
 }
 
 
@@ -64,6 +72,16 @@ def strip(n, path):
             out.write('{"vertices":[%s,%s,%s],"color":%s}\n' % (b0, t1, t0, c))
 
 
+def star(n, path, depth):
+    with open(path, "w") as out:
+        pts = []
+        for i in range(n):
+            a, r = 2 * math.pi * i / n, (7.0, 5.0)[i % 2]
+            pts.append("[%r,%r]" % (8 + r * math.cos(a), 8 + r * math.sin(a)))
+        out.write('{"vertices":[%s],"color":[255,255,255]}\n' % ",".join(pts))
+        out.write('{"vertices":[[0,0,%r],[16,2,%r],[3,16,%r]],"color":[255,0,0]}\n' % ((depth,) * 3))
+
+
 def main():
     builds = [("this build", sys.argv[1])] + ([("baseline", sys.argv[2])] if len(sys.argv) > 2 else [])
     timeout = float(os.environ.get("TIMEOUT", "60"))
@@ -78,7 +96,12 @@ def main():
         rows = []
         for n in sizes:
             scene = os.path.join(work, f"{name}-{n}.ndjson")
-            {"fan": fan, "strip": strip}[name](n, scene)
+            {
+                "fan": fan,
+                "strip": strip,
+                "star-under": lambda n, path: star(n, path, 0.5),
+                "star-over": lambda n, path: star(n, path, -0.5),
+            }[name](n, scene)
             cmds, names = [], []
             for b, d in builds:
                 if b in gave_up:

@@ -1839,7 +1839,7 @@ mod sweep {
         for &k in order {
             pixels.sweep(&frags[k], at, None, &shown, &mut work);
         }
-        (pixels.acc[0], pixels.overtaken, pixels.crowds_built)
+        (pixels.sums(0), pixels.overtaken, pixels.crowds_built)
     }
 
     /// `crowd` (each shape its own polygon at its own plane) in a shuffled
@@ -1977,6 +1977,71 @@ mod sweep {
             let colors = vec![[0.25, 0.5, 0.75]; frags.len()];
             let (_, _, got) = swept_with((0, 0), &polys, &locals, &frags, &arena, &colors, &order);
             assert_eq!(got, built, "{:?}", shapes.get(n));
+        }
+    }
+
+    /// Regression (a hostile-input review): a triangle over the pixel's
+    /// left edge, then 400 strips of one tilted polygon across the pixel,
+    /// in front of the triangle over half of the pixel and behind it over
+    /// the other half. Each strip overtakes the triangle; the overtake
+    /// visited every piece of the pixel's map, the strips' own included (a
+    /// 50,000-vertex star and one triangle at 16x16 took 20 s, O(k²) in the
+    /// pieces of a pixel), and now visits only the pieces of the showers a
+    /// strip is in front of: the triangle's, which the strips over it cut
+    /// into a few dozen. The pixel is what pairwise subtraction gives, with
+    /// the triangle first or last.
+    #[test]
+    fn an_overtake_visits_only_the_pieces_of_what_it_is_in_front_of() {
+        let n = 400;
+        let strip = |k: usize| {
+            let (x0, x1) = ((k as f64 + 0.1) / n as f64, (k as f64 + 0.9) / n as f64);
+            let v = [(x0, -1.0), (x1, -1.0), (x1, 2.0), (x0, 2.0)];
+            (v.map(|(x, y)| DVec2::new(x, y)).to_vec(), [0.0, 1.0, -0.5])
+        };
+        let across = (
+            vec![
+                DVec2::new(-1.0, -1.0),
+                DVec2::new(0.05, -1.0),
+                DVec2::new(0.05, 2.0),
+            ],
+            [0.0; 3],
+        );
+        for triangle_first in [true, false] {
+            let strips = (0..n).map(strip);
+            let shapes: Vec<_> = match triangle_first {
+                true => std::iter::once(across.clone()).chain(strips).collect(),
+                false => strips.chain(std::iter::once(across.clone())).collect(),
+            };
+            let (locals, mut frags, arena) = frags_at((0, 0), &shapes, 1e-12);
+            assert_eq!(frags.len(), n + 1);
+            let own = if triangle_first { 1..n + 1 } else { 0..n };
+            let poly = own.start as u32;
+            for f in &mut frags[own] {
+                f.poly = poly;
+            }
+            let order: Vec<usize> = (0..frags.len()).collect();
+            let overtaken =
+                agrees_with_pairwise((0, 0), &locals, &mut frags, &arena, &order, 1e-9).unwrap();
+            if triangle_first {
+                // The 20 strips over the triangle take from it.
+                assert_eq!(overtaken as usize, n / 20);
+            }
+            let colors = vec![[0.25, 0.5, 0.75]; frags.len()];
+            let mut pixels = PixelStates::default();
+            let mut work = Scratch::default();
+            pixels.reset(1, &mut work.pool);
+            let shown = Shown {
+                polys: &[],
+                locals: &locals,
+                arena: &arena,
+                colors: &colors,
+            };
+            for f in &frags {
+                pixels.sweep(f, (0, 0), None, &shown, &mut work);
+            }
+            // The triangle's pieces, about 40 a strip (15,980 in all): not
+            // the strips' own pieces as well, n²/2 = 80,000 more.
+            assert!(pixels.visited <= 50 * n as u64, "{}", pixels.visited);
         }
     }
 
