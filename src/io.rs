@@ -861,6 +861,19 @@ fn write_behind(_: &tempfile::NamedTempFile, started: &mut u64, end: u64) {
     *started = end;
 }
 
+/// The file a written output named `path` replaces: `path`, or where its
+/// chain of links ends. The file a link points to is replaced, not the
+/// link, and a link to a file not made yet makes it there, as `>` does.
+pub fn output_target(path: &Path) -> io::Result<PathBuf> {
+    if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        return std::fs::canonicalize(path).or_else(|e| match e.kind() {
+            io::ErrorKind::NotFound => link_target(path),
+            _ => Err(e),
+        });
+    }
+    Ok(path.to_path_buf())
+}
+
 impl Output {
     /// Opens `name` (`-` for standard output). `binary` output is refused on a terminal.
     pub fn create(name: &str, binary: bool) -> Result<Output, IoError> {
@@ -912,16 +925,7 @@ impl Output {
                 return Output::device(f, name, binary);
             }
         }
-        if std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink()) {
-            // Replace the file the link points to, not the link; a link to
-            // a file not made yet makes it there, as `>` does.
-            path = std::fs::canonicalize(&path)
-                .or_else(|e| match e.kind() {
-                    io::ErrorKind::NotFound => link_target(&path),
-                    _ => Err(e),
-                })
-                .map_err(write_error(name, WriteStep::ResolveLink))?;
-        }
+        path = output_target(&path).map_err(write_error(name, WriteStep::ResolveLink))?;
         let dir = match path.parent() {
             Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
             _ => PathBuf::from("."),
@@ -2550,6 +2554,17 @@ pub fn decode_any(bytes: &[u8], name: &str) -> Result<AnyImage, IoError> {
             data: img.into_rgba8().into_raw(),
         })
     })
+}
+
+/// The width and height a picture's header gives, read before its pixels
+/// are decoded (a compressed file of a few kilobytes may decode to
+/// gigabytes); `None` for a PFM, whose pixels are its bytes.
+pub fn picture_size(bytes: &[u8], name: &str) -> Result<Option<(u32, u32)>, IoError> {
+    use image::ImageDecoder as _;
+    if is_pfm(bytes) {
+        return Ok(None);
+    }
+    Ok(Some(open_picture(bytes, name)?.dimensions()))
 }
 
 /// Decodes any image the `image` crate reads (PNG, JPEG, GIF, BMP, TIFF, WebP,

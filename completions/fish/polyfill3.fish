@@ -8,8 +8,8 @@ complete -c polyfill3 -l merge -d 'Join same-coloured whole cells into one polyg
 blocks\t'Rectangles of cells: runs of consecutive rows over the same columns joined'"
 complete -c polyfill3 -l compat -d 'Reproduce another algorithm: `thesis` is the thesis\'s loop, degenerate polygons included (horz and vert must be integers)' -r -f -a "thesis\t'The thesis\'s loop (Fig. 4.7): accumulated grid, inclusive bounds, degenerate polygons along the far edges'"
 complete -c polyfill3 -l planarity-tol -d 'Largest distance of a vertex from the polygon\'s plane, relative to the polygon\'s size (bounding-box diagonal)' -r
-complete -c polyfill3 -l max-polygons -d 'Refuse a job that would write more polygons than this (estimated from each polygon\'s area / incr² before its cells are written)' -r
-complete -c polyfill3 -l tolerance -d 'Largest distance of a circle\'s or arc\'s chords from the true curve, in world units (for "circle" and "arc" records)' -r
+complete -c polyfill3 -l max-polygons -d 'Refuse a job that would make more polygons than this: texel cells (estimated from each polygon\'s area / incr² before its cells are written) and quadric triangles. Records passed through unchanged are the input\'s own and not counted' -r
+complete -c polyfill3 -l tolerance -d 'Largest distance of a circle\'s or arc\'s chords from the true curve, in world units (for "circle" and "arc" records); also sets the slices and stacks a quadric record leaves out' -r
 complete -c polyfill3 -l camera -d 'Camera JSON file (`-` = standard input); excludes every other camera flag. Default: none (the tool\'s default view)' -r
 complete -c polyfill3 -l lookat -d 'IRIS/GLU lookat: eye and center points. Default: none (identity view, eye at the origin looking down -z)' -r
 complete -c polyfill3 -l up -d 'Up direction for --lookat. Default: 0,1,0' -r

@@ -638,18 +638,28 @@ impl ThreadArgs {
         let mut pool = rayon::ThreadPoolBuilder::new();
         if let Some(n) = self.threads {
             pool = pool.num_threads(n as usize);
-        } else if let Some(n) = std::env::var("RAYON_NUM_THREADS")
-            .ok()
-            .and_then(|v| v.trim().parse::<u64>().ok())
-            .filter(|&n| n > MAX_THREADS)
-        {
+        } else if let Some(v) = std::env::var_os("RAYON_NUM_THREADS").filter(|v| !v.is_empty()) {
             // rayon's own variable, which the pool reads when --threads is
             // not given: a million took 17 s of thread starts before "Resource
-            // temporarily unavailable", naming nothing (a hostile-input review).
-            return Err(UsageError(format!(
-                "RAYON_NUM_THREADS={n}: at most {MAX_THREADS} worker threads (--threads N overrides it)"
-            ))
-            .into());
+            // temporarily unavailable", naming nothing, and rayon passes over
+            // what is not a number (`abc`, `-1`) in silence (hostile-input
+            // reviews). 0 is rayon's "one per core".
+            let text = v.to_string_lossy();
+            match text.trim().parse::<u64>() {
+                Ok(n) if n <= MAX_THREADS => {}
+                Ok(n) => {
+                    return Err(UsageError(format!(
+                        "RAYON_NUM_THREADS={n}: at most {MAX_THREADS} worker threads (--threads N overrides it)"
+                    ))
+                    .into())
+                }
+                Err(_) => {
+                    return Err(UsageError(format!(
+                        "RAYON_NUM_THREADS={text}: expected a number of worker threads, 0 for one per core (--threads N overrides it)"
+                    ))
+                    .into())
+                }
+            }
         }
         let pool = anyhow::Context::context(pool.build(), "starting worker threads")?;
         Ok(pool.install(job))
@@ -817,15 +827,15 @@ pub fn man_sections(tool: &str) -> String {
     match tool {
         "scene-render" => item(
             "RAYON_NUM_THREADS",
-            "The number of worker threads when --threads is not given (default: one per core). The output does not depend on it.",
+            "The number of worker threads when --threads is not given (default, or 0: one per core; at most 1024, and anything but a number is refused). The output does not depend on it.",
         ),
         "pat-from-image" => item(
             "RAYON_NUM_THREADS",
-            "The number of worker threads of the palette search (default: one per core). The output does not depend on it.",
+            "The number of worker threads of the palette search (default, or 0: one per core; at most 1024, and anything but a number is refused). The output does not depend on it.",
         ),
         "polyfill3" => item(
             "RAYON_NUM_THREADS",
-            "The number of worker threads that format the output when --threads is not given (default: one per core). The output does not depend on it.",
+            "The number of worker threads that format the output when --threads is not given (default, or 0: one per core; at most 1024, and anything but a number is refused). The output does not depend on it.",
         ),
         _ => {}
     }
@@ -1005,6 +1015,52 @@ pub fn make_escaped(name: &str, target: bool) -> String {
     }
     out.extend(std::iter::repeat_n('\\', backslashes));
     out
+}
+
+/// Where a written output named `name` lands: the directory entry it
+/// replaces, its links followed ([`crate::io::output_target`]) and its
+/// directory resolved, so that `a.png`, `./a.png`, `d/../a.png` and a link
+/// to `a.png` land in one place. `None` where that cannot be found (a
+/// directory that does not exist: writing there fails anyway).
+pub fn destination(name: &str) -> Option<std::path::PathBuf> {
+    let path = crate::io::output_target(std::path::Path::new(name)).ok()?;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => std::path::Path::new("."),
+    };
+    Some(std::fs::canonicalize(dir).ok()?.join(path.file_name()?))
+}
+
+/// A usage error if two outputs of the command line (`(flag, name)`) are
+/// one file, as written or once resolved ([`destination`]): the one
+/// written last would replace the other (`--depfile ./a.png -o a.png` left
+/// the image where the make rule was meant to be, with status 0).
+pub fn refuse_shared_outputs(outputs: &[(&str, Option<&str>)]) -> anyhow::Result<()> {
+    let places: Vec<_> = (outputs.iter())
+        .map(|&(_, name)| {
+            name.filter(|n| *n != crate::io::STDIO)
+                .and_then(destination)
+        })
+        .collect();
+    for (k, &(flag, name)) in outputs.iter().enumerate() {
+        for (j, &(earlier, other)) in outputs[..k].iter().enumerate() {
+            let (Some(name), Some(other)) = (name, other) else {
+                continue;
+            };
+            if name == other {
+                usage_bail!(
+                    "{flag} {name}: the same file as {earlier}: each output needs its own name"
+                );
+            }
+            if places[k].is_some() && places[k] == places[j] {
+                usage_bail!(
+                    "{flag} {name}: the same file as {earlier} {other}: each output needs its \
+                     own name"
+                );
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Whether the paths `a` and `b` name one existing regular file (the same

@@ -141,16 +141,17 @@ pub fn run(args: Args) -> Result<()> {
 }
 
 fn run_in_pool(args: Args) -> Result<()> {
+    let inputs = [
+        ("the picture", Some(args.input.as_str())),
+        ("--palette", args.palette.as_deref()),
+    ];
+    // A usage error first (status 2), then the standard output's.
+    super::check_inputs(&inputs)?;
     if args.output == io::STDIO {
         super::check_stdout(super::USE_OUTPUT_FILE)?;
     }
     // Before the work (quantizing a large photo takes a while).
     io::check_output(&args.output, false)?;
-    let inputs = [
-        ("the picture", Some(args.input.as_str())),
-        ("--palette", args.palette.as_deref()),
-    ];
-    super::check_inputs(&inputs)?;
     super::refuse_replacing_inputs(&[("-o", Some(args.output.as_str()))], &inputs)?;
     if args.stripe {
         return run_stripe(&args);

@@ -117,10 +117,6 @@ impl Write for Stdout {
 
 /// Runs `pat-info`.
 pub fn run(args: Args) -> Result<()> {
-    // --check writes nothing there: `pat-info --check *.pat >&-` failed.
-    if !args.check {
-        super::check_stdout("redirect it to a file, or give --check to validate only")?;
-    }
     let places: Vec<String> = (1..=args.files.len())
         .map(|k| format!("file {k}"))
         .collect();
@@ -129,7 +125,12 @@ pub fn run(args: Args) -> Result<()> {
         .zip(&args.files)
         .map(|(place, f)| (place.as_str(), Some(f.as_str())))
         .collect();
+    // A usage error first (status 2), then the standard output's.
     super::check_inputs(&named)?;
+    // --check writes nothing there: `pat-info --check *.pat >&-` failed.
+    if !args.check {
+        super::check_stdout("redirect it to a file, or give --check to validate only")?;
+    }
     if let Some(n) = args.record {
         if args.files.len() != 1 {
             usage_bail!("--record takes exactly one polygon stream file");

@@ -73,11 +73,12 @@ pub struct Args {
 
 /// Runs `pat-tile`.
 pub fn run(args: Args) -> Result<()> {
+    let inputs = [("the pattern", Some(args.input.as_str()))];
+    // A usage error first (status 2), then the standard output's.
+    super::check_inputs(&inputs)?;
     if args.output == crate::io::STDIO {
         super::check_stdout(super::USE_OUTPUT_FILE)?;
     }
-    let inputs = [("the pattern", Some(args.input.as_str()))];
-    super::check_inputs(&inputs)?;
     super::refuse_replacing_inputs(&[("-o", Some(args.output.as_str()))], &inputs)?;
     let tiling = ScreenTiling {
         scale: args.scale,

@@ -135,12 +135,15 @@ pub struct Args {
     /// polygon's size (bounding-box diagonal).
     #[arg(long, default_value_t = DEFAULT_PLANARITY_TOL)]
     pub planarity_tol: f64,
-    /// Refuse a job that would write more polygons than this (estimated from
-    /// each polygon's area / incr² before its cells are written).
+    /// Refuse a job that would make more polygons than this: texel cells
+    /// (estimated from each polygon's area / incr² before its cells are
+    /// written) and quadric triangles. Records passed through unchanged are
+    /// the input's own and not counted.
     #[arg(long, default_value_t = DEFAULT_MAX_POLYGONS)]
     pub max_polygons: u64,
     /// Largest distance of a circle's or arc's chords from the true curve, in
-    /// world units (for "circle" and "arc" records).
+    /// world units (for "circle" and "arc" records); also sets the slices and
+    /// stacks a quadric record leaves out.
     #[arg(long, default_value_t = DEFAULT_TOLERANCE)]
     pub tolerance: f64,
     /// The camera for --cull: a camera file (patkit-camera(5)) or the same
@@ -253,12 +256,10 @@ fn run_in_pool(args: Args) -> Result<()> {
     if args.depfile.is_some() && args.output == STDIO {
         usage_bail!("--depfile needs -o FILE: the make rule names the output as its target");
     }
-    if args.depfile.as_deref() == Some(args.output.as_str()) {
-        usage_bail!(
-            "--depfile {}: the same file as -o: the make rule would replace the output",
-            args.output
-        );
-    }
+    super::refuse_shared_outputs(&[
+        ("-o", Some(args.output.as_str())),
+        ("--depfile", args.depfile.as_deref()),
+    ])?;
     if let Some(depfile) = &args.depfile {
         // Before the work, as scene-render checks it.
         crate::io::check_output(depfile, false)?;

@@ -250,6 +250,8 @@ fn draw_options(args: &Args, texture: TextureSettings) -> DrawOptions {
 
 /// Runs `scene-render`.
 pub fn run(args: Args) -> Result<()> {
+    // A usage error first (status 2), then the standard output's.
+    super::check_inputs(&inputs_of(&args))?;
     let to_stdout = match &args.output {
         Some(o) => o == crate::io::STDIO,
         None => args.compare.is_none(),
@@ -276,8 +278,9 @@ pub const MAX_FRAMES: u64 = 24 * 60 * 60 * 24;
 /// pyramid at about this rate on the IRIS.
 pub const DEFAULT_FPS: u16 = 10;
 
-fn run_in_pool(args: Args) -> Result<()> {
-    let inputs = [
+/// The files the command line names to read, by flag.
+fn inputs_of(args: &Args) -> [(&'static str, Option<&str>); 5] {
+    [
         // With --image no stream is read (its default `-` included).
         (
             "the stream",
@@ -287,8 +290,11 @@ fn run_in_pool(args: Args) -> Result<()> {
         ("--compare", args.compare.as_deref()),
         ("--camera", args.camera.camera.as_deref()),
         ("--background-pattern", args.background_pattern.as_deref()),
-    ];
-    super::check_inputs(&inputs)?;
+    ]
+}
+
+fn run_in_pool(args: Args) -> Result<()> {
+    let inputs = inputs_of(&args);
     let animation = args.frames > 1 || args.frame.is_some();
     if let Some(k) = args.frame {
         if k >= args.frames {
@@ -308,21 +314,27 @@ fn run_in_pool(args: Args) -> Result<()> {
     if args.depfile.is_some() && named_output.is_none() {
         usage_bail!("--depfile needs -o FILE: the make rule names the output as its target");
     }
-    // Two outputs of one name: the one written last would replace the other
+    // Two outputs of one file: the one written last would replace the other
     // (`--depfile x -o x` left the make rule where the image was).
     let outputs = [
         ("-o", named_output),
         ("--diff", args.diff.as_deref()),
         ("--depfile", args.depfile.as_deref()),
     ];
-    for (k, (flag, name)) in outputs.iter().enumerate() {
-        for (earlier, other) in &outputs[..k] {
-            if let (Some(name), Some(other)) = (name, other) {
-                if name == other {
-                    usage_bail!(
-                        "{flag} {name}: the same file as {earlier}: each output needs its own name"
-                    );
-                }
+    super::refuse_shared_outputs(&outputs)?;
+    if let (true, Some(pattern), Some(depfile)) = (animation, named_output, &args.depfile) {
+        // Each frame's name against the make rule's (`-o g-%d.png --depfile
+        // g-1.png` wrote frame 1 over it).
+        // Resolved only where the last components match or the frame's name
+        // is a link: up to MAX_FRAMES names are checked before the render.
+        let last = |n: &str| std::path::Path::new(n).file_name().map(|f| f.to_owned());
+        let depfile_last =
+            super::destination(depfile).and_then(|d| d.file_name().map(|f| f.to_owned()));
+        let frames = args.frame.map_or(0..args.frames, |k| k..k + 1);
+        for name in frames.filter_map(|k| frame_name(pattern, k)) {
+            let is_link = || std::fs::symlink_metadata(&name).is_ok_and(|m| m.is_symlink());
+            if name == *depfile || last(&name) == depfile_last || is_link() {
+                super::refuse_shared_outputs(&[("-o", Some(&name)), ("--depfile", Some(depfile))])?;
             }
         }
     }
@@ -405,13 +417,32 @@ fn run_in_pool(args: Args) -> Result<()> {
         // The difference is an 8-bit picture.
         super::output_format_8bit(None, d)?;
     }
-    // Everything that can fail is checked before anything is written.
-    let reference_img = match &args.compare {
-        Some(r) => Some(load_image(r)?),
-        None => None,
+    // Everything that can fail is checked before anything is written, and
+    // the sizes before any pixel is decoded or drawn: a reference of
+    // another size was found after a 4096x4096 render of 47 s, and a
+    // 16000x16000 PNG of 1 MB was decoded (1.75 GB) to be found larger
+    // than a 32x32 image (a hostile-input review).
+    let reference_bytes = args.compare.as_deref().map(read_picture).transpose()?;
+    let image_bytes = args.image.as_deref().map(read_picture).transpose()?;
+    if let (Some(r), Some(r_bytes)) = (&args.compare, &reference_bytes) {
+        let image = match (&args.image, &image_bytes) {
+            (Some(i), Some(i_bytes)) => crate::io::picture_size(i_bytes, display_name(i))?,
+            _ => Some((args.size.width, args.size.height)),
+        };
+        let reference = crate::io::picture_size(r_bytes, display_name(r))?;
+        if let (Some(image), Some(reference)) = (image, reference) {
+            if image != reference {
+                let mismatch = compare::SizeMismatch { image, reference };
+                return Err(anyhow::Error::new(mismatch).context(format!("comparing with {r}")));
+            }
+        }
+    }
+    let reference_img = match (&args.compare, &reference_bytes) {
+        (Some(r), Some(bytes)) => Some(decode_any(bytes, display_name(r))?),
+        _ => None,
     };
-    if let Some(img_name) = &args.image {
-        let img = load_image(img_name)?;
+    if let (Some(img_name), Some(bytes)) = (&args.image, &image_bytes) {
+        let img = decode_any(bytes, display_name(img_name))?;
         write_depfile(&args, None)?;
         finish(
             &args,
@@ -762,11 +793,11 @@ fn finish(
     Ok(())
 }
 
-/// An image to measure (`--compare`, `--image`), at the depth it has: 8-
-/// or 16-bit sRGB, or a PFM's linear light.
-fn load_image(name: &str) -> Result<AnyImage> {
-    let bytes = read_input(name, crate::io::InputKind::ImageOrPfm)?;
-    Ok(decode_any(&bytes, display_name(name))?)
+/// The bytes of an image to measure (`--compare`, `--image`), decoded
+/// (`crate::io::decode_any`) at the depth it has: 8- or 16-bit sRGB, or a
+/// PFM's linear light.
+fn read_picture(name: &str) -> Result<Vec<u8>> {
+    Ok(read_input(name, crate::io::InputKind::ImageOrPfm)?)
 }
 
 /// The widest frame number a pattern may ask for: 255, the longest file

@@ -542,9 +542,21 @@ fn trim_json_whitespace(s: &[u8]) -> &[u8] {
     &s[start..end]
 }
 
-/// serde_json's message with its position, phrased for a user.
+/// serde_json's message with its position, phrased for a user: a lone
+/// UTF-16 surrogate (`"\ud800"`) is said to be one, where serde_json speaks
+/// of a hex escape that ended early.
 fn json_message(e: &serde_json::Error) -> String {
-    format!("invalid JSON: {e}")
+    let text = e.to_string();
+    let surrogate = ["unexpected end of hex escape", "lone leading surrogate"]
+        .iter()
+        .any(|m| text.contains(m));
+    match surrogate {
+        true => format!(
+            "invalid JSON: {text} (a \\uD800-\\uDFFF escape must be one half of a \
+             surrogate pair: a string is Unicode text)"
+        ),
+        false => format!("invalid JSON: {e}"),
+    }
 }
 
 /// Streams the elements of a JSON array to a callback without collecting them.
@@ -574,6 +586,28 @@ mod tests {
     use super::*;
     use crate::geom::Shape;
     use glam::DVec3;
+
+    /// A hostile-input review: a lone UTF-16 surrogate in a key or a
+    /// string that is read got serde_json's "unexpected end of hex escape",
+    /// which is not what is wrong.
+    #[test]
+    fn a_lone_surrogate_is_said_to_be_one() {
+        let tri = r#""vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3]"#;
+        for text in [
+            format!(r#"{{"\ud800":1,{tri}}}"#),
+            format!(r#"{{{tri},"pattern":{{"file":"\ud800.pat"}}}}"#),
+            format!(r#"[{{{tri},"pattern":{{"file":"\udc00\u0041.pat"}}}}]"#),
+        ] {
+            let e = err(&text);
+            assert!(e.contains("invalid JSON: "), "{text}: {e}");
+            assert!(e.contains("one half of a surrogate pair"), "{text}: {e}");
+        }
+        // A pair is a character, and other escapes are as serde_json says.
+        let pair = format!(r#"{{{tri},"name":"\ud83d\ude00"}}"#);
+        assert!(read_all(&pair).is_ok());
+        let e = err(&format!(r#"{{{tri},"pattern":{{"file":"\u00zz"}}}}"#));
+        assert!(!e.contains("surrogate"), "{e}");
+    }
 
     #[test]
     fn nth_item_stops_at_the_element_or_counts_them() {

@@ -1270,6 +1270,20 @@ clitest!(an_empty_input_name_is_said_so_by_every_tool, |dir| {
             .stderr(format!("{}: error: {what}: {said}\n", args[0]));
     }
     assert_eq!(dir.files(), ["tri.json"]);
+    // With standard output closed as well, the usage error is said, and
+    // its status given (`pat-info '' >&-` said the closed output, status 1).
+    for script in [
+        "pat-info '' >&-",
+        "pat-tile --size 8x8 '' >&-",
+        "pat-from-image '' >&-",
+        "scene-render '' >&-",
+        "polyfill3 '' >&-",
+    ] {
+        let out = sh(dir.path(), script);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{script}: {err}");
+        assert!(err.contains(said), "{script}: {err}");
+    }
 });
 
 clitest!(
@@ -1819,6 +1833,44 @@ clitest!(help_and_version_that_cannot_be_written_are_errors, |dir| {
     }
 });
 
+clitest!(
+    a_reference_of_another_size_is_refused_before_anything_is_drawn_or_decoded,
+    |dir| {
+        // A hostile-input review: a 4096x4096 render took 47 s before the
+        // reference was found to be 32x32, and `--image` decoded a 16000x16000
+        // PNG of a few kilobytes (1.75 GB) before comparing the sizes. Now the
+        // headers are compared first.
+        dir.write(
+            "s.json",
+            r#"{"vertices": [[0,0],[6,0],[0,6]], "color": [9,9,9]}"#,
+        );
+        dir.cmd("scene-render")
+            .args(["--size", "8x8", "s.json", "-o", "ref.png"])
+            .assert()
+            .success();
+        // `--timings` speaks after the render: refused before it, nothing.
+        dir.cmd("scene-render")
+        .args(["--size", "64x48", "--timings", "s.json", "--compare", "ref.png", "-o", "out.png"])
+        .assert()
+        .code(1)
+        .stderr("scene-render: error: comparing with ref.png: image is 64x48 but the reference is 8x8\n");
+        // A header of 16000x16000 and no pixels: decoded, it would be a
+        // truncated picture; refused by its size, it is never decoded.
+        let mut big = b"P6\n16000 16000\n255\n".to_vec();
+        big.extend_from_slice(&[0; 12]);
+        std::fs::write(dir.path().join("big.ppm"), big).unwrap();
+        dir.cmd("scene-render")
+            .args(["--image", "ref.png", "--compare", "big.ppm"])
+            .assert()
+            .code(1)
+            .stderr(
+                "scene-render: error: comparing with big.ppm: image is 8x8 but the reference is \
+             16000x16000\n",
+            );
+        assert_eq!(dir.files(), ["big.ppm", "ref.png", "s.json"]);
+    }
+);
+
 clitest!(rayon_num_threads_is_bounded_as_threads_is, |dir| {
     // RAYON_NUM_THREADS=1000000 spent 17 s starting threads before an
     // error that named nothing (a hostile-input review).
@@ -1836,6 +1888,26 @@ clitest!(rayon_num_threads_is_bounded_as_threads_is, |dir| {
          (--threads N overrides it)\n",
     );
     run(&["--threads", "2"]).assert().success();
+    // What is not a number was passed over in silence (a hostile-input
+    // review); 0 is rayon's "one per core", and empty is unset.
+    for bad in ["abc", "-1", "2.5"] {
+        let mut c = dir.cmd("pat-from-image");
+        c.env("RAYON_NUM_THREADS", bad)
+            .args(["--size", "16", marble, "-o", "p.pat"])
+            .assert()
+            .code(2)
+            .stderr(format!(
+                "pat-from-image: error: RAYON_NUM_THREADS={bad}: expected a number of worker \
+                 threads, 0 for one per core (--threads N overrides it)\n"
+            ));
+    }
+    for fine in ["0", "", " 2 "] {
+        let mut c = dir.cmd("pat-from-image");
+        c.env("RAYON_NUM_THREADS", fine)
+            .args(["--size", "16", marble, "-o", "p.pat"])
+            .assert()
+            .success();
+    }
 });
 
 /// A file name holding a newline and a terminal escape, echoed in an

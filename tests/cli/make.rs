@@ -134,6 +134,93 @@ clitest!(depfiles_name_every_file_read_and_every_frame, |dir| {
     );
 });
 
+clitest!(two_outputs_spelled_differently_are_still_one_file, |dir| {
+    // A hostile-input review: output names were compared as text, so the
+    // same file spelled another way (`./x.png`, `sub/../x.png`, a link to
+    // it, a frame of the pattern) lost one of the two outputs with status 0.
+    dir.write(
+        "s.json",
+        r#"{"vertices": [[0,0],[6,0],[0,6]], "color": [9,9,9]}"#,
+    );
+    dir.cmd("scene-render")
+        .args(["--size", "8x8", "s.json", "-o", "ref.png"])
+        .assert()
+        .success();
+    std::fs::create_dir(dir.path().join("sub")).unwrap();
+    std::os::unix::fs::symlink("x.png", dir.path().join("l.png")).unwrap();
+    for (tool, args, said) in [
+        (
+            "scene-render",
+            vec!["--depfile", "./x.png", "-o", "x.png"],
+            "--depfile ./x.png: the same file as -o x.png",
+        ),
+        (
+            "scene-render",
+            vec!["--depfile", "l.png", "-o", "x.png"],
+            "--depfile l.png: the same file as -o x.png",
+        ),
+        (
+            "scene-render",
+            vec![
+                "--compare",
+                "ref.png",
+                "--diff",
+                "sub/../x.png",
+                "-o",
+                "x.png",
+            ],
+            "--diff sub/../x.png: the same file as -o x.png",
+        ),
+        (
+            "scene-render",
+            vec!["--frames", "3", "-o", "g-%d.png", "--depfile", "./g-1.png"],
+            "--depfile ./g-1.png: the same file as -o g-1.png",
+        ),
+        (
+            "scene-render",
+            vec!["--frames", "3", "-o", "g-%d.png", "--depfile", "g-2.png"],
+            "--depfile g-2.png: the same file as -o: each output needs its own name",
+        ),
+        (
+            "polyfill3",
+            vec!["--depfile", "sub/../x.nd", "-o", "x.nd"],
+            "--depfile sub/../x.nd: the same file as -o x.nd",
+        ),
+    ] {
+        let mut cmd = dir.cmd(tool);
+        if tool == "scene-render" {
+            cmd.args(["--size", "8x8"]);
+        }
+        cmd.args(&args)
+            .arg("s.json")
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains(said));
+    }
+    assert_eq!(dir.files(), ["l.png", "ref.png", "s.json", "sub"]);
+    // Names of one directory entry only: a hard link is another entry, and
+    // each output is renamed onto its own.
+    dir.cmd("scene-render")
+        .args(["--size", "8x8", "s.json", "-o", "x.png", "--depfile", "x.d"])
+        .assert()
+        .success();
+    std::fs::hard_link(dir.path().join("x.png"), dir.path().join("h.png")).unwrap();
+    dir.cmd("scene-render")
+        .args([
+            "--size",
+            "8x8",
+            "s.json",
+            "-o",
+            "x.png",
+            "--depfile",
+            "h.png",
+        ])
+        .assert()
+        .success();
+    assert!(dir.read("x.png").starts_with(b"\x89PNG"));
+    assert!(dir.read("h.png").starts_with(b"x.png:"));
+});
+
 clitest!(check_demos_fails_when_a_comparison_cannot_run, |dir| {
     // Issue 17, item 7: with no rendered demos (`-o demos`: do not make
     // them) every comparison fails; before pipefail, awk's status on empty
