@@ -241,7 +241,11 @@ pub fn for_each_item_with<R: BufRead + Send, E: From<StreamError>>(
         )
         .into()),
         Some(b'[') => {
-            let mut de = serde_json::Deserializer::from_reader(reader);
+            let last = std::cell::Cell::new([0; 3]);
+            let mut de = serde_json::Deserializer::from_reader(Tail {
+                inner: reader,
+                last: &last,
+            });
             let mut failure: Option<E> = None;
             let visitor = ArrayVisitor {
                 each: &mut |e: Element| -> bool {
@@ -258,9 +262,13 @@ pub fn for_each_item_with<R: BufRead + Send, E: From<StreamError>>(
             if let Some(f) = failure {
                 return Err(f);
             }
-            res.map_err(|e| stream_err(Some(index), json_message(&e)))?;
-            de.end()
-                .map_err(|e| stream_err(None, format!("after the array: {}", json_message(&e))))?;
+            res.map_err(|e| stream_err(Some(index), json_message(&e, last.get())))?;
+            de.end().map_err(|e| {
+                stream_err(
+                    None,
+                    format!("after the array: {}", json_message(&e, last.get())),
+                )
+            })?;
             Ok(())
         }
         Some(_) => {
@@ -339,9 +347,16 @@ pub fn for_each_item_with<R: BufRead + Send, E: From<StreamError>>(
                             .chain(&next.buf[..])
                             .chain(FailedRead(failure))
                             .chain(reader.take(unread));
+                        let last = std::cell::Cell::new([0; 3]);
+                        let rest = Tail {
+                            inner: rest,
+                            last: &last,
+                        };
                         let de = serde_json::Deserializer::from_reader(rest).into_iter::<Element>();
                         for e in de {
-                            let e = e.map_err(|e| stream_err(Some(index), json_message(&e)))?;
+                            let e = e.map_err(|e| {
+                                stream_err(Some(index), json_message(&e, last.get()))
+                            })?;
                             handle(Parsed::Element(e), &mut index)?;
                         }
                         return Ok(());
@@ -542,20 +557,54 @@ fn trim_json_whitespace(s: &[u8]) -> &[u8] {
     &s[start..end]
 }
 
-/// serde_json's message with its position, phrased for a user: a lone
-/// UTF-16 surrogate (`"\ud800"`) is said to be one, where serde_json speaks
-/// of a hex escape that ended early.
-fn json_message(e: &serde_json::Error) -> String {
+/// serde_json's message with its position, phrased for a user, `last`
+/// being the last three bytes serde_json read ([`Tail`]): a lone UTF-16
+/// surrogate (`"\ud800"`) is said to be one, where serde_json speaks of a
+/// hex escape that ended early, and a `NaN` or `Infinity` (which
+/// JavaScript and Python's `json.dumps` write) is named, where serde_json
+/// says only that it expected a value.
+fn json_message(e: &serde_json::Error, last: [u8; 3]) -> String {
     let text = e.to_string();
     let surrogate = ["unexpected end of hex escape", "lone leading surrogate"]
         .iter()
         .any(|m| text.contains(m));
-    match surrogate {
-        true => format!(
+    // Where a value starts, serde_json stops at the first byte of `NaN`,
+    // `Infinity` or `inf`, one byte after the `I` of `-Infinity` or `-inf`,
+    // and at the third byte of `nan` (as read on 2026-12-01, serde_json 1).
+    let not_finite = e.is_syntax()
+        && matches!(
+            last,
+            [_, _, b'N' | b'I' | b'i'] | [b'-', b'I' | b'i', b'n'] | [b'n', b'a', b'n']
+        );
+    if surrogate {
+        format!(
             "invalid JSON: {text} (a \\uD800-\\uDFFF escape must be one half of a \
              surrogate pair: a string is Unicode text)"
-        ),
-        false => format!("invalid JSON: {e}"),
+        )
+    } else if not_finite {
+        format!("invalid JSON: {text} (JSON has no NaN or Infinity: every number must be finite)")
+    } else {
+        format!("invalid JSON: {text}")
+    }
+}
+
+/// A reader that keeps the last three bytes read from it, for
+/// [`json_message`]: serde_json reads a stream one byte a call, and stops
+/// at the byte it cannot take.
+struct Tail<'a, R> {
+    inner: R,
+    last: &'a std::cell::Cell<[u8; 3]>,
+}
+
+impl<R: std::io::Read> std::io::Read for Tail<'_, R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        let mut last = self.last.get();
+        for &b in &buf[n.saturating_sub(3)..n] {
+            last = [last[1], last[2], b];
+        }
+        self.last.set(last);
+        Ok(n)
     }
 }
 
@@ -586,6 +635,34 @@ mod tests {
     use super::*;
     use crate::geom::Shape;
     use glam::DVec3;
+
+    /// `NaN` and `Infinity` (as JavaScript and Python's `json.dumps` write
+    /// them) got serde_json's "expected value", naming neither (a
+    /// hostile-input review): now they are named, in a line of NDJSON or in
+    /// an array, and other mistakes are left as serde_json words them.
+    #[test]
+    fn nan_and_infinity_are_said_to_be_not_json() {
+        let hint = "(JSON has no NaN or Infinity: every number must be finite)";
+        for (literal, hinted) in [
+            ("NaN", true),
+            ("Infinity", true),
+            ("-Infinity", true),
+            ("nan", true),
+            ("inf", true),
+            ("-inf", true),
+            ("none", false),
+            ("tru", false),
+            ("1e999", false),
+            ("1.2.3", false),
+        ] {
+            let record = format!(r#"{{"vertices":[[0,0],[{literal},0],[0,1]],"color":[1,2,3]}}"#);
+            for text in [format!("{record}\n"), format!("[{record}]")] {
+                let e = err(&text);
+                assert!(e.contains("invalid JSON: "), "{text}: {e}");
+                assert_eq!(e.contains(hint), hinted, "{text}: {e}");
+            }
+        }
+    }
 
     /// A hostile-input review: a lone UTF-16 surrogate in a key or a
     /// string that is read got serde_json's "unexpected end of hex escape",
@@ -693,7 +770,7 @@ mod tests {
         assert_eq!(whole.line(), 6);
         assert_eq!(
             err(text),
-            format!("s.json: record 3: {}", json_message(&whole))
+            format!("s.json: record 3: {}", json_message(&whole, [0; 3]))
         );
     }
 
@@ -738,7 +815,11 @@ mod tests {
             .unwrap();
         assert_eq!(
             err(&broken),
-            format!("s.json: record {}: {}", elements + 2, json_message(&whole))
+            format!(
+                "s.json: record {}: {}",
+                elements + 2,
+                json_message(&whole, [0; 3])
+            )
         );
     }
 
@@ -941,7 +1022,7 @@ mod tests {
             assert_eq!(n, ok, "cut at {cut}");
             assert_eq!(
                 e,
-                format!("s.json: record {ok}: {}", json_message(&want)),
+                format!("s.json: record {ok}: {}", json_message(&want, [0; 3])),
                 "cut at {cut}"
             );
             // Inside a value serde says where; between values it cannot.
