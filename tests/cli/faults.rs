@@ -1840,14 +1840,7 @@ clitest!(
         // reference was found to be 32x32, and `--image` decoded a 16000x16000
         // PNG of a few kilobytes (1.75 GB) before comparing the sizes. Now the
         // headers are compared first.
-        dir.write(
-            "s.json",
-            r#"{"vertices": [[0,0],[6,0],[0,6]], "color": [9,9,9]}"#,
-        );
-        dir.cmd("scene-render")
-            .args(["--size", "8x8", "s.json", "-o", "ref.png"])
-            .assert()
-            .success();
+        dir.triangle_and_its_image();
         // `--timings` speaks after the render: refused before it, nothing.
         dir.cmd("scene-render")
         .args(["--size", "64x48", "--timings", "s.json", "--compare", "ref.png", "-o", "out.png"])

@@ -138,14 +138,7 @@ clitest!(two_outputs_spelled_differently_are_still_one_file, |dir| {
     // A hostile-input review: output names were compared as text, so the
     // same file spelled another way (`./x.png`, `sub/../x.png`, a link to
     // it, a frame of the pattern) lost one of the two outputs with status 0.
-    dir.write(
-        "s.json",
-        r#"{"vertices": [[0,0],[6,0],[0,6]], "color": [9,9,9]}"#,
-    );
-    dir.cmd("scene-render")
-        .args(["--size", "8x8", "s.json", "-o", "ref.png"])
-        .assert()
-        .success();
+    dir.triangle_and_its_image();
     std::fs::create_dir(dir.path().join("sub")).unwrap();
     std::os::unix::fs::symlink("x.png", dir.path().join("l.png")).unwrap();
     for (tool, args, said) in [

@@ -35,6 +35,19 @@ impl Dir {
         std::fs::read(self.tmp.path().join(name)).unwrap()
     }
 
+    /// A one-triangle scene `s.json` and its 8x8 rendering `ref.png`, for
+    /// the tests of `--compare` and of output names.
+    pub fn triangle_and_its_image(&self) {
+        self.write(
+            "s.json",
+            r#"{"vertices": [[0,0],[6,0],[0,6]], "color": [9,9,9]}"#,
+        );
+        self.cmd("scene-render")
+            .args(["--size", "8x8", "s.json", "-o", "ref.png"])
+            .assert()
+            .success();
+    }
+
     /// One of the project's tools, run in this directory.
     pub fn cmd(&self, tool: &str) -> assert_cmd::Command {
         let mut c = assert_cmd::Command::cargo_bin(tool).unwrap();
