@@ -2418,15 +2418,21 @@ pub enum PfmError {
     },
 }
 
-/// Reads a PFM (Portable Float Map, Debevec's format as netpbm's `pfmtopam`
-/// reads it): `PF` (RGB) or `Pf` (grey, read as R = G = B), whitespace, the
-/// width and height in decimal, the scale (negative: little-endian,
-/// positive: big-endian; its magnitude is not applied, as a rendering's
-/// values are linear light as they stand), one whitespace byte, then
-/// `width * height` pixels of f32, rows from the bottom. The size is checked
-/// against the tools' limits ([`Image::check_size`]) before anything is
-/// allocated, and every sample must be finite.
-pub fn decode_pfm(bytes: &[u8]) -> Result<LinearImage, PfmError> {
+/// What a PFM's header says ([`decode_pfm`]).
+struct PfmHeader {
+    /// 3 (`PF`) or 1 (`Pf`).
+    channels: u8,
+    width: u32,
+    height: u32,
+    /// A negative scale: the samples are little-endian.
+    little: bool,
+    /// Where the samples start.
+    data_at: usize,
+}
+
+/// Reads a PFM's header ([`decode_pfm`]), its size checked against the
+/// tools' limits.
+fn pfm_header(bytes: &[u8]) -> Result<PfmHeader, PfmError> {
     if !is_pfm(bytes) {
         return Err(PfmError::Magic);
     }
@@ -2471,7 +2477,32 @@ pub fn decode_pfm(bytes: &[u8]) -> Result<LinearImage, PfmError> {
     if !bytes.get(at).is_some_and(u8::is_ascii_whitespace) {
         return Err(bad());
     }
-    let data = &bytes[at + 1..];
+    Ok(PfmHeader {
+        channels,
+        width,
+        height,
+        little: scale < 0.0,
+        data_at: at + 1,
+    })
+}
+
+/// Reads a PFM (Portable Float Map, Debevec's format as netpbm's `pfmtopam`
+/// reads it): `PF` (RGB) or `Pf` (grey, read as R = G = B), whitespace, the
+/// width and height in decimal, the scale (negative: little-endian,
+/// positive: big-endian; its magnitude is not applied, as a rendering's
+/// values are linear light as they stand), one whitespace byte, then
+/// `width * height` pixels of f32, rows from the bottom. The size is checked
+/// against the tools' limits ([`Image::check_size`]) before anything is
+/// allocated, and every sample must be finite.
+pub fn decode_pfm(bytes: &[u8]) -> Result<LinearImage, PfmError> {
+    let PfmHeader {
+        channels,
+        width,
+        height,
+        little,
+        data_at,
+    } = pfm_header(bytes)?;
+    let data = &bytes[data_at..];
     let (wd, ht) = (width as usize, height as usize);
     let needed = wd as u64 * ht as u64 * channels as u64 * 4;
     if (data.len() as u64) < needed {
@@ -2490,7 +2521,6 @@ pub fn decode_pfm(bytes: &[u8]) -> Result<LinearImage, PfmError> {
             extra: data.len() as u64 - needed,
         });
     }
-    let little = scale < 0.0;
     let mut out = vec![0f32; wd * ht * 3];
     for (i, b) in data.chunks_exact(4).enumerate() {
         let b = [b[0], b[1], b[2], b[3]];
@@ -2556,15 +2586,19 @@ pub fn decode_any(bytes: &[u8], name: &str) -> Result<AnyImage, IoError> {
     })
 }
 
-/// The width and height a picture's header gives, read before its pixels
-/// are decoded (a compressed file of a few kilobytes may decode to
-/// gigabytes); `None` for a PFM, whose pixels are its bytes.
-pub fn picture_size(bytes: &[u8], name: &str) -> Result<Option<(u32, u32)>, IoError> {
+/// The width and height a picture's header gives (a PFM's too), read
+/// before its pixels are decoded: a compressed file of a few kilobytes may
+/// decode to gigabytes.
+pub fn picture_size(bytes: &[u8], name: &str) -> Result<(u32, u32), IoError> {
     use image::ImageDecoder as _;
     if is_pfm(bytes) {
-        return Ok(None);
+        let h = pfm_header(bytes).map_err(|error| IoError::BadPfm {
+            input: name.to_string(),
+            error,
+        })?;
+        return Ok((h.width, h.height));
     }
-    Ok(Some(open_picture(bytes, name)?.dimensions()))
+    Ok(open_picture(bytes, name)?.dimensions())
 }
 
 /// Decodes any image the `image` crate reads (PNG, JPEG, GIF, BMP, TIFF, WebP,

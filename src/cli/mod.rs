@@ -638,27 +638,26 @@ impl ThreadArgs {
         let mut pool = rayon::ThreadPoolBuilder::new();
         if let Some(n) = self.threads {
             pool = pool.num_threads(n as usize);
-        } else if let Some(v) = std::env::var_os("RAYON_NUM_THREADS").filter(|v| !v.is_empty()) {
-            // rayon's own variable, which the pool reads when --threads is
-            // not given: a million took 17 s of thread starts before "Resource
-            // temporarily unavailable", naming nothing, and rayon passes over
-            // what is not a number (`abc`, `-1`) in silence (hostile-input
-            // reviews). 0 is rayon's "one per core".
-            let text = v.to_string_lossy();
-            match text.trim().parse::<u64>() {
-                Ok(n) if n <= MAX_THREADS => {}
-                Ok(n) => {
-                    return Err(UsageError(format!(
-                        "RAYON_NUM_THREADS={n}: at most {MAX_THREADS} worker threads (--threads N overrides it)"
-                    ))
-                    .into())
-                }
-                Err(_) => {
-                    return Err(UsageError(format!(
-                        "RAYON_NUM_THREADS={text}: expected a number of worker threads, 0 for one per core (--threads N overrides it)"
-                    ))
-                    .into())
-                }
+        } else {
+            // rayon's own variables, which the pool reads when --threads is
+            // not given (RAYON_RS_NUM_CPUS the older name): a million took
+            // 17 s of thread starts before "Resource temporarily
+            // unavailable", naming nothing, and rayon passes over what is
+            // not a number (`abc`, `-1`, ` 1 `: it does not trim) in silence
+            // (hostile-input reviews). 0 is rayon's "one per core".
+            for var in ["RAYON_NUM_THREADS", "RAYON_RS_NUM_CPUS"] {
+                let Some(v) = std::env::var_os(var).filter(|v| !v.is_empty()) else {
+                    continue;
+                };
+                let text = v.to_string_lossy();
+                let said = match text.parse::<u64>() {
+                    Ok(n) if n <= MAX_THREADS => continue,
+                    Ok(n) => format!("{var}={n}: at most {MAX_THREADS} worker threads"),
+                    Err(_) => format!(
+                        "{var}={text}: expected a number of worker threads, 0 for one per core"
+                    ),
+                };
+                return Err(UsageError(format!("{said} (--threads N overrides it)")).into());
             }
         }
         let pool = anyhow::Context::context(pool.build(), "starting worker threads")?;
@@ -1020,9 +1019,17 @@ pub fn make_escaped(name: &str, target: bool) -> String {
 /// Where a written output named `name` lands: the directory entry it
 /// replaces, its links followed ([`crate::io::output_target`]) and its
 /// directory resolved, so that `a.png`, `./a.png`, `d/../a.png` and a link
-/// to `a.png` land in one place. `None` where that cannot be found (a
-/// directory that does not exist: writing there fails anyway).
+/// to `a.png` land in one place; standard output for `-` and its names in
+/// `/dev` and `/proc`. `None` where that cannot be found (a directory that
+/// does not exist, a name ending in `/`: writing there fails anyway).
 pub fn destination(name: &str) -> Option<std::path::PathBuf> {
+    const STDOUT_NAMES: [&str; 4] = ["/dev/stdout", "/dev/fd/1", "/proc/self/fd/1", "-"];
+    if STDOUT_NAMES.contains(&name) {
+        return Some(std::path::PathBuf::from("/dev/stdout"));
+    }
+    if name.ends_with('/') {
+        return None;
+    }
     let path = crate::io::output_target(std::path::Path::new(name)).ok()?;
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
@@ -1037,10 +1044,7 @@ pub fn destination(name: &str) -> Option<std::path::PathBuf> {
 /// the image where the make rule was meant to be, with status 0).
 pub fn refuse_shared_outputs(outputs: &[(&str, Option<&str>)]) -> anyhow::Result<()> {
     let places: Vec<_> = (outputs.iter())
-        .map(|&(_, name)| {
-            name.filter(|n| *n != crate::io::STDIO)
-                .and_then(destination)
-        })
+        .map(|&(_, name)| name.and_then(destination))
         .collect();
     for (k, &(flag, name)) in outputs.iter().enumerate() {
         for (j, &(earlier, other)) in outputs[..k].iter().enumerate() {

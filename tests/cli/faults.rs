@@ -1860,7 +1860,47 @@ clitest!(
                 "scene-render: error: comparing with big.ppm: image is 8x8 but the reference is \
              16000x16000\n",
             );
-        assert_eq!(dir.files(), ["big.ppm", "ref.png", "s.json"]);
+        // A PFM's size comes from its text header too.
+        dir.cmd("scene-render")
+            .args([
+                "--size", "8x8", "--format", "pfm", "s.json", "-o", "ref.pfm",
+            ])
+            .assert()
+            .success();
+        let mut cut = b"PF\n16000 16000\n-1.0\n".to_vec();
+        cut.extend_from_slice(&[0; 12]);
+        std::fs::write(dir.path().join("big.pfm"), cut).unwrap();
+        for (args, said) in [
+            (
+                vec![
+                    "--size",
+                    "64x48",
+                    "--timings",
+                    "s.json",
+                    "--compare",
+                    "ref.pfm",
+                ],
+                "comparing with ref.pfm: image is 64x48 but the reference is 8x8",
+            ),
+            (
+                vec!["--image", "ref.pfm", "--compare", "big.ppm"],
+                "comparing with big.ppm: image is 8x8 but the reference is 16000x16000",
+            ),
+            (
+                vec!["--image", "big.pfm", "--compare", "ref.png"],
+                "comparing with ref.png: image is 16000x16000 but the reference is 8x8",
+            ),
+        ] {
+            dir.cmd("scene-render")
+                .args(&args)
+                .assert()
+                .code(1)
+                .stderr(format!("scene-render: error: {said}\n"));
+        }
+        assert_eq!(
+            dir.files(),
+            ["big.pfm", "big.ppm", "ref.pfm", "ref.png", "s.json"]
+        );
     }
 );
 
@@ -1883,18 +1923,35 @@ clitest!(rayon_num_threads_is_bounded_as_threads_is, |dir| {
     run(&["--threads", "2"]).assert().success();
     // What is not a number was passed over in silence (a hostile-input
     // review); 0 is rayon's "one per core", and empty is unset.
-    for bad in ["abc", "-1", "2.5"] {
+    // rayon does not trim (" 1 " is its default, not one thread), and
+    // RAYON_RS_NUM_CPUS is its older name for the same thing.
+    for (var, bad) in [
+        ("RAYON_NUM_THREADS", "abc"),
+        ("RAYON_NUM_THREADS", "-1"),
+        ("RAYON_NUM_THREADS", "2.5"),
+        ("RAYON_NUM_THREADS", " 1 "),
+        ("RAYON_RS_NUM_CPUS", "x"),
+    ] {
         let mut c = dir.cmd("pat-from-image");
-        c.env("RAYON_NUM_THREADS", bad)
+        c.env(var, bad)
             .args(["--size", "16", marble, "-o", "p.pat"])
             .assert()
             .code(2)
             .stderr(format!(
-                "pat-from-image: error: RAYON_NUM_THREADS={bad}: expected a number of worker \
+                "pat-from-image: error: {var}={bad}: expected a number of worker \
                  threads, 0 for one per core (--threads N overrides it)\n"
             ));
     }
-    for fine in ["0", "", " 2 "] {
+    let mut c = dir.cmd("pat-from-image");
+    c.env("RAYON_RS_NUM_CPUS", "5000")
+        .args(["--size", "16", marble, "-o", "p.pat"])
+        .assert()
+        .code(2)
+        .stderr(
+            "pat-from-image: error: RAYON_RS_NUM_CPUS=5000: at most 1024 worker threads \
+             (--threads N overrides it)\n",
+        );
+    for fine in ["0", "", "2"] {
         let mut c = dir.cmd("pat-from-image");
         c.env("RAYON_NUM_THREADS", fine)
             .args(["--size", "16", marble, "-o", "p.pat"])

@@ -167,12 +167,23 @@ clitest!(two_outputs_spelled_differently_are_still_one_file, |dir| {
         (
             "scene-render",
             vec!["--frames", "3", "-o", "g-%d.png", "--depfile", "./g-1.png"],
-            "--depfile ./g-1.png: the same file as -o g-1.png",
+            "--depfile ./g-1.png: the same file as frame 1 of -o g-1.png",
         ),
         (
             "scene-render",
             vec!["--frames", "3", "-o", "g-%d.png", "--depfile", "g-2.png"],
-            "--depfile g-2.png: the same file as -o: each output needs its own name",
+            "--depfile g-2.png: the same file as frame 2 of -o: each output needs its own name",
+        ),
+        (
+            "scene-render",
+            vec!["-o", "-", "--compare", "ref.png", "--diff", "/dev/stdout"],
+            "--diff /dev/stdout: the same file as -o -",
+        ),
+        (
+            // The report goes to standard output when the image does not.
+            "scene-render",
+            vec!["-o", "x.png", "--compare", "ref.png", "--diff", "-"],
+            "--diff -: the same file as the report",
         ),
         (
             "polyfill3",
