@@ -149,31 +149,11 @@ fn word_error(file: &str, text: &str, line: usize, index: usize, message: String
 /// Whether `text` is a number as languages write one: an optional sign,
 /// digits with at most one point among them, and an optional exponent
 /// (`e`, an optional sign, digits), or NaN or infinity (`-16`, `+1.5e3`,
-/// `.5`, `nan`, `-Infinity`). Not a date, an address or an identity number
-/// (`2024-01-01`, `192.168.1.10`, `078-05-1120`): those stay unechoed (a
-/// review).
+/// `.5`, `nan`, `-Infinity`): the grammar of Rust's `f64::from_str`. Not a
+/// date, an address or an identity number (`2024-01-01`, `192.168.1.10`,
+/// `078-05-1120`): those stay unechoed (a review).
 fn written_as_number(text: &str) -> bool {
-    let unsigned = text.strip_prefix(['+', '-']).unwrap_or(text);
-    if ["nan", "inf", "infinity"]
-        .iter()
-        .any(|n| unsigned.eq_ignore_ascii_case(n))
-    {
-        return true;
-    }
-    let (mantissa, exponent) = match unsigned.find(['e', 'E']) {
-        Some(at) => (&unsigned[..at], Some(&unsigned[at + 1..])),
-        None => (unsigned, None),
-    };
-    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
-    let mantissa_ok = match mantissa.split_once('.') {
-        Some((whole, fraction)) => {
-            (digits(whole) || whole.is_empty())
-                && (digits(fraction) || fraction.is_empty())
-                && !(whole.is_empty() && fraction.is_empty())
-        }
-        None => digits(mantissa),
-    };
-    mantissa_ok && exponent.is_none_or(|e| digits(e.strip_prefix(['+', '-']).unwrap_or(e)))
+    text.parse::<f64>().is_ok()
 }
 
 /// [`word_error`] for a word of digits that is out of range, echoed even

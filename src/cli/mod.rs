@@ -1023,8 +1023,8 @@ pub fn make_escaped(name: &str, target: bool) -> String {
 /// `/dev` and `/proc`. `None` where that cannot be found (a directory that
 /// does not exist, a name ending in `/`: writing there fails anyway).
 pub fn destination(name: &str) -> Option<std::path::PathBuf> {
-    const STDOUT_NAMES: [&str; 4] = ["/dev/stdout", "/dev/fd/1", "/proc/self/fd/1", "-"];
-    if STDOUT_NAMES.contains(&name) {
+    let name = stdio_file(name, true);
+    if ["/dev/stdout", "/dev/fd/1", "/proc/self/fd/1"].contains(&name) {
         return Some(std::path::PathBuf::from("/dev/stdout"));
     }
     if name.ends_with('/') {

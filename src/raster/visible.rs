@@ -698,7 +698,6 @@ impl PixelStates {
                     }
                 }
             }
-            let area2_left = kept.iter().fold(0.0, |sum, o| sum + area2(&o.verts));
             let end = lo + kept.len();
             map.splice(lo..hi, kept.drain(..));
             cursor = end;
@@ -708,7 +707,10 @@ impl PixelStates {
             lost = true;
             // Its new area and, if coloured by what shows, its new colour.
             let c = &mut showers[shower as usize];
-            c.area = 0.5 * area2_left;
+            c.area = 0.5
+                * map[lo..end]
+                    .iter()
+                    .fold(0.0, |sum, o| sum + area2(&o.verts));
             gone |= c.area <= AREA_EPS;
             if c.cut_later && c.area > AREA_EPS {
                 // Counted as estimated when it first showed; what shows of it

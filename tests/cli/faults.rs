@@ -214,15 +214,8 @@ clitest!(
         // render and with the new image already in place of the old one. A
         // closed one is refused before the work now, and the report is written
         // before the files take their names.
-        dir.write(
-            "tri.json",
-            r#"{"vertices":[[0,0],[10,0],[0,10]],"color":[200,1,2]}"#,
-        );
-        dir.cmd("scene-render")
-            .args(["--size", "8x8", "-o", "ref.png", "tri.json"])
-            .assert()
-            .success();
-        let run = "scene-render --size 8x8 -o out.png --diff diff.png tri.json";
+        dir.triangle_and_its_image();
+        let run = "scene-render --size 8x8 -o out.png --diff diff.png s.json";
         for (flags, to) in [
             ("--compare ref.png", ">&-"),
             ("--compare ref.png", ">/dev/full"),
@@ -249,7 +242,7 @@ clitest!(
             assert_eq!(dir.read("out.png"), b"old", "{flags} {to}");
             assert_eq!(dir.read("diff.png"), b"old diff", "{flags} {to}");
             let mut left = dir.files();
-            left.retain(|f| !["ref.png", "tri.json", "out.png", "diff.png"].contains(&f.as_str()));
+            left.retain(|f| !["ref.png", "s.json", "out.png", "diff.png"].contains(&f.as_str()));
             assert!(left.is_empty(), "{flags} {to}: {left:?}");
         }
     }
