@@ -55,7 +55,9 @@ use crate::io::{AnyImage, Encoding, Image};
 use crate::light::{Lights, Shade};
 use crate::progress::{Progress, Silent};
 use crate::raster::{self, Aa, Background, Cull, ScreenPoly, Shader, Tally};
-use crate::stream::{for_each_item_in, Instance, Item, Objects, PatternMode, PatternRef, Record};
+use crate::stream::{
+    for_each_item_in, FileIds, Instance, Item, Objects, PatternMode, PatternRef, Record,
+};
 use crate::stripe::record::StripeLoader;
 use crate::stripe::LodMode;
 use crate::texture::place::TextureSettings;
@@ -404,7 +406,8 @@ impl Scene {
         base: &Path,
         limits: &LoadOptions,
     ) -> Result<Scene, SceneError> {
-        let mut patterns: HashMap<PathBuf, Arc<Texels>> = HashMap::new();
+        // Keyed by the file, not its spelling (`stream::FileIds`).
+        let (mut patterns, mut ids) = (HashMap::<PathBuf, Arc<Texels>>::new(), FileIds::default());
         let mut stripes = StripeLoader::new(base);
         let mut files = Vec::new();
         let mut coarse = Vec::new();
@@ -430,12 +433,12 @@ impl Scene {
                 };
                 // Only patterns the scene references are read, each once.
                 let path = crate::stream::resolve(base, file);
-                let texels = match patterns.get(&path) {
+                let texels = match patterns.get(ids.file(&path)) {
                     Some(p) => p.clone(),
                     None => {
                         let p = Arc::new(Texels::read_file(&path).in_record(at.0, at.1)?);
-                        files.push(path.clone());
-                        patterns.insert(path, p.clone());
+                        patterns.insert(ids.file(&path).to_path_buf(), p.clone());
+                        files.push(path);
                         p
                     }
                 };

@@ -189,6 +189,7 @@ pub fn partition_stream<W: Write>(
         args: options,
         base: base.to_path_buf(),
         patterns: HashMap::new(),
+        ids: stream::FileIds::default(),
         partitioner: Partitioner::new(),
         writer: CellWriter::new(out),
         volume: options.volume,
@@ -233,7 +234,10 @@ pub fn partition_stream<W: Write>(
 struct Job<'a, W: Write> {
     args: &'a PartitionOptions,
     base: PathBuf,
+    /// Each pattern read, keyed by its file, not its spelling
+    /// ([`stream::FileIds`]).
     patterns: HashMap<PathBuf, Rc<Pattern>>,
+    ids: stream::FileIds,
     partitioner: Partitioner,
     writer: CellWriter<W>,
     volume: Option<ViewVolume>,
@@ -264,7 +268,7 @@ impl<W: Write> Job<'_, W> {
 
     fn pattern(&mut self, file: Option<&str>) -> Result<Rc<Pattern>, CellsError> {
         let path = self.pattern_path(file)?;
-        if let Some(p) = self.patterns.get(&path) {
+        if let Some(p) = self.patterns.get(self.ids.file(&path)) {
             return Ok(p.clone());
         }
         let name = path.display().to_string();
@@ -286,8 +290,9 @@ impl<W: Write> Job<'_, W> {
         // Read as a stream: a pattern may be larger than a file read whole.
         let p = Pattern::read_from(&mut opened.into_reader(), &name);
         let p = Rc::new(p.map_err(CellsError::Pattern)?);
-        self.summary.files.push(path.clone());
-        self.patterns.insert(path, p.clone());
+        let file = self.ids.file(&path).to_path_buf();
+        self.patterns.insert(file, p.clone());
+        self.summary.files.push(path);
         Ok(p)
     }
 

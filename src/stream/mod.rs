@@ -47,7 +47,7 @@ pub use objects::{
     transform_record, Instance, Item, LightDef, ObjectDef, Objects, INSTANCE_CURVE_TOLERANCE,
     MAX_OBJECT_DEPTH,
 };
-pub use paths::{base_dir, forward_file_refs, names_files, resolve, RefTarget};
+pub use paths::{base_dir, forward_file_refs, names_files, resolve, FileIds, RefTarget};
 pub use read::{
     for_each_item, for_each_item_in, for_each_item_with, for_each_record, nth_item, MAX_NTH_RECORDS,
 };

@@ -35,6 +35,32 @@ pub fn resolve(base: &Path, file: &str) -> PathBuf {
     }
 }
 
+/// The file each spelling of a path names, so that a file read for a
+/// stream is read once however its records spell it (`a.pat`, `./a.pat`,
+/// `sub/../a.pat`, a symbolic link to it): keyed by spelling, a scene that
+/// named one 4096² photograph two ways decoded and held it twice.
+///
+/// The file is the path with its links followed and `.`/`..` resolved
+/// ([`std::fs::canonicalize`]), found once per spelling, not once per
+/// record (a stream may have millions naming one pattern). A path that
+/// cannot be resolved (a missing file) stands for itself, and its reader
+/// then reports it. Hard links stay two files, as they have two names.
+#[derive(Debug, Default)]
+pub struct FileIds {
+    by_spelling: std::collections::HashMap<PathBuf, PathBuf>,
+}
+
+impl FileIds {
+    /// The file `path` names.
+    pub fn file(&mut self, path: &Path) -> &Path {
+        if !self.by_spelling.contains_key(path) {
+            let file = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+            self.by_spelling.insert(path.to_path_buf(), file);
+        }
+        &self.by_spelling[path]
+    }
+}
+
 /// Where the file references of forwarded records point.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum RefTarget {

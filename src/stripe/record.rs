@@ -501,15 +501,18 @@ impl std::error::Error for NoMapping {}
 #[derive(Debug)]
 pub struct StripeLoader {
     base: std::path::PathBuf,
-    /// (resolved map path, translation spec as written, resolved colour-table
-    /// path) → files and pyramid. The translation is keyed by its `Debug`
-    /// form because its numbers are f64 (no `Hash`); equal specs print equal.
+    /// (map file, translation spec as written, colour-table file) → files
+    /// and pyramid; the files as [`crate::stream::FileIds`] finds them, so
+    /// however a record spells them. The translation is keyed by its
+    /// `Debug` form because its numbers are f64 (no `Hash`); equal specs
+    /// print equal.
     loaded: std::collections::HashMap<
         (std::path::PathBuf, String, Option<std::path::PathBuf>),
         LoadedStripe,
     >,
     /// Every file read, each once, in the order first read.
     files: Vec<std::path::PathBuf>,
+    ids: crate::stream::FileIds,
 }
 
 impl StripeLoader {
@@ -520,6 +523,7 @@ impl StripeLoader {
             base: base.to_path_buf(),
             loaded: Default::default(),
             files: Vec::new(),
+            ids: Default::default(),
         }
     }
 
@@ -532,20 +536,20 @@ impl StripeLoader {
     /// `spec` with its files read, from the cache when another record named
     /// the same files.
     pub fn load(&mut self, spec: &StripeSpec) -> Result<LoadedStripe, StripeError> {
-        let key = (
+        let (map, colours) = (
             resolve(&self.base, &spec.map),
-            format!("{:?}", spec.translation),
             spec.colours.as_ref().map(|c| resolve(&self.base, c)),
+        );
+        let key = (
+            self.ids.file(&map).to_path_buf(),
+            format!("{:?}", spec.translation),
+            colours.as_ref().map(|c| self.ids.file(c).to_path_buf()),
         );
         let shared = match self.loaded.get(&key) {
             Some(l) => l,
             None => {
                 let l = spec.load(&self.base)?;
-                let read = [
-                    Some(key.0.clone()),
-                    spec.translation_file(&self.base),
-                    key.2.clone(),
-                ];
+                let read = [Some(map), spec.translation_file(&self.base), colours];
                 for f in read.into_iter().flatten() {
                     if !self.files.contains(&f) {
                         self.files.push(f);

@@ -134,6 +134,68 @@ clitest!(depfiles_name_every_file_read_and_every_frame, |dir| {
     );
 });
 
+clitest!(a_file_spelled_two_ways_is_read_once, |dir| {
+    // The readers kept what they read by the name as written, so one
+    // pattern or stripe map named `b.pat`, `./b.pat`, `sub/../b.pat` or by
+    // a link was read, and held, once per spelling: a photograph named two
+    // ways took twice its memory. The depfile lists what was read.
+    std::fs::copy(
+        repo("fixtures/patterns/brick.pat"),
+        dir.path().join("b.pat"),
+    )
+    .unwrap();
+    dir.write("m.map", "STRIPE 8\n0 32 64 96 128 160 192 255\n");
+    std::fs::create_dir(dir.path().join("sub")).unwrap();
+    std::os::unix::fs::symlink("b.pat", dir.path().join("link.pat")).unwrap();
+    std::os::unix::fs::symlink("m.map", dir.path().join("link.map")).unwrap();
+    let square = r#""vertices": [[0,0],[4,0],[4,4],[0,4]]"#;
+    let mut scene = String::new();
+    for name in ["b.pat", "./b.pat", "sub/../b.pat", "link.pat"] {
+        scene += &format!("{{{square}, \"pattern\": {{\"file\": \"{name}\"}}}}\n");
+    }
+    for name in ["m.map", "./m.map", "link.map"] {
+        scene += &format!(
+            "{{{square}, \"stripe\": {{\"map\": \"{name}\", \"spacing\": 0.5, \"yaw\": 0}}}}\n"
+        );
+    }
+    dir.write("s.json", &scene);
+    dir.cmd("scene-render")
+        .args(["--size", "8x8", "--depfile", "s.d", "-o", "s.png", "s.json"])
+        .assert()
+        .success();
+    let rule = String::from_utf8(dir.read("s.d")).unwrap();
+    assert_eq!(rule.lines().next(), Some("s.png: \\"), "one target: {rule}");
+    let deps: Vec<&str> = rule.lines().skip(1).map(str::trim).collect();
+    assert_eq!(
+        deps,
+        [
+            "s.json \\",
+            "b.pat \\",
+            "m.map",
+            "",
+            "s.json:",
+            "",
+            "b.pat:",
+            "",
+            "m.map:"
+        ],
+        "each file once, as first named: {rule}"
+    );
+    // polyfill3 partitions the pattern records (its input's stripes are
+    // passed on as written, unread).
+    let patterned: String = scene.lines().take(4).map(|l| format!("{l}\n")).collect();
+    dir.write("p.json", &patterned);
+    dir.cmd("polyfill3")
+        .args(["--depfile", "p.d", "-o", "p.ndjson", "p.json"])
+        .assert()
+        .success();
+    let rule = String::from_utf8(dir.read("p.d")).unwrap();
+    assert!(
+        rule.starts_with("p.ndjson: \\\n  p.json \\\n  b.pat\n"),
+        "{rule}"
+    );
+});
+
 clitest!(two_outputs_spelled_differently_are_still_one_file, |dir| {
     // A hostile-input review: output names were compared as text, so the
     // same file spelled another way (`./x.png`, `sub/../x.png`, a link to
