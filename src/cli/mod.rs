@@ -66,6 +66,7 @@ macro_rules! eprintln_or_drop {
 }
 pub(crate) use eprintln_or_drop;
 
+
 /// `eprint!` as [`eprintln_or_drop!`] does it.
 macro_rules! eprint_or_drop {
     ($($arg:tt)*) => {{
@@ -73,7 +74,6 @@ macro_rules! eprint_or_drop {
         let _ = write!(std::io::stderr(), $($arg)*);
     }};
 }
-pub(crate) use eprint_or_drop;
 
 /// Exit statuses (each man page's EXIT STATUS).
 pub const EXIT_OK: i32 = 0;
@@ -444,7 +444,9 @@ pub extern "C" fn pow(x: f64, y: f64) -> f64 {
 static STDIN_STATE: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(USABLE);
 /// The same for standard output.
 static STDOUT_STATE: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(USABLE);
-/// [`STDIN_STATE`]'s and [`STDOUT_STATE`]'s values.
+/// The same for standard error.
+static STDERR_STATE: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(USABLE);
+/// [`STDIN_STATE`]'s, [`STDOUT_STATE`]'s and [`STDERR_STATE`]'s values.
 const USABLE: u8 = 0;
 const CLOSED: u8 = 1;
 const WRONG_WAY: u8 = 2;
@@ -466,6 +468,7 @@ static NOTE_CLOSED_STDIO: extern "C" fn() = {
         let relaxed = std::sync::atomic::Ordering::Relaxed;
         STDIN_STATE.store(state(0, libc::O_WRONLY), relaxed);
         STDOUT_STATE.store(state(1, libc::O_RDONLY), relaxed);
+        STDERR_STATE.store(state(2, libc::O_RDONLY), relaxed);
     }
     note
 };
@@ -486,6 +489,28 @@ fn stdout_unusable() -> Option<&'static str> {
         WRONG_WAY => Some("open for reading only"),
         _ => None,
     }
+}
+
+/// Writes a report asked for on standard error (polyfill3's `--json`,
+/// scene-render's `--compare` report when the image is on standard
+/// output), or an error if it could not be written. Diagnostics are
+/// dropped when standard error cannot take them
+/// ([`eprintln_or_drop!`]), but a report is an output: `2>/dev/full` or
+/// `2>&-` lost it with status 0 (a hostile-input review). The error itself
+/// has nowhere to go then, but the exit status says it.
+pub fn write_report_to_stderr(text: &str) -> anyhow::Result<()> {
+    let why = match STDERR_STATE.load(std::sync::atomic::Ordering::Relaxed) {
+        CLOSED => Some("closed"),
+        WRONG_WAY => Some("open for reading only"),
+        _ => None,
+    };
+    if let Some(why) = why {
+        anyhow::bail!("standard error is {why}: the report could not be written");
+    }
+    use std::io::Write as _;
+    let mut err = std::io::stderr().lock();
+    let written = err.write_all(text.as_bytes()).and_then(|()| err.flush());
+    anyhow::Context::context(written, "writing the report to standard error")
 }
 
 /// An error unless standard output can be written: output to a closed
@@ -594,8 +619,29 @@ pub fn check_inputs(inputs: &[(&str, Option<&str>)]) -> anyhow::Result<()> {
              give one of them a file"
         );
     }
+    // `--camera /dev/stdin` beside a stream on `-`: the camera took all of
+    // a pipe and the stream rendered as empty, with status 0.
+    let stdins: Vec<(&str, &str)> = (inputs.iter())
+        .filter_map(|&(what, v)| Some((what, v.filter(|v| is_stdin(v))?)))
+        .collect();
+    if let [(first, a), (second, b), ..] = stdins[..] {
+        usage_bail!(
+            "{first} {a} and {second} {b} both name standard input: it can be read only once; \
+             give one of them a file"
+        );
+    }
     Ok(())
 }
+
+/// Whether an input name is standard input: `-`, or one of the names Linux
+/// gives it (opening one reads the same pipe as `-`).
+fn is_stdin(name: &str) -> bool {
+    name == crate::io::STDIO || STDIN_NAMES.contains(&name)
+}
+
+/// The names of standard input and output besides `-`.
+const STDIN_NAMES: [&str; 3] = ["/dev/stdin", "/dev/fd/0", "/proc/self/fd/0"];
+const STDOUT_NAMES: [&str; 3] = ["/dev/stdout", "/dev/fd/1", "/proc/self/fd/1"];
 
 /// The format of an image output: `--format`, else the extension, else PNG
 /// ([`crate::io::ImageFormat::choose`]). An extension it does not write is a
@@ -1024,7 +1070,7 @@ pub fn make_escaped(name: &str, target: bool) -> String {
 /// does not exist, a name ending in `/`: writing there fails anyway).
 pub fn destination(name: &str) -> Option<std::path::PathBuf> {
     let name = stdio_file(name, true);
-    if ["/dev/stdout", "/dev/fd/1", "/proc/self/fd/1"].contains(&name) {
+    if STDOUT_NAMES.contains(&name) {
         return Some(std::path::PathBuf::from("/dev/stdout"));
     }
     if name.ends_with('/') {

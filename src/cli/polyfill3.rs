@@ -1,7 +1,7 @@
 //! `polyfill3`: partition 3D polygons into texture point polygons (the thesis's
 //! `polcolorf3`, ch. IV, with the "object" placement of docs/stream-format.md).
 
-use crate::cli::{eprintln_or_drop, usage_bail};
+use crate::cli::usage_bail;
 use crate::geom::merge::Merge;
 use crate::geom::plane::DEFAULT_PLANARITY_TOL;
 use crate::io::{display_name, Output, STDIO};
@@ -339,10 +339,11 @@ fn run_in_pool(args: Args) -> Result<()> {
         deps.extend(s.files.iter().map(|p| super::dep_name(p)));
         super::write_depfile(depfile, std::slice::from_ref(&args.output), &deps)?;
     }
-    out.commit()?;
     if args.json {
-        eprintln_or_drop!(
-            "{}",
+        // Before the output is committed: a report that cannot be written
+        // leaves the old output, as scene-render's does.
+        super::write_report_to_stderr(&format!(
+            "{}\n",
             serde_json::json!({
                 "version": super::JSON_VERSION,
                 "tool": "polyfill3",
@@ -356,7 +357,8 @@ fn run_in_pool(args: Args) -> Result<()> {
                 "instances": s.instances,
                 "seconds": start.elapsed().as_secs_f64(),
             })
-        );
+        ))?;
     }
+    out.commit()?;
     Ok(())
 }

@@ -4,7 +4,7 @@
 use super::camera::CameraArgs;
 use super::Size;
 use crate::camera::Camera;
-use crate::cli::{eprint_or_drop, eprintln_or_drop, usage_bail};
+use crate::cli::{eprintln_or_drop, usage_bail};
 use crate::color::Rgb8;
 use crate::io::{decode_any, display_name, read_input, AnyImage, Depth, ImageFormat, PngOptions};
 use crate::progress::Progress;
@@ -1114,8 +1114,7 @@ fn render_frames(
 /// itself goes to standard output.
 fn print_report(text: &str, image_on_stdout: bool) -> Result<()> {
     if image_on_stdout {
-        eprint_or_drop!("{text}");
-        return Ok(());
+        return super::write_report_to_stderr(text);
     }
     // The image has its file (to be) already: -o is no way round.
     super::check_stdout(REPORT_ON_STDOUT)?;

@@ -248,6 +248,30 @@ clitest!(
     }
 );
 
+clitest!(a_report_on_standard_error_that_cannot_be_written_fails, |dir| {
+    // A hostile-input review: polyfill3's --json summary, and scene-render's
+    // report when the image is on standard output, go to standard error,
+    // and with it full or closed they were lost with status 0. The error
+    // has nowhere to go; the status says it, and polyfill3's old output stays.
+    dir.triangle_and_its_image();
+    let brick = crate::util::repo("fixtures/patterns/brick.pat");
+    std::fs::copy(brick, dir.path().join("b.pat")).unwrap();
+    for to in ["2>/dev/full", "2>&-"] {
+        dir.write("cells.nd", "old");
+        let err = sh_fails(
+            dir.path(),
+            &format!("polyfill3 --pattern b.pat --json -o cells.nd s.json {to}"),
+        );
+        assert_eq!(err, "", "{to}");
+        assert_eq!(dir.read("cells.nd"), b"old", "{to}");
+        let run = format!("scene-render --size 8x8 --compare ref.png -o - --json s.json {to}");
+        assert_eq!(sh_fails(dir.path(), &format!("{run} >/dev/null")), "", "{to}");
+    }
+    let mut left = dir.files();
+    left.retain(|f| !["ref.png", "s.json", "cells.nd", "b.pat"].contains(&f.as_str()));
+    assert!(left.is_empty(), "{left:?}");
+});
+
 /// A command of each tool that reads standard input, and what its error
 /// calls that input.
 const STDIN_READERS: [(&str, &str); 5] = [
@@ -829,6 +853,35 @@ clitest!(two_inputs_on_standard_input_are_a_usage_error, |dir| {
             .code(2)
             .stderr(predicates::str::contains(format!(
                 "{said} both name `-`: standard input can be read only once"
+            )));
+    }
+    // The same under another of its names (a hostile-input review: the
+    // camera took the whole pipe, and the stream rendered empty with
+    // status 0).
+    for (tool, args, said) in [
+        (
+            "scene-render",
+            &["--camera", "/dev/stdin", "-"][..],
+            "the stream - and --camera /dev/stdin",
+        ),
+        (
+            "polyfill3",
+            &["--cull", "--camera", "/dev/fd/0"][..],
+            "the stream - and --camera /dev/fd/0",
+        ),
+        (
+            "scene-render",
+            &["--background-pattern", "/proc/self/fd/0", "/dev/stdin"][..],
+            "the stream /dev/stdin and --background-pattern /proc/self/fd/0",
+        ),
+    ] {
+        dir.cmd(tool)
+            .args(args)
+            .write_stdin(r#"{"ortho2": [0, 8, 0, 8]}"#)
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains(format!(
+                "{said} both name standard input: it can be read only once"
             )));
     }
     // With --image the stream is not read: its default `-` is no second reader.
