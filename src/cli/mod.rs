@@ -66,7 +66,6 @@ macro_rules! eprintln_or_drop {
 }
 pub(crate) use eprintln_or_drop;
 
-
 /// `eprint!` as [`eprintln_or_drop!`] does it.
 macro_rules! eprint_or_drop {
     ($($arg:tt)*) => {{
@@ -216,14 +215,17 @@ fn values_after_flags(
     out
 }
 
-/// On SIGINT, SIGTERM or SIGHUP (Ctrl-C, a batch scheduler's pre-emption, a
-/// closed terminal), removes the temporary files of outputs being written,
-/// then dies of the signal as it would have (status 128 + N to the shell),
-/// so a killed run leaves no `.patkit-*.tmp` behind. A thread waits for the
-/// signals, so nothing runs inside a signal handler but the flag it sets.
+/// On a signal that ends a process ([`ENDING_SIGNALS`]: Ctrl-C, a batch
+/// scheduler's pre-emption, a closed terminal, Ctrl-\\), removes the
+/// temporary files of outputs being written, then dies of the signal as it
+/// would have (status 128 + N to the shell), so a killed run leaves no
+/// `.patkit-*.tmp` behind. A thread waits for the signals, so nothing runs
+/// inside a signal handler but the flag it sets. A signal the tool was
+/// started with ignored (`nohup`, `trap '' HUP`) stays ignored: a handler
+/// would have made it kill.
 fn clean_up_on_signals() {
-    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
-    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
+    let caught = ENDING_SIGNALS.into_iter().filter(|&sig| !ignored(sig));
+    let Ok(mut signals) = signal_hook::iterator::Signals::new(caught) else {
         return; // Without handlers a signal kills at once, as before.
     };
     // A small stack: the thread only removes files. If it cannot start (an
@@ -241,6 +243,28 @@ fn clean_up_on_signals() {
                 std::process::exit(128 + sig);
             }
         });
+}
+
+/// The signals whose default action ends the process and that a user or a
+/// scheduler sends: SIGHUP, SIGINT, SIGQUIT, SIGTERM, SIGUSR1, SIGUSR2,
+/// SIGALRM, SIGXCPU (a CPU-time limit). Not SIGXFSZ (a file-size limit:
+/// ignored, the write fails and is reported as a full disk is) nor the
+/// profilers' SIGPROF and SIGVTALRM; SIGPIPE is taken as a closed pipe.
+const ENDING_SIGNALS: [i32; 8] = {
+    use signal_hook::consts::*;
+    [
+        SIGHUP, SIGINT, SIGQUIT, SIGTERM, SIGUSR1, SIGUSR2, SIGALRM, SIGXCPU,
+    ]
+};
+
+/// Whether `sig` was ignored when the tool started.
+fn ignored(sig: i32) -> bool {
+    // SAFETY: sigaction with a null new action only reads the disposition
+    // into `old`, which is zeroed plain data.
+    unsafe {
+        let mut old: libc::sigaction = std::mem::zeroed();
+        libc::sigaction(sig, std::ptr::null(), &mut old) == 0 && old.sa_sigaction == libc::SIG_IGN
+    }
 }
 
 /// How many bytes a pipe on standard input or output is widened to hold:
@@ -851,7 +875,7 @@ pub fn man_sections(tool: &str) -> String {
     );
     item(
         "128 + N",
-        "Killed by signal N: SIGHUP (129), SIGINT (130) or SIGTERM (143). The output being written is removed first, then the tool dies of the signal.",
+        "Killed by signal N: SIGHUP (129), SIGINT (130), SIGQUIT (131), SIGTERM (143), SIGUSR1, SIGUSR2, SIGALRM or SIGXCPU. The output being written is removed first, then the tool dies of the signal. A signal ignored when the tool started (nohup) stays ignored.",
     );
     s.push_str(".SH ENVIRONMENT\n");
     let mut item = |tag: &str, text: &str| {

@@ -248,29 +248,36 @@ clitest!(
     }
 );
 
-clitest!(a_report_on_standard_error_that_cannot_be_written_fails, |dir| {
-    // A hostile-input review: polyfill3's --json summary, and scene-render's
-    // report when the image is on standard output, go to standard error,
-    // and with it full or closed they were lost with status 0. The error
-    // has nowhere to go; the status says it, and polyfill3's old output stays.
-    dir.triangle_and_its_image();
-    let brick = crate::util::repo("fixtures/patterns/brick.pat");
-    std::fs::copy(brick, dir.path().join("b.pat")).unwrap();
-    for to in ["2>/dev/full", "2>&-"] {
-        dir.write("cells.nd", "old");
-        let err = sh_fails(
-            dir.path(),
-            &format!("polyfill3 --pattern b.pat --json -o cells.nd s.json {to}"),
-        );
-        assert_eq!(err, "", "{to}");
-        assert_eq!(dir.read("cells.nd"), b"old", "{to}");
-        let run = format!("scene-render --size 8x8 --compare ref.png -o - --json s.json {to}");
-        assert_eq!(sh_fails(dir.path(), &format!("{run} >/dev/null")), "", "{to}");
+clitest!(
+    a_report_on_standard_error_that_cannot_be_written_fails,
+    |dir| {
+        // A hostile-input review: polyfill3's --json summary, and scene-render's
+        // report when the image is on standard output, go to standard error,
+        // and with it full or closed they were lost with status 0. The error
+        // has nowhere to go; the status says it, and polyfill3's old output stays.
+        dir.triangle_and_its_image();
+        let brick = crate::util::repo("fixtures/patterns/brick.pat");
+        std::fs::copy(brick, dir.path().join("b.pat")).unwrap();
+        for to in ["2>/dev/full", "2>&-"] {
+            dir.write("cells.nd", "old");
+            let err = sh_fails(
+                dir.path(),
+                &format!("polyfill3 --pattern b.pat --json -o cells.nd s.json {to}"),
+            );
+            assert_eq!(err, "", "{to}");
+            assert_eq!(dir.read("cells.nd"), b"old", "{to}");
+            let run = format!("scene-render --size 8x8 --compare ref.png -o - --json s.json {to}");
+            assert_eq!(
+                sh_fails(dir.path(), &format!("{run} >/dev/null")),
+                "",
+                "{to}"
+            );
+        }
+        let mut left = dir.files();
+        left.retain(|f| !["ref.png", "s.json", "cells.nd", "b.pat"].contains(&f.as_str()));
+        assert!(left.is_empty(), "{left:?}");
     }
-    let mut left = dir.files();
-    left.retain(|f| !["ref.png", "s.json", "cells.nd", "b.pat"].contains(&f.as_str()));
-    assert!(left.is_empty(), "{left:?}");
-});
+);
 
 /// A command of each tool that reads standard input, and what its error
 /// calls that input.
@@ -372,9 +379,20 @@ clitest!(a_signal_removes_the_output_being_written, |dir| {
             repo("fixtures/patterns/brick.pat").display()
         ),
     );
-    for (name, number) in [("TERM", 15), ("INT", 2), ("HUP", 1)] {
+    // A hostile-input review: SIGQUIT (Ctrl-\\) and SIGUSR1 left the
+    // temporary file.
+    for (name, number) in [
+        ("TERM", 15),
+        ("INT", 2),
+        ("HUP", 1),
+        ("QUIT", 3),
+        ("USR1", 10),
+    ] {
+        // Without job control a shell starts background commands with
+        // SIGINT and SIGQUIT ignored, and an ignored signal stays so: `env
+        // --default-signal` (GNU coreutils) gives them back.
         let script = format!(
-            "polyfill3 big.json -o out.ndjson & pid=$!; \
+            "env --default-signal=INT,QUIT polyfill3 big.json -o out.ndjson & pid=$!; \
              while ! ls -a | grep -q '^\\.patkit-'; do sleep 0.05; done; \
              kill -{name} $pid; wait $pid; echo $? > status"
         );
@@ -389,6 +407,13 @@ clitest!(a_signal_removes_the_output_being_written, |dir| {
             .collect();
         assert!(left.is_empty(), "SIG{name} left {left:?}");
     }
+    // Ignored when the tool starts (nohup): the handler made it kill.
+    let script = "trap '' HUP; (sleep 1; echo) | polyfill3 -o out.ndjson & pid=$!; \
+                  sleep 0.3; kill -HUP $pid; wait $pid; echo $? > status";
+    assert!(sh(dir.path(), script).status.success());
+    let status = std::fs::read_to_string(dir.path().join("status")).unwrap();
+    assert_eq!(status.trim(), "0", "an ignored SIGHUP");
+    assert!(dir.path().join("out.ndjson").exists());
 });
 
 clitest!(
