@@ -84,7 +84,7 @@ back\t'Drop polygons seen from behind (clockwise on screen)'
 front\t'Drop polygons seen from the front (counter-clockwise on screen)'"
 complete -c scene-render -l aa -d 'Anti-aliasing: none (pixel centres), ss<N> (N = k*k samples on a k x k grid, N up to 256), or exact (the exact visible area of every polygon in each pixel, box filter; a textured fragment meeting more than 65,536 texels, 16,384 with transparent texels, or a stripe fragment crossing more than 65,536 map-sample boundaries is estimated instead, and reported: docs/rendering.md, Where exactness holds)' -r
 complete -c scene-render -l max-error -d 'Removed: kept only to say so to the scripts that pass it' -r
-complete -c scene-render -l reference-samples -d 'Uniform strips per pixel added to the reference\'s events (a multiple of 3; more only tightens the error estimate)' -r
+complete -c scene-render -l reference-samples -d 'Uniform strips per pixel added to the reference\'s events (a multiple of 3 from 3 to 3000; more only tightens the error estimate)' -r
 complete -c scene-render -l compare -d 'Compare the image with this reference image and print RMSE, PSNR, the largest error and the share of pixels off by more than 4 (8-bit sRGB, over RGB). A 16-bit PNG, PPM or PAM, or a PFM, on either side is measured in fractional 8-bit codes and in linear light too' -r
 complete -c scene-render -l image -d 'With --compare: measure this existing image instead of rendering a scene. The flags that shape a render or its output are refused with it' -r
 complete -c scene-render -l diff -d 'With --compare: write the difference, amplified 16x per channel, here (an 8-bit PNG, PPM or PAM, whatever the inputs\' depth)' -r

@@ -141,9 +141,9 @@ pub struct Args {
     pub reference: bool,
 
     /// Uniform strips per pixel added to the reference's events (a multiple of
-    /// 3; more only tightens the error estimate).
+    /// 3 from 3 to 3000; more only tightens the error estimate).
     #[arg(long, value_name = "N", default_value_t = reference::DEFAULT_LINES,
-          value_parser = clap::value_parser!(u32).range(3..=3000), requires = "reference")]
+          value_parser = parse_reference_samples, requires = "reference")]
     pub reference_samples: u32,
 
     /// Compare the image with this reference image and print RMSE, PSNR, the
@@ -200,7 +200,7 @@ pub struct Args {
 
     /// With --animate: frames per second (each frame shows for 1/FPS s).
     #[arg(long, value_name = "FPS", default_value_t = DEFAULT_FPS,
-          value_parser = clap::value_parser!(u16).range(1..), requires = "animate")]
+          value_parser = parse_fps, requires = "animate")]
     pub fps: u16,
 
     /// Largest distance, in pixels, of a quadric's chords from its true
@@ -804,6 +804,35 @@ fn finish(
         out.commit()?;
     }
     Ok(())
+}
+
+/// `--fps N`: a whole number of frames per second, 1 to 65535 (an APNG
+/// frame's delay is 1/N s exactly). `29.97` was refused as "invalid digit
+/// found in string".
+fn parse_fps(text: &str) -> std::result::Result<u16, String> {
+    match text.parse::<u16>() {
+        Ok(0) => Err("0 frames per second: expected 1 to 65535".into()),
+        Ok(n) => Ok(n),
+        Err(_) => Err(format!(
+            "`{text}`: expected a whole number of frames per second, 1 to 65535"
+        )),
+    }
+}
+
+/// `--reference-samples N`: a multiple of 3 from 3 to 3000. The reference
+/// takes its strips in threes (`reference::render`), so 4 and 5 drew what
+/// 3 does while the report said 5 (a hostile-input review).
+fn parse_reference_samples(text: &str) -> std::result::Result<u32, String> {
+    match text.parse::<u32>() {
+        Ok(n) if (3..=3000).contains(&n) && n % 3 == 0 => Ok(n),
+        Ok(n) if (3..=3000).contains(&n) => Err(format!(
+            "{n} is not a multiple of 3 (the strips come in threes: {} or {})",
+            n / 3 * 3,
+            n / 3 * 3 + 3
+        )),
+        Ok(n) => Err(format!("{n} is not in 3..=3000")),
+        Err(_) => Err(format!("`{text}` is not a whole number")),
+    }
 }
 
 /// The bytes of an image to measure (`--compare`, `--image`), decoded

@@ -355,14 +355,12 @@ fn blend_spec(obj: &Map<String, Value>) -> Result<Option<BlendSpec>, String> {
             Some(1) => BlendSelect::BrightToNext,
             Some(n @ (2 | 3)) => {
                 return Err(format!(
-                    "stripe.blend_select: {n}: seed 001 gives Blend Select 0..3 but no arithmetic;                      0 (dark stripes take the next face colour) and 1 (bright ones do) are read here,                      {n} is not"
+                    "stripe.blend_select: {n}: seed 001 gives Blend Select 0..3 but no arithmetic; \
+                     0 (dark stripes take the next face colour) and 1 (bright ones do) are read \
+                     here, {n} is not"
                 ))
             }
-            _ => {
-                return Err(format!(
-                    "stripe.blend_select: expected 0 or 1, found {v}"
-                ))
-            }
+            _ => return Err(format!("stripe.blend_select: expected 0 or 1, found {v}")),
         },
     };
     let next = match (next_code, next_colour) {

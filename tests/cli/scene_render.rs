@@ -99,6 +99,63 @@ clitest!(exact_matches_the_reference_and_compare_reports, |dir| {
     assert_eq!(decode(&dir.read("d.png")).dimensions(), (40, 30));
 });
 
+clitest!(reference_samples_come_in_threes, |dir| {
+    // A hostile-input review: 4 and 5 were taken, drew what 3 draws, and
+    // the report said "5 strips/pixel".
+    dir.triangle_and_its_image();
+    for (n, said) in [
+        (
+            "4",
+            "4 is not a multiple of 3 (the strips come in threes: 3 or 6)",
+        ),
+        ("2", "2 is not in 3..=3000"),
+        ("3003", "3003 is not in 3..=3000"),
+        ("6.0", "`6.0` is not a whole number"),
+    ] {
+        dir.cmd("scene-render")
+            .args(["--size", "8x8", "--reference", "--reference-samples", n])
+            .args(["-o", "r.png", "s.json"])
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains(format!(
+                "invalid value '{n}' for '--reference-samples <N>': {said}"
+            )));
+    }
+    dir.cmd("scene-render")
+        .args(["--size", "8x8", "--reference", "--reference-samples", "6"])
+        .args(["-o", "r.png", "s.json"])
+        .assert()
+        .success()
+        .stderr(predicates::str::contains("(6 strips/pixel"));
+});
+
+clitest!(fps_is_a_whole_number_and_says_so, |dir| {
+    // A hostile-input review: `--fps 29.97` said "invalid digit found in
+    // string".
+    dir.triangle_and_its_image();
+    for (n, said) in [
+        (
+            "29.97",
+            "`29.97`: expected a whole number of frames per second, 1 to 65535",
+        ),
+        ("0", "0 frames per second: expected 1 to 65535"),
+        (
+            "70000",
+            "`70000`: expected a whole number of frames per second, 1 to 65535",
+        ),
+    ] {
+        dir.cmd("scene-render")
+            .args(["--size", "8x8", "--frames", "2", "--animate", "--fps", n])
+            .args(["-o", "a.png", "s.json"])
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains(format!(
+                "invalid value '{n}' for '--fps <FPS>': {said}"
+            )));
+    }
+    assert!(!dir.path().join("a.png").exists());
+});
+
 clitest!(thread_count_does_not_change_a_byte, |dir| {
     let mut s = String::new();
     for i in 0..200 {

@@ -890,7 +890,10 @@ clitest!(stripe_blend_errors_name_the_field, |dir| {
         ),
         (
             r#""blend": 1, "next_code": 3, "blend_select": 2"#,
-            "stripe.blend_select: 2: seed 001 gives Blend Select 0..3 but no arithmetic",
+            // One line, with no runs of spaces (a literal joined badly had 22).
+            "stripe.blend_select: 2: seed 001 gives Blend Select 0..3 but no arithmetic; 0 \
+             (dark stripes take the next face colour) and 1 (bright ones do) are read here, 2 \
+             is not",
         ),
         (
             r#""next_code": 256"#,
