@@ -235,6 +235,18 @@ impl Item {
         if object.contains_key("light") {
             let fields = object.into_fields();
             no_geometry(&fields, index, "light: a light")?;
+            // A light's "transform" was kept as an unknown field and did
+            // nothing (an animated light stood still), as did a "pattern"
+            // naming a missing file: a hostile-input review.
+            let world = "its position and direction in world coordinates, where it shines";
+            none_of(&fields, index, "a light", &["transform"], world)?;
+            none_of(
+                &fields,
+                index,
+                "a light",
+                DRAWING_KEYS,
+                "to the records it lights",
+            )?;
             let light =
                 LightRecord::from_json(&fields["light"]).map_err(|m| field_err(index, m))?;
             return Ok(Item::Light(LightDef {
@@ -677,6 +689,18 @@ mod tests {
             (
                 r#"{"object": "a", "records": [], "instance": "b"}"#,
                 "a definition takes no \"instance\"",
+            ),
+            (
+                r#"{"light": {"position": [0,0,1]}, "transform": {"translate": [4,4,0]}}"#,
+                "record 0: a light takes no \"transform\": it would be dropped (give it its position and direction in world coordinates, where it shines)",
+            ),
+            (
+                r#"{"light": {"ambient": 0.1}, "pattern": {"file": "missing.pat"}}"#,
+                "a light takes no \"pattern\": it would be dropped (give it to the records it lights)",
+            ),
+            (
+                r#"{"light": {"ambient": 0.1}, "shade": "bogus"}"#,
+                "a light takes no \"shade\"",
             ),
         ] {
             let e = err(stream);
