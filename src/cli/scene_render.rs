@@ -1039,6 +1039,22 @@ fn render_frames(
     // --json: every frame's report, printed as one document when all frames
     // are written (a document per frame would not parse as one JSON value).
     let mut frame_reports = Vec::new();
+    // Named once: a transform's error already says "at frame k".
+    let at_frame = |e: crate::scene::SceneError, k: u64| {
+        let e = scene_error(args, e, Stage::Project);
+        if format!("{e:#}").contains(&format!("at frame {k}")) {
+            e
+        } else {
+            e.context(format!("frame {k}"))
+        }
+    };
+    // Every frame's transforms before any frame is written: one failing at
+    // frame K replaced frames 0 to K-1 first.
+    if frames.len() > 1 {
+        for &k in &frames {
+            scene.check_transforms_at(k).map_err(|e| at_frame(e, k))?;
+        }
+    }
     let bar = args.progress.bar(TOOL);
     bar.phase("frames", frames.len() as u64);
     // Kept while a frame is still to come; the last one frees it.
@@ -1056,15 +1072,7 @@ fn render_frames(
         } else {
             scene.as_ref().expect(kept).project_tallied(view, how, k)
         };
-        let (polys, tally) = projected.map_err(|e| {
-            // Named once: a transform's error already says "at frame k".
-            let e = scene_error(args, e, Stage::Project);
-            if format!("{e:#}").contains(&format!("at frame {k}")) {
-                e
-            } else {
-                e.context(format!("frame {k}"))
-            }
-        })?;
+        let (polys, tally) = projected.map_err(|e| at_frame(e, k))?;
         warn_if_blank(args, (view, camera_given), k, &tally);
         let t1 = std::time::Instant::now();
         let rendered = scene::render_encoded(

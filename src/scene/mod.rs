@@ -577,6 +577,20 @@ impl Scene {
         project_waves(self.waves, view, how, frame, &self.lights, self.limit)
     }
 
+    /// Checks every animated transform of frame `frame` as
+    /// [`Scene::project`] would meet it, and nothing else: an animation
+    /// calls it for all its frames before it writes any, so that a
+    /// transform that fails at frame K (a scale reaching 0, a step reaching
+    /// infinity: a pure function of the stream) is an error before frames
+    /// 0 to K-1 replace their files (a hostile-input review). The same
+    /// errors, in the same order, as projection's; a scene with nothing
+    /// animated costs one walk over its parts.
+    pub fn check_transforms_at(&self, frame: u64) -> Result<(), SceneError> {
+        self.waves
+            .iter()
+            .try_for_each(|wave| check_transforms(wave, None, None, frame))
+    }
+
     /// Adds a top-level part at the end of the stream.
     fn push(&mut self, part: Part) {
         match self.waves.last_mut() {
@@ -943,6 +957,54 @@ fn project_parts(
                     lights,
                     out,
                 )?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// [`project_parts`]'s walk with only its transforms: the animated ones
+/// evaluated at `frame` and instances composed with what places them,
+/// each error named as projection names it ([`Scene::check_transforms_at`]).
+fn check_transforms(
+    parts: &[Part],
+    placed: Option<Transform>,
+    order: Option<u32>,
+    frame: u64,
+) -> Result<(), SceneError> {
+    for part in parts {
+        match part {
+            Part::Draw(d) => {
+                if let Some(v) = d.animated() {
+                    record_transform_at(d, v, frame).in_record(None, d.index as usize)?;
+                }
+            }
+            Part::Place(p) => {
+                let transform = match &p.animated {
+                    Some(v) => Transform::from_json_at(v, frame)
+                        .map_err(|error| RecordError::InstanceTransform {
+                            object: p.name.clone(),
+                            frame,
+                            error,
+                        })
+                        .in_record(None, p.index)?,
+                    None => p.transform,
+                };
+                let order = match order {
+                    Some(o) => o,
+                    None => draw_order(p.index)?,
+                };
+                let total = match placed {
+                    Some(outer) => transform
+                        .then_checked(outer)
+                        .map_err(|error| RecordError::PlacedTransform {
+                            object: p.name.clone(),
+                            error,
+                        })
+                        .in_record(None, order as usize)?,
+                    None => transform,
+                };
+                check_transforms(&p.object, Some(total), Some(order), frame)?;
             }
         }
     }

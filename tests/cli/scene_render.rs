@@ -719,7 +719,13 @@ clitest!(frame_options_are_checked_before_anything_is_drawn, |dir| {
             .code(2)
             .stderr(predicate::str::contains(want));
     }
-    // A scale that reaches zero is singular at that frame, named.
+    // A scale that reaches zero is singular at that frame, named, before
+    // any frame replaces its file (a hostile-input review: frames 0 and 1
+    // were new and frame 2 old, with status 1); so is a step that reaches
+    // infinity, in a record's own transform.
+    for k in 0..3 {
+        dir.write(&format!("s{k}.png"), "old");
+    }
     dir.write(
         "shrink.json",
         r#"{"object":"a","records":[{"rect":[0,0,1,1],"color":[1,2,3]}]}
@@ -741,6 +747,20 @@ clitest!(frame_options_are_checked_before_anything_is_drawn, |dir| {
             "scene-render: error: shrink.json: record 1: instance of `a` at frame 2: transform \
              step 0: scale: singular",
         ));
+    dir.write(
+        "far.json",
+        r#"{"rect":[0,0,1,1],"color":[1,2,3],"transform":{"translate":[{"start":0,"step":1e308},0,0]}}"#,
+    );
+    dir.cmd("scene-render")
+        .args([
+            "--frames", "3", "far.json", "-o", "s%d.png", "--size", "4x4",
+        ])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("at frame 2"));
+    for k in 0..3 {
+        assert_eq!(dir.read(&format!("s{k}.png")), b"old", "frame {k}");
+    }
     // A frame name over NAME_MAX (as `-o f%0255d.png` makes with its prefix
     // and suffix): refused by name before the first frame is drawn, not by
     // the rename after it.
