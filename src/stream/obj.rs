@@ -5,9 +5,11 @@
 //! colours `x y z r g b` checked and not drawn: `position`), `vt` (texture
 //! coordinates, `u v`, a third ignored), `vn` (normals), `f` (faces of any
 //! number of vertices, each `v`, `v/vt`, `v//vn` or `v/vt/vn`, indices from
-//! 1 or negative from the end), `mtllib` and `usemtl`; from a `.mtl`,
-//! `newmtl`, `Kd` and `map_Kd`. Every other statement (`o`, `g`, `s`, `l`,
-//! `Ka`, `Ks`, `Ns`, `illum`, ...) is skipped, as OBJ readers do. Errors
+//! 1 or negative from the end), `mtllib` (one file whose name may hold
+//! spaces, or several) and `usemtl`; from a `.mtl`, `newmtl`, `Kd` and
+//! `map_Kd` (its options, then its file: [`texture_file`]). Every other
+//! statement (`o`, `g`, `s`, `l`, `Ka`, `Ks`, `Ns`, `illum`, ...) is
+//! skipped, as OBJ readers do. Errors
 //! name the file and the line. The file is read whole but bounded
 //! ([`crate::io::read_path`]: a regular file of at most
 //! [`crate::io::MAX_NAMED_FILE_BYTES`]), and everything kept is a fixed
@@ -61,8 +63,8 @@ pub struct Material {
     pub name: String,
     /// `Kd r g b`: the diffuse colour, linear reflectance 0..1.
     pub kd: Option<[f64; 3]>,
-    /// `map_Kd FILE`: the diffuse texture, resolved against the `.mtl`'s
-    /// directory.
+    /// `map_Kd [OPTIONS] FILE`: the diffuse texture, resolved against the
+    /// `.mtl`'s directory ([`texture_file`]).
     pub map_kd: Option<PathBuf>,
     /// Where that `map_Kd` is: its `.mtl` file and line, which an error
     /// reading the texture names (it named the first face using it).
@@ -157,18 +159,18 @@ impl Mesh {
     /// against its directory).
     pub fn read_file(path: &Path) -> Result<Mesh, ObjError> {
         let bytes = crate::io::read_path(path).map_err(|e| ObjError::at(path, 0, e.to_string()))?;
-        let mut mesh = Mesh::parse(&bytes, path, &mut |p| {
-            crate::io::read_path(p).map_err(|e| e.to_string())
-        })?;
+        let mut mesh = Mesh::parse(&bytes, path, &mut |p| crate::io::read_path(p))?;
         mesh.files.insert(0, path.to_path_buf());
         Ok(mesh)
     }
 
-    /// Parses OBJ text `bytes` of file `path`; `read` reads an `.mtl`.
+    /// Parses OBJ text `bytes` of file `path`; `read` reads an `.mtl` (an
+    /// error of kind [`std::io::ErrorKind::NotFound`] says there is no such
+    /// file, which `mtllib` takes as a sign of several names).
     pub fn parse(
         bytes: &[u8],
         path: &Path,
-        read: &mut dyn FnMut(&Path) -> Result<Vec<u8>, String>,
+        read: &mut dyn FnMut(&Path) -> std::io::Result<Vec<u8>>,
     ) -> Result<Mesh, ObjError> {
         let err = |line: usize, message: String| ObjError::at(path, line, message);
         let text = text_of(bytes, path, "OBJ")?;
@@ -250,18 +252,40 @@ impl Mesh {
                     if rest.is_empty() {
                         return Err(err(n, "mtllib: expected a file name".into()));
                     }
-                    // File names may hold spaces: the rest of the line is one.
-                    let name = line["mtllib".len()..].trim();
-                    let mtl = dir.join(name);
-                    let bytes = read(&mtl)
-                        .map_err(|m| err(n, format!("mtllib {name}: {}: {m}", mtl.display())))?;
-                    if !mesh.files.contains(&mtl) {
-                        mesh.files.push(mtl.clone());
-                    }
-                    let start = mesh.materials.len();
-                    parse_mtl(&bytes, &mtl, &mut mesh.materials)?;
-                    for (k, m) in mesh.materials.iter().enumerate().skip(start) {
-                        by_name.insert(m.name.clone(), k);
+                    // One file whose name holds spaces (as some exporters
+                    // write) if the whole rest of the line names a file;
+                    // else the format's several files, one a word, read in
+                    // turn. `mtllib a.mtl b.mtl` was one name, "no such file".
+                    let whole = line["mtllib".len()..].trim();
+                    let whole_path = dir.join(whole);
+                    let (paths, mut first) = match read(&whole_path) {
+                        Err(e) if rest.len() > 1 && e.kind() == std::io::ErrorKind::NotFound => {
+                            (rest.iter().map(|w| dir.join(w)).collect(), None)
+                        }
+                        r => (vec![whole_path.clone()], Some(r)),
+                    };
+                    let several = first.is_none();
+                    for mtl in paths {
+                        let bytes = first.take().unwrap_or_else(|| read(&mtl)).map_err(|m| {
+                            let why = if several {
+                                format!(
+                                    " (one of {} names on the line; no file {} either)",
+                                    rest.len(),
+                                    whole_path.display()
+                                )
+                            } else {
+                                String::new()
+                            };
+                            err(n, format!("mtllib {whole}: {}: {m}{why}", mtl.display()))
+                        })?;
+                        if !mesh.files.contains(&mtl) {
+                            mesh.files.push(mtl.clone());
+                        }
+                        let start = mesh.materials.len();
+                        parse_mtl(&bytes, &mtl, &mut mesh.materials)?;
+                        for (k, m) in mesh.materials.iter().enumerate().skip(start) {
+                            by_name.insert(m.name.clone(), k);
+                        }
                     }
                 }
                 "usemtl" => {
@@ -398,10 +422,7 @@ fn parse_mtl(bytes: &[u8], path: &Path, out: &mut Vec<Material>) -> Result<(), O
                 out.last_mut().ok_or_else(here)?.kd = Some(kd);
             }
             "map_Kd" => {
-                // Options (`-s 1 1 1`, ...) are not read: the file is the last word.
-                let file = rest
-                    .last()
-                    .ok_or_else(|| err(n, "map_Kd: expected a file name".into()))?;
+                let file = texture_file(&line[key.len()..]).map_err(|m| err(n, m))?;
                 let material = out.last_mut().ok_or_else(here)?;
                 material.map_kd = Some(dir.join(file));
                 material.map_kd_at = Some((path.to_path_buf(), n));
@@ -412,20 +433,300 @@ fn parse_mtl(bytes: &[u8], path: &Path, out: &mut Vec<Material>) -> Result<(), O
     Ok(())
 }
 
+/// The first word of `s` and what follows it, both without leading white
+/// space (the white space [`str::split_whitespace`] splits on).
+fn first_word(s: &str) -> (&str, &str) {
+    let s = s.trim_start();
+    let end = s.find(char::is_whitespace).unwrap_or(s.len());
+    (&s[..end], s[end..].trim_start())
+}
+
+/// The next word of `*s`, moving past it, if `fits` takes it.
+fn next_if<'a>(s: &mut &'a str, fits: fn(&str) -> bool) -> Option<&'a str> {
+    let (w, rest) = first_word(s);
+    if w.is_empty() || !fits(w) {
+        return None;
+    }
+    *s = rest;
+    Some(w)
+}
+
+/// The file of a `map_Kd` statement whose text after the keyword is
+/// `after`: the rest of the line once the MTL options are read, spaces
+/// inside kept and the ends trimmed (`map_Kd my tex.png` is `my tex.png`;
+/// the last word was taken, so a file `tex.png` was drawn instead). Each
+/// option is read with its arity: `-blendu`, `-blendv`, `-clamp`, `-cc` on
+/// or off; `-o`, `-s`, `-t` one to three numbers; `-mm` two; `-boost`,
+/// `-bm`, `-texres` one; `-imfchan` r, g, b, m, l or z; `-type` a word.
+/// Those that leave this renderer's picture as it is are accepted:
+/// `-blendu`, `-blendv`, `-clamp off`, `-cc off`, and `-o`, `-s`, `-t` and
+/// `-mm` at their identity (`-o 0 0`, `-s 1 1`, `-t 0 0`, `-mm 0 1`; a
+/// third number is a 3D texture's depth, which an image has not). Any other
+/// is refused, naming the option and its values: they were skipped, so the
+/// texture was drawn unshifted, unscaled, unclamped with status 0. `-o` and
+/// `-s` are not applied to the `vt` because the format does not pin their
+/// direction: its text shifts the map's origin and expands the pattern
+/// (`uv - o`, `uv / s`), common readers such as three.js's multiply and add
+/// (`uv * s + o`). An unknown option is refused, as is a missing file. The
+/// error is the message, without the file and line.
+fn texture_file(after: &str) -> Result<&str, String> {
+    fn number_word(w: &str) -> bool {
+        w.parse::<f64>().is_ok()
+    }
+    let mut s = after.trim_start();
+    loop {
+        let (option, rest) = first_word(s);
+        if !option.starts_with('-') {
+            break;
+        }
+        s = rest;
+        // What the option takes: how many words, which, and whether numbers.
+        struct Takes {
+            fewest: usize,
+            most: usize,
+            fits: fn(&str) -> bool,
+            what: &'static str,
+            numeric: bool,
+        }
+        let word = |fits: fn(&str) -> bool, what| Takes {
+            fewest: 1,
+            most: 1,
+            fits,
+            what,
+            numeric: false,
+        };
+        let of_numbers = |fewest, most, what| Takes {
+            fewest,
+            most,
+            fits: number_word,
+            what,
+            numeric: true,
+        };
+        let Takes {
+            fewest,
+            most,
+            fits,
+            what,
+            numeric,
+        } = match option {
+            "-blendu" | "-blendv" | "-clamp" | "-cc" => {
+                word(|w| matches!(w, "on" | "off"), "on or off")
+            }
+            "-imfchan" => word(
+                |w| matches!(w, "r" | "g" | "b" | "m" | "l" | "z"),
+                "r, g, b, m, l or z",
+            ),
+            "-type" => word(|w| !w.starts_with('-'), "a type"),
+            "-boost" | "-bm" | "-texres" => of_numbers(1, 1, "a number"),
+            "-mm" => of_numbers(2, 2, "two numbers, base and gain"),
+            "-o" | "-s" | "-t" => of_numbers(1, 3, "1 to 3 numbers"),
+            _ => {
+                return Err(format!(
+                    "map_Kd: unknown option `{option}` (the options are -blendu, -blendv, \
+                     -boost, -mm, -o, -s, -t, -texres, -clamp, -cc, -bm, -imfchan and \
+                     -type; a file name may not begin with -)"
+                ))
+            }
+        };
+        let mut values = Vec::new();
+        while values.len() < most {
+            match next_if(&mut s, fits) {
+                Some(w) => values.push(w),
+                None => break,
+            }
+        }
+        if values.len() < fewest {
+            let found = match first_word(s).0 {
+                "" => "the end of the line".to_string(),
+                w => format!("`{w}`"),
+            };
+            return Err(format!("map_Kd: {option}: expected {what}, found {found}"));
+        }
+        let numbers = if numeric {
+            values
+                .iter()
+                .map(|w| number(w, &format!("map_Kd: {option}")))
+                .collect::<Result<Vec<f64>, String>>()?
+        } else {
+            Vec::new()
+        };
+        let not_both = |identity: f64| numbers.iter().take(2).any(|&x| x != identity);
+        let refused = match option {
+            "-blendu" | "-blendv" => None,
+            "-clamp" => (values[0] == "on")
+                .then_some("clamping (one copy of the texture, where it would repeat)"),
+            "-cc" => (values[0] == "on").then_some("colour correction"),
+            "-imfchan" => Some("taking one channel of the image"),
+            "-type" => Some("a reflection map's type"),
+            "-boost" => Some("sharpening the texture's mipmaps"),
+            "-bm" => Some("a bump multiplier"),
+            "-texres" => Some("resizing the texture"),
+            "-mm" => (numbers != [0.0, 1.0]).then_some("a range of values (base and gain)"),
+            "-o" => not_both(0.0)
+                .then_some("offsetting the texture (apply the offset to the vt coordinates)"),
+            "-s" => not_both(1.0)
+                .then_some("scaling the texture (apply the scale to the vt coordinates)"),
+            _ => not_both(0.0).then_some("turbulence"),
+        };
+        if let Some(what) = refused {
+            return Err(format!(
+                "map_Kd: {option} {}: {what} is not implemented, and the texture drawn \
+                 without it would not be the picture the file describes",
+                values.join(" ")
+            ));
+        }
+    }
+    match s.trim() {
+        "" => Err("map_Kd: expected a file name".into()),
+        file => Ok(file),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn parse(obj: &str, mtl: &str) -> Result<Mesh, String> {
-        let mtl = mtl.as_bytes().to_vec();
+    fn not_found() -> std::io::Error {
+        std::io::Error::new(
+            std::io::ErrorKind::NotFound,
+            "No such file or directory (os error 2)",
+        )
+    }
+
+    /// `obj` as `m/x.obj`, beside the `.mtl` files `files` (name, text).
+    fn parse_with(obj: &str, files: &[(&str, &str)]) -> Result<Mesh, String> {
         Mesh::parse(obj.as_bytes(), Path::new("m/x.obj"), &mut |p| {
-            if p == Path::new("m/x.mtl") {
-                Ok(mtl.clone())
-            } else {
-                Err("No such file or directory (os error 2)".into())
-            }
+            files
+                .iter()
+                .find(|(name, _)| p == Path::new("m").join(name))
+                .map(|(_, text)| text.as_bytes().to_vec())
+                .ok_or_else(not_found)
         })
         .map_err(|e| e.to_string())
+    }
+
+    fn parse(obj: &str, mtl: &str) -> Result<Mesh, String> {
+        parse_with(obj, &[("x.mtl", mtl)])
+    }
+
+    /// The file a `map_Kd` line names, read from `m/x.mtl`.
+    fn map_kd(line: &str) -> Result<PathBuf, String> {
+        let m = parse(
+            "mtllib x.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+            &format!("newmtl t\n{line}\n"),
+        )?;
+        Ok(m.materials[0].map_kd.clone().unwrap())
+    }
+
+    /// The file is the rest of the line after the options, spaces inside
+    /// kept: `map_Kd my tex.png` drew `tex.png`, a file of that name being
+    /// there (a hostile-input review).
+    #[test]
+    fn map_kd_names_the_rest_of_the_line_after_its_options() {
+        for (line, file) in [
+            ("map_Kd my tex.png", "m/my tex.png"),
+            ("map_Kd   my  tex.png  ", "m/my  tex.png"),
+            ("map_Kd\tsub/a b\tc.png", "m/sub/a b\tc.png"),
+            ("map_Kd -s 1 1 1 wall.png", "m/wall.png"),
+            (
+                "map_Kd -blendu off -blendv on -o 0 0 0.5 -s 1 1 -t 0 0 0 -mm 0 1 \
+                 -clamp off -cc off my tex.png",
+                "m/my tex.png",
+            ),
+            ("map_Kd -o -0 my tex.png", "m/my tex.png"),
+            ("map_Kd -s 1 1 1 2.5x.png", "m/2.5x.png"),
+        ] {
+            assert_eq!(map_kd(line), Ok(PathBuf::from(file)), "{line:?}");
+        }
+    }
+
+    /// Options that would change the picture were skipped: `-o 0.5 0.5 0
+    /// -s 0.5 0.5 1` drew the texture unshifted and unscaled, status 0.
+    #[test]
+    fn map_kd_options_not_drawn_are_refused_with_their_values() {
+        let not = "is not implemented, and the texture drawn without it would not be the \
+                   picture the file describes";
+        for (line, needle) in [
+            (
+                "map_Kd -o 0.5 0.5 0 -s 0.5 0.5 1 x.png",
+                format!("m/x.mtl:2: map_Kd: -o 0.5 0.5 0: offsetting the texture (apply the offset to the vt coordinates) {not}"),
+            ),
+            (
+                "map_Kd -s 1 1 1 -s 0.5 0.5 1 my x.png",
+                "m/x.mtl:2: map_Kd: -s 0.5 0.5 1: scaling the texture".into(),
+            ),
+            ("map_Kd -s 2 x.png", "map_Kd: -s 2: scaling".into()),
+            ("map_Kd -t 0.1 0 0 x.png", "map_Kd: -t 0.1 0 0: turbulence".into()),
+            ("map_Kd -mm 0.2 0.8 x.png", "map_Kd: -mm 0.2 0.8: a range of values".into()),
+            ("map_Kd -clamp on x.png", "map_Kd: -clamp on: clamping".into()),
+            ("map_Kd -cc on x.png", "map_Kd: -cc on: colour correction".into()),
+            ("map_Kd -imfchan l x.png", "map_Kd: -imfchan l: taking one channel".into()),
+            ("map_Kd -type sphere x.png", "map_Kd: -type sphere: a reflection map's type".into()),
+            ("map_Kd -boost 2 x.png", "map_Kd: -boost 2: sharpening".into()),
+            ("map_Kd -bm 1 x.png", "map_Kd: -bm 1: a bump multiplier".into()),
+            ("map_Kd -texres 512 x.png", "map_Kd: -texres 512: resizing the texture".into()),
+            ("map_Kd -halo x.png", "m/x.mtl:2: map_Kd: unknown option `-halo`".into()),
+            ("map_Kd -o x.png", "map_Kd: -o: expected 1 to 3 numbers, found `x.png`".into()),
+            ("map_Kd -s", "map_Kd: -s: expected 1 to 3 numbers, found the end of the line".into()),
+            ("map_Kd -mm 0 x.png", "map_Kd: -mm: expected two numbers, base and gain, found `x.png`".into()),
+            ("map_Kd -blendu yes x.png", "map_Kd: -blendu: expected on or off, found `yes`".into()),
+            ("map_Kd -imfchan q x.png", "map_Kd: -imfchan: expected r, g, b, m, l or z".into()),
+            ("map_Kd -o inf x.png", "map_Kd: -o: `inf` is not a finite number".into()),
+            ("map_Kd -s 1 1 1", "m/x.mtl:2: map_Kd: expected a file name".into()),
+            ("map_Kd -clamp off   ", "m/x.mtl:2: map_Kd: expected a file name".into()),
+        ] {
+            let e = map_kd(line).unwrap_err();
+            assert!(e.contains(&needle), "{line:?}: {e}");
+        }
+    }
+
+    /// `mtllib a.mtl b.mtl` names two files (the format allows several); it
+    /// was read as one name, "./a.mtl b.mtl: No such file".
+    #[test]
+    fn mtllib_reads_each_file_it_names_unless_the_line_names_one() {
+        let obj = "mtllib a.mtl  b.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n\
+                   usemtl red\nf 1 2 3\nusemtl blue\nf 1 2 3\n";
+        let a = ("a.mtl", "newmtl red\nKd 1 0 0\n");
+        let b = ("b.mtl", "newmtl blue\nKd 0 0 1\n");
+        let m = parse_with(obj, &[a, b]).unwrap();
+        assert_eq!(m.materials.len(), 2);
+        assert_eq!(m.faces[0].material, Some(0));
+        assert_eq!(m.faces[1].material, Some(1));
+        assert_eq!(m.materials[1].kd, Some([0.0, 0.0, 1.0]));
+        assert_eq!(
+            m.files,
+            [PathBuf::from("m/a.mtl"), PathBuf::from("m/b.mtl")]
+        );
+        // A file named by the whole line is that one file, even with files
+        // named by its words beside it.
+        let both = (
+            "a.mtl  b.mtl",
+            "newmtl red\nKd 0 1 0\nnewmtl blue\nKd 0 1 0\n",
+        );
+        let m = parse_with(obj, &[a, b, both]).unwrap();
+        assert_eq!(m.materials.len(), 2);
+        assert_eq!(m.materials[0].kd, Some([0.0, 1.0, 0.0]));
+        assert_eq!(m.files, [PathBuf::from("m/a.mtl  b.mtl")]);
+        // One of the words naming no file: that one is named.
+        let e = parse_with(obj, &[a]).unwrap_err();
+        assert_eq!(
+            e,
+            "m/x.obj:1: mtllib a.mtl  b.mtl: m/b.mtl: No such file or directory (os error 2) \
+             (one of 2 names on the line; no file m/a.mtl  b.mtl either)"
+        );
+        // The whole line's file there but unreadable: its error, not the words'.
+        let e = Mesh::parse(b"mtllib a b\n", Path::new("x.obj"), &mut |p| {
+            if p == Path::new("a b") {
+                Err(std::io::Error::other("is not a regular file"))
+            } else {
+                Ok(Vec::new())
+            }
+        })
+        .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "x.obj:1: mtllib a b: a b: is not a regular file"
+        );
     }
 
     /// Lines ended by a bare CR (classic Mac OS) are lines: the file was
@@ -577,10 +878,8 @@ mod tests {
             let e = parse("mtllib x.mtl\n", mtl).unwrap_err();
             assert!(e.contains(needle), "{mtl:?}: {e}");
         }
-        let e = Mesh::parse(&[0xff, 0xfe], Path::new("b.obj"), &mut |_| {
-            Err(String::new())
-        })
-        .unwrap_err();
+        let e =
+            Mesh::parse(&[0xff, 0xfe], Path::new("b.obj"), &mut |_| Err(not_found())).unwrap_err();
         assert!(e.to_string().starts_with("b.obj: not UTF-8 text"), "{e}");
     }
 

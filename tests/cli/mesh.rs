@@ -156,6 +156,111 @@ clitest!(polyfill3_cuts_a_patterned_mesh_into_texel_polygons, |dir| {
     assert!(c["rmse"].as_f64().unwrap() < 0.5, "{c}");
 });
 
+/// The colour `scene-render` draws at the middle of `m/sq.obj` under the
+/// record `record`, seen whole.
+fn middle_colour(dir: &Dir, record: &str) -> [u8; 3] {
+    dir.write("s.json", record);
+    dir.cmd("scene-render")
+        .args(["--ortho", "0,4,0,4,-10,10", "--size", "8x8"])
+        .args(["s.json", "-o", "s.png"])
+        .assert()
+        .success()
+        .stderr("");
+    let img = image::load_from_memory(&dir.read("s.png"))
+        .unwrap()
+        .to_rgb8();
+    img.get_pixel(4, 4).0
+}
+
+const RED_PPM: &str = "P3 2 2 255 255 0 0 255 0 0 255 0 0 255 0 0\n";
+const BLUE_PPM: &str = "P3 2 2 255 0 0 255 0 0 255 0 0 255 0 0 255\n";
+
+clitest!(map_kd_names_the_file_after_its_options_spaces_kept, |dir| {
+    // A hostile-input review: `map_Kd my tex.ppm` took the last word, so
+    // with `tex.ppm` beside `my tex.ppm` the mesh was drawn blue, status 0.
+    dir.write(
+        "m/sq.obj",
+        "mtllib sq.mtl\nv 0 0 0\nv 4 0 0\nv 4 4 0\nv 0 4 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+         usemtl t\nf 1/1 2/2 3/3 4/4\n",
+    );
+    dir.write("m/my tex.ppm", RED_PPM);
+    dir.write("m/tex.ppm", BLUE_PPM);
+    for map in [
+        "map_Kd my tex.ppm",
+        "map_Kd -blendu off -o 0 0 0 -s 1 1 1 -clamp off my tex.ppm  ",
+    ] {
+        dir.write("m/sq.mtl", format!("newmtl t\n{map}\n"));
+        let c = middle_colour(&dir, r#"{"mesh": {"obj": "m/sq.obj"}}"#);
+        assert!(c[0] > 200 && c[2] < 50, "{map:?}: {c:?}");
+    }
+    // An option this renderer does not draw is refused, not skipped: the
+    // texture was drawn unshifted and unscaled.
+    dir.write(
+        "m/sq.mtl",
+        "newmtl t\nmap_Kd -o 0.5 0.5 0 -s 0.5 0.5 1 tex.ppm\n",
+    );
+    dir.write("s.json", r#"{"mesh": {"obj": "m/sq.obj"}}"#);
+    for tool in ["scene-render", "polyfill3"] {
+        dir.cmd(tool)
+            .args(["s.json", "-o", "out"])
+            .assert()
+            .code(1)
+            .stderr(predicate::str::contains(
+                "record 0: mesh.obj: ./m/sq.mtl:2: map_Kd: -o 0.5 0.5 0: offsetting the texture \
+                 (apply the offset to the vt coordinates) is not implemented",
+            ));
+        assert!(!dir.path().join("out").exists());
+    }
+});
+
+clitest!(mtllib_reads_every_file_it_names, |dir| {
+    // `mtllib a.mtl b.mtl` was one name: "./a.mtl b.mtl: No such file".
+    let obj = |mtllib: &str| {
+        format!(
+            "mtllib {mtllib}\nv 0 0 0\nv 4 0 0\nv 4 4 0\nv 0 4 0\nvt 0 0\nvt 1 0\nvt 1 1\n\
+             vt 0 1\nusemtl a\nf 1/1 2/2 3/3\nusemtl b\nf 1/1 3/3 4/4\n"
+        )
+    };
+    dir.write("m/a.mtl", "newmtl a\nKd 1 0 0\n");
+    dir.write("m/b.mtl", "newmtl b\nmap_Kd blue.ppm\n");
+    dir.write("m/blue.ppm", BLUE_PPM);
+    dir.write("m/sq.obj", obj("a.mtl b.mtl"));
+    dir.write("s.json", r#"{"mesh": {"obj": "m/sq.obj"}}"#);
+    dir.cmd("scene-render")
+        .args(["--ortho", "0,4,0,4,-10,10", "--size", "8x8"])
+        .args(["s.json", "-o", "s.png", "--depfile", "s.d"])
+        .assert()
+        .success()
+        .stderr("");
+    let img = image::load_from_memory(&dir.read("s.png"))
+        .unwrap()
+        .to_rgb8();
+    // Below the diagonal a's red, above it b's blue texture.
+    let (red, blue) = (img.get_pixel(6, 6).0, img.get_pixel(1, 1).0);
+    assert!(red[0] > 200 && red[2] < 50, "{red:?}");
+    assert!(blue[2] > 200 && blue[0] < 50, "{blue:?}");
+    let deps = String::from_utf8(dir.read("s.d")).unwrap();
+    assert!(
+        deps.contains("m/a.mtl") && deps.contains("m/b.mtl"),
+        "{deps}"
+    );
+    // A file named by the whole line, spaces and all, is that one file.
+    dir.write("m/a.mtl b.mtl", "newmtl a\nKd 0 1 0\nnewmtl b\nKd 0 1 0\n");
+    let c = middle_colour(&dir, r#"{"mesh": {"obj": "m/sq.obj"}}"#);
+    assert!(c[1] > 200 && c[0] < 50 && c[2] < 50, "{c:?}");
+    // One of the names missing: that one is named.
+    dir.write("m/sq.obj", obj("a.mtl gone.mtl"));
+    dir.cmd("scene-render")
+        .args(["s.json", "-o", "out.png"])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "record 0: mesh.obj: ./m/sq.obj:1: mtllib a.mtl gone.mtl: ./m/gone.mtl: No such file \
+             or directory (os error 2) (one of 2 names on the line; no file ./m/a.mtl gone.mtl \
+             either)",
+        ));
+});
+
 clitest!(bad_meshes_are_refused_naming_the_file_and_line, |dir| {
     dir.write("ok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     for (obj, record, needle) in [
