@@ -519,7 +519,7 @@ fn stdout_unusable() -> Option<&'static str> {
 /// scene-render's `--compare` report when the image is on standard
 /// output), or an error if it could not be written. Diagnostics are
 /// dropped when standard error cannot take them
-/// ([`eprintln_or_drop!`]), but a report is an output: `2>/dev/full` or
+/// (`eprintln_or_drop!`), but a report is an output: `2>/dev/full` or
 /// `2>&-` lost it with status 0 (a hostile-input review). The error itself
 /// has nowhere to go then, but the exit status says it.
 pub fn write_report_to_stderr(text: &str) -> anyhow::Result<()> {

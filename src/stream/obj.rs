@@ -7,7 +7,7 @@
 //! number of vertices, each `v`, `v/vt`, `v//vn` or `v/vt/vn`, indices from
 //! 1 or negative from the end), `mtllib` (one file whose name may hold
 //! spaces, or several) and `usemtl`; from a `.mtl`, `newmtl`, `Kd` and
-//! `map_Kd` (its options, then its file: [`texture_file`]). Every other
+//! `map_Kd` (its options, then its file: `texture_file`). Every other
 //! statement (`o`, `g`, `s`, `l`, `Ka`, `Ks`, `Ns`, `illum`, ...) is
 //! skipped, as OBJ readers do. Errors
 //! name the file and the line. The file is read whole but bounded
@@ -64,7 +64,7 @@ pub struct Material {
     /// `Kd r g b`: the diffuse colour, linear reflectance 0..1.
     pub kd: Option<[f64; 3]>,
     /// `map_Kd [OPTIONS] FILE`: the diffuse texture, resolved against the
-    /// `.mtl`'s directory ([`texture_file`]).
+    /// `.mtl`'s directory (`texture_file`).
     pub map_kd: Option<PathBuf>,
     /// Where that `map_Kd` is: its `.mtl` file and line, which an error
     /// reading the texture names (it named the first face using it).
