@@ -515,13 +515,15 @@ fn stdout_unusable() -> Option<&'static str> {
     }
 }
 
-/// Writes a report asked for on standard error (polyfill3's `--json`,
-/// scene-render's `--compare` report when the image is on standard
-/// output), or an error if it could not be written. Diagnostics are
-/// dropped when standard error cannot take them
-/// (`eprintln_or_drop!`), but a report is an output: `2>/dev/full` or
-/// `2>&-` lost it with status 0 (a hostile-input review). The error itself
-/// has nowhere to go then, but the exit status says it.
+/// Writes a machine-read report asked for on standard error (polyfill3's
+/// `--json`, scene-render's `--compare` report when the image is on
+/// standard output), or an error if it could not be written. Diagnostics
+/// for people (warnings, `--timings`, `pat-from-image --report`) are
+/// dropped when standard error cannot take them (`eprintln_or_drop!`), but
+/// such a report is an output, captured as `2> summary.json`: `2>/dev/full`
+/// or `2>&-` lost it with status 0 (a hostile-input review). The error
+/// itself has nowhere to go then, but the exit status says it. A closed
+/// pipe is a reader that wanted no more, as on standard output: no error.
 pub fn write_report_to_stderr(text: &str) -> anyhow::Result<()> {
     let why = match STDERR_STATE.load(std::sync::atomic::Ordering::Relaxed) {
         CLOSED => Some("closed"),
@@ -533,8 +535,10 @@ pub fn write_report_to_stderr(text: &str) -> anyhow::Result<()> {
     }
     use std::io::Write as _;
     let mut err = std::io::stderr().lock();
-    let written = err.write_all(text.as_bytes()).and_then(|()| err.flush());
-    anyhow::Context::context(written, "writing the report to standard error")
+    match err.write_all(text.as_bytes()).and_then(|()| err.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        written => anyhow::Context::context(written, "writing the report to standard error"),
+    }
 }
 
 /// An error unless standard output can be written: output to a closed

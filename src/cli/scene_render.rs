@@ -1050,7 +1050,7 @@ fn render_frames(
     };
     // Every frame's transforms before any frame is written: one failing at
     // frame K replaced frames 0 to K-1 first.
-    if frames.len() > 1 {
+    if frames.len() > 1 && scene.is_animated() {
         for &k in &frames {
             scene.check_transforms_at(k).map_err(|e| at_frame(e, k))?;
         }

@@ -577,14 +577,32 @@ impl Scene {
         project_waves(self.waves, view, how, frame, &self.lights, self.limit)
     }
 
+    /// Whether any record or instance has an animated transform: its
+    /// frames may then differ, and fail, one from another. Each object's
+    /// parts are read once however many instances place it.
+    pub fn is_animated(&self) -> bool {
+        fn any(parts: &[Part], seen: &mut HashSet<*const Vec<Part>>) -> bool {
+            parts.iter().any(|part| match part {
+                Part::Draw(d) => d.animated().is_some(),
+                Part::Place(p) => {
+                    p.animated.is_some()
+                        || (seen.insert(Arc::as_ptr(&p.object)) && any(&p.object, seen))
+                }
+            })
+        }
+        let mut seen = HashSet::new();
+        self.waves.iter().any(|wave| any(wave, &mut seen))
+    }
+
     /// Checks every animated transform of frame `frame` as
     /// [`Scene::project`] would meet it, and nothing else: an animation
     /// calls it for all its frames before it writes any, so that a
     /// transform that fails at frame K (a scale reaching 0, a step reaching
     /// infinity: a pure function of the stream) is an error before frames
     /// 0 to K-1 replace their files (a hostile-input review). The same
-    /// errors, in the same order, as projection's; a scene with nothing
-    /// animated costs one walk over its parts.
+    /// errors, in the same order, as projection's; one walk over the
+    /// parts, as a frame's projection makes (a scene that is not
+    /// [`Scene::is_animated`] needs none).
     pub fn check_transforms_at(&self, frame: u64) -> Result<(), SceneError> {
         self.waves
             .iter()
