@@ -30,6 +30,7 @@
 //! ([`Element`]'s `Deserialize`), so JSON errors keep their positions in the
 //! whole input.
 
+use super::MAX_VERTICES;
 use serde::de::value::{MapAccessDeserializer, SeqAccessDeserializer};
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::ser::{Serialize, SerializeMap, Serializer};
@@ -458,9 +459,6 @@ struct ElementVisitor;
 /// with `seq`, arrays) as `Value`s wrapped by `$wrap`.
 macro_rules! other_values {
     ($out:ty, $wrap:expr) => {
-        fn visit_bool<E: de::Error>(self, b: bool) -> Result<$out, E> {
-            Ok($wrap(Value::Bool(b)))
-        }
         fn visit_i64<E: de::Error>(self, n: i64) -> Result<$out, E> {
             Ok($wrap(Value::from(n)))
         }
@@ -469,6 +467,16 @@ macro_rules! other_values {
         }
         fn visit_f64<E: de::Error>(self, x: f64) -> Result<$out, E> {
             Ok($wrap(Value::from(x)))
+        }
+        non_numbers!($out, $wrap);
+    };
+}
+
+/// [`other_values`] but for numbers: booleans, strings and null.
+macro_rules! non_numbers {
+    ($out:ty, $wrap:expr) => {
+        fn visit_bool<E: de::Error>(self, b: bool) -> Result<$out, E> {
+            Ok($wrap(Value::Bool(b)))
         }
         fn visit_str<E: de::Error>(self, s: &str) -> Result<$out, E> {
             Ok($wrap(Value::String(s.to_string())))
@@ -510,6 +518,8 @@ impl<'de> Visitor<'de> for ElementVisitor {
                         Field::Raw(text_of(&other))
                     }
                 }
+            } else if let Some(per_vertex) = PerVertex::of(&key) {
+                Field::Value(map.next_value_seed(per_vertex)?)
             } else if is_value_key(&key) {
                 Field::Value(map.next_value_seed(UniqueKeys)?)
             } else {
@@ -560,37 +570,40 @@ struct UniqueKeys;
 impl<'de> DeserializeSeed<'de> for UniqueKeys {
     type Value = Value;
     fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Value, D::Error> {
-        struct UniqueVisitor;
-        impl<'de> Visitor<'de> for UniqueVisitor {
-            type Value = Value;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a JSON value")
-            }
-            other_values!(Value, std::convert::identity);
-            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
-                let mut out = Vec::new();
-                while let Some(v) = seq.next_element_seed(UniqueKeys)? {
-                    out.push(v);
+        d.deserialize_any(UniqueVisitor)
+    }
+}
+
+/// [`UniqueKeys`]' visitor.
+struct UniqueVisitor;
+
+impl<'de> Visitor<'de> for UniqueVisitor {
+    type Value = Value;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a JSON value")
+    }
+    other_values!(Value, std::convert::identity);
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+        let mut out = Vec::new();
+        while let Some(v) = seq.next_element_seed(UniqueKeys)? {
+            out.push(v);
+        }
+        Ok(Value::Array(out))
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
+        let mut out = Map::new();
+        while let Some(key) = map.next_key::<String>()? {
+            let value = map.next_value_seed(UniqueKeys)?;
+            match out.entry(key) {
+                serde_json::map::Entry::Occupied(o) => {
+                    return Err(repeated_key(o.key()));
                 }
-                Ok(Value::Array(out))
-            }
-            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
-                let mut out = Map::new();
-                while let Some(key) = map.next_key::<String>()? {
-                    let value = map.next_value_seed(UniqueKeys)?;
-                    match out.entry(key) {
-                        serde_json::map::Entry::Occupied(o) => {
-                            return Err(repeated_key(o.key()));
-                        }
-                        serde_json::map::Entry::Vacant(v) => {
-                            v.insert(value);
-                        }
-                    }
+                serde_json::map::Entry::Vacant(v) => {
+                    v.insert(value);
                 }
-                Ok(Value::Object(out))
             }
         }
-        d.deserialize_any(UniqueVisitor)
+        Ok(Value::Object(out))
     }
 }
 
@@ -599,6 +612,311 @@ fn repeated_key<E: de::Error>(key: &str) -> E {
     E::custom(format_args!(
         "the key \"{key}\" appears twice in one object: which one is meant?"
     ))
+}
+
+/// The keys of a record whose arrays hold one element per vertex.
+const PER_VERTEX_KEYS: [&str; 3] = ["vertices", "uv", "normals"];
+
+/// The value of a record's field that holds one element per vertex
+/// ([`PER_VERTEX_KEYS`]), read as [`UniqueKeys`] reads it, but an array is
+/// counted as it is read: at its element [`MAX_VERTICES`] + 1 the record is
+/// refused ([`per_vertex_limit`]), whatever follows. Counted only once the
+/// whole array was a `Value` tree (about 380 bytes a vertex), a record one
+/// vertex over the limit needed 6.6 GB and ran out of memory instead of
+/// naming the limit, and an endless array grew until it did. Its elements
+/// past the first [`READ_AS_VALUES`] are kept [`Packed`] (32 bytes a
+/// point) until the array ends, then made the `Value` the field holds,
+/// each point's array no larger than it needs.
+#[derive(Clone, Copy)]
+struct PerVertex(&'static str);
+
+/// How many elements of a per-vertex array are read straight into `Value`s
+/// (about 300 KB of them), as before: packing and unpacking them cost 3% of
+/// the instructions of reading 200,000 triangles in a JSON array
+/// (callgrind), and few polygons have more vertices.
+const READ_AS_VALUES: usize = 1024;
+
+impl PerVertex {
+    /// The reader of `key`'s value, if it holds one element per vertex.
+    fn of(key: &str) -> Option<PerVertex> {
+        PER_VERTEX_KEYS
+            .into_iter()
+            .find(|k| *k == key)
+            .map(PerVertex)
+    }
+}
+
+/// The error of a `key` array ([`PER_VERTEX_KEYS`]) with more elements
+/// than a polygon may have vertices, as `record::parse_vertices` words it
+/// for a `Value`, but "at least": reading stops at the first element past
+/// the limit.
+pub(super) fn per_vertex_limit(key: &str) -> String {
+    let n = MAX_VERTICES + 1;
+    match key {
+        "vertices" => {
+            format!("vertices: at least {n} vertices is more than the limit of {MAX_VERTICES}")
+        }
+        "uv" => format!(
+            "uv: at least {n} pairs is more than the limit of {MAX_VERTICES} vertices \
+             (one pair per vertex)"
+        ),
+        _ => format!(
+            "normals: at least {n} is more than the limit of {MAX_VERTICES} vertices \
+             (one per vertex)"
+        ),
+    }
+}
+
+/// The message of `e` if it is a [`per_vertex_limit`] error, without the
+/// position serde_json adds: the record's error, not a JSON syntax error.
+pub(super) fn per_vertex_limit_in(e: &serde_json::Error) -> Option<String> {
+    if !e.is_data() {
+        return None;
+    }
+    let text = e.to_string();
+    let position = format!(" at line {} column {}", e.line(), e.column());
+    let message = text.strip_suffix(&position).unwrap_or(&text);
+    PER_VERTEX_KEYS
+        .into_iter()
+        .map(per_vertex_limit)
+        .find(|m| m == message)
+}
+
+impl<'de> DeserializeSeed<'de> for PerVertex {
+    type Value = Value;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Value, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl<'de> Visitor<'de> for PerVertex {
+    type Value = Value;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a JSON value")
+    }
+    other_values!(Value, std::convert::identity);
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+        // The first elements as they are read, as any known field's: most
+        // arrays end before these do, at no more cost than before.
+        let mut values = Vec::new();
+        while values.len() < READ_AS_VALUES {
+            match seq.next_element_seed(UniqueKeys)? {
+                Some(v) => values.push(v),
+                None => return Ok(Value::Array(values)),
+            }
+        }
+        // The rest packed, counted.
+        let (mut packed, mut others) = (Vec::new(), Vec::new());
+        while let Some(element) = seq.next_element_seed(Packed::READ)? {
+            if values.len() + packed.len() == MAX_VERTICES {
+                return Err(de::Error::custom(per_vertex_limit(self.0)));
+            }
+            packed.push(element.unwrap_or_else(|other| {
+                others.push(other);
+                Packed::OTHER
+            }));
+        }
+        let mut others = others.into_iter();
+        values.reserve_exact(packed.len());
+        values.extend(packed.iter().map(|p| p.value(&mut others)));
+        Ok(Value::Array(values))
+    }
+    fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Value, A::Error> {
+        UniqueVisitor.visit_map(map)
+    }
+}
+
+/// A JSON number as serde_json hands it on.
+#[derive(Clone, Copy)]
+enum Num {
+    U(u64),
+    I(i64),
+    F(f64),
+}
+
+impl Num {
+    /// The number as [`UniqueKeys`] makes it a `Value`.
+    fn value(self) -> Value {
+        match self {
+            Num::U(n) => Value::from(n),
+            Num::I(n) => Value::from(n),
+            Num::F(x) => Value::from(x),
+        }
+    }
+}
+
+/// One element of a per-vertex array as read ([`PerVertex`]), in 32
+/// bytes: an array of up to three numbers, a number, `null` or a boolean;
+/// or any other value ([`Packed::OTHER`]), kept apart, in order.
+#[derive(Clone, Copy)]
+struct Packed {
+    /// The numbers, each a `u64`, an `i64` or an `f64` as `kinds` says.
+    bits: [u64; 3],
+    /// How many numbers an array holds (0 to 3), or one of the other
+    /// forms ([`Packed::NUMBER`], ...).
+    form: u8,
+    /// Two bits a number: 0 for a `u64`, 1 an `i64`, 2 an `f64`.
+    kinds: u8,
+}
+
+impl Packed {
+    const NUMBER: u8 = 4;
+    const NULL: u8 = 5;
+    const FALSE: u8 = 6;
+    const TRUE: u8 = 7;
+    /// An element kept apart as a `Value`.
+    const OTHER: Packed = Packed::form(8);
+    /// The reader of one element: `Err` for one kept as a `Value`.
+    const READ: PackedSeed = PackedSeed;
+
+    const fn form(form: u8) -> Packed {
+        Packed {
+            bits: [0; 3],
+            form,
+            kinds: 0,
+        }
+    }
+
+    /// The numbers `nums` (at most three), as an array or, with `form`
+    /// [`Packed::NUMBER`], one number alone.
+    fn numbers(nums: &[Num], form: u8) -> Packed {
+        let mut p = Packed::form(form);
+        for (i, n) in nums.iter().enumerate() {
+            let (bits, kind) = match *n {
+                Num::U(n) => (n, 0),
+                Num::I(n) => (n as u64, 1),
+                Num::F(x) => (x.to_bits(), 2),
+            };
+            p.bits[i] = bits;
+            p.kinds |= kind << (2 * i);
+        }
+        p
+    }
+
+    /// Number `i`.
+    fn num(&self, i: usize) -> Num {
+        let bits = self.bits[i];
+        match (self.kinds >> (2 * i)) & 3 {
+            0 => Num::U(bits),
+            1 => Num::I(bits as i64),
+            _ => Num::F(f64::from_bits(bits)),
+        }
+    }
+
+    /// The element as [`UniqueKeys`] would have read it, `others` giving
+    /// the ones kept apart.
+    fn value(&self, others: &mut impl Iterator<Item = Value>) -> Value {
+        match self.form {
+            n @ 0..=3 => Value::Array((0..usize::from(n)).map(|i| self.num(i).value()).collect()),
+            Packed::NUMBER => self.num(0).value(),
+            Packed::NULL => Value::Null,
+            Packed::FALSE => Value::Bool(false),
+            Packed::TRUE => Value::Bool(true),
+            _ => others.next().expect("a value kept for every other element"),
+        }
+    }
+}
+
+/// Reads one element of a per-vertex array ([`Packed::READ`]).
+#[derive(Clone, Copy)]
+struct PackedSeed;
+
+impl<'de> DeserializeSeed<'de> for PackedSeed {
+    type Value = Result<Packed, Value>;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl<'de> Visitor<'de> for PackedSeed {
+    type Value = Result<Packed, Value>;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a JSON value")
+    }
+    fn visit_u64<E: de::Error>(self, n: u64) -> Result<Self::Value, E> {
+        Ok(Ok(Packed::numbers(&[Num::U(n)], Packed::NUMBER)))
+    }
+    fn visit_i64<E: de::Error>(self, n: i64) -> Result<Self::Value, E> {
+        Ok(Ok(Packed::numbers(&[Num::I(n)], Packed::NUMBER)))
+    }
+    fn visit_f64<E: de::Error>(self, x: f64) -> Result<Self::Value, E> {
+        Ok(Ok(Packed::numbers(&[Num::F(x)], Packed::NUMBER)))
+    }
+    fn visit_unit<E: de::Error>(self) -> Result<Self::Value, E> {
+        Ok(Ok(Packed::form(Packed::NULL)))
+    }
+    fn visit_bool<E: de::Error>(self, b: bool) -> Result<Self::Value, E> {
+        Ok(Ok(Packed::form(if b {
+            Packed::TRUE
+        } else {
+            Packed::FALSE
+        })))
+    }
+    fn visit_str<E: de::Error>(self, s: &str) -> Result<Self::Value, E> {
+        Ok(Err(Value::String(s.to_string())))
+    }
+    fn visit_string<E: de::Error>(self, s: String) -> Result<Self::Value, E> {
+        Ok(Err(Value::String(s)))
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+        let mut nums = [Num::U(0); 3];
+        let mut n = 0;
+        while let Some(x) = seq.next_element_seed(NumSeed)? {
+            match x {
+                Ok(x) if n < 3 => {
+                    nums[n] = x;
+                    n += 1;
+                }
+                // A fourth number, or something else: the element is
+                // kept as a `Value`.
+                x => {
+                    let mut out: Vec<Value> = nums[..n].iter().map(|x| x.value()).collect();
+                    out.push(x.map_or_else(|v| v, Num::value));
+                    while let Some(v) = seq.next_element_seed(UniqueKeys)? {
+                        out.push(v);
+                    }
+                    return Ok(Err(Value::Array(out)));
+                }
+            }
+        }
+        Ok(Ok(Packed::numbers(&nums[..n], n as u8)))
+    }
+    fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+        UniqueVisitor.visit_map(map).map(Err)
+    }
+}
+
+/// Reads a number, or (`Err`) any other value as [`UniqueKeys`] does.
+struct NumSeed;
+
+impl<'de> DeserializeSeed<'de> for NumSeed {
+    type Value = Result<Num, Value>;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl<'de> Visitor<'de> for NumSeed {
+    type Value = Result<Num, Value>;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a JSON value")
+    }
+    fn visit_u64<E: de::Error>(self, n: u64) -> Result<Self::Value, E> {
+        Ok(Ok(Num::U(n)))
+    }
+    fn visit_i64<E: de::Error>(self, n: i64) -> Result<Self::Value, E> {
+        Ok(Ok(Num::I(n)))
+    }
+    fn visit_f64<E: de::Error>(self, x: f64) -> Result<Self::Value, E> {
+        Ok(Ok(Num::F(x)))
+    }
+    non_numbers!(Result<Num, Value>, Err);
+    fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Self::Value, A::Error> {
+        UniqueVisitor.visit_seq(seq).map(Err)
+    }
+    fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+        UniqueVisitor.visit_map(map).map(Err)
+    }
 }
 
 /// `"records"`: an array of elements, or (`Err`) any other value, which
@@ -793,5 +1111,65 @@ mod tests {
             r#"[{"rect":[0,0,1,1],"id":1e2},5]"#
         );
         assert_eq!(f.keys().collect::<Vec<_>>(), ["object", "records", "x"]);
+    }
+
+    /// A per-vertex field is read (counted, its elements packed) into the
+    /// very `Value` the other known fields are read into, whatever its
+    /// elements; other fields are as they were.
+    #[test]
+    fn per_vertex_fields_are_the_values_any_known_field_would_be() {
+        // Past the elements read as values, the packed ones.
+        let first = "[0.5,1],".repeat(READ_AS_VALUES - 1);
+        let long = format!(
+            r#"[{first}[0,0],[1,-2,3.5],[],[7],[1,2,3,4],[1,2,3,"x"],[1,"x",2],5,-0,1e2,
+            -9223372036854775808,18446744073709551615,[1.5e300,-0.0,4.9e-324],null,true,
+            false,"s",{{"a":[1,{{"b":2}}]}},[[1]],[null],[1,[2]],[{{"c":3}}]]"#
+        );
+        let elements = r#"[[0,0],[1,-2,3.5],[],[7],[1,2,3,4],[1,2,3,"x"],[1,"x",2],5,-0,1e2,
+            -9223372036854775808,18446744073709551615,[1.5e300,-0.0,4.9e-324],null,true,
+            false,"s",{"a":[1,{"b":2}]},[[1]],[null],[1,[2]],[{"c":3}]]"#;
+        for text in [&long, elements, "[]", "7", "\"v\"", "{\"a\":[1,2]}", "null"] {
+            let want = value_with_unique_keys(text).unwrap();
+            for key in PER_VERTEX_KEYS {
+                let record = format!("{{\"{key}\":{text},\"color\":[1,2,3]}}");
+                let Element::Object(o) = element(&record) else {
+                    panic!("{record}")
+                };
+                let f = o.into_fields();
+                assert_eq!(f.get(key), Some(&want), "{record}");
+                assert_eq!(
+                    serde_json::to_string(&f).unwrap(),
+                    serde_json::to_string(&serde_json::json!({key: want, "color": [1, 2, 3]}))
+                        .unwrap()
+                );
+            }
+        }
+        // Repeated keys are refused inside them too.
+        for first in ["", &first] {
+            let text = format!(r#"{{"uv":[{first}[0,0],{{"a":1,"a":2}}]}}"#);
+            let e = serde_json::from_str::<Element>(&text).unwrap_err();
+            assert!(e.to_string().contains("the key \"a\" appears twice"), "{e}");
+        }
+    }
+
+    /// The error of a per-vertex array past the limit is told from other
+    /// data errors by its whole message, with or without a position.
+    #[test]
+    fn the_per_vertex_limit_is_told_by_its_message() {
+        use serde::de::Error as _;
+        for key in PER_VERTEX_KEYS {
+            let m = per_vertex_limit(key);
+            assert!(m.starts_with(&format!("{key}: at least 16777217 ")), "{m}");
+            assert!(m.contains("more than the limit of 16777216"), "{m}");
+            let e = serde_json::Error::custom(&m);
+            assert_eq!(per_vertex_limit_in(&e).as_deref(), Some(&m[..]));
+        }
+        let e = serde_json::from_str::<Element>(&format!(
+            r#"{{"a":1,"a":"{}"}}"#,
+            per_vertex_limit("uv")
+        ));
+        assert_eq!(per_vertex_limit_in(&e.unwrap_err()), None);
+        let e = serde_json::Error::custom(format!("x{}", per_vertex_limit("vertices")));
+        assert_eq!(per_vertex_limit_in(&e), None);
     }
 }

@@ -34,6 +34,8 @@ use std::fmt;
 
 mod scan;
 
+use scan::Scanned;
+
 /// The typed view of `line` (one JSON value, surrounding whitespace trimmed)
 /// as record `index`, if it is a plain polygon record; `None` sends the line
 /// to the general path. (The reader uses [`parse`] and [`PlainView::record`]
@@ -63,8 +65,14 @@ pub(super) struct PlainView {
 pub(super) fn parse(line: &[u8], verts: &mut Vec<DVec3>) -> Option<PlainView> {
     let start = verts.len();
     let color = match scan::vertices_and_color(line, verts) {
-        Some(c) => c,
-        None => {
+        Scanned::Plain(c) => c,
+        Scanned::TooMany => {
+            // Up to MAX_VERTICES points were read into the run's list:
+            // not kept while the general path reads the line again.
+            verts.shrink_to_fit();
+            return None;
+        }
+        Scanned::Other => {
             let plain: Plain = serde_json::from_slice(line).ok()?;
             let (Some(v), Some(c)) = (plain.vertices, plain.color) else {
                 return None;

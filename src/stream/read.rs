@@ -5,10 +5,10 @@
 //! lines take the fast path ([`super::plain`]), a batch of lines at a time
 //! in parallel, the next batch read and parsed while one is handed on.
 
-use super::fields::Element;
+use super::fields::{per_vertex_limit_in, Element};
 use super::objects::{Instance, Item, Objects};
 use super::record::Record;
-use super::{plain, ReadOptions, StreamError};
+use super::{plain, ReadOptions, StreamError, MAX_VERTICES};
 use crate::geom::transform::Transform;
 use crate::text::{BOM_FIRST, BOM_HINT};
 use serde::de::{Deserializer as _, SeqAccess, Visitor};
@@ -315,7 +315,9 @@ pub fn for_each_item_with<R: BufRead + Send, E: From<StreamError>>(
                 let handed = rayon::in_place_scope(|scope| {
                     let (next, next_typed, next_failed) =
                         (&mut next, &mut next_typed, &mut next_failed);
-                    let (reader, read_on) = (&mut reader, failed.is_none());
+                    // Nor past a line cut short: serde's stream reader
+                    // reads on from there.
+                    let (reader, read_on) = (&mut reader, failed.is_none() && !batch.cut);
                     scope.spawn(move |_| {
                         // Nothing is read past a read error: it ends the stream.
                         match read_on {
@@ -328,6 +330,7 @@ pub fn for_each_item_with<R: BufRead + Send, E: From<StreamError>>(
                 });
                 match handed? {
                     Handed::All => {}
+                    Handed::Refused(m) => return Err(stream_err(Some(index), m).into()),
                     Handed::NotOneValueAt(start) => {
                         // The rest of the input from that line: the batch's
                         // bytes from there, the next batch's, then the read
@@ -375,6 +378,10 @@ enum Handed {
     /// one whole JSON value: the rest of the input goes to serde_json's
     /// stream reader from there.
     NotOneValueAt(usize),
+    /// Up to a line that is one record with more vertices than a polygon
+    /// may have: the error's message (`fields::per_vertex_limit`), for the
+    /// record being read, as serde_json's stream reader would give it.
+    Refused(String),
 }
 
 /// Hands on each line of `batch` in order: its typed view from `typed`
@@ -400,15 +407,34 @@ fn hand_on_batch<E>(
             if let Some((view, verts)) = pre {
                 let rec = view.record(verts, body, *index);
                 handle(Parsed::Item(Item::Record(rec)), index)?;
-            } else if let Ok(e) = serde_json::from_slice::<Element>(body) {
-                handle(Parsed::Element(e), index)?;
             } else {
-                return Ok(Handed::NotOneValueAt(start));
+                match serde_json::from_slice::<Element>(body) {
+                    Ok(e) => handle(Parsed::Element(e), index)?,
+                    // Read as far as the element past the limit: not again.
+                    Err(e) => match per_vertex_limit_in(&e) {
+                        Some(m) => return Ok(Handed::Refused(m)),
+                        None => return Ok(Handed::NotOneValueAt(start)),
+                    },
+                }
             }
         }
         if line.last() == Some(&b'\n') {
             *newlines += 1;
         }
+    }
+    if batch.cut {
+        // Read as far as its array past the limit: the error serde_json's
+        // stream reader would give (it reads the same bytes first), found
+        // faster from memory. Anything else is left to that reader.
+        let (start, end) = batch.lines[batch.lines.len() - 1];
+        let body = trim_json_whitespace(&batch.buf[start..end]);
+        if let Some(m) = serde_json::from_slice::<Element>(body)
+            .err()
+            .and_then(|e| per_vertex_limit_in(&e))
+        {
+            return Ok(Handed::Refused(m));
+        }
+        return Ok(Handed::NotOneValueAt(start));
     }
     Ok(Handed::All)
 }
@@ -439,6 +465,11 @@ struct Batch {
     buf: Vec<u8>,
     /// Each line's range in `buf`.
     lines: Vec<(usize, usize)>,
+    /// Whether the last line was cut short where [`LongLine`] found more
+    /// elements in one of its per-vertex arrays than a polygon may have: it
+    /// is left to serde's stream reader, from its start, and nothing more
+    /// is read into batches.
+    cut: bool,
 }
 
 impl Batch {
@@ -446,6 +477,12 @@ impl Batch {
     fn clear(&mut self) {
         self.buf.clear();
         self.lines.clear();
+        self.cut = false;
+    }
+
+    /// The lines read whole: all but one [cut short](Batch::cut).
+    fn whole_lines(&self) -> &[(usize, usize)] {
+        &self.lines[..self.lines.len() - usize::from(self.cut)]
     }
 
     /// Reads the next batch; a read error ends it early and is returned
@@ -461,10 +498,16 @@ impl Batch {
     /// instructions against 564 M (callgrind). The batch ends as it would
     /// line by line: at the line that takes it to [`BATCH_BYTES`], or at
     /// [`BATCH_LINES`] lines.
+    ///
+    /// A line longer than [`LONG_LINE`] is counted as it is read
+    /// ([`LongLine`]), and cut short ([`Batch::cut`]) once it has too many
+    /// vertices for a polygon.
     fn fill(&mut self, reader: &mut impl BufRead) -> Option<std::io::Error> {
         self.clear();
         // Where the line being read starts in `buf`.
         let mut line_start = 0;
+        // The count of a long line, once it is long.
+        let mut long: Option<LongLine> = None;
         loop {
             let available = match reader.fill_buf() {
                 Ok(a) => a,
@@ -493,7 +536,137 @@ impl Batch {
             if full {
                 return None;
             }
+            if self.buf.len() - line_start > LONG_LINE {
+                let count = match &mut long {
+                    Some(l) if l.start == line_start => l,
+                    stale => stale.insert(LongLine::new(line_start)),
+                };
+                if count.too_many(&self.buf) {
+                    self.lines.push((line_start, self.buf.len()));
+                    self.cut = true;
+                    return None;
+                }
+            }
         }
+    }
+}
+
+/// A line longer than this is counted as it is read ([`LongLine`]): few
+/// are (a polygon of some 100,000 vertices), so the count costs nothing on
+/// the lines streams hold.
+const LONG_LINE: usize = BATCH_BYTES;
+
+/// The count of a line too long to take on trust ([`LONG_LINE`]): the
+/// elements of every array under a key that holds one per vertex
+/// (`"vertices"`, `"uv"`, `"normals"`, or a key with an escape, which may
+/// spell one), at any depth, so that [`Batch::fill`] stops reading the line
+/// once one of them has more than [`MAX_VERTICES`] elements. The line is
+/// then read by serde's stream reader (`fields::PerVertex`), which stops at
+/// the element past the limit and words the error: read whole first, an
+/// endless `"vertices"` line grew by 4 GB in 5 s until memory ran out.
+///
+/// It counts right for any valid JSON, and only ever sends a line to
+/// serde's stream reader, which reads it as the line would have been read
+/// (the same records, the same errors): a miscount on a line that is not
+/// JSON costs time, not a different answer.
+struct LongLine {
+    /// Where the line starts in the batch, and how far it has been counted.
+    start: usize,
+    counted: usize,
+    in_string: bool,
+    escaped: bool,
+    /// The string being read, as far as a per-vertex key goes (a longer
+    /// one has `key_len` 9), and whether it has an escape.
+    key: [u8; 8],
+    key_len: usize,
+    key_escaped: bool,
+    /// 1 after a string that may be a per-vertex key, 2 after its colon.
+    after_key: u8,
+    /// How many arrays and objects are open.
+    depth: usize,
+    /// The per-vertex arrays open, innermost last: their depth (inside
+    /// them) and their commas so far.
+    arrays: Vec<(usize, usize)>,
+    /// The most elements one may have: [`MAX_VERTICES`] (less in tests).
+    limit: usize,
+}
+
+impl LongLine {
+    fn new(start: usize) -> LongLine {
+        LongLine {
+            start,
+            counted: start,
+            in_string: false,
+            escaped: false,
+            key: [0; 8],
+            key_len: 0,
+            key_escaped: false,
+            after_key: 0,
+            depth: 0,
+            arrays: Vec::new(),
+            limit: MAX_VERTICES,
+        }
+    }
+
+    /// Counts the line's bytes in `buf` not yet counted: whether a
+    /// per-vertex array now has more than [`MAX_VERTICES`] elements (as
+    /// many commas as that: the element after the last one is on its way).
+    /// Stops there, at the comma.
+    fn too_many(&mut self, buf: &[u8]) -> bool {
+        for &b in &buf[self.counted..] {
+            self.counted += 1;
+            if self.in_string {
+                if self.escaped {
+                    self.escaped = false;
+                } else if b == b'\\' {
+                    (self.escaped, self.key_escaped) = (true, true);
+                } else if b == b'"' {
+                    self.in_string = false;
+                    let key = self.key.get(..self.key_len).unwrap_or_default();
+                    let per_vertex = matches!(key, b"vertices" | b"uv" | b"normals");
+                    self.after_key = u8::from(per_vertex || self.key_escaped);
+                } else if self.key_len < 9 {
+                    if let Some(k) = self.key.get_mut(self.key_len) {
+                        *k = b;
+                    }
+                    self.key_len += 1;
+                }
+                continue;
+            }
+            match b {
+                b' ' | b'\t' | b'\n' | b'\r' => continue,
+                b'"' => {
+                    (self.in_string, self.key_len, self.key_escaped) = (true, 0, false);
+                }
+                b':' if self.after_key == 1 => {
+                    self.after_key = 2;
+                    continue;
+                }
+                b'[' | b'{' => {
+                    self.depth += 1;
+                    if b == b'[' && self.after_key == 2 {
+                        self.arrays.push((self.depth, 0));
+                    }
+                }
+                b']' | b'}' => {
+                    if self.arrays.last().is_some_and(|a| a.0 == self.depth) {
+                        self.arrays.pop();
+                    }
+                    self.depth = self.depth.saturating_sub(1);
+                }
+                b',' => {
+                    if let Some(a) = self.arrays.last_mut().filter(|a| a.0 == self.depth) {
+                        a.1 += 1;
+                        if a.1 >= self.limit {
+                            return true;
+                        }
+                    }
+                }
+                _ => {}
+            }
+            self.after_key = 0;
+        }
+        false
     }
 }
 
@@ -513,7 +686,7 @@ const RUN_LINES: usize = 512;
 fn parse_plain_batch(batch: &Batch) -> Vec<PlainRun> {
     use rayon::prelude::*;
     batch
-        .lines
+        .whole_lines()
         .par_chunks(RUN_LINES)
         .map(|lines| {
             let mut run = PlainRun {
@@ -558,6 +731,11 @@ fn trim_json_whitespace(s: &[u8]) -> &[u8] {
 /// JavaScript and Python's `json.dumps` write) is named, where serde_json
 /// says only that it expected a value.
 fn json_message(e: &serde_json::Error, last: [u8; 3]) -> String {
+    // Not a syntax error: a record with too many vertices, found as it was
+    // read (`fields::PerVertex`), worded as the record's own errors are.
+    if let Some(m) = per_vertex_limit_in(e) {
+        return m;
+    }
     let text = e.to_string();
     let surrogate = ["unexpected end of hex escape", "lone leading surrogate"]
         .iter()
@@ -1154,5 +1332,197 @@ mod tests {
         });
         assert_eq!(seen, 1);
         assert_eq!(r.unwrap_err().to_string(), ": record 7: stop");
+    }
+
+    /// A reader of `head`, then `unit` over and over, without end,
+    /// counting the bytes read from it in `read`.
+    struct Endless<'a> {
+        head: &'a [u8],
+        unit: &'a [u8],
+        at: usize,
+        read: &'a std::sync::atomic::AtomicU64,
+    }
+
+    impl std::io::Read for Endless<'_> {
+        fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+            let mut n = 0;
+            while n < out.len() {
+                let piece = match self.head.get(self.at..) {
+                    Some(head) if !head.is_empty() => head,
+                    _ => &self.unit[(self.at - self.head.len()) % self.unit.len()..],
+                };
+                let k = piece.len().min(out.len() - n);
+                out[n..n + k].copy_from_slice(&piece[..k]);
+                (n, self.at) = (n + k, self.at + k);
+            }
+            self.read
+                .fetch_add(n as u64, std::sync::atomic::Ordering::Relaxed);
+            Ok(n)
+        }
+    }
+
+    /// A record one vertex over the limit once needed 6.6 GB, a `Value`
+    /// tree of its vertices, and ran out of memory instead of naming the
+    /// limit: now each per-vertex array is counted as it is read. Here a
+    /// whole line in memory (as `pat-info --record` reads a file).
+    #[test]
+    fn a_record_one_vertex_over_the_limit_is_refused_naming_the_limit() {
+        let mut text = String::with_capacity(6 * MAX_VERTICES + 64);
+        text += "{\"vertices\":[";
+        for _ in 0..MAX_VERTICES {
+            text += "[0,0],";
+        }
+        text += "[1,1]],\"color\":[1,2,3]}\n";
+        assert_eq!(
+            err(&text),
+            format!(
+                "s.json: record 0: vertices: at least {} vertices is more than the limit of \
+                 {MAX_VERTICES}",
+                MAX_VERTICES + 1
+            )
+        );
+    }
+
+    /// An endless per-vertex array, on a line or in an array: reading
+    /// stops within a buffer of the element past the limit, with the
+    /// limit's error. Read whole first, an endless `"vertices"` line grew
+    /// by 4 GB in 5 s until memory ran out.
+    #[test]
+    fn an_endless_vertex_array_is_refused_once_it_passes_the_limit() {
+        let over = MAX_VERTICES + 1;
+        let tri = "\"vertices\":[[0,0],[1,0],[0,1]],\"color\":[1,2,3]";
+        // The stream's start, what repeats, the error, and its record: a
+        // line after another (cut short by the batch reader), an array
+        // (serde_json's stream reader), whose elements, counted whatever
+        // they are, are numbers (as many elements in a third of the bytes:
+        // that reader is slow).
+        for (head, unit, message, index) in [
+            (
+                format!("{}{{\"vertices\":[", plain_line(1)),
+                "[0,0],",
+                format!(
+                    "vertices: at least {over} vertices is more than the limit of {MAX_VERTICES}"
+                ),
+                1,
+            ),
+            (
+                format!("[{{{tri}}},\n{{{tri},\"normals\":["),
+                "0,",
+                format!(
+                    "normals: at least {over} is more than the limit of {MAX_VERTICES} \
+                     vertices (one per vertex)"
+                ),
+                1,
+            ),
+        ] {
+            let read = std::sync::atomic::AtomicU64::new(0);
+            let reader = std::io::BufReader::with_capacity(
+                1 << 16,
+                Endless {
+                    head: head.as_bytes(),
+                    unit: unit.as_bytes(),
+                    at: 0,
+                    read: &read,
+                },
+            );
+            let mut records = 0;
+            let e = for_each_record(reader, "s.json", |_| {
+                records += 1;
+                Ok::<(), StreamError>(())
+            })
+            .unwrap_err();
+            assert_eq!(records, index, "{head}");
+            assert_eq!(e.to_string(), format!("s.json: record {index}: {message}"));
+            let read = read.into_inner();
+            let limit_worth = (head.len() + unit.len() * over) as u64;
+            assert!(
+                (limit_worth - (1 << 20)..=limit_worth + (1 << 20)).contains(&read),
+                "{head}: {read} bytes read for {limit_worth}"
+            );
+        }
+    }
+
+    /// The count of a long line: elements of arrays under a per-vertex key,
+    /// at any depth, whatever the strings hold, fed in pieces.
+    #[test]
+    fn a_long_line_counts_the_elements_of_per_vertex_arrays() {
+        // Whether `line`, fed a byte at a time and at once, has an array
+        // of more than 3 elements under a per-vertex key.
+        let too_many = |line: &str| {
+            let whole = {
+                let mut l = LongLine::new(0);
+                l.limit = 3;
+                l.too_many(line.as_bytes())
+            };
+            let mut l = LongLine::new(0);
+            l.limit = 3;
+            let bytewise = (1..=line.len()).any(|n| l.too_many(&line.as_bytes()[..n]));
+            assert_eq!(whole, bytewise, "{line}");
+            whole
+        };
+        for line in [
+            r#"{"vertices":[[0,0],[1,0],[0,1],[1,1]]"#,
+            r#"{"vertices" : [ 1 , 2 , 3 , 4 ]}"#,
+            r#"{"uv":[[0,0],[1,0],[0,1],[1,1]]}"#,
+            r#"{"normals":[[0,0,1],[0,0,1],[0,0,1],[0,0,1]"#,
+            r#"{"object":"o","records":[{"vertices":[{},{},"a",[[]],"#,
+            r#"{"x":{"vertices":[1,2,3,4]}}"#,
+            r#"{"vert\u0069ces":[1,2,3,4]}"#,
+            r#"{"vertices":[["a,b,c,d"],2,3,4]}"#,
+            r#"{"vertices":[{"vertices":[1,2]},2,3,4]}"#,
+        ] {
+            assert!(too_many(line), "{line}");
+        }
+        for line in [
+            r#"{"vertices":[[0,0],[1,0],[0,1]],"color":[1,2,3,4,5]}"#,
+            r#"{"vertices":[[0,0,0,0,0,0]],"uv":[[1,2,3,4,5]]}"#,
+            r#"{"verticesx":[1,2,3,4],"xuv":[1,2,3,4],"v":[1,2,3,4]}"#,
+            r#"{"name":"vertices","x":[1,2,3,4]}"#,
+            r#"{"vertices":"[1,2,3,4]","uv":{"a":1,"b":2,"c":3,"d":4}}"#,
+            r#"{"s":"\"vertices\":[1,2,3,4]"}"#,
+            r#"{"vertices":[1,2,3]} {"vertices":[1,2,3]}"#,
+        ] {
+            assert!(!too_many(line), "{line}");
+        }
+    }
+
+    /// A line too long for a batch is counted (it may be cut short), and
+    /// read as before when it is not: a polygon of 200,000 vertices, and
+    /// an unknown field of a few MB, through a small buffer.
+    #[test]
+    fn long_lines_read_as_before() {
+        let n = 200_000;
+        let ring: Vec<String> = (0..n)
+            .map(|i| {
+                let a = i as f64 * std::f64::consts::TAU / n as f64;
+                format!("[{},{}]", crate::math::cos(a), crate::math::sin(a))
+            })
+            .collect();
+        let polygon = format!(
+            "{{\"vertices\":[{}],\"color\":[1,2,3],\"id\":7}}\n",
+            ring.join(",")
+        );
+        let note = format!(
+            "{{\"rect\":[0,0,1,1],\"color\":[1,2,3],\"note\":{{\"vertices\":[{}]}}}}\n",
+            ring.join(" , ")
+        );
+        let text = format!(
+            "{}{polygon}{}{note}{}",
+            plain_line(1),
+            plain_line(2),
+            plain_line(3)
+        );
+        assert!(polygon.len().min(note.len()) > LONG_LINE);
+        let whole = read_all(&text).unwrap();
+        assert_eq!(whole.len(), 5);
+        let mut batched = Vec::new();
+        let reader = std::io::BufReader::with_capacity(4096, text.as_bytes());
+        for_each_record(reader, "s.json", |r| {
+            batched.push(r);
+            Ok::<(), StreamError>(())
+        })
+        .unwrap();
+        assert_eq!(batched, whole);
+        assert!(matches!(&whole[1].shape, Shape::Polygon(v) if v.len() == n));
     }
 }

@@ -24,22 +24,41 @@ use glam::DVec3;
 use serde_json::value::RawValue;
 use serde_json::Value;
 
+/// What [`vertices_and_color`] found.
+pub(super) enum Scanned {
+    /// A line the fast path keeps: its colour.
+    Plain([u8; 3]),
+    /// Anything else: serde's route reads the line.
+    Other,
+    /// More vertices than a polygon may have: the general path words it,
+    /// and serde's route need not read them all again.
+    TooMany,
+}
+
 /// The colour of `line` (one JSON value, trimmed), its vertices appended
 /// to `verts`, if it is an object with both that the fast path keeps;
-/// `None` (with `verts` as it was) leaves it to serde's route.
-pub(super) fn vertices_and_color(line: &[u8], verts: &mut Vec<DVec3>) -> Option<[u8; 3]> {
+/// otherwise (with `verts` as it was) what to do with it.
+pub(super) fn vertices_and_color(line: &[u8], verts: &mut Vec<DVec3>) -> Scanned {
     // One UTF-8 check of the whole line, so that keys and the texts of
     // numbers are cut from it as `str` without one each (about ten a line
     // of polyfill3's cells; `from_utf8` was 4.6% of the instructions of
     // reading and drawing them, callgrind). A line that is not UTF-8 is
     // serde's route's to refuse, as before.
-    let text = std::str::from_utf8(line).ok()?;
+    let Ok(text) = std::str::from_utf8(line) else {
+        return Scanned::Other;
+    };
     let start = verts.len();
-    let found = scan_object(&mut Scanner::new(text), verts);
-    if found.is_none() {
-        verts.truncate(start);
+    let mut s = Scanner::new(text);
+    match scan_object(&mut s, verts) {
+        Some(color) => Scanned::Plain(color),
+        None => {
+            verts.truncate(start);
+            match s.too_many {
+                true => Scanned::TooMany,
+                false => Scanned::Other,
+            }
+        }
     }
-    found
 }
 
 /// [`vertices_and_color`], leaving what it appended on failure.
@@ -96,6 +115,8 @@ struct Scanner<'a> {
     s: &'a str,
     b: &'a [u8],
     i: usize,
+    /// Whether the scan stopped at a vertex past [`super::MAX_VERTICES`].
+    too_many: bool,
 }
 
 /// What [`Scanner::short_decimal`] read.
@@ -121,6 +142,7 @@ impl<'a> Scanner<'a> {
             s,
             b: s.as_bytes(),
             i: 0,
+            too_many: false,
         }
     }
 
@@ -252,6 +274,7 @@ impl<'a> Scanner<'a> {
                 _ => return None,
             };
             if out.len() - start == super::MAX_VERTICES {
+                self.too_many = true;
                 return None;
             }
             out.push(DVec3::new(x, y, z));
@@ -606,7 +629,10 @@ mod tests {
     /// a declined line must leave the list as it was.
     fn scanned(line: &str) -> Option<(Vec<DVec3>, [u8; 3])> {
         let mut verts = vec![DVec3::splat(7.0)];
-        let c = vertices_and_color(line.as_bytes(), &mut verts);
+        let c = match vertices_and_color(line.as_bytes(), &mut verts) {
+            Scanned::Plain(c) => Some(c),
+            Scanned::Other | Scanned::TooMany => None,
+        };
         assert_eq!(verts[0], DVec3::splat(7.0));
         if c.is_none() {
             assert_eq!(
