@@ -499,20 +499,22 @@ static NOTE_CLOSED_STDIO: extern "C" fn() = {
 
 /// Why standard input cannot be read, if it cannot.
 fn stdin_unusable() -> Option<&'static str> {
-    match STDIN_STATE.load(std::sync::atomic::Ordering::Relaxed) {
+    unusable(&STDIN_STATE, "open for writing only")
+}
+
+/// Why a standard stream whose state is `state` cannot be used, if it
+/// cannot; `wrong_way` says how it was opened the wrong way.
+fn unusable(state: &std::sync::atomic::AtomicU8, wrong_way: &'static str) -> Option<&'static str> {
+    match state.load(std::sync::atomic::Ordering::Relaxed) {
         CLOSED => Some("closed"),
-        WRONG_WAY => Some("open for writing only"),
+        WRONG_WAY => Some(wrong_way),
         _ => None,
     }
 }
 
 /// Why standard output cannot be written, if it cannot.
 fn stdout_unusable() -> Option<&'static str> {
-    match STDOUT_STATE.load(std::sync::atomic::Ordering::Relaxed) {
-        CLOSED => Some("closed"),
-        WRONG_WAY => Some("open for reading only"),
-        _ => None,
-    }
+    unusable(&STDOUT_STATE, "open for reading only")
 }
 
 /// Writes a machine-read report asked for on standard error (polyfill3's
@@ -525,12 +527,7 @@ fn stdout_unusable() -> Option<&'static str> {
 /// itself has nowhere to go then, but the exit status says it. A closed
 /// pipe is a reader that wanted no more, as on standard output: no error.
 pub fn write_report_to_stderr(text: &str) -> anyhow::Result<()> {
-    let why = match STDERR_STATE.load(std::sync::atomic::Ordering::Relaxed) {
-        CLOSED => Some("closed"),
-        WRONG_WAY => Some("open for reading only"),
-        _ => None,
-    };
-    if let Some(why) = why {
+    if let Some(why) = unusable(&STDERR_STATE, "open for reading only") {
         anyhow::bail!("standard error is {why}: the report could not be written");
     }
     use std::io::Write as _;

@@ -933,40 +933,9 @@ fn project_parts(
                     .in_record(None, d.index as usize)?;
             }
             Part::Place(p) => {
-                let Placement {
-                    index,
-                    name,
-                    object,
-                    transform,
-                    animated,
-                } = &**p;
-                let transform = match animated {
-                    Some(v) => &Transform::from_json_at(v, frame)
-                        .map_err(|error| RecordError::InstanceTransform {
-                            object: name.clone(),
-                            frame,
-                            error,
-                        })
-                        .in_record(None, *index)?,
-                    None => transform,
-                };
-                let order = match order {
-                    Some(o) => o,
-                    None => draw_order(*index)?,
-                };
-                let total = match placed {
-                    Some(outer) => transform
-                        .then_checked(outer)
-                        .map_err(|error| RecordError::PlacedTransform {
-                            object: name.clone(),
-                            error,
-                        })
-                        // The top-level instance's record, as it draws.
-                        .in_record(None, order as usize)?,
-                    None => *transform,
-                };
+                let (total, order) = p.at(placed, order, frame)?;
                 project_parts(
-                    object,
+                    &p.object,
                     base,
                     Some(total),
                     Some(order),
@@ -982,8 +951,9 @@ fn project_parts(
 }
 
 /// [`project_parts`]'s walk with only its transforms: the animated ones
-/// evaluated at `frame` and instances composed with what places them,
-/// each error named as projection names it ([`Scene::check_transforms_at`]).
+/// evaluated at `frame` and instances composed with what places them
+/// ([`Placement::at`], which projection calls too, so the errors are its
+/// own; [`Scene::check_transforms_at`]).
 fn check_transforms(
     parts: &[Part],
     placed: Option<Transform>,
@@ -998,35 +968,52 @@ fn check_transforms(
                 }
             }
             Part::Place(p) => {
-                let transform = match &p.animated {
-                    Some(v) => Transform::from_json_at(v, frame)
-                        .map_err(|error| RecordError::InstanceTransform {
-                            object: p.name.clone(),
-                            frame,
-                            error,
-                        })
-                        .in_record(None, p.index)?,
-                    None => p.transform,
-                };
-                let order = match order {
-                    Some(o) => o,
-                    None => draw_order(p.index)?,
-                };
-                let total = match placed {
-                    Some(outer) => transform
-                        .then_checked(outer)
-                        .map_err(|error| RecordError::PlacedTransform {
-                            object: p.name.clone(),
-                            error,
-                        })
-                        .in_record(None, order as usize)?,
-                    None => transform,
-                };
+                let (total, order) = p.at(placed, order, frame)?;
                 check_transforms(&p.object, Some(total), Some(order), frame)?;
             }
         }
     }
     Ok(())
+}
+
+impl Placement {
+    /// Where this instance puts its object at `frame`, placed by `placed`
+    /// (the instances around it, if any), and the draw order of its
+    /// polygons: the top-level instance's (`order`, else its own). Each
+    /// error names the record as it draws.
+    fn at(
+        &self,
+        placed: Option<Transform>,
+        order: Option<u32>,
+        frame: u64,
+    ) -> Result<(Transform, u32), SceneError> {
+        let transform = match &self.animated {
+            Some(v) => Transform::from_json_at(v, frame)
+                .map_err(|error| RecordError::InstanceTransform {
+                    object: self.name.clone(),
+                    frame,
+                    error,
+                })
+                .in_record(None, self.index)?,
+            None => self.transform,
+        };
+        let order = match order {
+            Some(o) => o,
+            None => draw_order(self.index)?,
+        };
+        let total = match placed {
+            Some(outer) => transform
+                .then_checked(outer)
+                .map_err(|error| RecordError::PlacedTransform {
+                    object: self.name.clone(),
+                    error,
+                })
+                // The top-level instance's record, as it draws.
+                .in_record(None, order as usize)?,
+            None => transform,
+        };
+        Ok((total, order))
+    }
 }
 
 /// A record's own animated `"transform"` (its JSON, `v`) at `frame`.
